@@ -1,0 +1,46 @@
+# roughdiffuse: the two commands of the README.
+#   make figures   set up .venv, install the package, write the lecture's figures to figures/
+#   make test      the same set-up plus test extras and system packages, then the test suite
+PYTHON ?= python3
+VENV   ?= .venv
+PY     := $(VENV)/bin/python
+PIP    := $(PY) -m pip
+# libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
+export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
+
+.PHONY: figures test install install-test system-deps lint bench clean
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+	$(PIP) install -q --upgrade pip
+
+$(VENV)/.installed: pyproject.toml | $(PY)
+	$(PIP) install -q -e .
+	touch $@
+
+$(VENV)/.installed-test: pyproject.toml $(VENV)/.installed
+	@# PyTorch: the CPU wheel shipped with this machine image when present (the PyPI
+	@# default pulls several GB of CUDA packages); tests of the torch backend skip without it
+	if ls /opt/wheels/torch-2.13.0* >/dev/null 2>&1; then $(PIP) install -q torch==2.13.0; fi
+	$(PIP) install -q -e ".[test]"
+	touch $@
+
+install: $(VENV)/.installed
+
+install-test: $(VENV)/.installed-test
+
+system-deps:
+	bash scripts/system-deps.sh
+
+figures: install
+	$(VENV)/bin/roughdiffuse figures
+
+test: install-test system-deps
+	$(PY) -m ruff check src tests bench
+	$(PY) -m pytest
+
+bench: install
+	$(PY) bench/run.py
+
+clean:
+	rm -rf $(VENV) figures .pytest_cache

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# System packages the test suite needs: Chromium (explorer tests, Playwright drives it) and
+# libLLVM >= 15 (Mitsuba 3's llvm_ad_rgb variant). Installed with apt-get when missing and
+# running as root; otherwise named, with the command to run, and the script fails.
+set -euo pipefail
+need=()
+command -v chromium >/dev/null 2>&1 || need+=(chromium)
+ls /usr/lib/*/libLLVM.so.19* /usr/lib/*/libLLVM-19.so >/dev/null 2>&1 || need+=(libllvm19)
+[ ${#need[@]} -eq 0 ] && exit 0
+if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
+  echo "installing system packages: ${need[*]}"
+  apt-get update -q >/dev/null
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${need[@]}" >/dev/null
+else
+  echo "roughdiffuse tests need these system packages: ${need[*]}" >&2
+  echo "install them as root:  apt-get install -y ${need[*]}" >&2
+  exit 1
+fi

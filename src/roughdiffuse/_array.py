@@ -1,0 +1,138 @@
+"""Array-namespace helpers shared by every model.
+
+The models are written once against the Python array API standard; these helpers pick the
+namespace of the caller's arrays (NumPy, JAX or PyTorch), convert parameters to it, and give
+the branch-free "safe" primitives (the double-``where`` idiom) that keep values *and*
+gradients finite where a square root or a division meets zero.
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import array_api_compat
+import array_api_compat.numpy
+import numpy as np
+
+Array = Any
+"""Any array of a supported namespace (NumPy, JAX, PyTorch)."""
+
+FLOAT_TYPES = ("float32", "float64")
+
+
+def _is_scalar(x: object) -> bool:
+    return isinstance(x, numbers.Number) and not isinstance(x, np.generic)
+
+
+def namespace(*xs: object) -> Any:
+    """Return the array namespace for ``xs`` (Python scalars and ``None`` are ignored).
+
+    JAX wins over the others (so ``jax.grad`` with respect to a model parameter works with
+    NumPy directions), then PyTorch; NumPy is the default.
+    """
+    arrays = [x for x in xs if x is not None and not _is_scalar(x)]
+    if any(array_api_compat.is_jax_array(x) for x in arrays):
+        import jax.numpy as jnp
+
+        return jnp
+    if any(array_api_compat.is_torch_array(x) for x in arrays):
+        return array_api_compat.array_namespace(
+            *[x for x in arrays if array_api_compat.is_torch_array(x)]
+        )
+    return array_api_compat.numpy
+
+
+def is_jax(xp: Any) -> bool:
+    """True when ``xp`` is JAX's namespace."""
+    return array_api_compat.is_jax_namespace(xp)
+
+
+def is_tracer(x: object) -> bool:
+    """True for a JAX tracer (inside ``jit``, ``grad``, ``vmap``)."""
+    if not array_api_compat.is_jax_array(x):
+        return False
+    import jax
+
+    return isinstance(x, jax.core.Tracer)
+
+
+def concrete(x: object) -> np.ndarray | None:
+    """Return ``x`` as a NumPy array when its value is known now, else ``None``.
+
+    Values inside ``jax.jit`` (tracers) and placeholders that JAX's tree utilities pass
+    through a dataclass constructor have no concrete value: validation skips them.
+    """
+    if x is None:
+        return None
+    if is_tracer(x):
+        return None
+    if array_api_compat.is_torch_array(x):
+        return x.detach().cpu().numpy()  # type: ignore[attr-defined]
+    try:
+        arr = np.asarray(x)
+    except Exception:  # noqa: BLE001 - anything without a value is skipped
+        return None
+    if arr.dtype == object:
+        return None
+    return arr
+
+
+def result_dtype(xp: Any, *arrays: Array) -> Any:
+    """Floating dtype of the result: the inputs' float dtype, float64 for integer input."""
+    dtypes = [a.dtype for a in arrays if hasattr(a, "dtype")]
+    for dt in dtypes:
+        if dt == xp.float64:
+            return xp.float64
+    for dt in dtypes:
+        if dt == xp.float32:
+            return xp.float32
+    return xp.float64 if _x64_enabled(xp) else xp.float32
+
+
+def _x64_enabled(xp: Any) -> bool:
+    if not is_jax(xp):
+        return True
+    import jax
+
+    return bool(jax.config.read("jax_enable_x64"))
+
+
+def asarray(xp: Any, x: object, dtype: Any = None) -> Array:
+    """Convert ``x`` (a scalar, list or array of any namespace) to ``xp``."""
+    if array_api_compat.is_torch_array(x) and not array_api_compat.is_torch_namespace(xp):
+        x = x.detach().cpu().numpy()  # type: ignore[attr-defined]
+    if isinstance(x, list | tuple):
+        x = np.asarray(x, dtype=np.float64)
+    if dtype is None:
+        return xp.asarray(x)
+    if array_api_compat.is_torch_namespace(xp) and array_api_compat.is_torch_array(x):
+        return x.to(dtype)  # keeps the autograd graph
+    return xp.asarray(x, dtype=dtype)
+
+
+def safe_sqrt(xp: Any, x: Array) -> Array:
+    """sqrt(max(x, 0)) with a finite (zero) gradient at 0."""
+    pos = x > 0
+    return xp.where(pos, xp.sqrt(xp.where(pos, x, 1.0)), 0.0)
+
+
+def safe_div(xp: Any, num: Array, den: Array, default: float = 0.0) -> Array:
+    """num / den where den != 0, else ``default``; gradients stay finite."""
+    nz = den != 0
+    return xp.where(nz, num / xp.where(nz, den, 1.0), default)
+
+
+def clip(xp: Any, x: Array, lo: float, hi: float) -> Array:
+    """Clip ``x`` to [lo, hi] with ``where`` (works in every namespace)."""
+    return xp.where(x < lo, lo, xp.where(x > hi, hi, x))
+
+
+def maximum(xp: Any, a: Array, b: Array | float) -> Array:
+    """Elementwise maximum (``where``-based, so it broadcasts scalars in every namespace)."""
+    return xp.where(a >= b, a, b)
+
+
+def minimum(xp: Any, a: Array, b: Array | float) -> Array:
+    """Elementwise minimum."""
+    return xp.where(a <= b, a, b)

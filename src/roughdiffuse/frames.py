@@ -1,0 +1,132 @@
+"""Directions, angles and the local shading frame.
+
+Convention (fixed here, used everywhere): the local frame has the surface normal along +z.
+``wi`` points towards the light, ``wo`` towards the viewer. θ is measured from the normal,
+φ is the azimuth in the xy-plane. Every isotropic model depends on a pair of directions only
+through three numbers, the *local cosines*::
+
+    mu_i = cos θi = n·wi,   mu_o = cos θo = n·wo,   cos_io = wi·wo,
+
+so kernels take those three arrays (structure of arrays) rather than (..., 3) vectors.
+The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θo cos(φo − φi).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._array import Array, asarray, concrete, namespace, result_dtype
+
+__all__ = [
+    "angles_to_cosines",
+    "local_cosines",
+    "spherical_to_vector",
+    "unit_components",
+    "vector_to_spherical",
+    "world_cosines",
+]
+
+
+def spherical_to_vector(theta: Array, phi: Array = 0.0) -> Array:
+    """Unit vector(s) in the local frame from polar angle θ and azimuth φ (radians).
+
+    Returns an array of shape ``broadcast(theta, phi).shape + (3,)`` in the namespace of the
+    inputs: (sin θ cos φ, sin θ sin φ, cos θ).
+
+    Examples
+    --------
+    >>> spherical_to_vector(0.0).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    xp = namespace(theta, phi)
+    dtype = result_dtype(xp, theta, phi)
+    t = asarray(xp, theta, dtype)
+    p = asarray(xp, phi, dtype)
+    t, p = xp.broadcast_arrays(t, p)
+    st = xp.sin(t)
+    return xp.stack([st * xp.cos(p), st * xp.sin(p), xp.cos(t)], axis=-1)
+
+
+def vector_to_spherical(w: Array) -> tuple[Array, Array]:
+    """Polar angle θ and azimuth φ (radians) of direction(s) ``w`` of shape (..., 3)."""
+    xp = namespace(w)
+    x, y, z = unit_components(xp, w, "w")
+    return xp.atan2(xp.sqrt(x * x + y * y), z), xp.atan2(y, x)
+
+
+def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Array, Array, Array]:
+    """Split direction(s) ``w`` (shape (..., 3)) into normalised x, y, z components.
+
+    Raises
+    ------
+    ValueError
+        If the last axis is not 3, or a vector is zero-length or not finite.
+    """
+    if dtype is None:
+        dtype = result_dtype(xp, w)
+    w = asarray(xp, w, dtype)
+    if w.ndim < 1 or w.shape[-1] != 3:
+        raise ValueError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
+    x, y, z = w[..., 0], w[..., 1], w[..., 2]
+    n2 = x * x + y * y + z * z
+    c = concrete(n2)
+    if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
+        raise ValueError(
+            f"{name} must contain non-zero, finite direction vectors "
+            f"({int(np.sum(~np.isfinite(c) | (c == 0)))} are zero, NaN or infinite)"
+        )
+    inv = 1.0 / xp.sqrt(n2)
+    return x * inv, y * inv, z * inv
+
+
+def _check_broadcast(names: tuple[str, ...], *arrays: Array) -> None:
+    shapes = [tuple(a.shape)[:-1] if hasattr(a, "shape") else () for a in arrays]
+    try:
+        np.broadcast_shapes(*shapes)
+    except ValueError:
+        listed = ", ".join(f"{n} {tuple(a.shape)}" for n, a in zip(names, arrays, strict=True))
+        raise ValueError(f"direction arrays do not broadcast: {listed}") from None
+
+
+def local_cosines(xp: Any, wi: Array, wo: Array, dtype: Any = None) -> tuple[Array, Array, Array]:
+    """(mu_i, mu_o, cos_io) for local-frame directions ``wi`` and ``wo`` (normalised here)."""
+    wi = asarray(xp, wi) if not hasattr(wi, "shape") else wi
+    wo = asarray(xp, wo) if not hasattr(wo, "shape") else wo
+    _check_broadcast(("wi", "wo"), wi, wo)
+    if dtype is None:
+        dtype = result_dtype(xp, wi, wo)
+    xi, yi, zi = unit_components(xp, wi, "wi", dtype)
+    xo, yo, zo = unit_components(xp, wo, "wo", dtype)
+    return zi, zo, xi * xo + yi * yo + zi * zo
+
+
+def world_cosines(
+    xp: Any, n: Array, l: Array, v: Array, dtype: Any = None
+) -> tuple[Array, Array, Array]:
+    """(n·l, n·v, l·v) for world-space normal, light and view directions (normalised here)."""
+    n, l, v = (asarray(xp, a) if not hasattr(a, "shape") else a for a in (n, l, v))
+    _check_broadcast(("n", "l", "v"), n, l, v)
+    if dtype is None:
+        dtype = result_dtype(xp, n, l, v)
+    nx, ny, nz = unit_components(xp, n, "n", dtype)
+    lx, ly, lz = unit_components(xp, l, "l", dtype)
+    vx, vy, vz = unit_components(xp, v, "v", dtype)
+    return (
+        nx * lx + ny * ly + nz * lz,
+        nx * vx + ny * vy + nz * vz,
+        lx * vx + ly * vy + lz * vz,
+    )
+
+
+def angles_to_cosines(
+    xp: Any, theta_i: Array, theta_r: Array, delta_phi: Array, dtype: Any = None
+) -> tuple[Array, Array, Array]:
+    """(mu_i, mu_o, cos_io) from the angles of the papers: θi, θr and φr − φi (radians)."""
+    if dtype is None:
+        dtype = result_dtype(xp, theta_i, theta_r, delta_phi)
+    ti, tr, dp = (asarray(xp, a, dtype) for a in (theta_i, theta_r, delta_phi))
+    ti, tr, dp = xp.broadcast_arrays(ti, tr, dp)
+    mi, mo = xp.cos(ti), xp.cos(tr)
+    return mi, mo, mi * mo + xp.sin(ti) * xp.sin(tr) * xp.cos(dp)

@@ -1,0 +1,29 @@
+"""Reflectance models: one module per family, one interface (see :mod:`.base`)."""
+
+from .base import MODEL_CLASSES, BSDFSample, Model
+from .eon import EON
+from .fujii import Fujii, fon_albedo, fon_average_albedo
+from .lambert import Lambert
+from .lunar import LommelSeeliger, LunarLambert
+from .mix import Mix
+from .oren_nayar import OrenNayar, oren_nayar
+from .torrance_sparrow import TorranceSparrow, fresnel_dielectric, slope_distribution
+
+__all__ = [
+    "EON",
+    "MODEL_CLASSES",
+    "BSDFSample",
+    "Fujii",
+    "Lambert",
+    "LommelSeeliger",
+    "LunarLambert",
+    "Mix",
+    "Model",
+    "OrenNayar",
+    "TorranceSparrow",
+    "fon_albedo",
+    "fon_average_albedo",
+    "fresnel_dielectric",
+    "oren_nayar",
+    "slope_distribution",
+]

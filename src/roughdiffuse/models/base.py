@@ -1,0 +1,247 @@
+"""The interface every reflectance model shares (after pbrt-v4's BxDF: f, Sample_f, PDF, rho).
+
+A model is a frozen dataclass holding its parameters. Its formula lives in one method,
+``_kernel(xp, mu_i, mu_o, cos_io, **params)``, written against the array API standard and
+evaluated on the three local cosines (see :mod:`roughdiffuse.frames`). Everything else, the
+vector interface, validation, horizon handling, colour channels, JAX dispatch, quadrature and
+sampling, is here, once.
+
+Conventions: ``wi`` points to the light, ``wo`` to the viewer, z is the normal; the BRDF has
+no cosine in it (pbrt's convention); it is 0 when either direction is below the horizon
+(z < 0) and finite on it (z = 0).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, ClassVar, NamedTuple
+
+import jax
+import numpy as np
+
+from .._array import (
+    Array,
+    asarray,
+    clip,
+    concrete,
+    is_jax,
+    is_tracer,
+    namespace,
+    result_dtype,
+)
+from ..frames import local_cosines, unit_components, world_cosines
+
+__all__ = ["BSDFSample", "Model", "MODEL_CLASSES"]
+
+MODEL_CLASSES: dict[str, type[Model]] = {}
+"""Every concrete model class by name (filled as classes are defined)."""
+
+
+class BSDFSample(NamedTuple):
+    """A sampled incident direction.
+
+    Attributes
+    ----------
+    wi : array (..., 3)
+        Sampled direction towards the light (local frame).
+    pdf : array (...)
+        Its probability density per unit solid angle.
+    weight : array (...) or (..., C)
+        ``brdf(wi, wo) * cos θi / pdf`` (0 where the sample is invalid).
+    """
+
+    wi: Array
+    pdf: Array
+    weight: Array
+
+
+_JITTED: dict[str, Any] = {}
+
+
+def _jitted(method: str) -> Any:
+    fn = _JITTED.get(method)
+    if fn is None:
+        fn = jax.jit(lambda model, *args: getattr(model, method)(*args))
+        _JITTED[method] = fn
+    return fn
+
+
+class Model:
+    """Base class of the reflectance models. Subclasses are frozen dataclasses.
+
+    Class attributes
+    ----------------
+    array_fields : tuple of str
+        Numeric parameters (JAX pytree leaves, differentiable). Other fields are static.
+    channel_fields : tuple of str
+        Parameters that may carry a trailing colour-channel axis (albedo).
+    """
+
+    array_fields: ClassVar[tuple[str, ...]] = ()
+    channel_fields: ClassVar[tuple[str, ...]] = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        MODEL_CLASSES[cls.__name__] = cls
+
+    # ------------------------------------------------------------------ formula
+    def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **p: Array) -> Array:
+        """The BRDF from the local cosines (mu in [0, 1]); subclasses implement it."""
+        raise NotImplementedError
+
+    # ------------------------------------------------------------------ helpers
+    def _param_values(self) -> list[Any]:
+        return [getattr(self, f) for f in self.array_fields]
+
+    def _xp(self, *arrays: Any) -> Any:
+        return namespace(*arrays, *self._param_values())
+
+    def _params(self, xp: Any, dtype: Any) -> dict[str, Array]:
+        return {f: asarray(xp, getattr(self, f), dtype) for f in self.array_fields}
+
+    @property
+    def channels(self) -> int:
+        """Number of colour channels of the output (0 for a scalar albedo)."""
+        for f in self.channel_fields:
+            a = concrete(getattr(self, f))
+            if a is not None and a.ndim == 1:
+                return int(a.shape[0])
+            if a is None and getattr(getattr(self, f), "ndim", 0) == 1:
+                return int(getattr(self, f).shape[0])
+        return 0
+
+    def _should_jit(self, xp: Any, *arrays: Any) -> bool:
+        if not is_jax(xp):
+            return False
+        return not any(is_tracer(a) for a in (*arrays, *self._param_values()))
+
+    def brdf_cosines(self, mu_i: Array, mu_o: Array, cos_io: Array) -> Array:
+        """The BRDF from the local cosines n·wi, n·wo and wi·wo (no normalisation done).
+
+        This is the entry point of renderers and tables that already hold cosines. Output
+        shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo.
+        """
+        xp = self._xp(mu_i, mu_o, cos_io)
+        dtype = result_dtype(xp, mu_i, mu_o, cos_io)
+        mu_i, mu_o, cos_io = (asarray(xp, a, dtype) for a in (mu_i, mu_o, cos_io))
+        return self._eval(xp, mu_i, mu_o, cos_io, dtype)
+
+    def _eval(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
+        p = self._params(xp, dtype)
+        above = (mu_i >= 0) & (mu_o >= 0)
+        mi, mo, c = clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0), clip(xp, cos_io, -1.0, 1.0)
+        if self.channels:
+            mi, mo, c, above = mi[..., None], mo[..., None], c[..., None], above[..., None]
+        val = self._kernel(xp, mi, mo, c, **p)
+        return xp.where(above, val, xp.zeros_like(val))
+
+    # ------------------------------------------------------------------ interface
+    def brdf(self, wi: Array, wo: Array) -> Array:
+        """BRDF value f_r(wi, wo) in 1/sr, without the cosine.
+
+        Parameters
+        ----------
+        wi, wo : array (..., 3)
+            Directions towards the light and the viewer in the local frame (z = normal);
+            normalised here; they broadcast against each other.
+
+        Returns
+        -------
+        array (...) or (..., C)
+            In the namespace of the inputs (NumPy, JAX, PyTorch); a channel axis is added
+            for an RGB albedo. 0 where either direction is below the horizon.
+        """
+        xp = self._xp(wi, wo)
+        if self._should_jit(xp, wi, wo):
+            for name, w in (("wi", wi), ("wo", wo)):
+                unit_components(xp, w, name)  # validate eagerly; jit cannot raise
+            local_cosines(xp, wi, wo)  # shape checks
+            return _jitted("brdf")(self, wi, wo)
+        dtype = result_dtype(xp, wi, wo)
+        mu_i, mu_o, cos_io = local_cosines(xp, wi, wo, dtype)
+        return self._eval(xp, mu_i, mu_o, cos_io, dtype)
+
+    def radiance(self, n: Array, l: Array, v: Array, irradiance: Array | float = 1.0) -> Array:
+        """Reflected radiance L = f_r · E0 · cos θi for world-space directions.
+
+        Parameters
+        ----------
+        n, l, v : array (..., 3)
+            Surface normal, direction to the light, direction to the viewer (any frame).
+        irradiance : float or array (C,)
+            E0, the irradiance on a plane facing the source (per channel if an array).
+
+        Returns
+        -------
+        array (...) or (..., C)
+            Radiance; 0 where the point faces away from the light or the viewer.
+        """
+        xp = self._xp(n, l, v, irradiance)
+        if self._should_jit(xp, n, l, v, irradiance):
+            for name, w in (("n", n), ("l", l), ("v", v)):
+                unit_components(xp, w, name)
+            return _jitted("radiance")(self, n, l, v, irradiance)
+        dtype = result_dtype(xp, n, l, v)
+        mu_i, mu_o, cos_io = world_cosines(xp, n, l, v, dtype)
+        f = self._eval(xp, mu_i, mu_o, cos_io, dtype)
+        cos_i = clip(xp, mu_i, 0.0, 1.0)
+        e0 = asarray(xp, irradiance, dtype)
+        if f.ndim == cos_i.ndim + 1:
+            cos_i = cos_i[..., None]
+        elif e0.ndim == 1:
+            f, cos_i = f[..., None], cos_i[..., None]
+        return f * e0 * cos_i
+
+    def directional_albedo(self, wo: Array) -> Array:
+        """∫ f_r(wi, wo) cos θi dωi over the upper hemisphere.
+
+        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θo and
+        φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
+        override this.
+        """
+        from ._quadrature import hemisphere_albedo
+
+        return hemisphere_albedo(self, wo)
+
+    def sample(self, u: Array, wo: Array) -> BSDFSample:
+        """Importance-sample wi given ``wo`` from uniform numbers ``u`` of shape (..., 2).
+
+        The base class samples the cosine-weighted hemisphere (pdf = cos θi / π).
+        """
+        xp = self._xp(u, wo)
+        dtype = result_dtype(xp, u, wo)
+        u = asarray(xp, u, dtype)
+        if u.shape[-1] != 2:
+            raise ValueError(f"u must have shape (..., 2) (got shape {tuple(u.shape)})")
+        uc = concrete(u)
+        if uc is not None and (np.any(~(uc >= 0)) or np.any(uc > 1)):
+            raise ValueError("u must lie in [0, 1]")
+        r = xp.sqrt(u[..., 0])
+        phi = (2.0 * math.pi) * u[..., 1]
+        z = xp.sqrt(clip(xp, 1.0 - u[..., 0], 0.0, 1.0))
+        wi = xp.stack([r * xp.cos(phi), r * xp.sin(phi), z], axis=-1)
+        wo = asarray(xp, wo, dtype)
+        pdf = self.pdf(wi, wo)
+        f = self.brdf(wi, wo)
+        valid = pdf > 0
+        if f.ndim > valid.ndim:
+            valid = valid[..., None]
+        weight = xp.where(valid, math.pi * f, 0.0 * f)  # f cos θi / pdf with pdf = cos θi / π
+        return BSDFSample(wi, pdf, weight)
+
+    def pdf(self, wi: Array, wo: Array) -> Array:
+        """Density (per solid angle) with which :meth:`sample` returns ``wi`` given ``wo``."""
+        xp = self._xp(wi, wo)
+        dtype = result_dtype(xp, wi, wo)
+        mu_i, mu_o, _ = local_cosines(xp, wi, wo, dtype)
+        return xp.where((mu_i > 0) & (mu_o > 0), mu_i / math.pi, 0.0 * mu_i)
+
+
+def register_pytree(cls: type) -> type:
+    """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static."""
+    fields = [f.name for f in dataclasses.fields(cls)]
+    data = [f for f in fields if f in cls.array_fields]
+    meta = [f for f in fields if f not in cls.array_fields]
+    jax.tree_util.register_dataclass(cls, data_fields=data, meta_fields=meta)
+    return cls

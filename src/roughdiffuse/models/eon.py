@@ -1,0 +1,90 @@
+"""EON: the energy-preserving Oren–Nayar model.
+
+J. Portsmouth, P. Kutz, S. Hill, "EON: A practical energy-preserving rough diffuse BRDF",
+JCGT 2025 (arXiv 2410.18026); adopted by OpenPBR 1.1, MaterialX and Blender Cycles.
+
+Single scattering is Fujii's model (f_ss = ρ/π A_F (1 + r s/t)); the energy it loses is given
+back by a multiple-scattering lobe (paper Eq. 11–13)::
+
+    ρ_ms = ρ² Ē_F / (1 − ρ (1 − Ē_F)),
+    f_ms = ρ_ms/π · (1 − E_F(μo)) (1 − E_F(μi)) / (1 − Ē_F),
+
+so that with ρ = 1 the directional albedo is 1 at every angle (the white furnace test).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .._array import Array, result_dtype, safe_div
+from .._validate import check_range
+from ..frames import unit_components
+from .base import Model, register_pytree
+from .fujii import fon_albedo, fon_average_albedo, fon_lobe
+
+__all__ = ["EON"]
+
+
+def _rho_ms(albedo: Array, e_avg: Array) -> Array:
+    """Multiple-scattering albedo ρ² Ē_F / (1 − ρ (1 − Ē_F)) (paper Eq. 12)."""
+    return albedo * albedo * e_avg / (1.0 - albedo * (1.0 - e_avg))
+
+
+@register_pytree
+@dataclass(frozen=True)
+class EON(Model):
+    """Energy-preserving Oren–Nayar BRDF, f = f_ss + f_ms.
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        Single-scattering albedo ρ in [0, 1].
+    roughness : float
+        r in [0, 1] (Fujii's parameter, not an angle).
+
+    Examples
+    --------
+    White furnace: ρ = 1 reflects everything at every angle.
+
+    >>> import numpy as np
+    >>> wo = np.array([0.6, 0.0, 0.8])
+    >>> round(float(EON(1.0, 0.7).directional_albedo(wo)), 12)
+    1.0
+    """
+
+    albedo: Any = 1.0
+    roughness: Any = 0.0
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+        check_range("roughness", self.roughness, 0.0, 1.0)
+
+    def _kernel(
+        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
+    ) -> Array:
+        r = roughness
+        f_ss = albedo / math.pi * fon_lobe(xp, mu_i, mu_o, cos_io, r)
+        e_avg = fon_average_albedo(r)
+        lobe = (1.0 - fon_albedo(xp, mu_o, r)) * (1.0 - fon_albedo(xp, mu_i, r))
+        # r = 0: E_F = Ē_F = 1 and the lobe is 0/0 -> 0 (no energy is lost to give back)
+        f_ms = _rho_ms(albedo, e_avg) / math.pi * safe_div(xp, lobe, 1.0 - e_avg + 0.0 * lobe)
+        return f_ss + f_ms
+
+    def directional_albedo(self, wo: Array) -> Array:
+        """Closed form ρ E_F(μo) + ρ_ms (1 − E_F(μo)) (paper Eq. 14)."""
+        xp = self._xp(wo)
+        dtype = result_dtype(xp, wo)
+        _, _, z = unit_components(xp, wo, "wo", dtype)
+        p = self._params(xp, dtype)
+        rho, r = p["albedo"], p["roughness"]
+        e = fon_albedo(xp, z, r)
+        if rho.ndim:
+            e = e[..., None]
+        val = rho * e + _rho_ms(rho, fon_average_albedo(r)) * (1.0 - e)
+        above = z >= 0
+        return xp.where(above[..., None] if rho.ndim else above, val, 0.0 * val)

@@ -1,0 +1,105 @@
+"""Fujii's improved Oren–Nayar model (FON) and its exact directional albedo.
+
+Y. Fujii, "A tiny improvement of Oren-Nayar reflectance model" (2012)::
+
+    f = ρ (A + B s/t),   s = wi·wo − μi μo,   t = max(μi, μo) if s > 0 else 1,
+    A = 1/(π + (π/2 − 2/3) r),   B = r A,   r in [0, 1].
+
+Negative s is kept (no clamp). With K1 = 1/2 − 2/(3π) this is f = ρ/π A_F (1 + r s/t),
+A_F = 1/(1 + K1 r), the form of the EON paper (Portsmouth, Kutz, Hill, "EON: a practical
+energy-preserving rough diffuse BRDF", JCGT 2025, arXiv 2410.18026, Eq. 3–5). That paper
+gives the model's directional albedo in closed form (its Eq. 8)::
+
+    E_F(μ) = A_F + (B_F/π) G(μ),   S = √(1 − μ²),
+    G(μ) = S (acos μ − S μ) + (2/3) [(S/μ)(1 − S³) − S],
+
+and its cosine-weighted average Ē_F = A_F (1 + K2 r), K2 = 2/3 − 28/(15π).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .._array import Array, clip, maximum, result_dtype, safe_sqrt
+from .._validate import check_range
+from ..frames import unit_components
+from .base import Model, register_pytree
+from .oren_nayar import TAN_FLOOR
+
+__all__ = ["Fujii", "fon_albedo", "fon_average_albedo", "K1", "K2"]
+
+K1 = 0.5 - 2.0 / (3.0 * math.pi)
+K2 = 2.0 / 3.0 - 28.0 / (15.0 * math.pi)
+
+
+def fon_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, r: Array) -> Array:
+    """A_F (1 + r s/t): the FON BRDF times π/ρ (EON paper Eq. 3–5)."""
+    s = cos_io - mu_i * mu_o
+    t = maximum(xp, maximum(xp, mu_i, mu_o), TAN_FLOOR)
+    s_over_t = xp.where(s > 0, s / t, s)
+    return (1.0 + r * s_over_t) / (1.0 + K1 * r)
+
+
+def fon_albedo(xp: Any, mu: Array, r: Array) -> Array:
+    """E_F(μ), the directional albedo of FON at ρ = 1, in closed form (EON paper Eq. 8).
+
+    The term (S/μ)(1 − S³) is rewritten as S μ (1 + S + S²)/(1 + S) (from 1 − S = μ²/(1 + S)),
+    so μ = 0 (grazing) needs no special case: G(0) = π/2 − 2/3.
+    """
+    mu = clip(xp, mu, 0.0, 1.0)
+    s = safe_sqrt(xp, 1.0 - mu * mu)
+    g = s * (xp.atan2(s, mu) - s * mu) + (2.0 / 3.0) * (s * mu * (1.0 + s + s * s) / (1.0 + s) - s)
+    a_f = 1.0 / (1.0 + K1 * r)
+    return a_f + (r * a_f / math.pi) * g
+
+
+def fon_average_albedo(r: Array) -> Array:
+    """Ē_F = 2 ∫ E_F(μ) μ dμ = A_F (1 + K2 r) (EON paper Eq. 9)."""
+    return (1.0 + K2 * r) / (1.0 + K1 * r)
+
+
+@register_pytree
+@dataclass(frozen=True)
+class Fujii(Model):
+    """Fujii's Oren–Nayar (FON) BRDF, f = ρ (A + B s/t).
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        ρ in [0, 1].
+    roughness : float
+        Fujii's r in [0, 1] (not an angle).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> n = np.array([0.0, 0.0, 1.0])
+    >>> float(Fujii(1.0, 0.0).brdf(n, n) * np.pi)  # r = 0 is Lambert
+    1.0
+    """
+
+    albedo: Any = 1.0
+    roughness: Any = 0.0
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+        check_range("roughness", self.roughness, 0.0, 1.0)
+
+    def _kernel(
+        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
+    ) -> Array:
+        return albedo / math.pi * fon_lobe(xp, mu_i, mu_o, cos_io, roughness)
+
+    def directional_albedo(self, wo: Array) -> Array:
+        """Closed form ρ E_F(μo) (EON paper Eq. 8)."""
+        xp = self._xp(wo)
+        dtype = result_dtype(xp, wo)
+        _, _, z = unit_components(xp, wo, "wo", dtype)
+        p = self._params(xp, dtype)
+        e = xp.where(z >= 0, fon_albedo(xp, z, p["roughness"]), 0.0 * z)
+        return e[..., None] * p["albedo"] if p["albedo"].ndim else e * p["albedo"]

@@ -1,0 +1,55 @@
+"""Lambert's law: the perfectly diffuse (smooth matte) surface.
+
+f = ρ/π (Lambert 1760; the lecture's recap, L = ρ/π E0 n·s).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .._array import Array, asarray, result_dtype
+from .._validate import check_range
+from ..frames import unit_components
+from .base import Model, register_pytree
+
+
+@register_pytree
+@dataclass(frozen=True)
+class Lambert(Model):
+    """Lambertian BRDF, f = ρ/π.
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        ρ in [0, 1], per channel for RGB.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> float(Lambert(0.5).brdf(np.array([0, 0, 1.0]), np.array([0, 0, 1.0])))  # 0.5/π
+    0.15915494309189535
+    """
+
+    albedo: Any = 1.0
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+
+    def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
+        return albedo / math.pi + 0.0 * mu_i
+
+    def directional_albedo(self, wo: Array) -> Array:
+        """Closed form: ρ for wo above the horizon, 0 below."""
+        xp = self._xp(wo)
+        dtype = result_dtype(xp, wo)
+        _, _, z = unit_components(xp, wo, "wo", dtype)
+        rho = asarray(xp, self.albedo, dtype)
+        above = z >= 0
+        if rho.ndim:
+            above = above[..., None]
+        return xp.where(above, rho + 0.0 * z[..., None] if rho.ndim else rho + 0.0 * z, 0.0)

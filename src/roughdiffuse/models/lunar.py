@@ -1,0 +1,101 @@
+"""Lunar photometry: the models that make the full moon look flat.
+
+* Lommel–Seeliger (single scattering in a dim, semi-infinite particulate medium; Hapke,
+  *Theory of Reflectance and Emittance Spectroscopy*, 2nd ed., 2012, Eq. 9.13 with an isotropic
+  phase function)::
+
+      f = w / (4π (cos θi + cos θr)),     w the single-scattering albedo.
+
+  Its directional albedo is closed: (w/2) (1 − μo ln(1 + 1/μo)).
+
+* Lunar-Lambert (McEwen, "Photometric functions for photoclinometry and other applications",
+  Icarus 92, 1991), as planetary-photometry software (ISIS ``LunarLambert``) defines the
+  reflectance: r = (1 − L) cos i + 2 L cos i/(cos i + cos e). As a BRDF normalised so that
+  L = 0 is Lambert with albedo ρ::
+
+      f = ρ/π [(1 − L) + 2 L/(cos θi + cos θr)].
+
+Both diverge only when both directions are grazing; the sum of cosines is floored at 1e-6.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from .._array import Array, maximum, result_dtype, safe_div
+from .._validate import check_range
+from ..frames import unit_components
+from .base import Model, register_pytree
+
+__all__ = ["LommelSeeliger", "LunarLambert"]
+
+_SUM_FLOOR = 1e-6
+
+
+@register_pytree
+@dataclass(frozen=True)
+class LommelSeeliger(Model):
+    """Lommel–Seeliger BRDF, f = w / (4π (μi + μo)).
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        Single-scattering albedo w in [0, 1].
+    """
+
+    albedo: Any = 1.0
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+
+    def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
+        return albedo / (4.0 * math.pi * maximum(xp, mu_i + mu_o, _SUM_FLOOR))
+
+    def directional_albedo(self, wo: Array) -> Array:
+        """Closed form (w/2)(1 − μo ln(1 + 1/μo)), 0 below the horizon."""
+        xp = self._xp(wo)
+        dtype = result_dtype(xp, wo)
+        _, _, z = unit_components(xp, wo, "wo", dtype)
+        p = self._params(xp, dtype)
+        mu = maximum(xp, z, 0.0)
+        # μ ln(1 + 1/μ) = μ (ln(1 + μ) − ln μ) -> 0 as μ -> 0
+        pos = mu > 0
+        m = xp.where(pos, mu, 1.0)
+        g = xp.where(pos, 0.5 * (1.0 - m * (xp.log1p(m) - xp.log(m))), 0.5)
+        g = xp.where(z >= 0, g, 0.0 * g)
+        return g[..., None] * p["albedo"] if p["albedo"].ndim else g * p["albedo"]
+
+
+@register_pytree
+@dataclass(frozen=True)
+class LunarLambert(Model):
+    """McEwen's Lunar-Lambert BRDF, f = ρ/π [(1 − L) + 2L/(μi + μo)].
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        ρ in [0, 1]; L = 0 is Lambert with this albedo.
+    limb_darkening : float
+        L in [0, 1], the weight of the Lommel–Seeliger term (0.5–1 for the moon near full).
+    """
+
+    albedo: Any = 1.0
+    limb_darkening: Any = 1.0
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "limb_darkening")
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+        check_range("limb_darkening", self.limb_darkening, 0.0, 1.0)
+
+    def _kernel(
+        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array
+    ) -> Array:
+        ls = safe_div(xp, 2.0, maximum(xp, mu_i + mu_o, _SUM_FLOOR))
+        return albedo / math.pi * ((1.0 - limb_darkening) + limb_darkening * ls)

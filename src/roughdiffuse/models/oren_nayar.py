@@ -1,0 +1,170 @@
+"""The Oren–Nayar model of rough diffuse surfaces (V-cavities of Lambertian facets).
+
+M. Oren and S. K. Nayar, "Generalization of Lambert's reflectance model", SIGGRAPH 1994,
+pp. 239–246. Roughness σ is the standard deviation of the facet slope angle, in radians.
+
+* ``variant="qualitative"``: the paper's simplified model (its Eq. 30, the lecture's final
+  expression)::
+
+      f = ρ/π (A + B max(0, cos(φr − φi)) sin α tan β),
+      A = 1 − 0.5 σ²/(σ² + 0.33),   B = 0.45 σ²/(σ² + 0.09),
+
+  with α = max(θi, θr), β = min(θi, θr). In vector form
+  max(0, cos Δφ) sin α tan β = max(0, s)/max(μi, μo), s = wi·wo − μi μo.
+
+* ``variant="full"``: the paper's functional approximation of the single-bounce V-cavity
+  radiance L1 (Eq. 27–29, coefficients C1, C2, C3) plus the two-bounce interreflection term
+  L2 (Eq. 31; also Mitsuba 0.6, ``src/bsdfs/roughdiffuse.cpp``)::
+
+      L1 = ρ/π E0 cos θi [C1 + c C2 tan β + (1 − |c|) C3 tan((α + β)/2)]
+      L2 = 0.17 ρ²/π E0 cos θi σ²/(σ² + 0.13) [1 − c (2β/π)²],     c = cos(φr − φi)
+
+  f = (L1 + L2)/(E0 cos θi). L2 is quadratic in ρ, so f is not linear in the albedo.
+
+σ = 0 gives Lambert exactly in both variants.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
+
+from .._array import Array, clip, maximum, minimum, namespace, result_dtype, safe_div, safe_sqrt
+from .._validate import check_range
+from ..frames import angles_to_cosines
+from .base import Model, register_pytree
+
+__all__ = ["OrenNayar", "oren_nayar", "SIGMA_MAX"]
+
+SIGMA_MAX = math.pi / 2
+"""Largest accepted σ (radians): a facet slope angle cannot exceed π/2."""
+
+TAN_FLOOR = 1e-6
+"""Floor of cos β in tan β = sin β / cos β; reached only when both directions are within
+1e-6 of grazing, where the radiance (× cos θi) vanishes anyway."""
+
+Variant = Literal["qualitative", "full"]
+
+
+def _qualitative(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array) -> Array:
+    """ρ-free factor A + B max(0, s)/max(μi, μo) of the qualitative model (paper Eq. 30)."""
+    s2 = sigma * sigma
+    a = 1.0 - 0.5 * s2 / (s2 + 0.33)
+    b = 0.45 * s2 / (s2 + 0.09)
+    s = cos_io - mu_i * mu_o
+    t = maximum(xp, maximum(xp, mu_i, mu_o), TAN_FLOOR)
+    return a + b * xp.where(s > 0, s, 0.0 * s) / t
+
+
+def _full(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array, albedo: Array) -> Array:
+    """(L1 + L2)/(E0 cos θi) of the full model (paper Eq. 27–31), ρ included."""
+    s2 = sigma * sigma
+    sin_i = safe_sqrt(xp, 1.0 - mu_i * mu_i)
+    sin_o = safe_sqrt(xp, 1.0 - mu_o * mu_o)
+    theta_i = xp.atan2(sin_i, mu_i)
+    theta_o = xp.atan2(sin_o, mu_o)
+    alpha = maximum(xp, theta_i, theta_o)
+    beta = minimum(xp, theta_i, theta_o)
+    sin_alpha = maximum(xp, sin_i, sin_o)
+    tan_beta = minimum(xp, sin_i, sin_o) / maximum(xp, maximum(xp, mu_i, mu_o), TAN_FLOOR)
+    # c = cos(φr − φi); undefined (and irrelevant: β = 0 there) when either θ is 0
+    c = clip(xp, safe_div(xp, cos_io - mu_i * mu_o, sin_i * sin_o), -1.0, 1.0)
+    t = s2 / (s2 + 0.09)
+    c1 = 1.0 - 0.5 * s2 / (s2 + 0.33)
+    b2 = (2.0 * beta / math.pi) ** 2
+    c2 = 0.45 * t * xp.where(c >= 0, sin_alpha, sin_alpha - b2 * (2.0 * beta / math.pi))
+    c3 = 0.125 * t * (4.0 * alpha * beta / math.pi**2) ** 2
+    half = 0.5 * (alpha + beta)
+    tan_half = xp.sin(half) / maximum(xp, xp.cos(half), TAN_FLOOR)
+    l1 = albedo / math.pi * (c1 + c * c2 * tan_beta + (1.0 - xp.abs(c)) * c3 * tan_half)
+    l2 = 0.17 * albedo * albedo / math.pi * s2 / (s2 + 0.13) * (1.0 - c * b2)
+    return l1 + l2
+
+
+@register_pytree
+@dataclass(frozen=True)
+class OrenNayar(Model):
+    """Oren–Nayar BRDF (SIGGRAPH 1994), qualitative or full.
+
+    Parameters
+    ----------
+    albedo : float or array (C,)
+        Facet albedo ρ in [0, 1], per channel for RGB.
+    sigma : float
+        Roughness σ in [0, π/2] radians: standard deviation of the facet slope angle.
+    variant : {"qualitative", "full"}
+        The paper's simplified model (Eq. 30) or its full approximation with
+        interreflections (Eq. 27–31).
+
+    Examples
+    --------
+    Light and view on the normal: f = ρA/π.
+
+    >>> import numpy as np
+    >>> n = np.array([0.0, 0.0, 1.0])
+    >>> m = OrenNayar(albedo=1.0, sigma=0.3)
+    >>> round(float(m.brdf(n, n)) * np.pi, 6)  # A = 1 - 0.5 * 0.09 / 0.42
+    0.892857
+    """
+
+    albedo: Any = 1.0
+    sigma: Any = 0.0
+    variant: Variant = "qualitative"
+
+    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "sigma")
+    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+
+    def __post_init__(self) -> None:
+        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+        check_range("sigma", self.sigma, 0.0, SIGMA_MAX, unit="radians")
+        if self.variant not in ("qualitative", "full"):
+            raise ValueError(f"variant must be 'qualitative' or 'full' (got {self.variant!r})")
+
+    def _kernel(
+        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, sigma: Array
+    ) -> Array:
+        if self.variant == "full":
+            return _full(xp, mu_i, mu_o, cos_io, sigma, albedo)
+        return albedo / math.pi * _qualitative(xp, mu_i, mu_o, cos_io, sigma)
+
+
+def oren_nayar(
+    theta_i: Array,
+    theta_r: Array,
+    delta_phi: Array,
+    sigma: float,
+    albedo: Any = 1.0,
+    variant: Variant = "qualitative",
+) -> Array:
+    """Oren–Nayar BRDF in the paper's notation: f(θi, θr, φr − φi; σ, ρ).
+
+    Parameters
+    ----------
+    theta_i, theta_r : array
+        Incidence and viewing angles from the normal, radians, in [0, π/2].
+    delta_phi : array
+        Azimuth difference φr − φi, radians.
+    sigma : float
+        Roughness σ in radians.
+    albedo : float or array (C,)
+        Facet albedo ρ.
+    variant : {"qualitative", "full"}
+
+    Returns
+    -------
+    array
+        f_r in 1/sr (multiply by E0 cos θi for the paper's radiance L).
+
+    Examples
+    --------
+    >>> round(float(oren_nayar(0.0, 0.0, 0.0, sigma=0.0, albedo=1.0)) * 3.141592653589793, 12)
+    1.0
+    """
+    model = OrenNayar(albedo=albedo, sigma=sigma, variant=variant)
+    xp = namespace(theta_i, theta_r, delta_phi, sigma, albedo)
+    dtype = result_dtype(xp, theta_i, theta_r, delta_phi)
+    for name, th in (("theta_i", theta_i), ("theta_r", theta_r)):
+        check_range(name, th, 0.0, math.pi / 2, unit="radians", scalar=False)
+    mu_i, mu_o, cos_io = angles_to_cosines(xp, theta_i, theta_r, delta_phi, dtype)
+    return model.brdf_cosines(mu_i, mu_o, cos_io)
