@@ -1,0 +1,80 @@
+"""Sampling: the pdf is normalised and ``sample`` draws from it (chi-square)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import roughdiffuse as rd
+from conftest import all_models
+
+
+def _wo(theta):
+    return rd.spherical_to_vector(theta, 0.3)
+
+
+@pytest.mark.parametrize("model", all_models(), ids=repr)
+@pytest.mark.parametrize("theta_o", [0.0, 0.7, 1.45])
+def test_pdf_integrates_to_one(model, theta_o):
+    """Midpoint quadrature over the hemisphere (in cos θ, φ) of pdf(wi, wo)."""
+    n = 400
+    mu = (np.arange(n) + 0.5) / n
+    phi = (np.arange(2 * n) + 0.5) / (2 * n) * 2 * np.pi
+    m, p = np.meshgrid(mu, phi, indexing="ij")
+    s = np.sqrt(1 - m**2)
+    wi = np.stack([s * np.cos(p), s * np.sin(p), m], axis=-1)
+    total = np.sum(model.pdf(wi, _wo(theta_o))) * (1 / n) * (np.pi / n)
+    assert total == pytest.approx(1.0, abs=2e-3)
+
+
+@pytest.mark.parametrize("model", all_models(), ids=repr)
+@pytest.mark.parametrize("theta_o", [0.2, 1.3])
+def test_sample_histogram_matches_pdf(model, theta_o):
+    """Chi-square test of 200 000 samples in 16 x 16 bins of (cos² θ, φ) against the pdf."""
+    rng = np.random.default_rng(11)
+    n, nb = 200_000, 16
+    wo = _wo(theta_o)
+    s = model.sample(rng.random((n, 2)), wo)
+    assert np.all(np.isfinite(s.wi)) and np.all(s.pdf >= 0)
+    np.testing.assert_allclose(s.pdf, model.pdf(s.wi, wo), rtol=1e-9)
+    wi = np.asarray(s.wi)
+    a = np.clip(1 - wi[:, 2] ** 2, 0, 1 - 1e-12)  # sin² θ
+    b = np.mod(np.arctan2(wi[:, 1], wi[:, 0]), 2 * np.pi) / (2 * np.pi)
+    observed, _, _ = np.histogram2d(a, b, bins=nb, range=[[0, 1], [0, 1]])
+    # expected counts: integrate the pdf over each bin (midpoint, 8 x 8 points per bin)
+    k = 8 * nb
+    ac, bc = (np.arange(k) + 0.5) / k, (np.arange(k) + 0.5) / k
+    A, B = np.meshgrid(ac, bc, indexing="ij")
+    mu = np.sqrt(1 - A)
+    wgrid = np.stack(
+        [np.sqrt(A) * np.cos(2 * np.pi * B), np.sqrt(A) * np.sin(2 * np.pi * B), mu], -1
+    )
+    # dω = dμ dφ = (dA / (2μ)) (2π dB)
+    dens = model.pdf(wgrid, wo) * np.pi / mu / (k * k)
+    expected = n * dens.reshape(nb, 8, nb, 8).sum(axis=(1, 3))
+    keep = expected > 5
+    chi2 = np.sum((observed[keep] - expected[keep]) ** 2 / expected[keep])
+    p = stats.chi2.sf(chi2, keep.sum() - 1)
+    assert p > 1e-4, f"chi2={chi2:.1f}, dof={keep.sum() - 1}"
+
+
+@pytest.mark.parametrize("model", all_models() + all_models(rgb=True), ids=repr)
+def test_sample_weight_is_f_cos_over_pdf(model):
+    rng = np.random.default_rng(5)
+    wo = _wo(0.6)
+    s = model.sample(rng.random((1000, 2)), wo)
+    f = np.asarray(model.brdf(s.wi, wo))
+    cos = np.asarray(s.wi)[:, 2]
+    pdf = np.asarray(s.pdf)
+    expected = np.where(pdf > 0, f * (cos / np.where(pdf > 0, pdf, 1)) if f.ndim == 1 else 0, 0)
+    if f.ndim == 2:
+        expected = np.where(pdf[:, None] > 0, f * (cos / np.where(pdf > 0, pdf, 1))[:, None], 0)
+    np.testing.assert_allclose(s.weight, expected, rtol=1e-9, atol=1e-12)
+
+
+def test_sample_rejects_bad_u():
+    with pytest.raises(ValueError, match="u"):
+        rd.Lambert(0.5).sample(np.array([[0.5, 1.5]]), np.array([0, 0, 1.0]))
+    with pytest.raises(ValueError, match=r"u must have shape"):
+        rd.Lambert(0.5).sample(np.array([0.5, 0.5, 0.5]), np.array([0, 0, 1.0]))
