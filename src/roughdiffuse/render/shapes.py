@@ -1,0 +1,412 @@
+"""Shapes with exact ray intersection: sphere, plane, surfaces of revolution, cylinder, moon.
+
+World frame (fixed here, used by the camera and the lights): x to the right, y up, z towards
+the default viewer. Surfaces of revolution (vase, cylinder) turn about the y axis.
+
+Every shape intersects a bundle of parallel rays ``o + t d`` (the orthographic camera and a
+distant light both give one direction ``d`` for all rays), branch-free in JAX, returning the
+ray parameter of the nearest hit, a hit mask and the unit outward normal. Rays run over the
+whole line (t from −∞), so the origins may lie anywhere on the ray: the camera puts them on
+the plane through the centre of the scene, which keeps float32 round-off small.
+
+The surface of revolution of a polyline profile is a stack of cone frusta and flat annuli;
+its ray intersection is the exact root of one quadratic per frustum (or one plane per
+annulus). A smooth profile (a function r(y)) is sampled at ``segments + 1`` heights; its
+intersection is that of the inscribed polyline (distance O(h²) from the smooth surface), and
+its shading normal comes from the function's own slope, interpolated between the nodes, so
+that the shading is smooth (Phong's idea, applied to the profile's tangent).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._validate import check_range
+
+__all__ = [
+    "Cylinder",
+    "Moon",
+    "Plane",
+    "Shape",
+    "Sphere",
+    "SurfaceOfRevolution",
+    "clay_vase_profile",
+]
+
+Vec3 = tuple[Any, Any, Any]
+"""Three arrays (or scalars): the x, y, z components of points or directions."""
+
+_INF = float("inf")
+
+
+def _dot(a: Vec3, b: Vec3) -> Any:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _safe_div(num: Any, den: Any, default: float = 0.0) -> Any:
+    nz = den != 0
+    return jnp.where(nz, num / jnp.where(nz, den, 1.0), default)
+
+
+class Shape:
+    """Interface of the shapes: nearest intersection, occlusion, framing."""
+
+    convex: bool = True
+    """A convex shape casts no shadow on itself (the occlusion test is skipped)."""
+
+    def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
+        """Nearest hit of the rays ``o + t d`` over all real t.
+
+        Parameters
+        ----------
+        o : three arrays
+            Ray origins (x, y, z components, any common shape).
+        d : three scalars
+            Common unit direction of the rays.
+
+        Returns
+        -------
+        t : array
+            Ray parameter of the nearest hit (``inf`` where there is none).
+        hit : bool array
+        normal : three arrays
+            Unit outward normal at the hit (arbitrary where there is no hit).
+        """
+        raise NotImplementedError
+
+    def occluded(self, p: Vec3, d: Vec3, t_min: float) -> Any:
+        """True where the ray ``p + t d``, t > ``t_min``, meets the shape (a cast shadow)."""
+        return jnp.zeros(jnp.shape(p[0]), dtype=bool)
+
+    def extent(self, axis: np.ndarray) -> tuple[float, float]:
+        """Lowest and highest value of ``x · axis`` over the shape (the camera's framing)."""
+        raise NotImplementedError
+
+    @property
+    def scale(self) -> float:
+        """A length typical of the shape (sets the self-intersection tolerance)."""
+        return 1.0
+
+
+@dataclass(frozen=True)
+class Sphere(Shape):
+    """A sphere of radius ``radius`` centred at the origin.
+
+    Intersection: with b = o·d and c = o·o − R², the nearest root is t = −b − √(b² − c).
+    """
+
+    radius: float = 1.0
+
+    def __post_init__(self) -> None:
+        check_range("radius", self.radius, 0.0, math.inf, lo_open=True)
+
+    def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
+        r = self.radius
+        b = _dot(o, d)
+        # o·o − b² is the squared distance of the ray to the centre: c − b² without cancellation
+        perp = [o[k] - b * d[k] for k in range(3)]
+        disc = r * r - (perp[0] ** 2 + perp[1] ** 2 + perp[2] ** 2)
+        hit = disc >= 0
+        h = jnp.sqrt(jnp.where(hit, disc, 0.0))
+        t = jnp.where(hit, -b - h, _INF)
+        # p = o + t d = perp − h d
+        n = tuple((perp[k] - h * d[k]) / r for k in range(3))
+        return t, hit, n
+
+    def extent(self, axis: np.ndarray) -> tuple[float, float]:
+        return -self.radius, self.radius
+
+    @property
+    def scale(self) -> float:
+        return self.radius
+
+
+@dataclass(frozen=True)
+class Moon(Sphere):
+    """The full-moon preset: a sphere with the moon's albedo.
+
+    :func:`~roughdiffuse.render.render` gives the model this albedo (when the model has an
+    ``albedo`` field). 0.12 is the moon's average normal albedo in the visible (Hapke 2012,
+    Table 11.1 quotes 0.11–0.13 for the lunar highlands and maria together).
+    """
+
+    albedo: float = 0.12
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        check_range("albedo", self.albedo, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class Plane(Shape):
+    """The infinite plane through the origin with normal ``normal`` (default +z, facing the
+    default viewer). Every pixel sees the same geometry, so its image is one radiance value.
+    """
+
+    normal: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+    def __post_init__(self) -> None:
+        n = np.asarray(self.normal, dtype=np.float64)
+        if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.any(n):
+            raise ValueError(f"normal must be a non-zero finite 3-vector (got {self.normal!r})")
+        object.__setattr__(self, "normal", tuple(float(x) for x in n / np.linalg.norm(n)))
+
+    def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
+        n = self.normal
+        dn = _dot(d, n)
+        on = _dot(o, n)
+        hit = jnp.broadcast_to(jnp.asarray(dn != 0), jnp.shape(on))
+        t = jnp.where(hit, _safe_div(-on, dn), _INF)
+        # the side that faces the ray
+        sign = jnp.where(jnp.asarray(dn) > 0, -1.0, 1.0)
+        normal = tuple(jnp.broadcast_to(sign * n[k], jnp.shape(on)) for k in range(3))
+        return t, hit, normal
+
+    def extent(self, axis: np.ndarray) -> tuple[float, float]:
+        return -1.0, 1.0
+
+
+def clay_vase_profile(y: Any) -> Any:
+    """Radius of the default clay vase at height ``y`` in [−1, 1] (a foot, a round body,
+    a narrow neck and a flared lip that overhangs the neck).
+
+    Works on NumPy and JAX arrays.
+
+    Examples
+    --------
+    >>> round(float(clay_vase_profile(1.0)), 3)  # the lip
+    0.32
+    """
+    xp = jnp if isinstance(y, jax.Array) else np
+    s = (xp.asarray(y) + 1.0) / 2.0  # 0 at the foot, 1 at the lip
+    body = 0.45 * xp.exp(-(((s - 0.38) / 0.24) ** 2))
+    lip = 0.10 * xp.exp(-(((s - 1.0) / 0.06) ** 2))
+    return 0.22 + body + lip
+
+
+def _polyline(profile: Any, y_range: tuple[float, float], segments: int) -> tuple[np.ndarray, ...]:
+    """Nodes (y, r) and node tangents of a profile given as points or as a function."""
+    if callable(profile):
+        y0, y1 = (float(v) for v in y_range)
+        if not (math.isfinite(y0) and math.isfinite(y1) and y0 < y1):
+            raise ValueError(f"y_range must be two finite heights, low < high (got {y_range!r})")
+        y = np.linspace(y0, y1, segments + 1)
+        r = np.asarray(profile(y), dtype=np.float64)
+        h = 1e-5 * (y1 - y0)
+        slope = (np.asarray(profile(y + h)) - np.asarray(profile(y - h))) / (2 * h)
+        tan = np.stack([slope, np.ones_like(slope)], axis=-1)  # (dr, dy), going up
+        smooth = True
+    else:
+        pts = np.asarray(profile, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 2:
+            raise ValueError(f"profile points must have shape (N >= 2, 2) (got {pts.shape})")
+        y, r = pts[:, 0], pts[:, 1]
+        tan = None
+        smooth = False
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(y))):
+        raise ValueError("profile must be finite")
+    if np.any(r < 0):
+        raise ValueError(f"profile radius must be >= 0 (got {r.min():g})")
+    return y, r, tan, smooth  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class SurfaceOfRevolution(Shape):
+    """A solid of revolution about the y axis (a vase), closed by flat caps.
+
+    Parameters
+    ----------
+    profile : callable or array (N, 2), optional
+        The radius r(y) as a function of the height (NumPy-vectorised), or points
+        (y, r) of a polyline drawn from the bottom to the top (the solid's outside on the
+        right of the direction of travel in the (r, y) plane, so an overhang is a segment
+        going out at constant y). Default: :func:`clay_vase_profile`.
+    y_range : (float, float)
+        Heights where a function profile starts and ends (default −1, 1).
+    segments : int
+        Number of frusta a function profile is cut into (default 128).
+
+    Notes
+    -----
+    A frustum from (y_a, r_a) to (y_b, r_b) is the cone ρ = g + h t along the ray, with
+    ρ² = x² + z²; the hit is the smaller admissible root of
+    (d_x² + d_z² − h²) t² + 2 (o_x d_x + o_z d_z − g h) t + (o_x² + o_z² − g²) = 0.
+    The outward normal of a piece with tangent (Δr, Δy) in the (ρ, y) plane is
+    (x/ρ Δy, −Δr, z/ρ Δy), normalised.
+    """
+
+    profile: Any = field(default=None, compare=False, hash=False)
+    y_range: tuple[float, float] = (-1.0, 1.0)
+    segments: int = 128
+    nodes: tuple[tuple[float, ...], ...] = field(init=False, repr=False)
+
+    convex = False
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.segments, int) or not 1 <= self.segments <= 4096:
+            raise ValueError(f"segments must be an integer in [1, 4096] (got {self.segments!r})")
+        profile = clay_vase_profile if self.profile is None else self.profile
+        y, r, tan, smooth = _polyline(profile, self.y_range, self.segments)
+        ya, yb, ra, rb = y[:-1], y[1:], r[:-1], r[1:]
+        if smooth:
+            ta, tb = tan[:-1], tan[1:]
+        else:
+            seg = np.stack([rb - ra, yb - ya], axis=-1)
+            ta = tb = seg
+        # close the solid with flat caps at the ends that are off the axis
+        pieces = [(ya, yb, ra, rb, ta, tb)]
+        if r[0] > 0:
+            cap = np.array([[r[0], 0.0]])
+            pieces.insert(0, ([y[0]], [y[0]], [0.0], [r[0]], cap, cap))
+        if r[-1] > 0:
+            cap = np.array([[-r[-1], 0.0]])
+            pieces.append(([y[-1]], [y[-1]], [r[-1]], [0.0], cap, cap))
+        cols = [
+            np.concatenate([np.asarray(p[k], dtype=np.float64) for p in pieces]) for k in range(6)
+        ]
+        ya, yb, ra, rb, ta, tb = cols
+        keep = (np.abs(yb - ya) + np.abs(rb - ra)) > 0
+        ta = ta / np.linalg.norm(ta, axis=-1, keepdims=True)
+        tb = tb / np.linalg.norm(tb, axis=-1, keepdims=True)
+        table = np.stack([ya, yb, ra, rb, ta[:, 0], ta[:, 1], tb[:, 0], tb[:, 1]], axis=0)[:, keep]
+        object.__setattr__(self, "nodes", tuple(tuple(float(v) for v in row) for row in table))
+
+    # -------------------------------------------------------------- geometry
+    def _table(self) -> jnp.ndarray:
+        return jnp.asarray(np.asarray(self.nodes, dtype=np.float32))
+
+    @staticmethod
+    def _piece_hit(seg: Any, o: Vec3, d: Vec3, t_min: Any) -> tuple[Any, Any]:
+        """Nearest admissible t > t_min on one piece, and the piece parameter u there."""
+        ya, yb, ra, rb = seg[0], seg[1], seg[2], seg[3]
+        dy_seg = yb - ya
+        dr_seg = rb - ra
+        flat = dy_seg == 0
+        # cone: ρ = g + h t with k = Δr/Δy
+        k = _safe_div(dr_seg, dy_seg)
+        g = ra + k * (o[1] - ya)
+        h = k * d[1]
+        a = d[0] * d[0] + d[2] * d[2] - h * h
+        b = o[0] * d[0] + o[2] * d[2] - g * h
+        c = o[0] * o[0] + o[2] * o[2] - g * g
+        disc = b * b - a * c
+        ok = disc >= 0
+        sq = jnp.sqrt(jnp.where(ok, disc, 0.0))
+        q = -(b + jnp.where(b >= 0, sq, -sq))
+        r1 = jnp.where(a != 0, q / jnp.where(a != 0, a, 1.0), _INF)
+        r2 = jnp.where(q != 0, c / jnp.where(q != 0, q, 1.0), _INF)
+        lo, hi = jnp.minimum(ya, yb), jnp.maximum(ya, yb)
+
+        def admissible(t: Any) -> Any:
+            y = o[1] + t * d[1]
+            return ok & (t > t_min) & (y >= lo) & (y <= hi) & (g + h * t >= 0)
+
+        r1 = jnp.where(admissible(r1), r1, _INF)
+        r2 = jnp.where(admissible(r2), r2, _INF)
+        t_cone = jnp.minimum(r1, r2)
+        # annulus at y = ya between radii ra and rb
+        t_flat = _safe_div(ya - o[1], d[1], _INF)
+        x = o[0] + t_flat * d[0]
+        z = o[2] + t_flat * d[2]
+        rho2 = x * x + z * z
+        r_lo, r_hi = jnp.minimum(ra, rb), jnp.maximum(ra, rb)
+        in_ring = (rho2 >= r_lo * r_lo) & (rho2 <= r_hi * r_hi) & (t_flat > t_min)
+        t_flat = jnp.where(in_ring & (d[1] != 0), t_flat, _INF)
+        t = jnp.where(flat, t_flat, t_cone)
+        # piece parameter u in [0, 1] at the hit
+        y = o[1] + t * d[1]
+        rho = jnp.sqrt((o[0] + t * d[0]) ** 2 + (o[2] + t * d[2]) ** 2)
+        u = jnp.where(flat, _safe_div(rho - ra, dr_seg), _safe_div(y - ya, dy_seg))
+        return t, jnp.clip(u, 0.0, 1.0)
+
+    def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
+        table = self._table()
+        shape = jnp.shape(o[0])
+        init = (
+            jnp.full(shape, _INF, jnp.float32),
+            jnp.zeros(shape, jnp.int32),
+            jnp.zeros(shape, jnp.float32),
+        )
+
+        def body(i: Any, carry: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+            t_best, idx, u_best = carry
+            t, u = self._piece_hit(table[:, i], o, d, -_INF)
+            closer = t < t_best
+            return (
+                jnp.where(closer, t, t_best),
+                jnp.where(closer, i, idx),
+                jnp.where(closer, u, u_best),
+            )
+
+        t, idx, u = jax.lax.fori_loop(0, table.shape[1], body, init)
+        hit = t < _INF
+        t_safe = jnp.where(hit, t, 0.0)
+        x = o[0] + t_safe * d[0]
+        z = o[2] + t_safe * d[2]
+        rho = jnp.sqrt(x * x + z * z)
+        seg = table[:, idx]
+        tr = (1.0 - u) * seg[4] + u * seg[6]  # interpolated tangent (Δr, Δy)
+        ty = (1.0 - u) * seg[5] + u * seg[7]
+        nx = _safe_div(x, rho) * ty
+        nz = _safe_div(z, rho) * ty
+        ny = -tr
+        norm = jnp.sqrt(nx * nx + ny * ny + nz * nz)
+        norm = jnp.where(norm > 0, norm, 1.0)
+        return t, hit, (nx / norm, ny / norm, nz / norm)
+
+    def occluded(self, p: Vec3, d: Vec3, t_min: float) -> Any:
+        table = self._table()
+
+        def body(i: Any, blocked: Any) -> Any:
+            t, _ = self._piece_hit(table[:, i], p, d, t_min)
+            return blocked | (t < _INF)
+
+        return jax.lax.fori_loop(0, table.shape[1], body, jnp.zeros(jnp.shape(p[0]), bool))
+
+    def extent(self, axis: np.ndarray) -> tuple[float, float]:
+        ya, yb, ra, rb = (np.asarray(v) for v in self.nodes[:4])
+        y = np.concatenate([ya, yb])
+        r = np.concatenate([ra, rb])
+        ay = float(axis[1])
+        across = math.sqrt(max(0.0, 1.0 - ay * ay))
+        lo = np.min(ay * y - across * r)
+        hi = np.max(ay * y + across * r)
+        return float(lo), float(hi)
+
+    @property
+    def scale(self) -> float:
+        ya, yb, ra, rb = (np.asarray(v) for v in self.nodes[:4])
+        return float(max(np.ptp(np.concatenate([ya, yb])), np.max(np.concatenate([ra, rb]))))
+
+
+@dataclass(frozen=True)
+class Cylinder(Shape):
+    """A closed cylinder of radius ``radius`` and height ``height`` about the y axis, centred
+    at the origin: exactly one frustum of slope 0 and two flat caps.
+    """
+
+    radius: float = 0.5
+    height: float = 2.0
+    surface: SurfaceOfRevolution = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        check_range("radius", self.radius, 0.0, math.inf, lo_open=True)
+        check_range("height", self.height, 0.0, math.inf, lo_open=True)
+        h, r = 0.5 * float(self.height), float(self.radius)
+        object.__setattr__(self, "surface", SurfaceOfRevolution(profile=[(-h, r), (h, r)]))
+
+    def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
+        return self.surface.intersect(o, d)
+
+    def extent(self, axis: np.ndarray) -> tuple[float, float]:
+        return self.surface.extent(axis)
+
+    @property
+    def scale(self) -> float:
+        return self.surface.scale
