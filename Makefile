@@ -36,7 +36,7 @@ figures: install
 	$(VENV)/bin/roughdiffuse figures
 
 test: install-test system-deps
-	$(PY) -m ruff check src tests bench
+	$(PY) -m ruff check src tests $(wildcard bench examples)
 	$(PY) -m pytest
 
 bench: install
