@@ -21,8 +21,9 @@ from typing import Any, ClassVar
 from .._array import Array, result_dtype, safe_div
 from .._validate import check_range
 from ..frames import unit_components
-from .base import Model, register_pytree
+from .base import BSDFSample, Model, register_pytree
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
+from .sampling import pdf_model, sample_model
 
 __all__ = ["EON"]
 
@@ -88,3 +89,11 @@ class EON(Model):
         val = rho * e + _rho_ms(rho, fon_average_albedo(r)) * (1.0 - e)
         above = z >= 0
         return xp.where(above[..., None] if rho.ndim else above, val, 0.0 * val)
+
+    def sample(self, u: Array, wo: Array) -> BSDFSample:
+        """EON's sampler: clipped LTC mixed with uniform (paper Sec. 5), see :mod:`.sampling`."""
+        return sample_model(self, u, wo)
+
+    def pdf(self, wi: Array, wo: Array) -> Array:
+        """Density of :meth:`sample` per solid angle."""
+        return pdf_model(self, wi, wo)

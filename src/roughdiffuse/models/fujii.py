@@ -25,8 +25,9 @@ from typing import Any, ClassVar
 from .._array import Array, clip, maximum, result_dtype, safe_sqrt
 from .._validate import check_range
 from ..frames import unit_components
-from .base import Model, register_pytree
+from .base import BSDFSample, Model, register_pytree
 from .oren_nayar import TAN_FLOOR
+from .sampling import pdf_model, sample_model
 
 __all__ = ["Fujii", "fon_albedo", "fon_average_albedo", "K1", "K2"]
 
@@ -103,3 +104,11 @@ class Fujii(Model):
         p = self._params(xp, dtype)
         e = xp.where(z >= 0, fon_albedo(xp, z, p["roughness"]), 0.0 * z)
         return e[..., None] * p["albedo"] if p["albedo"].ndim else e * p["albedo"]
+
+    def sample(self, u: Array, wo: Array) -> BSDFSample:
+        """The clipped-LTC sampler of the EON paper (same lobe), see :mod:`.sampling`."""
+        return sample_model(self, u, wo)
+
+    def pdf(self, wi: Array, wo: Array) -> Array:
+        """Density of :meth:`sample` per solid angle."""
+        return pdf_model(self, wi, wo)

@@ -33,14 +33,18 @@ from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_
 from .._validate import check_range
 from ..frames import unit_components
 from ._quadrature import gauss_legendre_01
-from .base import Model, register_pytree
+from .base import BSDFSample, Model, register_pytree
 from .oren_nayar import SIGMA_MAX
+from .sampling import pdf_model, sample_model
 
 __all__ = ["TorranceSparrow", "fresnel_dielectric", "slope_distribution"]
 
 Distribution = Literal["gaussian", "beckmann"]
 
 _COS_FLOOR = 1e-6
+SIGMA_FLOOR = 1e-4
+"""Smallest σ the facet distribution resolves: a smaller positive σ is evaluated as 1e-4 rad
+(peak D = 1.6e7 /sr), so that D stays finite in float32 as σ -> 0 (σ = 0 itself gives 0)."""
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(96)
 _GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
 
@@ -82,7 +86,7 @@ def slope_distribution(
     """D(h) for n·h = ``cos_h``, normalised so that ∫ D (n·h) dωh = 1; 0 for σ = 0."""
     dtype = cos_h.dtype
     pos = sigma > 0
-    s = xp.where(pos, sigma, 1.0)
+    s = xp.where(pos, maximum(xp, sigma, SIGMA_FLOOR), 1.0)
     sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
     if distribution == "gaussian":
         theta = xp.atan2(sin_h, cos_h)
@@ -182,3 +186,11 @@ class TorranceSparrow(Model):
         weights = (theta_max * w)[:, None] * (2.0 * math.pi * w)[None, :]
         integrand = f * maximum(xp, mu_i, 0.0) * jac * weights
         return xp.sum(xp.sum(integrand, axis=-1), axis=-1)
+
+    def sample(self, u: Array, wo: Array) -> BSDFSample:
+        """Sample the facet normals (D(h) n·h) and reflect wo, see :mod:`.sampling`."""
+        return sample_model(self, u, wo)
+
+    def pdf(self, wi: Array, wo: Array) -> Array:
+        """Density of :meth:`sample` per solid angle."""
+        return pdf_model(self, wi, wo)
