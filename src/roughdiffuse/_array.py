@@ -40,6 +40,9 @@ def namespace(*xs: object) -> Any:
         return array_api_compat.array_namespace(
             *[x for x in arrays if array_api_compat.is_torch_array(x)]
         )
+    for x in arrays:  # other array-API objects name their namespace (the fast path's tracer)
+        if hasattr(x, "__array_namespace__") and not isinstance(x, np.ndarray | np.generic):
+            return x.__array_namespace__()
     return array_api_compat.numpy
 
 
