@@ -1,0 +1,1 @@
+"""Bridges to other software: Mitsuba 3 BSDF plugins (:mod:`.mitsuba`)."""

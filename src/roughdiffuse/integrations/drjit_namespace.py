@@ -1,0 +1,252 @@
+"""A small array namespace over Dr.Jit, so the models' kernels run inside Mitsuba 3 as they are.
+
+The models' formulas (``Model._kernel``) and samplers (:mod:`roughdiffuse.models.sampling`)
+are written once against an array namespace ``xp``: ``xp.where``, ``xp.sqrt``, ``xp.atan2``,
+``xp.sin``, ``xp.cos``, ``xp.exp``, ``xp.log``, ``xp.abs``, ``xp.sum`` and Python operators.
+This module gives that handful of functions for Dr.Jit values (``mi.Float``, ``mi.Color3f``
+in every Mitsuba variant: plain Python floats in ``scalar_rgb``, traced JIT arrays with
+automatic differentiation in ``llvm_ad_rgb``), so a Mitsuba plugin calls the same code as
+NumPy and JAX do, not a second copy of each formula.
+
+Two wrappers carry the values:
+
+* :class:`DrArray` wraps one Dr.Jit value (one number per lane, any Dr.Jit type). It has
+  ``ndim == 0`` (a kernel sees one lane) and ``x[..., None]`` returns ``x`` unchanged.
+* :class:`Nodes` is a short trailing axis of constants, e.g. the Gauss–Legendre nodes the
+  Gaussian facet distribution integrates over (``xp.asarray(numpy_array)``); operations map
+  over it elementwise and ``xp.sum(..., axis=-1)`` adds it up.
+
+Wrap every input with :func:`wrap` (Dr.Jit's operators reject foreign types, so a raw Dr.Jit
+value must never meet a wrapper) and take results back with :func:`unwrap`.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+from collections.abc import Callable
+from typing import Any
+
+import drjit as dr
+import numpy as np
+
+__all__ = ["DrArray", "Nodes", "drjit_namespace", "unwrap", "wrap"]
+
+
+def _raw(x: Any) -> Any:
+    if isinstance(x, DrArray):
+        return x.v
+    if isinstance(x, np.generic):
+        return x.item()
+    return x
+
+
+def _binary(op: Callable[[Any, Any], Any], reflected: bool = False) -> Callable[..., Any]:
+    def f(self: Any, other: Any) -> Any:
+        if isinstance(other, Nodes):
+            return other._map2(self, op, swap=not reflected)
+        a, b = (_raw(other), self.v) if reflected else (self.v, _raw(other))
+        return DrArray(op(a, b))
+
+    return f
+
+
+class DrArray:
+    """One Dr.Jit value seen by a kernel as a 0-d array (see module docstring)."""
+
+    __slots__ = ("v",)
+    __array_ufunc__ = None  # NumPy scalars defer to our reflected operators
+    __hash__ = None  # type: ignore[assignment]
+    ndim = 0
+    shape: tuple[int, ...] = ()
+    dtype = "drjit"
+
+    def __init__(self, v: Any) -> None:
+        self.v = v
+
+    def __getitem__(self, key: Any) -> DrArray:
+        return self  # x[..., None] on a per-lane value: nothing to add
+
+    def __repr__(self) -> str:
+        return f"DrArray({self.v!r})"
+
+    __add__ = _binary(operator.add)
+    __radd__ = _binary(operator.add, True)
+    __sub__ = _binary(operator.sub)
+    __rsub__ = _binary(operator.sub, True)
+    __mul__ = _binary(operator.mul)
+    __rmul__ = _binary(operator.mul, True)
+    __truediv__ = _binary(operator.truediv)
+    __rtruediv__ = _binary(operator.truediv, True)
+    __pow__ = _binary(operator.pow)
+    __rpow__ = _binary(operator.pow, True)
+    __lt__ = _binary(operator.lt)
+    __le__ = _binary(operator.le)
+    __gt__ = _binary(operator.gt)
+    __ge__ = _binary(operator.ge)
+    __eq__ = _binary(operator.eq)  # type: ignore[assignment]
+    __ne__ = _binary(operator.ne)  # type: ignore[assignment]
+    __and__ = _binary(operator.and_)
+    __rand__ = _binary(operator.and_, True)
+    __or__ = _binary(operator.or_)
+    __ror__ = _binary(operator.or_, True)
+
+    def __neg__(self) -> DrArray:
+        return DrArray(-self.v)
+
+    def __invert__(self) -> DrArray:
+        v = self.v
+        return DrArray((not v) if isinstance(v, bool) else ~v)
+
+
+class Nodes:
+    """A short trailing axis (a Python list of floats or :class:`DrArray`)."""
+
+    __slots__ = ("items",)
+    __array_ufunc__ = None
+    __hash__ = None  # type: ignore[assignment]
+    ndim = 1
+    dtype = "drjit"
+
+    def __init__(self, items: list[Any]) -> None:
+        self.items = items
+
+    @property
+    def shape(self) -> tuple[int]:
+        return (len(self.items),)
+
+    def __getitem__(self, key: Any) -> Nodes:
+        return self
+
+    def _map2(self, other: Any, op: Callable[[Any, Any], Any], swap: bool = False) -> Nodes:
+        if isinstance(other, Nodes):
+            pairs = (
+                zip(other.items, self.items, strict=True)
+                if swap
+                else zip(self.items, other.items, strict=True)
+            )
+            return Nodes([_apply(op, a, b) for a, b in pairs])
+        if swap:
+            return Nodes([_apply(op, other, a) for a in self.items])
+        return Nodes([_apply(op, a, other) for a in self.items])
+
+    def _map(self, fn: Callable[[Any], Any]) -> Nodes:
+        return Nodes([fn(a) for a in self.items])
+
+
+def _apply(op: Callable[[Any, Any], Any], a: Any, b: Any) -> Any:
+    if isinstance(a, DrArray | Nodes) or isinstance(b, DrArray | Nodes):
+        if isinstance(a, DrArray | Nodes):
+            return op(a, b)
+        return op(DrArray(a), b)
+    return op(a, b)
+
+
+def _nodes_binary(op: Callable[[Any, Any], Any], reflected: bool = False) -> Callable[..., Any]:
+    def f(self: Nodes, other: Any) -> Nodes:
+        return self._map2(other, op, swap=reflected)
+
+    return f
+
+
+for _name, _op in [
+    ("add", operator.add),
+    ("sub", operator.sub),
+    ("mul", operator.mul),
+    ("truediv", operator.truediv),
+    ("pow", operator.pow),
+]:
+    setattr(Nodes, f"__{_name}__", _nodes_binary(_op))
+    setattr(Nodes, f"__r{_name}__", _nodes_binary(_op, True))
+for _name, _op in [("lt", operator.lt), ("le", operator.le), ("gt", operator.gt)]:
+    setattr(Nodes, f"__{_name}__", _nodes_binary(_op))
+Nodes.__ge__ = _nodes_binary(operator.ge)  # type: ignore[method-assign]
+Nodes.__neg__ = lambda self: self._map(operator.neg)  # type: ignore[attr-defined]
+
+
+def wrap(x: Any) -> DrArray:
+    """Wrap a Dr.Jit value (or a Python number) for the kernels."""
+    return x if isinstance(x, DrArray) else DrArray(x)
+
+
+def unwrap(x: Any) -> Any:
+    """The Dr.Jit value inside a :class:`DrArray` (a plain number is returned as is)."""
+    return x.v if isinstance(x, DrArray) else x
+
+
+def _unary(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    def f(x: Any) -> Any:
+        if isinstance(x, Nodes):
+            return x._map(f)
+        if isinstance(x, DrArray):
+            return DrArray(fn(x.v))
+        return fn(x)
+
+    return f
+
+
+class _DrJitNamespace:
+    """The array functions the models use, over :class:`DrArray` and :class:`Nodes`."""
+
+    __name__ = "roughdiffuse.integrations.drjit_namespace"
+    float32 = "float32"
+    float64 = "float64"
+    pi = math.pi
+
+    sqrt = staticmethod(_unary(dr.sqrt))
+    sin = staticmethod(_unary(dr.sin))
+    cos = staticmethod(_unary(dr.cos))
+    exp = staticmethod(_unary(dr.exp))
+    log = staticmethod(_unary(dr.log))
+    abs = staticmethod(_unary(dr.abs))
+    atan = staticmethod(_unary(dr.atan))
+    acos = staticmethod(_unary(dr.acos))
+    log1p = staticmethod(_unary(lambda v: dr.log(1.0 + v)))
+
+    @staticmethod
+    def atan2(y: Any, x: Any) -> Any:
+        if isinstance(y, Nodes) or isinstance(x, Nodes):
+            ny = y if isinstance(y, Nodes) else Nodes([y] * len(x.items))
+            nx = x if isinstance(x, Nodes) else Nodes([x] * len(ny.items))
+            return Nodes(
+                [_DrJitNamespace.atan2(a, b) for a, b in zip(ny.items, nx.items, strict=True)]
+            )
+        return DrArray(dr.atan2(_raw(y), _raw(x)))
+
+    @staticmethod
+    def where(cond: Any, a: Any, b: Any) -> Any:
+        if any(isinstance(t, Nodes) for t in (cond, a, b)):
+            n = next(len(t.items) for t in (cond, a, b) if isinstance(t, Nodes))
+            cs, as_, bs = (t.items if isinstance(t, Nodes) else [t] * n for t in (cond, a, b))
+            return Nodes(
+                [_DrJitNamespace.where(c, x, y) for c, x, y in zip(cs, as_, bs, strict=True)]
+            )
+        return DrArray(dr.select(_raw(cond), _raw(a), _raw(b)))
+
+    @staticmethod
+    def sum(x: Any, axis: int = -1) -> Any:
+        if not isinstance(x, Nodes):
+            return x
+        total = x.items[0]
+        for item in x.items[1:]:
+            total = total + item
+        return total
+
+    @staticmethod
+    def asarray(x: Any, dtype: Any = None) -> Any:
+        if isinstance(x, DrArray | Nodes):
+            return x
+        arr = np.asarray(x, dtype=np.float64)
+        if arr.ndim == 0:
+            return float(arr)
+        if arr.ndim != 1:
+            raise ValueError(f"the Dr.Jit namespace holds 1-D constants only (got {arr.shape})")
+        return Nodes([float(v) for v in arr])
+
+    @staticmethod
+    def zeros_like(x: Any) -> Any:
+        return 0.0 * x
+
+
+drjit_namespace = _DrJitNamespace()
+"""The namespace object to pass as ``xp`` to a kernel."""
