@@ -1,0 +1,306 @@
+"""Images as measurements: linear image files, normal maps, the renderer's known shapes.
+
+An image of an object of known geometry under a distant light is a set of radiance samples
+L = f_r E0 cos θi, one per pixel, at the pixel's normal n, the light direction l and the view
+direction v (the lecture's L = ρ/π E0 n·s for Lambert). This module reads linear images
+(``.npy``, OpenEXR, PNG with a stated exposure), normal maps (``.npy``, (H, W, 3)), and
+computes the normals of the renderer's shapes (:mod:`roughdiffuse.render`) by the same exact
+ray intersection the renderer uses, so that an image it rendered can be fitted.
+
+PNG holds display values; the linear radiance is recovered as
+L = decode(v / (2^bits − 1)) / 2^exposure, with decode the sRGB curve (IEC 61966-2-1) or the
+identity. Files written by :func:`roughdiffuse.render.imagefile.write_png` state their
+encoding and scale in text chunks, which are used when present. Saturated pixels (v at its
+maximum) and partly covered pixels (alpha below its maximum) are masked out.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import struct
+import zlib
+from typing import Any
+
+import numpy as np
+
+from .measurements import Measurements
+
+__all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]
+
+
+# --------------------------------------------------------------------------- PNG
+def _paeth(a: int, b: int, c: int) -> int:
+    p = a + b - c
+    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+    if pa <= pb and pa <= pc:
+        return a
+    return b if pb <= pc else c
+
+
+def _unfilter(raw: np.ndarray, h: int, stride: int, bpp: int) -> np.ndarray:
+    """Undo the PNG scanline filters (ISO/IEC 15948 §9); rows of ``stride`` bytes."""
+    data = raw.reshape(h, stride + 1)
+    out = np.zeros((h, stride), dtype=np.uint8)
+    prev = np.zeros(stride, dtype=np.int64)
+    for y in range(h):
+        kind = int(data[y, 0])
+        row = data[y, 1:].astype(np.int64)
+        if kind == 0:
+            cur = row
+        elif kind == 1:  # Sub: running sum along each byte lane
+            lanes = np.zeros(stride + (-stride) % bpp, dtype=np.int64)
+            lanes[:stride] = row
+            cur = (np.cumsum(lanes.reshape(-1, bpp), axis=0).ravel()[:stride]) % 256
+        elif kind == 2:  # Up
+            cur = (row + prev) % 256
+        elif kind in (3, 4):  # Average, Paeth: sequential along the row
+            cur = np.zeros(stride, dtype=np.int64)
+            r, p = row.tolist(), prev.tolist()
+            c = [0] * stride
+            for x in range(stride):
+                left = c[x - bpp] if x >= bpp else 0
+                if kind == 3:
+                    c[x] = (r[x] + (left + p[x]) // 2) % 256
+                else:
+                    ul = p[x - bpp] if x >= bpp else 0
+                    c[x] = (r[x] + _paeth(left, p[x], ul)) % 256
+            cur = np.asarray(c, dtype=np.int64)
+        else:
+            raise ValueError(f"PNG row {y}: unknown filter type {kind}")
+        out[y] = cur
+        prev = cur
+    return out
+
+
+def _read_png(path: str) -> tuple[np.ndarray, int, dict[str, str]]:
+    """(pixels (H, W, C) uint, bit depth, text chunks) of a non-interlaced PNG."""
+    name = os.path.basename(path)
+    with open(path, "rb") as fh:
+        blob = fh.read()
+    if blob[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{name}: not a PNG file")
+    pos, idat, text = 8, [], {}
+    header = None
+    while pos + 8 <= len(blob):
+        (length,) = struct.unpack(">I", blob[pos : pos + 4])
+        kind = blob[pos + 4 : pos + 8]
+        payload = blob[pos + 8 : pos + 8 + length]
+        if len(payload) < length:
+            raise ValueError(f"{name}: truncated PNG file")
+        pos += 12 + length
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", payload)
+        elif kind == b"IDAT":
+            idat.append(payload)
+        elif kind in (b"tEXt", b"iTXt"):
+            key, _, rest = payload.partition(b"\0")
+            if kind == b"iTXt":
+                rest = rest[2:].split(b"\0", 2)[-1]
+            text[key.decode("latin-1")] = rest.decode("utf-8", "replace")
+        elif kind == b"IEND":
+            break
+    if header is None:
+        raise ValueError(f"{name}: PNG without IHDR")
+    w, h, bits, color, _, _, interlace = header
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
+    if channels is None or bits not in (8, 16) or interlace:
+        raise ValueError(
+            f"{name}: only non-interlaced 8- or 16-bit grey/RGB(A) PNG is supported "
+            f"(colour type {color}, {bits} bits, interlace {interlace})"
+        )
+    try:
+        raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
+    except zlib.error as exc:
+        raise ValueError(f"{name}: corrupt PNG data ({exc})") from None
+    bpp = channels * bits // 8
+    stride = w * bpp
+    if raw.size != h * (stride + 1):
+        raise ValueError(f"{name}: truncated PNG data")
+    rows = _unfilter(raw, h, stride, bpp)
+    dtype = ">u2" if bits == 16 else "u1"
+    pix = rows.reshape(h, -1).view(dtype).reshape(h, w, channels).astype(np.uint32)
+    return pix, bits, text
+
+
+def _png_linear(
+    path: str, exposure: float | None, encoding: str | None
+) -> tuple[np.ndarray, np.ndarray]:
+    pix, bits, text = _read_png(path)
+    name = os.path.basename(path)
+    top = (1 << bits) - 1
+    c = pix.shape[2]
+    alpha = pix[..., -1] if c in (2, 4) else None
+    color = pix[..., : 1 if c <= 2 else 3].astype(np.float64)
+    mask = np.all(color < top, axis=-1)  # saturated pixels carry no value
+    if alpha is not None:
+        mask &= alpha == top
+    v = color / top
+    scale = None
+    if exposure is not None:
+        scale = 2.0**exposure
+    elif "roughdiffuse:scale" in text:
+        scale = float(text["roughdiffuse:scale"])
+    if scale is None or not scale > 0:
+        raise ValueError(
+            f"{name}: a PNG holds display values; state its exposure (stops, linear value = "
+            "pixel / 2^exposure) for the linear radiance"
+        )
+    if encoding is None:
+        encoding = "srgb" if "sRGB" in text.get("roughdiffuse:encoding", "sRGB") else "linear"
+    if encoding == "srgb":
+        lin = np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+    elif encoding == "linear":
+        lin = v
+    else:
+        raise ValueError(f"encoding must be 'srgb' or 'linear' (got {encoding!r})")
+    img = lin / scale
+    return (img[..., 0] if img.shape[2] == 1 else img), mask
+
+
+def read_image(
+    path: str | os.PathLike[str],
+    *,
+    exposure: float | None = None,
+    encoding: str | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Read a linear radiance image and the mask of its usable pixels.
+
+    Parameters
+    ----------
+    path : path-like
+        ``.npy`` (float, (H, W) or (H, W, 3)), ``.exr`` (OpenEXR), or ``.png`` (8 or 16 bit).
+    exposure : float, optional
+        PNG only: stops, linear = decoded / 2^exposure (default: the file's
+        ``roughdiffuse:scale`` text chunk; an error if it has none).
+    encoding : {"srgb", "linear"}, optional
+        PNG only: the transfer curve (default: the file's statement, else sRGB).
+
+    Returns
+    -------
+    image : float64 array (H, W) or (H, W, 3)
+    mask : bool array (H, W)
+        Pixels that hold a value (finite, not saturated, fully covered).
+    """
+    path = os.fspath(path)
+    name = os.path.basename(path)
+    ext = os.path.splitext(path)[1].lower()
+    if not os.path.isfile(path):
+        raise ValueError(f"image file {path!r} does not exist")
+    if ext == ".npy":
+        try:
+            img = np.load(path, allow_pickle=False)
+        except Exception as exc:  # noqa: BLE001 - any unreadable file is one message
+            raise ValueError(f"{name}: not a readable .npy file ({exc})") from None
+        img = np.asarray(img, dtype=np.float64)
+    elif ext == ".exr":
+        import OpenEXR
+
+        with OpenEXR.File(path) as f:
+            ch = f.channels()
+            if "RGB" in ch:
+                img = np.asarray(ch["RGB"].pixels, dtype=np.float64)
+            elif "Y" in ch:
+                img = np.asarray(ch["Y"].pixels, dtype=np.float64)
+            elif all(k in ch for k in "RGB"):
+                img = np.stack([np.asarray(ch[k].pixels, np.float64) for k in "RGB"], axis=-1)
+            else:
+                raise ValueError(f"{name}: no RGB or Y channels (has {', '.join(ch)})")
+    elif ext == ".png":
+        return _png_linear(path, exposure, encoding)
+    else:
+        raise ValueError(f"image file must end in .npy, .exr or .png (got {name!r})")
+    if img.ndim == 3 and img.shape[2] == 1:
+        img = img[..., 0]
+    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] != 3):
+        raise ValueError(f"{name}: image must have shape (H, W) or (H, W, 3) (got {img.shape})")
+    finite = np.isfinite(img) if img.ndim == 2 else np.all(np.isfinite(img), axis=-1)
+    img = np.where(np.isfinite(img), img, 0.0)
+    if np.any(img < 0):
+        raise ValueError(f"{name}: negative radiance in {int(np.sum(img < 0))} entries")
+    return img, finite
+
+
+def read_normals(path: str | os.PathLike[str]) -> np.ndarray:
+    """A normal map: ``.npy`` of shape (H, W, 3), unit normals, zero vectors for background."""
+    path = os.fspath(path)
+    if not path.lower().endswith(".npy"):
+        raise ValueError(f"normal map must be a .npy file of shape (H, W, 3) (got {path!r})")
+    if not os.path.isfile(path):
+        raise ValueError(f"normal map {path!r} does not exist")
+    n = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
+    if n.ndim != 3 or n.shape[2] != 3:
+        raise ValueError(f"normal map must have shape (H, W, 3) (got {n.shape})")
+    length = np.linalg.norm(n, axis=-1)
+    bad = (length > 0) & (np.abs(length - 1) > 1e-3)
+    if np.any(bad) or not np.all(np.isfinite(n)):
+        raise ValueError("normal map must hold unit vectors (or zero vectors for background)")
+    return n
+
+
+def shape_normals(
+    shape: Any, size: int | tuple[int, int], light: Any = None, camera: Any = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Normals of a renderer shape at the pixel centres, and the pixels lit and seen.
+
+    Rays through the pixel centres, as :func:`roughdiffuse.render.render` casts them with
+    ``samples_per_pixel=1``, intersect ``shape`` exactly; with a ``light``
+    (:class:`~roughdiffuse.render.DistantLight`), pixels in a cast shadow are masked out.
+
+    Returns
+    -------
+    normals : array (H, W, 3)
+        World-frame unit normals (zero where the ray misses the shape).
+    mask : bool array (H, W)
+        Pixels on the shape (and not in a cast shadow of ``light``).
+    """
+    import jax.numpy as jnp
+
+    from ..render import OrthographicCamera, pixel_coordinates
+
+    camera = OrthographicCamera() if camera is None else camera
+    x, y = pixel_coordinates(shape, camera, size)
+    right, up, view = camera.basis()
+    xx, yy = np.meshgrid(x, y)
+    o = tuple(jnp.asarray(xx * right[c] + yy * up[c]) for c in range(3))
+    d = tuple(float(-view[c]) for c in range(3))
+    t, hit, n = shape.intersect(o, d)
+    hit = np.asarray(hit)
+    normals = np.stack([np.asarray(c, dtype=np.float64) for c in n], axis=-1)
+    normals /= np.maximum(np.linalg.norm(normals, axis=-1, keepdims=True), 1e-30)
+    normals = np.where(hit[..., None], normals, 0.0)
+    mask = hit.copy()
+    if light is not None and not shape.convex:
+        tt = jnp.where(hit, t, 0.0)
+        p = tuple(o[c] + tt * d[c] for c in range(3))
+        ld = tuple(float(v) for v in light.direction)
+        mask &= ~np.asarray(shape.occluded(p, ld, 1e-4 * shape.scale))
+    return normals, mask
+
+
+def image_measurements(
+    image: Any,
+    normals: Any,
+    light: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    *,
+    irradiance: Any = 1.0,
+    mask: Any = None,
+    source: str = "image",
+) -> Measurements:
+    """Pixels of a linear image as :class:`Measurements` (see
+    :meth:`Measurements.from_image`); ``light`` and ``view`` are unit vectors (or a
+    :class:`~roughdiffuse.render.DistantLight`, whose irradiance is then used)."""
+    if hasattr(light, "direction") and hasattr(light, "irradiance"):
+        irradiance = light.irradiance
+        light = light.direction
+    if hasattr(view, "view"):
+        view = view.view
+    l = np.asarray(light, dtype=np.float64)
+    v = np.asarray(view, dtype=np.float64)
+    for nm, a in (("light", l), ("view", v)):
+        if a.shape != (3,) or not math.isclose(float(np.linalg.norm(a)), 1.0, rel_tol=1e-6):
+            raise ValueError(f"{nm} must be a unit 3-vector (got {a})")
+    return Measurements.from_image(
+        image, normals, l, v, irradiance=irradiance, mask=mask, source=source
+    )

@@ -1,0 +1,631 @@
+"""Nonlinear least-squares fits of a model's parameters to measurements.
+
+The residual ``model.brdf_cosines(μi, μo, cos_io) · scale − value`` is built from the model's
+own formula (no second copy), traced once by JAX in float64, compiled with ``jax.jit`` and
+differentiated exactly with ``jax.jacfwd``; :func:`scipy.optimize.least_squares` (trust-region
+reflective, bounds, optional robust loss) minimises it from several starting points.
+
+Error bars are the usual linearised ones (e.g. Press et al., *Numerical Recipes*, 3rd ed.,
+§15.4–15.5): with J the Jacobian of the residuals at the optimum, M samples and P parameters,
+s² = Σ r² / (M − P) and cov = s² (JᵀJ)⁻¹, computed through the singular value decomposition of
+the column-scaled J. Directions of (near-)zero singular value are not constrained by the data:
+the parameters along them get an infinite standard error, and when that happens at every
+starting point (not only at the optimum) the data themselves are degenerate and a
+:class:`DegenerateDataWarning` says which parameters they cannot identify.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..models import Model
+from .measurements import Measurements
+
+__all__ = ["DEFAULT_BOUNDS", "DegenerateDataWarning", "FitResult", "fit"]
+
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "albedo": (0.0, 1.0),
+    "sigma": (0.0, math.pi / 2),
+    "roughness": (0.0, 1.0),
+    "eta": (1.0, 3.0),
+    "limb_darkening": (0.0, 1.0),
+}
+"""Bounds used for a parameter the caller gives none for (radians for ``sigma``)."""
+
+RANK_TOL = 1e-7
+"""Singular values of the column-normalised Jacobian below this (relative to the largest)
+count as zero: the data do not constrain that combination of parameters."""
+
+Noise = Literal["absolute", "relative"]
+
+
+class DegenerateDataWarning(UserWarning):
+    """The data cannot identify some parameters (e.g. every sample at one geometry)."""
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Outcome of :func:`fit`.
+
+    Attributes
+    ----------
+    model : Model
+        The model at the best-fit parameters.
+    names : tuple of str
+        Fitted parameter names; a per-channel parameter appears as ``albedo[0]``, ``albedo[1]``…
+    values, errors : array (P,)
+        Best-fit values and their standard errors (1 sigma; ``inf`` when not identifiable).
+    covariance : array (P, P)
+        Linearised covariance (``inf`` entries for unidentifiable directions).
+    on_bound : array (P,) of bool
+        True where a value sits on (within 1e-6 of the width of) its bound.
+    bounds : array (P, 2)
+        The bounds used.
+    rms : float
+        Root-mean-square residual (in the units of the data, unweighted).
+    rms_relative : float
+        RMS of the residual divided by the data (over samples with data > 0).
+    n_samples : int
+        Number of residuals M (samples × channels).
+    aic, bic : float
+        Akaike and Bayesian information criteria, M ln(RSS/M) + 2P and M ln(RSS/M) + P ln M,
+        with RSS the (noise-weighted) residual sum of squares.
+    identifiable : bool
+        False when the data cannot identify every parameter (see the warning).
+    warnings : tuple of str
+        Human-readable notes (degenerate data, values on bounds, …).
+    model_name : str
+        Name of the fitted model.
+    """
+
+    model: Model
+    names: tuple[str, ...]
+    values: np.ndarray
+    errors: np.ndarray
+    covariance: np.ndarray
+    on_bound: np.ndarray
+    bounds: np.ndarray
+    rms: float
+    rms_relative: float
+    n_samples: int
+    aic: float
+    bic: float
+    identifiable: bool
+    warnings: tuple[str, ...] = ()
+    model_name: str = ""
+    nfev: int = 0
+    starts: int = 0
+    predict: Callable[[Measurements], np.ndarray] | None = field(default=None, repr=False)
+
+    @property
+    def params(self) -> dict[str, float]:
+        """Best-fit value of each fitted parameter, by name."""
+        return dict(zip(self.names, (float(v) for v in self.values), strict=True))
+
+    @property
+    def stderr(self) -> dict[str, float]:
+        """Standard error of each fitted parameter, by name."""
+        return dict(zip(self.names, (float(v) for v in self.errors), strict=True))
+
+    def table(self) -> str:
+        """A plain-text table: parameter, value, standard error, flags."""
+        lines = [
+            f"{self.model_name}: {self.n_samples} residuals, RMS {self.rms:.4g} "
+            f"({100 * self.rms_relative:.3g}% of the data), AIC {self.aic:.1f}, "
+            f"BIC {self.bic:.1f}"
+        ]
+        lines.append(f"  {'parameter':<16}{'value':>12}{'std. error':>14}  note")
+        for k, name in enumerate(self.names):
+            err = self.errors[k]
+            err_s = "not identif." if not np.isfinite(err) else f"{err:.3g}"
+            note = "on bound" if self.on_bound[k] else ""
+            extra = ""
+            if name.startswith("sigma"):
+                extra = f"  ({math.degrees(self.values[k]):.2f}°)"
+            lines.append(f"  {name:<16}{self.values[k]:>12.5g}{err_s:>14}  {note}{extra}")
+        lines.extend(f"  warning: {w}" for w in self.warnings)
+        return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- layout
+@dataclass(frozen=True)
+class _Layout:
+    factory: Callable[..., Model]
+    fixed: tuple[tuple[str, Any], ...]
+    params: tuple[str, ...]
+    channels: tuple[int, ...]  # 0: scalar parameter, C: one value per channel
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        out: list[str] = []
+        for p, c in zip(self.params, self.channels, strict=True):
+            out.extend([p] if c == 0 else [f"{p}[{k}]" for k in range(c)])
+        return tuple(out)
+
+    def unpack(self, x: Any) -> dict[str, Any]:
+        kw: dict[str, Any] = {}
+        k = 0
+        for p, c in zip(self.params, self.channels, strict=True):
+            kw[p] = x[k] if c == 0 else x[k : k + c]
+            k += max(c, 1)
+        return kw
+
+    def build(self, x: Any) -> Model:
+        return self.factory(**dict(self.fixed), **self.unpack(x))
+
+
+def _model_name(factory: Any, fixed: Mapping[str, Any]) -> str:
+    name = getattr(factory, "__name__", type(factory).__name__)
+    if fixed:
+        name += "(" + ", ".join(f"{k}={v!r}" for k, v in fixed.items()) + ")"
+    return name
+
+
+def _layout(
+    factory: Any, params: Sequence[str] | None, fixed: Mapping[str, Any], channels: int
+) -> _Layout:
+    is_class = isinstance(factory, type) and issubclass(factory, Model)
+    if params is None:
+        if not is_class:
+            raise ValueError("params must name the parameters of a model factory function")
+        params = tuple(factory.array_fields)
+    params = tuple(params)
+    if not params:
+        raise ValueError("params must name at least one parameter to fit")
+    if is_class:
+        fields = {f.name for f in dataclasses.fields(factory)}
+        for p in params:
+            if p not in fields:
+                raise ValueError(
+                    f"{factory.__name__} has no parameter {p!r}; its parameters: "
+                    f"{', '.join(sorted(factory.array_fields))}"
+                )
+            if p not in factory.array_fields:
+                raise ValueError(f"{factory.__name__}.{p} is not numeric and cannot be fitted")
+        chan_fields = factory.channel_fields
+    else:
+        chan_fields = ("albedo",)
+    for p in params:
+        if p in fixed:
+            raise ValueError(f"parameter {p!r} is both fitted and fixed")
+    chans = tuple(channels if (channels and p in chan_fields) else 0 for p in params)
+    return _Layout(factory, tuple(sorted(fixed.items())), params, chans)
+
+
+def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
+    if bounds is None:
+        bounds = {}
+    if not isinstance(bounds, Mapping):
+        seq = list(bounds)
+        if len(seq) != len(layout.params):
+            raise ValueError(
+                f"bounds must give one (low, high) pair per parameter {layout.params} "
+                f"(got {len(seq)})"
+            )
+        bounds = dict(zip(layout.params, seq, strict=True))
+    for key in bounds:
+        if key not in layout.params:
+            raise ValueError(f"bounds names {key!r}, which is not fitted (params: {layout.params})")
+    rows = []
+    for p, c in zip(layout.params, layout.channels, strict=True):
+        if p in bounds:
+            lo, hi = (float(v) for v in bounds[p])
+        elif p in DEFAULT_BOUNDS:
+            lo, hi = DEFAULT_BOUNDS[p]
+        else:
+            raise ValueError(
+                f"no default bounds for parameter {p!r}: pass bounds={{{p!r}: (lo, hi)}}"
+            )
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise ValueError(f"bounds of {p!r} must be finite with low < high (got ({lo}, {hi}))")
+        rows.extend([(lo, hi)] * max(c, 1))
+    return np.asarray(rows, dtype=np.float64)
+
+
+# --------------------------------------------------------------------------- compiled residuals
+_COMPILED: dict[Any, dict[str, Any]] = {}
+
+PAD = 1 << 16
+"""Full data sets are padded (with zero weight) to a multiple of this many samples, so that
+images of similar size share one compiled function."""
+
+
+def _compiled(layout: _Layout) -> dict[str, Any]:
+    """Jitted functions of this layout (cached): residual, jacobian, normal equations, …"""
+    try:
+        cached = _COMPILED.get(layout)
+        hashable = True
+    except TypeError:  # unhashable fixed values: no cache
+        cached, hashable = None, False
+    if cached is not None:
+        return cached
+
+    def predict(x: Any, mu_i: Any, mu_o: Any, cos_io: Any, scale: Any) -> Any:
+        f = layout.build(x).brdf_cosines(mu_i, mu_o, cos_io)
+        return f * (scale if f.ndim == 1 else scale[:, None])
+
+    def residual(x: Any, mu_i: Any, mu_o: Any, cos_io: Any, scale: Any, y: Any, w: Any) -> Any:
+        return ((predict(x, mu_i, mu_o, cos_io, scale) - y) * w).ravel()
+
+    jac = jax.jacfwd(residual)
+
+    def normal(x: Any, *arrays: Any) -> tuple[Any, Any, Any]:
+        """JᵀJ, Jᵀr and rᵀr: all a Gauss–Newton step needs, without J leaving JAX."""
+        r = residual(x, *arrays)
+        j = jac(x, *arrays)
+        return j.T @ j, j.T @ r, r @ r
+
+    def rss(x: Any, *arrays: Any) -> Any:
+        r = residual(x, *arrays)
+        return r @ r
+
+    def raw_stats(x: Any, mu_i: Any, mu_o: Any, cos_io: Any, scale: Any, y: Any, w: Any) -> Any:
+        """Σ(model − data)² and Σ((model − data)/data)² over used samples (w > 0)."""
+        d = predict(x, mu_i, mu_o, cos_io, scale) - y
+        used = (w != 0) & (y == y)
+        d = jnp.where(used, d, 0.0)
+        pos = used & (y > 0)
+        rel = jnp.where(pos, d / jnp.where(pos, y, 1.0), 0.0)
+        return jnp.sum(d * d), jnp.sum(rel * rel), jnp.sum(pos)
+
+    out = {
+        "residual": jax.jit(residual),
+        "jac": jax.jit(jac),
+        "predict": jax.jit(predict),
+        "normal": jax.jit(normal),
+        "rss": jax.jit(rss),
+        "raw_stats": jax.jit(raw_stats),
+    }
+    if hashable:
+        _COMPILED[layout] = out
+    return out
+
+
+def _device(data: Measurements, weights: np.ndarray, pad: bool = False) -> tuple[Any, ...]:
+    """The data as float64 JAX arrays (μi, μo, cos_io, scale, value, weight).
+
+    With ``pad``, zero-weight samples at normal incidence fill the arrays up to a multiple of
+    :data:`PAD`, so that one compiled function serves many sizes.
+    """
+    arrays = [data.mu_i, data.mu_o, data.cos_io, data.scale, data.value, weights]
+    if pad:
+        extra = (-data.size) % PAD
+        if extra:
+            fill = (1.0, 1.0, 1.0, 1.0, 1.0, 0.0)
+            arrays = [
+                np.concatenate([a, np.full((extra,) + a.shape[1:], f)])
+                for a, f in zip(arrays, fill, strict=True)
+            ]
+    return tuple(jnp.asarray(a, dtype=jnp.float64) for a in arrays)
+
+
+def _gauss_newton(
+    fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...], box: np.ndarray
+) -> tuple[np.ndarray, int]:
+    """Levenberg–Marquardt from ``x`` on the normal equations, steps clipped to the bounds.
+
+    Used to refine, on all of a large data set, the optimum found on a subset: each step
+    needs only JᵀJ and Jᵀr (P×P and P numbers) from the compiled function, where
+    :func:`scipy.optimize.least_squares` would move M×P arrays through NumPy. Marquardt's
+    damping (Numerical Recipes §15.5.2) with the diagonal of JᵀJ.
+    """
+    lam = 1e-4
+    nfev = 0
+    a, g, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
+    nfev += 1
+    for _ in range(50):
+        d = np.diag(a).copy()
+        d[d <= 0] = 1.0
+        try:
+            step = np.linalg.solve(a + lam * np.diag(d), -g)
+        except np.linalg.LinAlgError:
+            step = np.linalg.lstsq(a + lam * np.diag(d), -g, rcond=None)[0]
+        x_new = np.clip(x + step, box[:, 0], box[:, 1])
+        cost_new = float(fns["rss"](x_new, *arrays))
+        nfev += 1
+        if cost_new <= cost:
+            moved = np.abs(x_new - x)
+            gain = cost - cost_new
+            x = x_new
+            lam = max(lam / 10.0, 1e-12)
+            if np.all(moved <= 1e-10 * (np.abs(x) + 1e-8)) or gain <= 1e-13 * cost:
+                break
+            a, g, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
+            nfev += 1
+        else:
+            lam *= 10.0
+            if lam > 1e12:
+                break
+    return x, nfev
+
+
+def _noise_weights(data: Measurements, noise: str) -> np.ndarray:
+    if noise == "absolute":
+        return np.ones_like(data.value)
+    if noise == "relative":
+        if np.any(data.value <= 0):
+            raise ValueError(
+                "noise='relative' needs every value > 0 "
+                f"({int(np.sum(data.value <= 0))} are 0); use noise='absolute'"
+            )
+        return 1.0 / data.value
+    raise ValueError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
+
+
+def _starts(bounds: np.ndarray, n: int, seed: int) -> np.ndarray:
+    """Centre of the box, then scrambled Halton points inside its inner 90%."""
+    from scipy.stats import qmc
+
+    lo, hi = bounds[:, 0], bounds[:, 1]
+    width = hi - lo
+    pts = [lo + 0.5 * width]
+    if n > 1:
+        u = qmc.Halton(d=len(lo), scramble=True, seed=seed).random(n - 1)
+        pts.extend(lo + (0.05 + 0.9 * u) * width)
+    return np.asarray(pts)
+
+
+def _null_space_params(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """SVD of the column-normalised Jacobian: (norms, singular values, V) with s sorted."""
+    norms = np.sqrt(np.sum(jac * jac, axis=0))
+    safe = np.where(norms > 0, norms, 1.0)
+    _, s, vt = np.linalg.svd(jac / safe, full_matrices=False)
+    s = np.where(norms.max() > 0, s, 0.0)
+    return norms, s, vt.T
+
+
+def _unidentified(jac: np.ndarray) -> np.ndarray:
+    """Boolean mask of parameters lying along a null direction of ``jac``."""
+    norms, s, v = _null_space_params(jac)
+    bad = norms == 0
+    if s.size and s[0] > 0:
+        for k in np.flatnonzero(s < RANK_TOL * s[0]):
+            bad |= np.abs(v[:, k]) > 1e-3
+    return bad
+
+
+def _roughness_errors(
+    names: Sequence[str], x: np.ndarray, box: np.ndarray, errors: np.ndarray
+) -> np.ndarray:
+    """Widen the error of a roughness σ ≥ 0 near 0, where the models depend on σ².
+
+    Oren–Nayar depends on σ only through σ², so near σ = 0 the linearised error in σ,
+    SE(σ²)/(2σ), is too small. The 3-sigma interval is taken in σ², [σ² − 3 SE(σ²),
+    σ² + 3 SE(σ²)] with SE(σ²) = 2σ SE(σ), mapped back through the square root (0 below 0),
+    and the reported error is the larger of SE(σ) and a third of each half-width of that
+    interval: far from 0 this is SE(σ); near 0 it keeps σ = 0 within the 3-sigma bar
+    whenever σ² = 0 is within 3 standard errors of the fitted σ².
+    """
+    out = errors.copy()
+    for k, name in enumerate(names):
+        if name == "sigma" and box[k, 0] == 0.0 and np.isfinite(out[k]):
+            s, se_tau = x[k], 2.0 * x[k] * out[k]
+            lo = math.sqrt(max(0.0, s * s - 3.0 * se_tau))
+            hi = math.sqrt(s * s + 3.0 * se_tau)
+            out[k] = max(out[k], (s - lo) / 3.0, (hi - s) / 3.0)
+    return out
+
+
+# --------------------------------------------------------------------------- fit
+def fit(
+    model_class: type[Model] | Callable[..., Model],
+    data: Measurements,
+    params: Sequence[str] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | Sequence[tuple[float, float]] | None = None,
+    *,
+    fixed: Mapping[str, Any] | None = None,
+    x0: Mapping[str, Any] | None = None,
+    n_starts: int = 4,
+    loss: str = "linear",
+    f_scale: float = 1.0,
+    noise: Noise = "absolute",
+    multistart_samples: int = 20_000,
+    seed: int = 0,
+) -> FitResult:
+    """Fit a model's parameters to measurements by nonlinear least squares.
+
+    Parameters
+    ----------
+    model_class : Model subclass or callable
+        The model (e.g. ``OrenNayar``), or any function of keyword parameters returning a
+        :class:`~roughdiffuse.models.Model` (e.g. a ``Mix`` built from its weights); it must
+        accept JAX tracers, as the model classes do.
+    data : Measurements
+        What to fit (see :mod:`roughdiffuse.fit.readers`).
+    params : sequence of str, optional
+        Parameters to fit; default: every numeric parameter of the class (``("albedo",
+        "sigma")`` for Oren–Nayar). With RGB data, ``albedo`` is fitted per channel and the
+        others are shared.
+    bounds : mapping or sequence of (low, high), optional
+        Per parameter; defaults from :data:`DEFAULT_BOUNDS` (σ in radians).
+    fixed : mapping, optional
+        Other constructor arguments, e.g. ``{"variant": "full"}``.
+    x0 : mapping, optional
+        A starting point (used first, before the automatic ones).
+    n_starts : int
+        Number of automatic starting points (centre of the bounds, then Halton points).
+    loss, f_scale : str, float
+        Robust loss of :func:`scipy.optimize.least_squares` ("linear", "soft_l1", "huber",
+        "cauchy", "arctan") and its scale (in units of the weighted residual).
+    noise : {"absolute", "relative"}
+        Noise model: residuals in data units, or divided by the data (constant relative
+        noise, e.g. 1% of the value). Affects weights and error bars.
+    multistart_samples : int
+        Larger data sets are explored from every start on a random subset of this size;
+        the best start is then refined on all the data.
+    seed : int
+        Seed of the subset and of the starting points.
+
+    Returns
+    -------
+    FitResult
+        Best parameters, standard errors, covariance, on-bound flags, RMS, AIC/BIC.
+
+    Warns
+    -----
+    DegenerateDataWarning
+        When the data cannot identify some parameter (every sample at one geometry, only
+        θi = θr = 0, …); its error is then ``inf``.
+    """
+    if not isinstance(data, Measurements):
+        raise ValueError(f"data must be a Measurements object (got {type(data).__name__})")
+    if int(n_starts) < 1:
+        raise ValueError(f"n_starts must be >= 1 (got {n_starts})")
+    fixed = dict(fixed or {})
+    layout = _layout(model_class, params, fixed, data.channels)
+    box = _bounds(layout, bounds)
+    names = layout.names
+    npar = len(names)
+    w = _noise_weights(data, noise)
+    m = data.value.size
+    if m < npar:
+        raise ValueError(f"{npar} parameters need at least {npar} values (got {m})")
+
+    starts = _starts(box, int(n_starts), seed)
+    if x0 is not None:
+        first = np.concatenate(
+            [
+                np.broadcast_to(np.asarray(x0[p], float), (max(c, 1),))
+                for p, c in zip(layout.params, layout.channels, strict=True)
+            ]
+        )
+        starts = np.vstack([np.clip(first, box[:, 0], box[:, 1]), starts])
+
+    with jax.enable_x64(True):
+        fns = _compiled(layout)
+        rng = np.random.default_rng(seed)
+        if data.size > multistart_samples:
+            sub = data.subset(np.sort(rng.choice(data.size, multistart_samples, replace=False)))
+            wsub = _noise_weights(sub, noise)
+        else:
+            sub, wsub = data, w
+        arrays_sub = _device(sub, wsub)
+
+        def run(x_start: np.ndarray, arrays: tuple[Any, ...]) -> Any:
+            return least_squares(
+                lambda x: np.asarray(fns["residual"](x, *arrays)),
+                x_start,
+                jac=lambda x: np.asarray(fns["jac"](x, *arrays)),
+                bounds=(box[:, 0], box[:, 1]),
+                loss=loss,
+                f_scale=f_scale,
+                x_scale="jac",
+                method="trf",
+            )
+
+        # degenerate data: unidentifiable at every (interior, generic) starting point
+        null_all = np.ones(npar, dtype=bool)
+        best = None
+        nfev = 0
+        for x_start in starts:
+            null_all &= _unidentified(np.asarray(fns["jac"](x_start, *arrays_sub)))
+            r = run(x_start, arrays_sub)
+            nfev += int(r.nfev)
+            if best is None or r.cost < best.cost:
+                best = r
+        assert best is not None
+        x = np.asarray(best.x, dtype=np.float64)
+        success, message = bool(best.success), str(best.message)
+        if sub is not data:
+            if loss == "linear":
+                arrays = _device(data, w, pad=True)
+                x, n_gn = _gauss_newton(fns, x, arrays, box)
+                nfev += n_gn
+            else:
+                arrays = _device(data, w)
+                best = run(x, arrays)
+                x, success, message = np.asarray(best.x, float), bool(best.success), best.message
+                nfev += int(best.nfev)
+        else:
+            arrays = arrays_sub
+        jtj, _, rss = (np.asarray(v) for v in fns["normal"](x, *arrays))
+        rss = float(rss)
+        jac_sub = np.asarray(fns["jac"](x, *arrays_sub))
+        raw_ss, rel_ss, n_pos = (float(v) for v in fns["raw_stats"](x, *arrays))
+
+    notes: list[str] = []
+    dof = m - npar
+    s2 = rss / dof if dof > 0 else math.inf
+    null_here = _unidentified(jac_sub)
+    cov = np.full((npar, npar), math.inf)
+    ok = ~null_here
+    if np.any(ok):
+        a_ok = jtj[np.ix_(ok, ok)]
+        dscale = np.sqrt(np.diag(a_ok))
+        try:
+            inv = np.linalg.inv(a_ok / np.outer(dscale, dscale)) / np.outer(dscale, dscale)
+            cov[np.ix_(ok, ok)] = s2 * inv
+        except np.linalg.LinAlgError:
+            pass
+    diag = np.diag(cov)
+    errors = np.sqrt(np.where(np.isfinite(diag) & (diag >= 0), diag, math.inf))
+    errors = _roughness_errors(names, x, box, errors)
+    if m == npar:
+        notes.append("as many values as parameters: no error estimate")
+    identifiable = not np.any(null_all)
+    if not identifiable:
+        which = ", ".join(n for n, b in zip(names, null_all, strict=True) if b)
+        msg = (
+            f"the data cannot identify {which}: its effect on the model is zero or "
+            "indistinguishable from another parameter's at every starting point "
+            "(e.g. all samples at one geometry); its error bar is infinite"
+        )
+        warnings.warn(msg, DegenerateDataWarning, stacklevel=2)
+        notes.append(msg)
+        errors = np.where(null_all, math.inf, errors)
+    elif np.any(null_here):
+        which = ", ".join(n for n, b in zip(names, null_here, strict=True) if b)
+        notes.append(
+            f"{which}: the model does not change with it at the optimum "
+            "(e.g. σ = 0); linearised error bar infinite"
+        )
+    tol = 1e-6 * (box[:, 1] - box[:, 0])
+    on_bound = (x <= box[:, 0] + tol) | (x >= box[:, 1] - tol)
+    for k in np.flatnonzero(on_bound):
+        notes.append(f"{names[k]} = {x[k]:.4g} is on its bound")
+    if not success:
+        notes.append(f"optimizer: {message}")
+
+    rms_rel = math.sqrt(rel_ss / n_pos) if n_pos > 0 else math.nan
+    rss_safe = max(rss, 1e-300)
+    aic = m * math.log(rss_safe / m) + 2 * npar
+    bic = m * math.log(rss_safe / m) + npar * math.log(m)
+    pred_fn = fns["predict"]
+
+    model = layout.build(x)
+
+    def predict(d: Measurements) -> np.ndarray:
+        with jax.enable_x64(True):
+            arr = _device(d, np.ones_like(d.value))
+            return np.asarray(pred_fn(x, *arr[:4]))
+
+    return FitResult(
+        model=model,
+        names=names,
+        values=x,
+        errors=errors,
+        covariance=cov,
+        on_bound=on_bound,
+        bounds=box,
+        rms=math.sqrt(raw_ss / m),
+        rms_relative=rms_rel,
+        n_samples=m,
+        aic=aic,
+        bic=bic,
+        identifiable=identifiable,
+        warnings=tuple(notes),
+        model_name=_model_name(model_class, fixed),
+        nfev=nfev,
+        starts=len(starts),
+        predict=predict,
+    )
