@@ -4,7 +4,7 @@ To add a command, write ``commands/NAME.py`` with ``register(subparsers)`` (whic
 parser and sets ``func``) and add ``NAME`` to :data:`COMMANDS`.
 """
 
-COMMANDS: list[str] = ["eval"]
+COMMANDS: list[str] = ["eval", "explore"]
 
 
 class UsageError(Exception):

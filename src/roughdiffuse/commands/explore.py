@@ -1,0 +1,54 @@
+"""``roughdiffuse explore``: the explorer page on a local web server."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+EXAMPLES = """\
+examples:
+  roughdiffuse explore                   # a free port on 127.0.0.1, opens the browser
+  roughdiffuse explore --port 8765 --no-browser
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "explore",
+        help="open the explorer: sliders, a lit sphere and plots in the browser",
+        description="Serve the explorer page (static files and a small API) on a local web "
+        "server and open it in the browser. Stop with Ctrl-C.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to bind (default: 127.0.0.1, this machine only)",
+    )
+    p.add_argument("--port", type=int, default=None, help="port (default: a free one)")
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..explorer.server import make_server, url_of
+    from . import UsageError
+
+    try:
+        server = make_server(args.host, args.port)
+    except OSError as exc:
+        raise UsageError(f"cannot listen on {args.host}:{args.port or 0}: {exc.strerror}") from None
+    url = url_of(server)
+    print(f"roughdiffuse explorer at {url}  (Ctrl-C to stop)", flush=True)
+    if not args.no_browser:
+        import webbrowser
+
+        webbrowser.open(url)
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        print("stopped", file=sys.stderr)
+    finally:
+        server.server_close()
+    return 0

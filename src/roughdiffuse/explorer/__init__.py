@@ -1,0 +1,20 @@
+"""The explorer: a browser page to look at rough-surface reflectance, and its local server.
+
+The page (``static/``: HTML, ES modules, GLSL) renders a lit sphere with the models in GLSL
+(``static/glsl/brdf.glsl``, the one other copy of each formula, checked against the Python
+models by the test suite), plots radiance in the plane of incidence, and overlays measured
+samples from a CSV file. ``roughdiffuse explore`` starts the server
+(:func:`roughdiffuse.explorer.server.make_server`).
+"""
+
+from .params import MODEL_IDS, model_from_params
+from .server import STATIC_DIR, make_server, serve_in_thread, url_of
+
+__all__ = [
+    "MODEL_IDS",
+    "STATIC_DIR",
+    "make_server",
+    "model_from_params",
+    "serve_in_thread",
+    "url_of",
+]

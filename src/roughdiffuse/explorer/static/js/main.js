@@ -1,0 +1,392 @@
+// The explorer page: two model slots (A, B), a lit sphere, plane-of-incidence plots, presets,
+// a CSV overlay of measured samples and (when the server has one) ground truth.
+
+import { CsvError, parseBrdfCsv } from "./csv.js";
+import { Evaluator, SphereView, loadSources } from "./gl.js";
+import { BY_KEY, MODELS, defaultState, gpuParams } from "./models.js";
+import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
+
+const $ = (id) => document.getElementById(id);
+const DEG = Math.PI / 180;
+const E0 = Math.PI; // irradiance, as in sphere.frag
+
+const state = {
+  a: defaultState("oren-nayar"),
+  b: defaultState("lambert"),
+  mode: 0,
+  light: { theta: 0, phi: 0 }, // degrees
+  exposure: 0, // EV
+  csv: null, // {name, samples}
+};
+
+let evaluator, sphere, info = { vase: false, groundtruth: false };
+const panels = {};
+
+// ------------------------------------------------------------------ model panels
+function slider(parent, id, label, min, max, step, value, format) {
+  const wrap = document.createElement("label");
+  wrap.id = `${id}-row`;
+  wrap.textContent = label;
+  const out = document.createElement("output");
+  out.id = `${id}-out`;
+  const input = document.createElement("input");
+  Object.assign(input, { type: "range", id, min, max, step, value });
+  wrap.append(out, input);
+  parent.append(wrap);
+  const show = () => (out.textContent = format(Number(input.value)));
+  input.addEventListener("input", show);
+  show();
+  return input;
+}
+
+function buildPanel(slot) {
+  const root = $(`panel-${slot}`);
+  const s = state[slot];
+  const p = `${slot}-`;
+  const sel = document.createElement("select");
+  sel.id = `${p}model`;
+  for (const m of MODELS) sel.append(new Option(m.label, m.key));
+  root.append(sel);
+  const grey = document.createElement("label");
+  grey.innerHTML = `<input type="checkbox" id="${p}grey" checked> grey albedo (R = G = B)`;
+  grey.id = `${p}grey-row`;
+  root.append(grey);
+  const f3 = (v) => v.toFixed(3);
+  const ctl = {
+    model: sel,
+    grey: grey.querySelector("input"),
+    albedo: ["r", "g", "b"].map((c, k) => slider(root, `${p}albedo-${c}`, `albedo ${c.toUpperCase()}`, 0, 1, 0.005, s.albedo[k], f3)),
+    sigma: slider(root, `${p}sigma`, "σ", 0, 90, 0.5, s.sigmaDeg, (v) => `${v.toFixed(1)}° = ${(v * DEG).toFixed(3)} rad`),
+    roughness: slider(root, `${p}roughness`, "r (Fujii/EON, not an angle)", 0, 1, 0.01, s.roughness, f3),
+    weight: slider(root, `${p}weight`, "specular weight", 0, 1, 0.01, s.weight, f3),
+    eta: slider(root, `${p}eta`, "specular index η", 1.0, 3.0, 0.01, s.eta, (v) => v.toFixed(2)),
+    limb: slider(root, `${p}limb`, "limb darkening L", 0, 1, 0.01, s.limb, f3),
+  };
+  const dist = document.createElement("label");
+  dist.id = `${p}distribution-row`;
+  dist.innerHTML = `facet distribution <select id="${p}distribution"><option value="gaussian">Gaussian in slope angle</option><option value="beckmann">Beckmann</option></select>`;
+  root.append(dist);
+  ctl.distribution = dist.querySelector("select");
+  panels[slot] = ctl;
+  const onInput = (ev) => {
+    if (ctl.grey.checked && ev && ctl.albedo.includes(ev.target)) {
+      for (const a of ctl.albedo) if (a !== ev.target) { a.value = ev.target.value; a.dispatchEvent(new Event("change")); }
+    }
+    readPanel(slot);
+    refresh();
+  };
+  root.addEventListener("input", onInput);
+  root.addEventListener("change", (ev) => { if (ev.isTrusted) onInput(ev); });
+  writePanel(slot);
+}
+
+function readPanel(slot) {
+  const c = panels[slot], s = state[slot];
+  s.model = c.model.value;
+  s.albedo = c.albedo.map((a) => Number(a.value));
+  s.sigmaDeg = Number(c.sigma.value);
+  s.roughness = Number(c.roughness.value);
+  s.weight = Number(c.weight.value);
+  s.eta = Number(c.eta.value);
+  s.limb = Number(c.limb.value);
+  s.distribution = c.distribution.value;
+  showUsed(slot);
+}
+
+function writePanel(slot) {
+  const c = panels[slot], s = state[slot];
+  c.model.value = s.model;
+  c.albedo.forEach((a, k) => (a.value = s.albedo[k]));
+  c.grey.checked = s.albedo[0] === s.albedo[1] && s.albedo[1] === s.albedo[2];
+  c.sigma.value = s.sigmaDeg;
+  c.roughness.value = s.roughness;
+  c.weight.value = s.weight;
+  c.eta.value = s.eta;
+  c.limb.value = s.limb;
+  c.distribution.value = s.distribution;
+  for (const el of [...c.albedo, c.sigma, c.roughness, c.weight, c.eta, c.limb]) el.dispatchEvent(new Event("input"));
+  showUsed(slot);
+}
+
+function showUsed(slot) {
+  const uses = BY_KEY[state[slot].model].uses;
+  const p = `${slot}-`;
+  for (const k of ["sigma", "roughness", "weight", "eta", "limb", "distribution"]) $(`${p}${k}-row`).hidden = !uses.includes(k);
+  for (const c of ["r", "g", "b"]) $(`${p}albedo-${c}-row`).hidden = !uses.includes("albedo");
+  $(`${p}grey-row`).hidden = !uses.includes("albedo");
+}
+
+// ------------------------------------------------------------------ light
+function lightVector() {
+  const t = state.light.theta * DEG, f = state.light.phi * DEG;
+  return [Math.sin(t) * Math.cos(f), Math.sin(t) * Math.sin(f), Math.cos(t)];
+}
+
+function setLight(theta, phi) {
+  state.light.theta = Math.min(180, Math.max(0, theta));
+  state.light.phi = phi;
+  $("light-theta").value = state.light.theta;
+  $("light-phi").value = phi;
+  refresh();
+}
+
+/** Drag on the sphere: inside the rim the light goes to the point under the pointer (that
+ *  point is lit head-on); from the rim to twice its radius it moves on behind the sphere. */
+function pointerToLight(ev) {
+  const c = $("sphere"), rect = c.getBoundingClientRect();
+  const sx = c.width / rect.width, sy = c.height / rect.height;
+  let x = (ev.clientX - rect.left) * sx, y = c.height - (ev.clientY - rect.top) * sy;
+  const w = state.mode === 1 ? c.width / 2 : c.width;
+  if (state.mode === 1 && x >= w) x -= w;
+  const radius = 0.46 * Math.min(w, c.height);
+  const u = (x - w / 2) / radius, v = (y - c.height / 2) / radius;
+  const r = Math.hypot(u, v);
+  const theta = r <= 1 ? Math.asin(r) / DEG : Math.min(180, 90 + (r - 1) * 90);
+  const phi = r > 0 ? Math.atan2(v, u) / DEG : state.light.phi;
+  setLight(theta, Math.round(phi * 10) / 10);
+}
+
+// ------------------------------------------------------------------ drawing
+let pending = false;
+function refresh() {
+  if (pending) return;
+  pending = true;
+  requestAnimationFrame(() => {
+    pending = false;
+    try {
+      draw();
+    } catch (err) {
+      showError(err);
+    }
+  });
+}
+
+function draw() {
+  const c = $("sphere");
+  const width = state.mode === 1 ? 960 : 480;
+  if (c.width !== width) c.width = width;
+  const a = gpuParams(state.a), b = gpuParams(state.b);
+  sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
+  $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
+  $("panel-b").classList.toggle("disabled", state.mode === 0);
+  drawPlots(a, b);
+}
+
+/** Radiance L = f E0 cos θi in the plane of incidence, θr from -90° to 90° (> 0: light's side). */
+function planeCurve(params, thetaIDeg, thetaRDeg) {
+  const ti = thetaIDeg * DEG;
+  const cos = new Float32Array(3 * thetaRDeg.length);
+  thetaRDeg.forEach((tr, k) => {
+    cos[3 * k] = Math.cos(ti);
+    cos[3 * k + 1] = Math.cos(Math.abs(tr) * DEG);
+    cos[3 * k + 2] = Math.cos(ti - tr * DEG);
+  });
+  const f = evaluator.evaluate(params, cos);
+  const lum = Math.max(Math.cos(ti), 0) * E0;
+  return thetaRDeg.map((_, k) => ((f[3 * k] + f[3 * k + 1] + f[3 * k + 2]) / 3) * lum);
+}
+
+function drawPlots(a, b) {
+  const thetaI = state.light.theta;
+  const xs = Array.from({ length: 181 }, (_, k) => k - 90);
+  const series = [];
+  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].label.split(" (")[0]}`;
+  const lit = thetaI <= 90;
+  series.push({ label: label("a"), color: "#1f5fa8", x: xs, y: lit ? planeCurve(a, thetaI, xs) : xs.map(() => 0) });
+  if (state.mode !== 0) {
+    series.push({ label: label("b"), color: "#d35400", dash: true, x: xs, y: lit ? planeCurve(b, thetaI, xs) : xs.map(() => 0) });
+  }
+  if (gtSeries && lit) series.push(gtSeries);
+  let csvDrawn = 0;
+  if (state.csv) {
+    const near = state.csv.samples.filter(
+      (s) => Math.abs(s.thetaI / DEG - thetaI) <= 2.5 && Math.abs(Math.sin(s.deltaPhi)) <= Math.sin(5 * DEG),
+    );
+    const x = near.map((s) => (Math.cos(s.deltaPhi) >= 0 ? 1 : -1) * (s.thetaR / DEG));
+    const y = near.map((s) => ((s.value[0] + s.value[1] + s.value[2]) / 3) * Math.cos(s.thetaI) * E0);
+    series.push({ label: `data (θi ≈ ${thetaI.toFixed(0)}°)`, color: "#c0392b", points: true, x, y });
+  }
+  const title = lit ? `radiance in the plane of incidence, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
+  csvDrawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: "L (E0 = π), mean of R, G, B" });
+  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null });
+  document.body.dataset.csvPoints = String(csvDrawn);
+  if (state.csv) drawCsvScatter(a);
+}
+
+function drawCsvScatter(a) {
+  const smp = state.csv.samples;
+  const cos = new Float32Array(3 * smp.length);
+  smp.forEach((s, k) => {
+    cos[3 * k] = Math.cos(s.thetaI);
+    cos[3 * k + 1] = Math.cos(s.thetaR);
+    cos[3 * k + 2] = Math.cos(s.thetaI) * Math.cos(s.thetaR) + Math.sin(s.thetaI) * Math.sin(s.thetaR) * Math.cos(s.deltaPhi);
+  });
+  const f = evaluator.evaluate(a, cos);
+  const model = smp.map((_, k) => (f[3 * k] + f[3 * k + 1] + f[3 * k + 2]) / 3);
+  const measured = smp.map((s) => (s.value[0] + s.value[1] + s.value[2]) / 3);
+  let se = 0, n = 0;
+  model.forEach((m, k) => { if (m > 0) { se += ((measured[k] - m) / m) ** 2; n++; } });
+  const canvas = $("plot-scatter");
+  canvas.hidden = false;
+  const drawn = drawScatter(canvas, model, measured, { title: `${state.csv.name}: measured against model A (all ${smp.length} samples)` });
+  document.body.dataset.csvScatter = String(drawn);
+  const rms = n ? Math.sqrt(se / n) * 100 : NaN;
+  setCsvStatus(`${state.csv.name}: ${smp.length} samples; RMS relative difference to model A: ${rms.toFixed(1)}%. ` +
+    "The plane-of-incidence plot shows the samples with θi within 2.5° of the light and Δφ within 5° of 0° or 180°.", false);
+}
+
+// ------------------------------------------------------------------ CSV
+function setCsvStatus(text, isError) {
+  const el = $("csv-status");
+  el.textContent = text;
+  el.classList.toggle("error", isError);
+}
+
+async function loadCsv(file) {
+  const text = await file.text();
+  try {
+    const { samples } = parseBrdfCsv(text);
+    state.csv = { name: file.name || "data.csv", samples };
+    setLight(samples[0].thetaI / DEG, state.light.phi);
+  } catch (err) {
+    if (!(err instanceof CsvError)) throw err;
+    state.csv = null;
+    $("plot-scatter").hidden = true;
+    document.body.dataset.csvScatter = "0";
+    setCsvStatus(`${file.name || "file"}: ${err.message}. The file was not loaded.`, true);
+    refresh();
+  }
+}
+
+function setupCsv() {
+  const zone = $("dropzone");
+  const stop = (ev) => { ev.preventDefault(); ev.stopPropagation(); };
+  for (const t of ["dragenter", "dragover"]) document.addEventListener(t, (ev) => { stop(ev); zone.classList.add("over"); });
+  document.addEventListener("dragleave", (ev) => { stop(ev); zone.classList.remove("over"); });
+  document.addEventListener("drop", (ev) => {
+    stop(ev);
+    zone.classList.remove("over");
+    const file = ev.dataTransfer && ev.dataTransfer.files[0];
+    if (file) loadCsv(file).catch(showError);
+  });
+  $("csv-file").addEventListener("change", (ev) => {
+    const file = ev.target.files[0];
+    if (file) loadCsv(file).catch(showError);
+  });
+}
+
+// ------------------------------------------------------------------ presets, vase, ground truth
+const PRESETS = {
+  "on-vs-lambert": () => ({ a: { ...defaultState("oren-nayar"), sigmaDeg: 30 }, b: defaultState("lambert"), mode: 1, light: [0, 0] }),
+  "full-moon": () => ({
+    a: { ...defaultState("oren-nayar-full"), albedo: [0.12, 0.12, 0.12], sigmaDeg: 40 },
+    b: { ...defaultState("lambert"), albedo: [0.12, 0.12, 0.12] },
+    mode: 1, light: [0, 0], exposure: 2.5,
+  }),
+  highlights: () => ({
+    a: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 12, weight: 0.15, eta: 1.5 },
+    b: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 30, weight: 0.15, eta: 1.5 },
+    mode: 1, light: [45, 30],
+  }),
+  "eon-vs-on": () => ({
+    a: { ...defaultState("eon"), roughness: 1 },
+    b: { ...defaultState("oren-nayar"), sigmaDeg: 40 },
+    mode: 1, light: [75, 0],
+  }),
+  vase: () => ({ a: { ...defaultState("oren-nayar"), albedo: [0.75, 0.55, 0.4], sigmaDeg: 30 }, b: { ...defaultState("lambert"), albedo: [0.75, 0.55, 0.4] }, mode: 1, light: [0, 0] }),
+};
+
+function applyPreset(name) {
+  const p = PRESETS[name]();
+  state.a = p.a;
+  state.b = p.b;
+  state.mode = p.mode;
+  state.exposure = p.exposure ?? 0;
+  $("mode").value = String(p.mode);
+  $("exposure").value = state.exposure;
+  $("exposure").dispatchEvent(new Event("input"));
+  writePanel("a");
+  writePanel("b");
+  setLight(p.light[0], p.light[1]);
+  $("vase").hidden = name !== "vase";
+  if (name === "vase") loadVase();
+}
+
+function queryFor(slot) {
+  const s = state[slot];
+  const q = new URLSearchParams({
+    model: s.model, albedo: s.albedo.join(","), sigma: String(s.sigmaDeg * DEG), roughness: String(s.roughness),
+    eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), distribution: s.distribution,
+  });
+  return q.toString();
+}
+
+function loadVase() {
+  $("vase-a").src = `api/vase.png?${queryFor("a")}`;
+  $("vase-b").src = `api/vase.png?${queryFor("b")}`;
+}
+
+let gtSeries = null;
+async function loadGroundTruth() {
+  if (!info.groundtruth) {
+    $("gt-status").textContent = "No V-cavity ground-truth table on this server: no ground-truth overlay.";
+    return;
+  }
+  const s = state.a;
+  const q = new URLSearchParams({ sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]) });
+  const r = await fetch(`api/groundtruth.json?${q}`);
+  const gt = await r.json();
+  if (!r.ok || !gt.theta_r) { gtSeries = null; $("gt-status").textContent = gt.error ?? "no ground truth here"; return; }
+  gtSeries = { label: `V-cavity (σ = ${(gt.sigma / DEG).toFixed(0)}°)`, color: "#27ae60", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
+  $("gt-status").textContent = gt.note ?? "";
+  refresh();
+}
+
+// ------------------------------------------------------------------ start
+function showError(err) {
+  console.error(err);
+  const el = $("error");
+  el.hidden = false;
+  el.textContent = String(err.message || err);
+}
+
+async function start() {
+  const src = await loadSources();
+  evaluator = new Evaluator(src);
+  sphere = new SphereView($("sphere"), src);
+  try {
+    const r = await fetch("api/info.json");
+    if (r.ok) info = await r.json();
+  } catch { /* a static copy of the page without the server: no vase, no ground truth */ }
+  $("preset-vase").hidden = !info.vase;
+  buildPanel("a");
+  buildPanel("b");
+  $("mode").addEventListener("change", (ev) => { state.mode = Number(ev.target.value); refresh(); });
+  $("exposure").addEventListener("input", (ev) => {
+    state.exposure = Number(ev.target.value);
+    $("exposure-out").textContent = `${state.exposure.toFixed(1)} EV`;
+    refresh();
+  });
+  $("preset").addEventListener("change", (ev) => { if (ev.target.value) applyPreset(ev.target.value); });
+  $("light-theta").addEventListener("input", (ev) => setLight(Number(ev.target.value), state.light.phi));
+  $("light-phi").addEventListener("input", (ev) => setLight(state.light.theta, Number(ev.target.value)));
+  const c = $("sphere");
+  c.addEventListener("pointerdown", (ev) => { c.setPointerCapture(ev.pointerId); pointerToLight(ev); });
+  c.addEventListener("pointermove", (ev) => { if (ev.buttons & 1) pointerToLight(ev); });
+  setupCsv();
+  let gtTimer = null;
+  document.addEventListener("input", () => { clearTimeout(gtTimer); gtTimer = setTimeout(() => loadGroundTruth().catch(showError), 200); });
+  await loadGroundTruth();
+  refresh();
+  window.rdExplorer = {
+    state,
+    /** GLSL BRDF: params as in models.gpuParams (sigma in radians), cosines flat (mu_i, mu_o, cos_io). */
+    evaluate: (params, cosines) => Array.from(evaluator.evaluate(gpuParams(params), Float32Array.from(cosines))),
+    setLight,
+    refresh,
+  };
+  await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+  document.body.dataset.ready = "1";
+}
+
+start().catch(showError);

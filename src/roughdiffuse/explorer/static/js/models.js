@@ -1,0 +1,50 @@
+// The models the explorer offers, the parameters each one uses, and the record the GLSL
+// receives. Ids match brdf.glsl and MODEL_IDS in roughdiffuse/explorer/params.py.
+
+export const MODELS = [
+  { key: "lambert", id: 0, label: "Lambert", uses: ["albedo"] },
+  { key: "oren-nayar", id: 1, label: "Oren–Nayar (qualitative)", uses: ["albedo", "sigma"] },
+  { key: "oren-nayar-full", id: 2, label: "Oren–Nayar (full, with interreflection)", uses: ["albedo", "sigma"] },
+  { key: "fujii", id: 3, label: "Fujii (FON)", uses: ["albedo", "roughness"] },
+  { key: "eon", id: 4, label: "EON (energy-preserving)", uses: ["albedo", "roughness"] },
+  { key: "torrance-sparrow", id: 5, label: "Torrance–Sparrow (specular)", uses: ["sigma", "eta", "distribution"] },
+  { key: "mix", id: 6, label: "Mix: Oren–Nayar full + Torrance–Sparrow", uses: ["albedo", "sigma", "weight", "eta", "distribution"] },
+  { key: "lommel-seeliger", id: 7, label: "Lommel–Seeliger (lunar)", uses: ["albedo"] },
+  { key: "lunar-lambert", id: 8, label: "Lunar-Lambert (McEwen)", uses: ["albedo", "limb"] },
+];
+
+export const BY_KEY = Object.fromEntries(MODELS.map((m) => [m.key, m]));
+
+/** Default UI state of one model slot (σ in degrees, as on the sliders). */
+export function defaultState(key = "oren-nayar") {
+  return {
+    model: key,
+    albedo: [0.8, 0.8, 0.8],
+    sigmaDeg: 20,
+    roughness: 0.5,
+    eta: 1.5,
+    weight: 0.1,
+    limb: 0.5,
+    distribution: "gaussian",
+  };
+}
+
+/**
+ * The record the GLSL receives (brdf.glsl's RDParams). Accepts the UI state (sigmaDeg) or a
+ * record with sigma in radians already (as the tests send it).
+ */
+export function gpuParams(s) {
+  const m = BY_KEY[s.model];
+  if (!m) throw new Error(`unknown model ${JSON.stringify(s.model)}`);
+  const sigma = s.sigma !== undefined ? s.sigma : (s.sigmaDeg * Math.PI) / 180;
+  return {
+    model: m.id,
+    albedo: Float32Array.from(s.albedo ?? [0.8, 0.8, 0.8]),
+    sigma,
+    roughness: s.roughness ?? 0,
+    eta: s.eta ?? 1.5,
+    weight: s.weight ?? 0,
+    limb: s.limb ?? 0.5,
+    distribution: (s.distribution ?? "gaussian") === "beckmann" ? 1 : 0,
+  };
+}

@@ -1,0 +1,185 @@
+// Plots of radiance in the plane of incidence on a 2-D canvas: Cartesian (L against theta_r)
+// and polar (radius L at angle theta_r from the normal). A series is
+// {label, color, x: theta_r in degrees (signed), y: values, points: bool, dash: bool}.
+
+const FONT = "12px system-ui, sans-serif";
+
+function niceMax(v) {
+  if (!(v > 0) || !Number.isFinite(v)) return 1;
+  const e = Math.pow(10, Math.floor(Math.log10(v)));
+  for (const m of [1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10]) if (m * e >= v) return m * e;
+  return 10 * e;
+}
+
+function yMax(series) {
+  let m = 0;
+  for (const s of series) for (const y of s.y) if (Number.isFinite(y)) m = Math.max(m, y);
+  return niceMax(m * 1.05);
+}
+
+function prepare(canvas) {
+  const ctx = canvas.getContext("2d");
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.fillStyle = "#fff";
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  ctx.font = FONT;
+  return ctx;
+}
+
+function legend(ctx, series, x, y) {
+  series.forEach((s, k) => {
+    ctx.fillStyle = s.color;
+    ctx.strokeStyle = s.color;
+    if (s.points) {
+      ctx.beginPath();
+      ctx.arc(x + 8, y + 16 * k - 4, 3, 0, 2 * Math.PI);
+      ctx.fill();
+    } else {
+      ctx.setLineDash(s.dash ? [4, 3] : []);
+      ctx.beginPath();
+      ctx.moveTo(x, y + 16 * k - 4);
+      ctx.lineTo(x + 16, y + 16 * k - 4);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+    ctx.fillStyle = "#222";
+    ctx.fillText(s.label, x + 22, y + 16 * k);
+  });
+}
+
+/** Cartesian plot; returns the number of points (markers) drawn. */
+export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) {
+  const ctx = prepare(canvas);
+  const W = canvas.width, H = canvas.height;
+  const L = 58, R = 12, T = 26, B = 40;
+  const ymax = yMax(series);
+  const px = (x) => L + ((x + 90) / 180) * (W - L - R);
+  const py = (y) => H - B - (y / ymax) * (H - T - B);
+  ctx.strokeStyle = "#ddd";
+  ctx.fillStyle = "#444";
+  ctx.lineWidth = 1;
+  for (let x = -90; x <= 90; x += 30) {
+    ctx.beginPath(); ctx.moveTo(px(x), T); ctx.lineTo(px(x), H - B); ctx.stroke();
+    ctx.fillText(`${x}°`, px(x) - 10, H - B + 15);
+  }
+  for (let k = 0; k <= 4; k++) {
+    const y = (ymax * k) / 4;
+    ctx.beginPath(); ctx.moveTo(L, py(y)); ctx.lineTo(W - R, py(y)); ctx.stroke();
+    ctx.fillText(y.toPrecision(2), 4, py(y) + 4);
+  }
+  ctx.fillText("θr (degrees; > 0 on the light's side)", L + 40, H - 6);
+  ctx.save(); ctx.translate(12, T + 120); ctx.rotate(-Math.PI / 2); ctx.restore();
+  ctx.fillStyle = "#222";
+  ctx.fillText(title, L, 16);
+  if (ylabel) ctx.fillText(ylabel, W - R - ctx.measureText(ylabel).width, 16);
+  let drawn = 0;
+  for (const s of series) {
+    ctx.strokeStyle = ctx.fillStyle = s.color;
+    ctx.lineWidth = 2;
+    if (s.points) {
+      s.x.forEach((x, k) => {
+        if (!Number.isFinite(s.y[k])) return;
+        ctx.beginPath(); ctx.arc(px(x), py(Math.min(s.y[k], ymax)), 3, 0, 2 * Math.PI); ctx.fill();
+        drawn++;
+      });
+    } else {
+      ctx.setLineDash(s.dash ? [5, 4] : []);
+      ctx.beginPath();
+      s.x.forEach((x, k) => (k ? ctx.lineTo(px(x), py(s.y[k])) : ctx.moveTo(px(x), py(s.y[k]))));
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+  }
+  legend(ctx, series, L + 8, T + 14);
+  return drawn;
+}
+
+/** Polar plot: the normal points up, theta_r > 0 towards the right (the light's side). */
+export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) {
+  const ctx = prepare(canvas);
+  const W = canvas.width, H = canvas.height;
+  const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 50);
+  const ymax = yMax(series);
+  const pt = (deg, v) => {
+    const a = (deg * Math.PI) / 180, r = (Math.max(v, 0) / ymax) * R;
+    return [cx + r * Math.sin(a), cy - r * Math.cos(a)];
+  };
+  ctx.strokeStyle = "#ddd";
+  ctx.fillStyle = "#444";
+  ctx.lineWidth = 1;
+  for (let k = 1; k <= 4; k++) {
+    ctx.beginPath(); ctx.arc(cx, cy, (R * k) / 4, Math.PI, 2 * Math.PI); ctx.stroke();
+  }
+  for (let d = -90; d <= 90; d += 30) {
+    const [x, y] = pt(d, ymax);
+    ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(x, y); ctx.stroke();
+    ctx.fillText(`${d}°`, x - 10 + 8 * Math.sin((d * Math.PI) / 180), y - 4);
+  }
+  ctx.fillText(`outer ring ${ymax.toPrecision(2)}`, 6, H - 6);
+  if (lightDeg !== null) {
+    const [x, y] = pt(lightDeg, ymax);
+    ctx.strokeStyle = "#d9a400";
+    ctx.setLineDash([2, 3]);
+    ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(x, y); ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = "#b08000";
+    ctx.fillText("light", x + 4, y + 12);
+  }
+  ctx.fillStyle = "#222";
+  ctx.fillText(title, 8, 16);
+  for (const s of series) {
+    ctx.strokeStyle = ctx.fillStyle = s.color;
+    ctx.lineWidth = 2;
+    if (s.points) {
+      s.x.forEach((x, k) => {
+        if (!Number.isFinite(s.y[k])) return;
+        const [u, v] = pt(x, Math.min(s.y[k], ymax));
+        ctx.beginPath(); ctx.arc(u, v, 3, 0, 2 * Math.PI); ctx.fill();
+      });
+    } else {
+      ctx.setLineDash(s.dash ? [5, 4] : []);
+      ctx.beginPath();
+      s.x.forEach((x, k) => {
+        const [u, v] = pt(x, s.y[k]);
+        k ? ctx.lineTo(u, v) : ctx.moveTo(u, v);
+      });
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+  }
+  legend(ctx, series, W - 170, 20);
+}
+
+/** Scatter of measured against model values with the identity line; returns points drawn. */
+export function drawScatter(canvas, model, measured, { title = "" } = {}) {
+  const ctx = prepare(canvas);
+  const W = canvas.width, H = canvas.height;
+  const L = 58, R = 12, T = 26, B = 40;
+  let m = 0;
+  for (let k = 0; k < model.length; k++) m = Math.max(m, model[k], measured[k]);
+  const vmax = niceMax(m * 1.05);
+  const px = (v) => L + (v / vmax) * (W - L - R);
+  const py = (v) => H - B - (v / vmax) * (H - T - B);
+  ctx.strokeStyle = "#ddd";
+  ctx.fillStyle = "#444";
+  for (let k = 0; k <= 4; k++) {
+    const v = (vmax * k) / 4;
+    ctx.beginPath(); ctx.moveTo(L, py(v)); ctx.lineTo(W - R, py(v)); ctx.stroke();
+    ctx.beginPath(); ctx.moveTo(px(v), T); ctx.lineTo(px(v), H - B); ctx.stroke();
+    ctx.fillText(v.toPrecision(2), 4, py(v) + 4);
+    ctx.fillText(v.toPrecision(2), px(v) - 10, H - B + 15);
+  }
+  ctx.fillText("model A BRDF (1/sr)", L + 40, H - 6);
+  ctx.fillStyle = "#222";
+  ctx.fillText(title, L, 16);
+  ctx.strokeStyle = "#888";
+  ctx.beginPath(); ctx.moveTo(px(0), py(0)); ctx.lineTo(px(vmax), py(vmax)); ctx.stroke();
+  ctx.fillStyle = "#c0392b";
+  let drawn = 0;
+  for (let k = 0; k < model.length; k++) {
+    if (!Number.isFinite(model[k]) || !Number.isFinite(measured[k])) continue;
+    ctx.beginPath(); ctx.arc(px(model[k]), py(measured[k]), 3, 0, 2 * Math.PI); ctx.fill();
+    drawn++;
+  }
+  return drawn;
+}

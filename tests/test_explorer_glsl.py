@@ -1,0 +1,120 @@
+"""The GLSL copy of every model (explorer/static/glsl/brdf.glsl) against the Python model.
+
+Test vectors come from Python: local cosines (μi, μo, cos ψ) over the whole domain — grazing
+(μ = 0, 1e-4, 1e-3), normal (μ = 1), below the horizon (μ = −0.2), Δφ from 0° to 180° — plus
+random geometries. They are rounded to float32 (what the GPU receives), the Python model
+evaluates them in float64, and headless Chromium evaluates the GLSL (the page's own evaluator:
+render to an RGBA32F texture, read back). Agreement required: |GLSL − Python| ≤ 1e-4 |Python|
++ 1e-7 sr⁻¹ (the absolute term only matters where a value cancels to nearly 0, e.g. Fujii's
+1 + r s at s → −1; it is 3e-7 of 1/π).
+
+Limits of float32 (WebGL has no double), kept out of the domain and said here:
+* Torrance–Sparrow with σ < 0.05 rad: D's exponent θh²/2σ² multiplies the ~1e-7 rounding of
+  the cosines (θh of 0.1 at σ = 0.02 gives 2e-4 relative). σ from 0.05 rad is tested.
+* η < 1 exactly at the critical angle, where the Fresnel factor has an infinite derivative:
+  η = 0.75 (total internal reflection on part of the grid, no grid point on the boundary).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from roughdiffuse.explorer import model_from_params
+
+RTOL = 1e-4
+ATOL = 1e-7
+
+RGB = [0.9, 0.5, 0.05]
+PARAMETER_SETS: dict[str, list[dict]] = {
+    "lambert": [{"albedo": RGB}, {"albedo": [0.0, 1.0, 0.3]}],
+    "oren-nayar": [{"albedo": RGB, "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)],
+    "oren-nayar-full": [
+        {"albedo": [1.0, 0.6, 0.1], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)
+    ],
+    "fujii": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)],
+    "eon": [{"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)],
+    "torrance-sparrow": [
+        {"sigma": s, "eta": eta, "distribution": d}
+        for d in ("gaussian", "beckmann")
+        for s in (0.0, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
+        for eta in (1.5, 0.75, 2.5)
+    ],
+    "mix": [
+        {"albedo": RGB, "sigma": 0.3, "weight": 0.3, "eta": 1.5},
+        {"albedo": [0.2, 0.4, 0.6], "sigma": 0.8, "weight": 0.7, "eta": 2.0},
+        {"albedo": RGB, "sigma": 0.1, "weight": 0.1, "eta": 1.3, "distribution": "beckmann"},
+    ],
+    "lommel-seeliger": [{"albedo": RGB}],
+    "lunar-lambert": [{"albedo": RGB, "limb": L} for L in (0.0, 0.6, 1.0)],
+}
+
+
+def _geometries() -> np.ndarray:
+    """(N, 3) float32 cosines: a grid with grazing and below-horizon values, and random ones."""
+    mus = np.array(
+        [-0.2, 0.0, 1e-4, 1e-3, 0.01, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85, 0.95, 0.99, 0.999, 1.0]
+    )
+    dphi = np.radians([0.0, 15.0, 45.0, 89.0, 90.0, 91.0, 135.0, 170.0, 180.0])
+    mi, mo, dp = (a.ravel() for a in np.meshgrid(mus, mus, dphi, indexing="ij"))
+    rng = np.random.default_rng(8)
+    mi = np.concatenate([mi, rng.uniform(0.0, 1.0, 400)])
+    mo = np.concatenate([mo, rng.uniform(0.0, 1.0, 400)])
+    dp = np.concatenate([dp, rng.uniform(0.0, np.pi, 400)])
+    cos_io = np.clip(mi * mo + np.sqrt(1 - mi**2) * np.sqrt(1 - mo**2) * np.cos(dp), -1.0, 1.0)
+    return np.stack([mi, mo, cos_io], axis=-1).astype(np.float32)
+
+
+GEOMETRIES = _geometries()
+
+
+@pytest.fixture(scope="module")
+def page(browser, explorer_url):  # noqa: F811 - fixtures
+    log = open_page(browser, explorer_url, 800, 600)
+    yield log
+    log.page.close()
+
+
+def _describe(cos: np.ndarray) -> str:
+    mu_i, mu_o, c = (float(x) for x in cos)
+    deg = lambda x: math.degrees(math.acos(max(min(x, 1.0), -1.0)))  # noqa: E731
+    si, so = math.sqrt(max(1 - mu_i**2, 0)), math.sqrt(max(1 - mu_o**2, 0))
+    dphi = f"{deg((c - mu_i * mu_o) / (si * so)):.3f}" if si * so > 0 else "undefined"
+    return (
+        f"mu_i={mu_i:.7g} mu_o={mu_o:.7g} cos_io={c:.7g} (theta_i={deg(mu_i):.4f} deg, "
+        f"theta_r={deg(mu_o):.4f} deg, delta_phi={dphi} deg)"
+    )
+
+
+@pytest.mark.parametrize("model", list(PARAMETER_SETS))
+def test_glsl_matches_python(page, model):
+    """Every parameter set of ``model``: GLSL within 1e-4 relative of Python everywhere."""
+    c64 = GEOMETRIES.astype(np.float64)
+    flat = GEOMETRIES.ravel().tolist()
+    failures = []
+    for params in PARAMETER_SETS[model]:
+        params = {"model": model, **params}
+        glsl = page.page.evaluate("([p, c]) => window.rdExplorer.evaluate(p, c)", [params, flat])
+        glsl = np.asarray(glsl, dtype=np.float64).reshape(-1, 3)
+        py = np.asarray(model_from_params(params).brdf_cosines(c64[:, 0], c64[:, 1], c64[:, 2]))
+        py = np.broadcast_to(py.reshape(len(c64), -1), glsl.shape)
+        assert np.all(np.isfinite(py)), f"{params}: Python model not finite"
+        bad = ~(np.abs(glsl - py) <= RTOL * np.abs(py) + ATOL)
+        for k in np.flatnonzero(bad.any(axis=1))[:3]:
+            failures.append(
+                f"{params} at {_describe(GEOMETRIES[k])}: GLSL {glsl[k].tolist()} "
+                f"Python {py[k].tolist()}"
+            )
+    assert not page.errors, page.errors
+    assert not failures, f"GLSL and Python differ for {model}:\n" + "\n".join(failures)
+
+
+def test_geometries_cover_the_domain():
+    """The test vectors include grazing, normal, below-horizon and backward geometries."""
+    mu = GEOMETRIES[:, :2]
+    assert (mu == 0).any() and (mu == 1).any() and (mu < 0).any()
+    assert (np.abs(mu - 1e-4) < 1e-9).any()
+    assert (GEOMETRIES[:, 2] <= -0.999).any()
