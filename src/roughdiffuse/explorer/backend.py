@@ -58,8 +58,42 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
 
 
 def _render_vase() -> Any:
-    """The renderer's vase function, or None when the renderer is not available."""
-    return None
+    """A function (model, query) -> PNG bytes of the vase, or None without the renderer."""
+    try:
+        from ..render import DistantLight, SurfaceOfRevolution, render
+        from ..render.imagefile import linear_to_srgb
+    except ImportError:
+        return None
+
+    def vase(model: Any, q: dict[str, str]) -> bytes:
+        import io
+
+        import numpy as np
+        from PIL import Image
+
+        theta = _float(q, "light_theta", 0.0)
+        phi = _float(q, "light_phi", 0.0)
+        if not 0.0 <= theta <= 180.0:
+            raise ValueError(f"light_theta must be in [0, 180] degrees (got {theta:g})")
+        exposure = _float(q, "exposure", 0.0)
+        if not -10.0 <= exposure <= 10.0:
+            raise ValueError(f"exposure must be in [-10, 10] stops (got {exposure:g})")
+        size = int(_float(q, "size", 200))
+        if not 16 <= size <= 512:
+            raise ValueError(f"size must be in [16, 512] pixels (got {size})")
+        # E0 = π and 2^exposure, as on the page's sphere (a white Lambert surface facing the
+        # light has radiance 1)
+        light = DistantLight(math.radians(theta), math.radians(phi), math.pi)
+        image, _ = render(model, SurfaceOfRevolution(), light, size=size, samples_per_pixel=4)
+        rgb = np.asarray(image, dtype=np.float64) * 2.0**exposure
+        if rgb.ndim == 2:
+            rgb = np.repeat(rgb[..., None], 3, axis=-1)
+        data = np.round(linear_to_srgb(rgb) * 255.0).astype(np.uint8)
+        buf = io.BytesIO()
+        Image.fromarray(data, "RGB").save(buf, format="PNG")
+        return buf.getvalue()
+
+    return vase
 
 
 def _ground_truth_table() -> Any:
@@ -77,12 +111,14 @@ def info() -> dict[str, Any]:
 
 
 def vase_png(q: dict[str, str]) -> bytes:
-    """PNG bytes of the vase, rendered with the model the query describes."""
+    """PNG bytes of the vase (Oren and Nayar's Fig. 7 clay vase, :func:`~roughdiffuse.render.
+    clay_vase_profile`), rendered by the Python renderer with the model the query describes,
+    lit from ``light_theta``, ``light_phi`` (degrees), ``exposure`` in stops."""
     model = model_from_params(params_from_query(q))
     render = _render_vase()
     if render is None:
         raise Unavailable("the Python renderer (roughdiffuse.render) is not available")
-    return bytes(render(model))
+    return render(model, q)
 
 
 def ground_truth(q: dict[str, str]) -> dict[str, Any]:

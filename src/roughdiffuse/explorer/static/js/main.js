@@ -317,13 +317,23 @@ function queryFor(slot) {
   const q = new URLSearchParams({
     model: s.model, albedo: s.albedo.join(","), sigma: String(s.sigmaDeg * DEG), roughness: String(s.roughness),
     eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), distribution: s.distribution,
+    light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
   return q.toString();
 }
 
 function loadVase() {
-  $("vase-a").src = `api/vase.png?${queryFor("a")}`;
-  $("vase-b").src = `api/vase.png?${queryFor("b")}`;
+  $("vase-status").textContent = "rendering…";
+  let left = 2;
+  for (const slot of ["a", "b"]) {
+    const img = $(`vase-${slot}`);
+    img.onload = img.onerror = (ev) => {
+      left -= 1;
+      if (ev.type === "error") $("vase-status").textContent = "the server could not render the vase";
+      else if (left === 0) $("vase-status").textContent = "";
+    };
+    img.src = `api/vase.png?${queryFor(slot)}`;
+  }
 }
 
 let gtSeries = null;
@@ -367,6 +377,7 @@ async function start() {
     $("exposure-out").textContent = `${state.exposure.toFixed(1)} EV`;
     refresh();
   });
+  $("vase-render").addEventListener("click", loadVase);
   $("preset").addEventListener("change", (ev) => { if (ev.target.value) applyPreset(ev.target.value); });
   $("light-theta").addEventListener("input", (ev) => setLight(Number(ev.target.value), state.light.phi));
   $("light-phi").addEventListener("input", (ev) => setLight(state.light.theta, Number(ev.target.value)));

@@ -1,0 +1,219 @@
+"""The explorer's server and command: what it serves, what it refuses, how it starts.
+
+No browser here (tests/test_explorer_page.py drives the page in Chromium).
+"""
+
+from __future__ import annotations
+
+import http.client
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from roughdiffuse import Lambert, OrenNayar, TorranceSparrow
+from roughdiffuse.explorer import STATIC_DIR, make_server, model_from_params, serve_in_thread
+from roughdiffuse.explorer.server import resolve_static
+
+
+@pytest.fixture(scope="module")
+def server():
+    srv = make_server("127.0.0.1", None)
+    serve_in_thread(srv)
+    yield srv
+    srv.shutdown()
+    srv.server_close()
+
+
+def get(server, path: str, method: str = "GET") -> tuple[int, dict[str, str], bytes]:
+    host, port = server.server_address[:2]
+    conn = http.client.HTTPConnection(host, port, timeout=60)
+    conn.putrequest(method, path, skip_host=False, skip_accept_encoding=True)
+    conn.endheaders()
+    r = conn.getresponse()
+    body = r.read()
+    conn.close()
+    return r.status, {k.lower(): v for k, v in r.getheaders()}, body
+
+
+def test_binds_to_loopback_on_a_free_port(server):
+    host, port = server.server_address[:2]
+    assert host == "127.0.0.1"
+    assert 0 < port < 65536
+
+
+def test_serves_the_page_and_its_modules(server):
+    status, headers, body = get(server, "/")
+    assert status == 200
+    assert headers["content-type"].startswith("text/html")
+    assert body == (STATIC_DIR / "index.html").read_bytes()
+    status, headers, body = get(server, "/js/main.js")
+    assert status == 200 and headers["content-type"].startswith("text/javascript")
+    status, headers, body = get(server, "/glsl/brdf.glsl")
+    assert status == 200 and b"rd_brdf" in body
+    status, headers, body = get(server, "/index.html", method="HEAD")
+    assert status == 200 and body == b"" and int(headers["content-length"]) > 100
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/../pyproject.toml",
+        "/../../../../etc/passwd",
+        "/js/../../server.py",
+        "/%2e%2e/server.py",
+        "/js/%2E%2E/%2e%2e/params.py",
+        "/..%2fserver.py",
+        "//etc/passwd",
+        "/etc/passwd",
+        "/js/",
+        "/js",
+        "/./index.html",
+        "/js\\..\\..\\server.py",
+        "/index.html%00.js",
+        "/%ff",
+        "http://127.0.0.1/etc/passwd",
+        "/nonexistent.js",
+        "/api/nothing",
+    ],
+)
+def test_serves_only_its_own_files(server, path):
+    """../, absolute paths, encoded tricks, directories: 404, never a file from elsewhere."""
+    status, _, body = get(server, path)
+    assert status == 404, (path, status)
+    assert b"root:" not in body and b"import" not in body
+
+
+def test_resolve_static_stays_inside_the_folder(tmp_path):
+    (tmp_path / "a.txt").write_text("a")
+    outside = tmp_path.parent / "outside.txt"
+    outside.write_text("secret")
+    (tmp_path / "link.txt").symlink_to(outside)
+    assert resolve_static("/a.txt", tmp_path) == (tmp_path / "a.txt").resolve()
+    assert resolve_static("/link.txt", tmp_path) is None  # a symlink pointing out
+    assert resolve_static("/../outside.txt", tmp_path) is None
+
+
+def test_info_says_what_the_server_can_do(server):
+    status, headers, body = get(server, "/api/info.json")
+    assert status == 200 and headers["content-type"] == "application/json"
+    info = json.loads(body)
+    assert set(info) >= {"vase", "groundtruth", "version"}
+
+
+def test_bad_api_query_is_a_400_naming_the_parameter(server):
+    status, _, body = get(server, "/api/vase.png?model=oren-nayar&sigma=abc")
+    assert status == 400 and "sigma must be a number" in json.loads(body)["error"]
+    status, _, body = get(server, "/api/vase.png?model=nope")
+    assert status == 400 and "model must be one of" in json.loads(body)["error"]
+    status, _, body = get(server, "/api/vase.png?model=oren-nayar&sigma=3")
+    assert status == 400 and "sigma" in json.loads(body)["error"]
+
+
+def test_vase_is_rendered_by_the_python_renderer(server):
+    status, _, body = get(server, "/api/info.json")
+    if not json.loads(body)["vase"]:
+        pytest.fail("the renderer (roughdiffuse.render) is importable in this project")
+    status, headers, body = get(
+        server, "/api/vase.png?model=lambert&albedo=1,1,1&size=64&light_theta=0"
+    )
+    assert status == 200 and headers["content-type"] == "image/png"
+    assert body[:8] == b"\x89PNG\r\n\x1a\n"
+    import io
+
+    from PIL import Image
+
+    img = np.asarray(Image.open(io.BytesIO(body)).convert("RGB"), dtype=np.float64) / 255.0
+    assert img.shape == (64, 64, 3)
+    # a white Lambert surface lit head-on with E0 = π: radiance n·l, at most 1 (sRGB 255),
+    # and the brightest pixels, where the vase's wall faces the light, are close to 1
+    assert img.max() > 0.97
+    assert img[0, 0].max() < 0.05  # background
+
+
+def test_model_from_params_is_the_named_model():
+    n = np.array([0.0, 0.0, 1.0])
+    wi = np.array([math.sin(0.5), 0.0, math.cos(0.5)])
+    f = model_from_params({"model": "lambert", "albedo": [0.2, 0.4, 0.6]}).brdf(wi, n)
+    np.testing.assert_allclose(f, np.array([0.2, 0.4, 0.6]) / math.pi, rtol=1e-12)
+    m = model_from_params({"model": "oren-nayar-full", "albedo": [0.5] * 3, "sigma": 0.4})
+    assert m == OrenNayar([0.5, 0.5, 0.5], 0.4, "full")
+    # the mix is (1 - w) diffuse + w specular
+    mix = model_from_params(
+        {"model": "mix", "albedo": [0.5] * 3, "sigma": 0.3, "weight": 0.25, "eta": 1.4}
+    )
+    wo = np.array([-math.sin(0.5), 0.0, math.cos(0.5)])
+    expected = 0.75 * np.asarray(OrenNayar([0.5] * 3, 0.3, "full").brdf(wi, wo)) + 0.25 * float(
+        TorranceSparrow(1.4, 0.3).brdf(wi, wo)
+    )
+    np.testing.assert_allclose(mix.brdf(wi, wo), expected, rtol=1e-12)
+    # σ = 0: every diffuse model is Lambert
+    for name in ("oren-nayar", "oren-nayar-full"):
+        f = model_from_params({"model": name, "albedo": [0.7] * 3, "sigma": 0.0}).brdf(wi, wo)
+        np.testing.assert_allclose(f, Lambert([0.7] * 3).brdf(wi, wo), rtol=1e-12)
+    with pytest.raises(ValueError, match="model must be one of"):
+        model_from_params({"model": "phong"})
+    with pytest.raises(ValueError, match="weight"):
+        model_from_params({"model": "mix", "weight": 1.5})
+
+
+def test_package_data_lists_every_static_file():
+    """pyproject's package-data patterns cover every file of the page (so wheels ship it)."""
+    import fnmatch
+    import tomllib
+
+    root = Path(__file__).resolve().parents[1]
+    patterns = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"][
+        "package-data"
+    ]["roughdiffuse"]
+    pkg = STATIC_DIR.parents[1]
+    for f in STATIC_DIR.rglob("*"):
+        if f.is_file():
+            rel = f.relative_to(pkg).as_posix()
+            assert any(fnmatch.fnmatch(rel, p) for p in patterns), rel
+
+
+def _start_cli(*args: str) -> tuple[subprocess.Popen, str]:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "roughdiffuse", "explore", "--no-browser", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "BROWSER": "false"},
+    )
+    line = proc.stdout.readline()
+    return proc, line
+
+
+def test_cli_serves_the_page_and_stops_on_ctrl_c():
+    proc, line = _start_cli()
+    try:
+        assert line.startswith("roughdiffuse explorer at http://127.0.0.1:"), line
+        url = line.split()[3]
+        port = int(url.rsplit(":", 1)[1].strip("/"))
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        conn.request("GET", "/")
+        r = conn.getresponse()
+        assert r.status == 200 and b"roughdiffuse explorer" in r.read()
+        conn.close()
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=30)
+    assert proc.returncode == 0
+
+
+def test_cli_bad_port_is_one_line_exit_2():
+    r = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "explore", "--no-browser", "--port", "70000"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and "port" in r.stderr
