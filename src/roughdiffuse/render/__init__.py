@@ -8,7 +8,7 @@
 """
 
 from .camera import DistantLight, OrthographicCamera, direction
-from .renderer import render
+from .renderer import pixel_coordinates, render
 from .shapes import Cylinder, Moon, Plane, Shape, Sphere, SurfaceOfRevolution, clay_vase_profile
 
 __all__ = [
@@ -22,5 +22,6 @@ __all__ = [
     "SurfaceOfRevolution",
     "clay_vase_profile",
     "direction",
+    "pixel_coordinates",
     "render",
 ]

@@ -27,10 +27,14 @@ from ..models.base import Model
 from .camera import DistantLight, OrthographicCamera
 from .shapes import Shape
 
-__all__ = ["render"]
+__all__ = ["pixel_coordinates", "render"]
 
 MAX_SIZE = 8192
 """Largest image side accepted."""
+
+CHUNK = 1 << 14
+"""Rays shaded together (one ``jax.lax.map`` step): large enough to amortise the loop,
+small enough for the working set of a surface of revolution to stay in cache."""
 
 
 def _check_size(size: int | Sequence[int]) -> tuple[int, int]:
@@ -100,33 +104,70 @@ def _render(
     rows = jnp.arange(height, dtype=jnp.float32)[:, None, None, None] + sub[None, None, :, None]
     a = (cols - 0.5 * width) * pixel  # along "right"
     b = (0.5 * height - rows) * pixel  # along "up"
-    a, b = jnp.broadcast_arrays(a, b)  # (H, W, k, k)
-    o = tuple(centre[c] + a * right[c] + b * up[c] for c in range(3))
+    a, b = (x.reshape(-1) for x in jnp.broadcast_arrays(a, b))  # (H W k k,)
     d = (-view[0], -view[1], -view[2])
-    t, hit, n = shape.intersect(o, d)
-    t = jnp.where(hit, t, 0.0)
-    p = tuple(o[c] + t * d[c] for c in range(3))
-    mu_o = n[0] * view[0] + n[1] * view[1] + n[2] * view[2]
-    total = None
-    for j in range(light_dirs.shape[0]):
-        lt = light_dirs[j]
-        mu_i = n[0] * lt[0] + n[1] * lt[1] + n[2] * lt[2]
-        cos_io = jnp.full_like(mu_i, lt[0] * view[0] + lt[1] * view[1] + lt[2] * view[2])
-        f = model.brdf_cosines(mu_i, mu_o, cos_io)
-        weight = jnp.where(hit, jnp.maximum(mu_i, 0.0), 0.0)
-        if shadows and not shape.convex:
-            lit = ~shape.occluded(p, (lt[0], lt[1], lt[2]), 1e-4 * shape.scale)
-            weight = jnp.where(lit, weight, 0.0)
-        e0 = light_e0[j]
-        if f.ndim > weight.ndim:
-            weight = weight[..., None]
-        elif e0.ndim:
-            f, weight = f[..., None], weight[..., None]
-        term = f * e0 * weight
-        total = term if total is None else total + term
-    image = jnp.mean(total.reshape(height, width, k * k, *total.shape[4:]), axis=2)
+
+    def shade(ab: tuple[Any, Any]) -> tuple[Any, Any]:
+        a, b = ab
+        o = tuple(centre[c] + a * right[c] + b * up[c] for c in range(3))
+        t, hit, n = shape.intersect(o, d)
+        t = jnp.where(hit, t, 0.0)
+        p = tuple(o[c] + t * d[c] for c in range(3))
+        mu_o = n[0] * view[0] + n[1] * view[1] + n[2] * view[2]
+        total = None
+        for j in range(light_dirs.shape[0]):
+            lt = light_dirs[j]
+            mu_i = n[0] * lt[0] + n[1] * lt[1] + n[2] * lt[2]
+            cos_io = jnp.full_like(mu_i, lt[0] * view[0] + lt[1] * view[1] + lt[2] * view[2])
+            f = model.brdf_cosines(mu_i, mu_o, cos_io)
+            weight = jnp.where(hit, jnp.maximum(mu_i, 0.0), 0.0)
+            if shadows and not shape.convex:
+                lit = ~shape.occluded(p, (lt[0], lt[1], lt[2]), 1e-4 * shape.scale)
+                weight = jnp.where(lit, weight, 0.0)
+            e0 = light_e0[j]
+            if f.ndim > weight.ndim:
+                weight = weight[..., None]
+            elif e0.ndim:
+                f, weight = f[..., None], weight[..., None]
+            term = f * e0 * weight
+            total = term if total is None else total + term
+        return total, hit
+
+    # chunks of rays, so that the per-piece loops of a surface of revolution run in cache
+    n_rays = a.shape[0]
+    chunk = min(CHUNK, n_rays)
+    pad = (-n_rays) % chunk
+    if pad:
+        a, b = jnp.pad(a, (0, pad)), jnp.pad(b, (0, pad))
+    total, hit = jax.lax.map(shade, (a.reshape(-1, chunk), b.reshape(-1, chunk)))
+    total = total.reshape(-1, *total.shape[2:])[:n_rays]
+    hit = hit.reshape(-1)[:n_rays]
+    image = jnp.mean(total.reshape(height, width, k * k, *total.shape[1:]), axis=2)
     mask = jnp.mean(hit.reshape(height, width, k * k).astype(jnp.float32), axis=2)
     return image.astype(jnp.float32), mask
+
+
+def pixel_coordinates(
+    shape: Shape,
+    camera: OrthographicCamera | None = None,
+    size: int | tuple[int, int] = 256,
+) -> tuple[np.ndarray, np.ndarray]:
+    """World coordinates of the pixel centres along the image's right and up axes.
+
+    Returns
+    -------
+    x : array (W,)
+        Coordinate along the camera's "right" axis of each column's centre.
+    y : array (H,)
+        Coordinate along the camera's "up" axis of each row's centre (row 0 at the top).
+    """
+    height, width = _check_size(size)
+    camera = OrthographicCamera() if camera is None else camera
+    centre, pixel = camera.frame(shape, height, width)
+    right, up, _ = camera.basis()
+    x = float(centre @ right) + (np.arange(width) + 0.5 - 0.5 * width) * pixel
+    y = float(centre @ up) + (0.5 * height - np.arange(height) - 0.5) * pixel
+    return x, y
 
 
 def render(

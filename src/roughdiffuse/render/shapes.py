@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import jax
@@ -278,79 +279,96 @@ class SurfaceOfRevolution(Shape):
         object.__setattr__(self, "nodes", tuple(tuple(float(v) for v in row) for row in table))
 
     # -------------------------------------------------------------- geometry
-    def _table(self) -> jnp.ndarray:
-        return jnp.asarray(np.asarray(self.nodes, dtype=np.float32))
+    def _tables(self) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:
+        """(pieces, cones, annuli) as float32 constants.
+
+        pieces: 8 rows (ya, yb, ra, rb, tangent at a (Δr, Δy), tangent at b), one column per
+        piece. cones: rows (y_lo, y_hi, k, r_a − k y_a, piece index) for Δy ≠ 0.
+        annuli: rows (y, r_lo², r_hi², piece index) for Δy = 0.
+        """
+        table = np.asarray(self.nodes, dtype=np.float64)
+        ya, yb, ra, rb = table[:4]
+        idx = np.arange(table.shape[1], dtype=np.float64)
+        flat = ya == yb
+        c = ~flat
+        k = (rb[c] - ra[c]) / (yb[c] - ya[c])
+        cones = np.stack(
+            [np.minimum(ya[c], yb[c]), np.maximum(ya[c], yb[c]), k, ra[c] - k * ya[c], idx[c]]
+        )
+        lo, hi = np.minimum(ra[flat], rb[flat]), np.maximum(ra[flat], rb[flat])
+        annuli = np.stack([ya[flat], lo * lo, hi * hi, idx[flat]])
+        as32 = partial(jnp.asarray, dtype=jnp.float32)
+        return as32(table), as32(cones), as32(annuli)
 
     @staticmethod
-    def _piece_hit(seg: Any, o: Vec3, d: Vec3, t_min: Any) -> tuple[Any, Any]:
-        """Nearest admissible t > t_min on one piece, and the piece parameter u there."""
-        ya, yb, ra, rb = seg[0], seg[1], seg[2], seg[3]
-        dy_seg = yb - ya
-        dr_seg = rb - ra
-        flat = dy_seg == 0
-        # cone: ρ = g + h t with k = Δr/Δy
-        k = _safe_div(dr_seg, dy_seg)
-        g = ra + k * (o[1] - ya)
-        h = k * d[1]
-        a = d[0] * d[0] + d[2] * d[2] - h * h
-        b = o[0] * d[0] + o[2] * d[2] - g * h
-        c = o[0] * o[0] + o[2] * o[2] - g * g
-        disc = b * b - a * c
-        ok = disc >= 0
-        sq = jnp.sqrt(jnp.where(ok, disc, 0.0))
-        q = -(b + jnp.where(b >= 0, sq, -sq))
-        r1 = jnp.where(a != 0, q / jnp.where(a != 0, a, 1.0), _INF)
-        r2 = jnp.where(q != 0, c / jnp.where(q != 0, q, 1.0), _INF)
-        lo, hi = jnp.minimum(ya, yb), jnp.maximum(ya, yb)
+    def _nearest(
+        cones: Any, annuli: Any, o: Vec3, d: Vec3, t_min: Any, any_hit: bool
+    ) -> tuple[Any, Any]:
+        """Nearest admissible hit t > t_min over all pieces and its piece index (as float).
 
-        def admissible(t: Any) -> Any:
-            y = o[1] + t * d[1]
-            return ok & (t > t_min) & (y >= lo) & (y <= hi) & (g + h * t >= 0)
+        One pass over the cones and one over the annuli (``jax.lax.fori_loop``); the ray
+        quantities that do not depend on the piece are computed once.
+        """
+        shape = jnp.shape(o[0])
+        od = o[0] * d[0] + o[2] * d[2]
+        o2 = o[0] * o[0] + o[2] * o[2]
+        d2 = d[0] * d[0] + d[2] * d[2]
+        oy, dy = o[1], d[1]
+        init = (jnp.full(shape, _INF, jnp.float32), jnp.full(shape, -1.0, jnp.float32))
 
-        r1 = jnp.where(admissible(r1), r1, _INF)
-        r2 = jnp.where(admissible(r2), r2, _INF)
-        t_cone = jnp.minimum(r1, r2)
-        # annulus at y = ya between radii ra and rb
-        t_flat = _safe_div(ya - o[1], d[1], _INF)
-        x = o[0] + t_flat * d[0]
-        z = o[2] + t_flat * d[2]
-        rho2 = x * x + z * z
-        r_lo, r_hi = jnp.minimum(ra, rb), jnp.maximum(ra, rb)
-        in_ring = (rho2 >= r_lo * r_lo) & (rho2 <= r_hi * r_hi) & (t_flat > t_min)
-        t_flat = jnp.where(in_ring & (d[1] != 0), t_flat, _INF)
-        t = jnp.where(flat, t_flat, t_cone)
-        # piece parameter u in [0, 1] at the hit
-        y = o[1] + t * d[1]
-        rho = jnp.sqrt((o[0] + t * d[0]) ** 2 + (o[2] + t * d[2]) ** 2)
-        u = jnp.where(flat, _safe_div(rho - ra, dr_seg), _safe_div(y - ya, dy_seg))
-        return t, jnp.clip(u, 0.0, 1.0)
+        def cone(i: Any, carry: tuple[Any, Any]) -> tuple[Any, Any]:
+            t_best, idx = carry
+            lo, hi, k, c0, piece = cones[0, i], cones[1, i], cones[2, i], cones[3, i], cones[4, i]
+            g = c0 + k * oy  # cone radius at the ray's height: ρ = g + h t
+            h = k * dy
+            a = d2 - h * h
+            b = od - g * h
+            c = o2 - g * g
+            disc = b * b - a * c
+            ok = disc >= 0
+            sq = jnp.sqrt(jnp.where(ok, disc, 0.0))
+            q = -(b + jnp.where(b >= 0, sq, -sq))
+            r1 = jnp.where(a != 0, q / jnp.where(a != 0, a, 1.0), _INF)
+            r2 = jnp.where(q != 0, c / jnp.where(q != 0, q, 1.0), _INF)
+
+            def admissible(t: Any) -> Any:
+                y = oy + t * dy
+                return ok & (t > t_min) & (y >= lo) & (y <= hi) & (g + h * t >= 0)
+
+            t = jnp.minimum(
+                jnp.where(admissible(r1), r1, _INF), jnp.where(admissible(r2), r2, _INF)
+            )
+            closer = t < t_best
+            return jnp.where(closer, t, t_best), jnp.where(closer, piece, idx)
+
+        def annulus(i: Any, carry: tuple[Any, Any]) -> tuple[Any, Any]:
+            t_best, idx = carry
+            y, lo2, hi2, piece = annuli[0, i], annuli[1, i], annuli[2, i], annuli[3, i]
+            t = _safe_div(y - oy, dy, _INF)
+            x = o[0] + t * d[0]
+            z = o[2] + t * d[2]
+            rho2 = x * x + z * z
+            ok = (dy != 0) & (rho2 >= lo2) & (rho2 <= hi2) & (t > t_min)
+            closer = ok & (t < t_best)
+            return jnp.where(closer, t, t_best), jnp.where(closer, piece, idx)
+
+        carry = jax.lax.fori_loop(0, cones.shape[1], cone, init)
+        return jax.lax.fori_loop(0, annuli.shape[1], annulus, carry)
 
     def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
-        table = self._table()
-        shape = jnp.shape(o[0])
-        init = (
-            jnp.full(shape, _INF, jnp.float32),
-            jnp.zeros(shape, jnp.int32),
-            jnp.zeros(shape, jnp.float32),
-        )
-
-        def body(i: Any, carry: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
-            t_best, idx, u_best = carry
-            t, u = self._piece_hit(table[:, i], o, d, -_INF)
-            closer = t < t_best
-            return (
-                jnp.where(closer, t, t_best),
-                jnp.where(closer, i, idx),
-                jnp.where(closer, u, u_best),
-            )
-
-        t, idx, u = jax.lax.fori_loop(0, table.shape[1], body, init)
-        hit = t < _INF
+        table, cones, annuli = self._tables()
+        t, idx = self._nearest(cones, annuli, o, d, -_INF, False)
+        hit = idx >= 0
         t_safe = jnp.where(hit, t, 0.0)
         x = o[0] + t_safe * d[0]
+        y = o[1] + t_safe * d[1]
         z = o[2] + t_safe * d[2]
         rho = jnp.sqrt(x * x + z * z)
-        seg = table[:, idx]
+        seg = table[:, jnp.maximum(idx, 0.0).astype(jnp.int32)]
+        ya, yb, ra, rb = seg[0], seg[1], seg[2], seg[3]
+        flat = ya == yb
+        u = jnp.where(flat, _safe_div(rho - ra, rb - ra), _safe_div(y - ya, yb - ya))
+        u = jnp.clip(u, 0.0, 1.0)
         tr = (1.0 - u) * seg[4] + u * seg[6]  # interpolated tangent (Δr, Δy)
         ty = (1.0 - u) * seg[5] + u * seg[7]
         nx = _safe_div(x, rho) * ty
@@ -358,16 +376,12 @@ class SurfaceOfRevolution(Shape):
         ny = -tr
         norm = jnp.sqrt(nx * nx + ny * ny + nz * nz)
         norm = jnp.where(norm > 0, norm, 1.0)
-        return t, hit, (nx / norm, ny / norm, nz / norm)
+        return jnp.where(hit, t, _INF), hit, (nx / norm, ny / norm, nz / norm)
 
     def occluded(self, p: Vec3, d: Vec3, t_min: float) -> Any:
-        table = self._table()
-
-        def body(i: Any, blocked: Any) -> Any:
-            t, _ = self._piece_hit(table[:, i], p, d, t_min)
-            return blocked | (t < _INF)
-
-        return jax.lax.fori_loop(0, table.shape[1], body, jnp.zeros(jnp.shape(p[0]), bool))
+        _, cones, annuli = self._tables()
+        _, idx = self._nearest(cones, annuli, p, d, t_min, True)
+        return idx >= 0
 
     def extent(self, axis: np.ndarray) -> tuple[float, float]:
         ya, yb, ra, rb = (np.asarray(v) for v in self.nodes[:4])

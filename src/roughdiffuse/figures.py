@@ -1,0 +1,431 @@
+"""The lecture's figures in one call: :func:`make_figures` writes eight PNGs and index.html.
+
+Each figure is a function that returns a matplotlib Figure and the caption shown in the
+index; the renders use :func:`roughdiffuse.render.render` and the models' own code.
+The figures reproduce the pictures and claims of the lecture in
+``seed/lecture-diffuse-reflection-rough-surfaces.md`` (Oren and Nayar, SIGGRAPH 1994).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .models import EON, Fujii, Lambert, LommelSeeliger, Mix, OrenNayar, TorranceSparrow
+from .plots import (
+    ROUGHNESS_SERIES,
+    plot_cross_section,
+    plot_plane_of_incidence,
+    plot_roughness_series,
+    plt,
+    show_radiance,
+)
+from .render import (
+    DistantLight,
+    Moon,
+    Sphere,
+    SurfaceOfRevolution,
+    pixel_coordinates,
+    render,
+)
+from .render.imagefile import atomic_write
+
+__all__ = ["FIGURES", "Figure", "make_figures"]
+
+SIZE = 200
+"""Pixels across a rendered object in the figures."""
+
+SPP = 9
+"""Samples per pixel in the figures."""
+
+CLAY = (0.75, 0.45, 0.30)
+"""An RGB albedo for clay."""
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One figure of the set: file name, title, caption and the function that draws it."""
+
+    name: str
+    title: str
+    caption: str
+    draw: Callable[[], Any]
+
+
+def _suptitle(fig: Any, text: str) -> None:
+    fig.suptitle(text, fontsize="large")
+
+
+def _lambert_sphere() -> Any:
+    rho = 0.8
+    img, mask = render(Lambert(rho), Sphere(), DistantLight(0.0), size=SIZE, samples_per_pixel=SPP)
+    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
+    show_radiance(a, img, float(img.max()), "Lambert, ρ = 0.8, light behind the viewer")
+    xs, _ = pixel_coordinates(Sphere(), None, SIZE)
+    plot_cross_section({"rendered": img}, masks={"rendered": mask}, ax=b, x=xs)
+    x = np.linspace(-1, 1, 401)
+    b.plot(
+        x,
+        rho / math.pi * np.sqrt(1 - x**2),
+        "k--",
+        lw=1,
+        label="closed form ρ/π E0 n·s = ρ/π √(1 − x²)",
+    )
+    b.legend(fontsize="small")
+    b.set_title("brightness across the middle row")
+    _suptitle(fig, "1. A Lambertian sphere lit head-on: the edges are dark (n·s = 0)")
+    fig.tight_layout()
+    return fig
+
+
+def _full_moon() -> Any:
+    light = DistantLight(0.0)
+    models = {
+        "Lambert": Lambert(),
+        "Oren–Nayar full, σ = 0.7 rad": OrenNayar(sigma=0.7, variant="full"),
+        "Lommel–Seeliger": LommelSeeliger(),
+    }
+    moon = Moon()
+    results = {
+        k: render(m, moon, light, size=SIZE, samples_per_pixel=SPP) for k, m in models.items()
+    }
+    fig = plt.figure(figsize=(11, 6.6))
+    grid = fig.add_gridspec(2, 3, height_ratios=[1, 0.9])
+    for i, (label, (img, _)) in enumerate(results.items()):
+        ax = fig.add_subplot(grid[0, i])
+        centre = float(img[SIZE // 2, SIZE // 2])
+        show_radiance(ax, img, centre * 1.05, label)
+    ax = fig.add_subplot(grid[1, :])
+    plot_cross_section(
+        {k: v[0] for k, v in results.items()},
+        masks={k: v[1] for k, v in results.items()},
+        ax=ax,
+        normalize=True,
+        x=pixel_coordinates(moon, None, SIZE)[0],
+    )
+    ax.set_title("brightness across the disc, divided by the centre's")
+    _suptitle(
+        fig,
+        "2. Why does the full moon look flat? Spheres of the moon's albedo (0.12), "
+        "lit from behind the viewer",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _vase() -> Any:
+    vase = SurfaceOfRevolution()
+    light = DistantLight(0.0)
+    models = {"Lambertian": Lambert(0.8), "Oren–Nayar, σ = 0.3 rad": OrenNayar(0.8, 0.3)}
+    results = {
+        k: render(m, vase, light, size=SIZE, samples_per_pixel=SPP) for k, m in models.items()
+    }
+    mask = next(iter(results.values()))[1]
+    row = int(np.argmax(mask.sum(axis=1)))  # the widest row: the vase's belly
+    vmax = max(float(r[0].max()) for r in results.values())
+    fig = plt.figure(figsize=(11, 4.4))
+    grid = fig.add_gridspec(1, 3, width_ratios=[1, 1, 1.6])
+    for i, (label, (img, _)) in enumerate(results.items()):
+        ax = fig.add_subplot(grid[0, i])
+        show_radiance(ax, img, vmax, label)
+        ax.axhline(row, color="tab:red", lw=0.8, ls="--")
+    ax = fig.add_subplot(grid[0, 2])
+    plot_cross_section(
+        {k: v[0] for k, v in results.items()},
+        masks={k: v[1] for k, v in results.items()},
+        row=row,
+        ax=ax,
+        x=pixel_coordinates(vase, None, SIZE)[0],
+    )
+    ax.set_title("brightness along the dashed line")
+    _suptitle(
+        fig, "3. The clay vase lit from the viewing direction (θi = 0), as in the lecture's Fig. 7"
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _roughness_series() -> Any:
+    fig = plot_roughness_series(
+        lambda s: OrenNayar(0.8, s),
+        ROUGHNESS_SERIES,
+        lights=[DistantLight(0.0), DistantLight(math.radians(60.0), 0.0)],
+        size=SIZE // 4 * 3,
+        samples_per_pixel=SPP,
+    )
+    _suptitle(fig, "4. Increasing roughness: Oren–Nayar spheres, σ = 0 is Lambert")
+    fig.tight_layout()
+    return fig
+
+
+def _view_dependence() -> Any:
+    colours = {0.0: "black", 0.25: "tab:blue", 0.5: "tab:orange"}
+    models: dict[str, Any] = {"Lambert": Lambert(0.8)}
+    styles: dict[str, dict[str, Any]] = {"Lambert": {"color": "black"}}
+    for s in (0.25, 0.5):
+        for variant, ls in (("qualitative", "-"), ("full", "--")):
+            label = f"Oren–Nayar {variant}, σ = {s:g}"
+            models[label] = OrenNayar(0.8, s, variant)
+            styles[label] = {"color": colours[s], "ls": ls}
+    fig = plt.figure(figsize=(13, 4.2))
+    for i, deg in enumerate((30.0, 60.0)):
+        ax = fig.add_subplot(1, 3, i + 1)
+        plot_plane_of_incidence(models, math.radians(deg), ax=ax, styles=styles)
+    ax = fig.add_subplot(1, 3, 3, projection="polar")
+    plot_plane_of_incidence(models, math.radians(60.0), ax=ax, polar=True, styles=styles)
+    ax.get_legend().remove()
+    _suptitle(
+        fig,
+        "5. View dependence in the plane of incidence (ρ = 0.8): rough surfaces "
+        "brighten as the view approaches the source",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _blurred_highlights() -> Any:
+    sigmas = (0.05, 0.1, 0.2, 0.3, 0.4)
+    light = DistantLight(math.radians(30.0), 0.0)
+    fig, axes = plt.subplots(1, len(sigmas), figsize=(2.2 * len(sigmas), 2.9))
+    for ax, s in zip(axes, sigmas, strict=True):
+        img, mask = render(
+            TorranceSparrow(1.5, s), Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP
+        )
+        show_radiance(ax, img, float(img.max()), f"σ = {s:g} rad\npeak {img.max():.3g}")
+        ax.contour(mask, [0.5], colors="0.45", linewidths=0.8)
+    _suptitle(
+        fig,
+        "6. Blurred highlights: Torrance–Sparrow spheres (η = 1.5), light at "
+        "θi = 30°\n(each image scaled to its peak; grey line: the silhouette)",
+    )
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    return fig
+
+
+def _diffuse_plus_specular() -> Any:
+    diffuse = OrenNayar(CLAY, 0.3)
+    specular = TorranceSparrow(1.5, 0.15)
+    models = {
+        "Oren–Nayar (σ = 0.3)": diffuse,
+        "Torrance–Sparrow (σ = 0.15)": specular,
+        "mix: 1 × ON + 1 × TS": Mix([(1.0, diffuse), (1.0, specular)]),
+    }
+    light = DistantLight(math.radians(45.0), math.radians(30.0))
+    imgs = {
+        k: render(m, Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP)[0]
+        for k, m in models.items()
+    }
+    vmax = float(np.percentile(imgs["mix: 1 × ON + 1 × TS"], 99.5))
+    fig = plt.figure(figsize=(12, 4))
+    grid = fig.add_gridspec(1, 4, width_ratios=[1, 1, 1, 1.5])
+    for i, (label, img) in enumerate(imgs.items()):
+        ax = fig.add_subplot(grid[0, i])
+        rgb = img if img.ndim == 3 else np.repeat(img[..., None], 3, axis=-1)
+        show_radiance(ax, rgb, vmax, label)
+    ax = fig.add_subplot(grid[0, 3])
+    plot_plane_of_incidence(models, math.radians(45.0), ax=ax)
+    ax.set_ylabel("radiance (E0 = 1; mean of R, G, B)")
+    _suptitle(
+        fig,
+        "7. Diffuse plus surface reflection: a Mix of Oren–Nayar (clay albedo) "
+        "and Torrance–Sparrow",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _models_side_by_side() -> Any:
+    sigma = 0.5
+    s2 = sigma * sigma
+    a = 1.0 - 0.5 * s2 / (s2 + 0.33)  # the qualitative model's A and B (Oren–Nayar Eq. 30)
+    b = 0.45 * s2 / (s2 + 0.09)
+    r = b / a
+    models = {
+        "qualitative ON": OrenNayar(0.8, sigma, "qualitative"),
+        "full ON": OrenNayar(0.8, sigma, "full"),
+        f"Fujii (r = {r:.2f})": Fujii(0.8, r),
+        f"EON (r = {r:.2f})": EON(0.8, r),
+    }
+    light = DistantLight(math.radians(60.0), 0.0)
+    imgs = {
+        k: render(m, Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP)[0]
+        for k, m in models.items()
+    }
+    ref = imgs["qualitative ON"]
+    vmax = max(float(v.max()) for v in imgs.values())
+    dmax = max(float(np.abs(v - ref).max()) for v in imgs.values()) or 1.0
+    fig, axes = plt.subplots(2, 4, figsize=(11, 6), layout="constrained")
+    for i, (label, img) in enumerate(imgs.items()):
+        show_radiance(axes[0, i], img, vmax, label)
+        ax = axes[1, i]
+        if i == 0:
+            ax.axis("off")
+            ax.text(
+                0.5,
+                0.5,
+                "differences from\nthe qualitative model\n(red: brighter)",
+                ha="center",
+                va="center",
+                transform=ax.transAxes,
+            )
+            continue
+        im = ax.imshow(img - ref, cmap="RdBu_r", vmin=-dmax, vmax=dmax)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_title(f"{label} − qualitative", fontsize="small")
+    fig.colorbar(im, ax=axes[1, 1:].tolist(), shrink=0.8, label="radiance difference (E0 = 1)")
+    _suptitle(
+        fig,
+        f"8. The Oren–Nayar family side by side: ρ = 0.8, σ = {sigma} rad, light at "
+        "θi = 60°; Fujii/EON r = B/A of Eq. 30",
+    )
+    return fig
+
+
+FIGURES: tuple[Figure, ...] = (
+    Figure(
+        "1-lambert-sphere",
+        "A Lambertian sphere lit head-on",
+        "Radiance ρ/π E0 n·s falls to zero at the limb, where n·s = 0: the rendered profile "
+        "(solid) lies on the closed form (dashed).",
+        _lambert_sphere,
+    ),
+    Figure(
+        "2-full-moon",
+        "The full-moon question",
+        "Three spheres with the moon's albedo, lit from behind the viewer. The Lambertian "
+        "disc darkens towards its edge; the rough Oren–Nayar disc (σ = 0.7 rad) stays much "
+        "brighter there, and the Lommel–Seeliger disc is exactly flat. Each disc is shown "
+        "on its own scale (centre = white) and the profiles are divided by the centre's "
+        "value.",
+        _full_moon,
+    ),
+    Figure(
+        "3-vase",
+        "The clay vase (the lecture's Fig. 7)",
+        "The default clay vase lit from the viewing direction: the Lambertian rendering "
+        "darkens towards the silhouette, the Oren–Nayar one (σ = 0.3 rad) is flatter, as in "
+        "the photograph of the real vase in Oren and Nayar's Fig. 7. Both share one grey "
+        "scale.",
+        _vase,
+    ),
+    Figure(
+        "4-roughness-series",
+        "Increasing roughness",
+        "The same sphere (ρ = 0.8) for σ = 0, 0.1, 0.2, 0.3, 0.5 rad, lit head-on (top) and "
+        "from θi = 60° (bottom), on one grey scale: roughness flattens the disc and, under "
+        "oblique light, brightens the side towards the viewer.",
+        _roughness_series,
+    ),
+    Figure(
+        "5-view-dependence",
+        "View dependence",
+        "Radiance in the plane of incidence against the signed viewing angle θr (positive "
+        "on the light's side). Lambert is flat; Oren–Nayar radiance rises as the viewing "
+        "direction approaches the source (θr → θi), more for larger σ; dashed lines are the "
+        "full model with interreflections.",
+        _view_dependence,
+    ),
+    Figure(
+        "6-blurred-highlights",
+        "Blurred highlights",
+        "Torrance–Sparrow spheres with increasing facet slope deviation σ: the highlight "
+        "spreads and its peak falls.",
+        _blurred_highlights,
+    ),
+    Figure(
+        "7-diffuse-plus-specular",
+        "Diffuse plus surface reflection",
+        "A Mix of an Oren–Nayar body (clay colour) and a Torrance–Sparrow coat: the sum "
+        "shows both the flat rough body and a blurred white highlight. The plot shows both "
+        "lobes in the plane of incidence.",
+        _diffuse_plus_specular,
+    ),
+    Figure(
+        "8-models-side-by-side",
+        "The Oren–Nayar family",
+        "Qualitative and full Oren–Nayar, Fujii's improved model and the energy-preserving "
+        "EON at σ = 0.5 rad (Fujii and EON take r, not an angle: r = B/A of the qualitative "
+        "model, so that their s/t terms have the same weight). Bottom: differences from the "
+        "qualitative model.",
+        _models_side_by_side,
+    ),
+)
+
+
+def _write_index(folder: Path) -> Path:
+    items = []
+    for f in FIGURES:
+        items.append(
+            f'<figure id="{f.name}">\n  <img src="{f.name}.png" alt="{html.escape(f.title)}">\n'
+            f"  <figcaption><b>{html.escape(f.title)}.</b> {html.escape(f.caption)}"
+            "</figcaption>\n</figure>"
+        )
+    page = (
+        '<!doctype html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        "<title>roughdiffuse: figures of the lecture</title>\n<style>\n"
+        "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;}\n"
+        "img{max-width:100%;border:1px solid #ddd}figure{margin:2em 0}\n"
+        "figcaption{color:#333;margin-top:.5em}\n</style>\n</head>\n<body>\n"
+        "<h1>Diffuse reflection from rough surfaces: the figures</h1>\n"
+        "<p>Made by <code>roughdiffuse figures</code>. Radiance for irradiance E0 = 1; images "
+        "on a linear grey scale.</p>\n" + "\n".join(items) + "\n</body>\n</html>\n"
+    )
+    return atomic_write(folder / "index.html", lambda tmp: tmp.write_text(page, "utf-8"))
+
+
+def make_figures(
+    folder: str | os.PathLike[str] = "figures",
+    force: bool = False,
+    progress: bool = True,
+    only: list[str] | None = None,
+) -> list[Path]:
+    """Write the eight figures (PNG, 110 dpi) and ``index.html`` into ``folder``.
+
+    Parameters
+    ----------
+    folder : path
+        Created if missing (its parent must exist).
+    force : bool
+        Redraw figures whose PNG exists (otherwise they are kept, so an interrupted run
+        resumes where it stopped).
+    progress : bool
+        Show a tqdm progress bar.
+    only : list of str, optional
+        Names (or leading numbers) of the figures to draw.
+
+    Returns
+    -------
+    list of Path
+        The PNG files and index.html.
+    """
+    from tqdm import tqdm
+
+    folder = Path(folder)
+    if not folder.parent.is_dir():
+        raise ValueError(f"parent folder {str(folder.parent)!r} does not exist")
+    folder.mkdir(exist_ok=True)
+    chosen = [f for f in FIGURES if not only or any(f.name.startswith(o) for o in only)]
+    if only and not chosen:
+        raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
+    out = []
+    bar = tqdm(chosen, desc="figures", unit="fig", disable=not progress)
+    for f in bar:
+        bar.set_postfix_str(f.name)
+        path = folder / f"{f.name}.png"
+        out.append(path)
+        if path.exists() and not force:
+            continue
+        fig = f.draw()
+        fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
+        atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
+        plt.close(fig)
+    out.append(_write_index(folder))
+    return out
