@@ -134,3 +134,15 @@ def test_torch_tensors_in_tensors_out(rng):
     f.sum().backward()
     assert sigma.grad is not None and torch.isfinite(sigma.grad) and sigma.grad != 0
     assert albedo.grad is not None and torch.all(torch.isfinite(albedo.grad))
+
+
+def test_jit_keeps_models_with_the_same_fields_apart():
+    """Regression: jax's register_dataclass let Lambert and LommelSeeliger share a cache entry."""
+    wi, wo = jnp.asarray([[0.3, 0.1, 0.8]]), jnp.asarray([[-0.5, 0.2, 0.7]])
+    lam = rd.Lambert(0.7).brdf(wi, wo)
+    ls = rd.LommelSeeliger(0.7).brdf(wi, wo)
+    assert float(lam[0]) == pytest.approx(0.7 / np.pi)
+    mu = 0.8 / np.linalg.norm([0.3, 0.1, 0.8]) + 0.7 / np.linalg.norm([-0.5, 0.2, 0.7])
+    assert float(ls[0]) == pytest.approx(0.7 / (4 * np.pi * mu))
+    structures = {jax.tree_util.tree_structure(m) for m in _models()}
+    assert len({str(s) for s in structures}) == len(structures)

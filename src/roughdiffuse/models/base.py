@@ -239,9 +239,25 @@ class Model:
 
 
 def register_pytree(cls: type) -> type:
-    """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static."""
+    """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static.
+
+    ``jax.tree_util.register_dataclass`` is not used: in JAX 0.10 its tree definitions of two
+    classes with the same field names compare equal (Lambert and LommelSeeliger, say), so a
+    jitted function could reuse one model's compiled code for the other. Unflattening skips
+    ``__post_init__``: JAX passes placeholders that are not parameter values.
+    """
     fields = [f.name for f in dataclasses.fields(cls)]
-    data = [f for f in fields if f in cls.array_fields]
-    meta = [f for f in fields if f not in cls.array_fields]
-    jax.tree_util.register_dataclass(cls, data_fields=data, meta_fields=meta)
+    data = tuple(f for f in fields if f in cls.array_fields)
+    meta = tuple(f for f in fields if f not in cls.array_fields)
+
+    def flatten(obj: Any) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
+        return tuple(getattr(obj, f) for f in data), tuple(getattr(obj, f) for f in meta)
+
+    def unflatten(aux: tuple[Any, ...], children: Any) -> Any:
+        obj = object.__new__(cls)
+        for name, value in (*zip(data, children, strict=True), *zip(meta, aux, strict=True)):
+            object.__setattr__(obj, name, value)
+        return obj
+
+    jax.tree_util.register_pytree_node(cls, flatten, unflatten)
     return cls
