@@ -363,6 +363,8 @@ FIGURES: tuple[Figure, ...] = (
 def _write_index(folder: Path) -> Path:
     items = []
     for f in FIGURES:
+        if not (folder / f"{f.name}.png").exists():
+            continue
         items.append(
             f'<figure id="{f.name}">\n  <img src="{f.name}.png" alt="{html.escape(f.title)}">\n'
             f"  <figcaption><b>{html.escape(f.title)}.</b> {html.escape(f.caption)}"
