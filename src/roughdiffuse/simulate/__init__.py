@@ -1,0 +1,1 @@
+"""V-cavity ground truth."""
