@@ -73,3 +73,12 @@ def test_bad_input_is_one_line_and_exit_2(argv, capsys):
     assert main(["albedo", *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("roughdiffuse albedo: error:") and "\n" not in err
+
+
+def test_plot_albedo_kind(tmp_path):
+    out = tmp_path / "furnace.png"
+    assert (
+        main(["plot", "albedo", "--model", "eon,oren-nayar", "--sigma", "0,40", "-o", str(out)])
+        == 0
+    )
+    assert out.read_bytes()[:4] == b"\x89PNG"

@@ -157,3 +157,21 @@ def run(args: argparse.Namespace) -> int:
         hi = max(float(a.max()) for a in curves.values())
         print(f"{g}: albedo between {lo:.4f} and {hi:.4f} over θo in [0°, 89.5°]")
     return 0
+
+
+def plot_kind(args: argparse.Namespace, out: Path) -> int:
+    """``roughdiffuse plot albedo``: the white-furnace plot for ``plot``'s --model and --sigma.
+
+    ρ = 1; Fujii and EON get r = 0, 0.25, 0.5, 0.75, 1 (``plot`` has a single --roughness);
+    ``roughdiffuse albedo`` takes lists of both and writes tables.
+    """
+    forwarded = argparse.Namespace(
+        model=args.model,
+        sigma=list(args.sigma),
+        roughness=[0.0, 0.25, 0.5, 0.75, 1.0],
+        albedo=1.0,
+        output=str(out),
+        table=None,
+        variance=False,
+    )
+    return run(forwarded)

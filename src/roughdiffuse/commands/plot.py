@@ -22,7 +22,7 @@ examples:
 without σ once). σ and the angles are in degrees.
 """
 
-KINDS = ("plane", "polar", "cross-section", "roughness-series")
+KINDS = ("plane", "polar", "cross-section", "roughness-series", "albedo")
 
 
 def _floats(text: str) -> list[float]:
@@ -89,6 +89,10 @@ def run(args: argparse.Namespace) -> int:
     if args.kind not in KINDS:
         raise UsageError(f"unknown plot {args.kind!r}; choose one of: {', '.join(KINDS)}")
     out = check_output(args.output, (".png", ".svg", ".pdf"), args.force)
+    if args.kind == "albedo":  # white furnace at ρ = 1; `roughdiffuse albedo` has more options
+        from .albedo import plot_kind
+
+        return plot_kind(args, out)
 
     lights, camera = scene_from_args(args)
     plt = plots.plt
