@@ -38,10 +38,10 @@ def test_plane_of_incidence_rejects_bad_angles():
 
 def test_cross_section_masks_and_coordinates():
     img = np.arange(12, dtype=float).reshape(3, 4)
-    mask = np.array([[0, 1, 1, 0]] * 3, float)
+    mask = np.array([[0, 1, 0.5, 0.4]] * 3, float)
     x, v = plots.cross_section(img, mask=mask)
     np.testing.assert_allclose(x, [-0.75, -0.25, 0.25, 0.75])
-    assert np.isnan(v[0]) and np.isnan(v[3]) and v[1] == 5 and v[2] == 6
+    assert np.isnan(v[0]) and np.isnan(v[3]) and v[1] == 5 and v[2] == 12  # 6 / 0.5
     with pytest.raises(ValueError, match="row"):
         plots.cross_section(img, row=5)
 

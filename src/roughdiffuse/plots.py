@@ -57,7 +57,8 @@ def cross_section(
     x : array (W,)
         The column coordinates.
     values : array (W,) or (W, C)
-        The row's radiance; NaN where ``mask`` is below 1/2 (off the object).
+        The row's radiance; with ``mask`` (the renderer's coverage), the radiance of the
+        covered part of each pixel (value / coverage), and NaN where coverage is below 1/2.
     """
     img = np.asarray(image, dtype=np.float64)
     h, w = img.shape[:2]
@@ -70,7 +71,10 @@ def cross_section(
         raise ValueError(f"x must have shape ({w},) (got {np.shape(x)})")
     vals = img[row].copy()
     if mask is not None:
-        off = np.asarray(mask)[row] < 0.5
+        cov = np.asarray(mask, dtype=np.float64)[row]
+        off = cov < 0.5
+        # the renderer averages over the whole pixel: divide by the covered fraction
+        vals = vals / np.where(off, 1.0, cov).reshape(-1, *([1] * (vals.ndim - 1)))
         vals[off] = np.nan
     return x, vals
 
