@@ -82,3 +82,12 @@ def test_plot_albedo_kind(tmp_path):
         == 0
     )
     assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_existing_output_needs_force(tmp_path, capsys):
+    out = tmp_path / "a.png"
+    out.write_bytes(b"keep")
+    assert main(["albedo", "--model", "lambert", "-o", str(out)]) == 2
+    assert "--force" in capsys.readouterr().err and out.read_bytes() == b"keep"
+    assert main(["albedo", "--model", "lambert", "-o", str(out), "--force"]) == 0
+    assert out.read_bytes()[:4] == b"\x89PNG"

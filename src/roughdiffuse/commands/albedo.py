@@ -16,7 +16,8 @@ examples:
   roughdiffuse albedo --variance
 
 σ (for oren-nayar, oren-nayar-full, torrance-sparrow) is in DEGREES; r (fujii, eon) is in
-[0, 1]. The white-furnace test uses albedo ρ = 1 (change it with --albedo).
+[0, 1]; lunar-lambert is drawn for limb darkening L = 0, 0.5, 1. The white-furnace test
+uses albedo ρ = 1 (change it with --albedo).
 """
 
 FAMILIES = {
@@ -26,6 +27,8 @@ FAMILIES = {
     "fujii": "Fujii (FON)",
     "eon": "EON",
     "torrance-sparrow": "Torrance–Sparrow (η = 1.5)",
+    "lommel-seeliger": "Lommel–Seeliger",
+    "lunar-lambert": "Lunar–Lambert",
 }
 USES_SIGMA = ("oren-nayar", "oren-nayar-full", "torrance-sparrow")
 USES_R = ("fujii", "eon")
@@ -72,6 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--albedo", type=float, default=1.0, help="albedo ρ in [0, 1] (default: 1)")
     p.add_argument("-o", "--output", default="albedo.png", help="plot file: .png, .svg or .pdf")
     p.add_argument("--table", metavar="CSV", help="also write the albedo table (CSV) here")
+    p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.add_argument(
         "--variance",
         action="store_true",
@@ -81,7 +85,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
-    from ..models import EON, Fujii, Lambert, OrenNayar, TorranceSparrow
+    from ..models import (
+        EON,
+        Fujii,
+        Lambert,
+        LommelSeeliger,
+        LunarLambert,
+        OrenNayar,
+        TorranceSparrow,
+    )
 
     names = [n.strip() for n in args.model.split(",") if n.strip()]
     if not names:
@@ -102,6 +114,10 @@ def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
     for n in names:
         if n == "lambert":
             curves = {f"ρ = {rho:g}": Lambert(rho)}
+        elif n == "lommel-seeliger":
+            curves = {f"ρ = {rho:g}": LommelSeeliger(rho)}
+        elif n == "lunar-lambert":
+            curves = {f"L = {x:g}": LunarLambert(rho, x) for x in (0.0, 0.5, 1.0)}
         elif n in USES_SIGMA:
             curves = {}
             for s in args.sigma:
@@ -128,14 +144,11 @@ def run(args: argparse.Namespace) -> int:
         flat = {f"{g}, {k}": m for g, curves in groups.items() for k, m in curves.items()}
         print(energy.variance_table(flat))
         return 0
-    out = Path(args.output)
-    if out.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise UsageError(f"--output must end in .png, .svg or .pdf (got {str(out)!r})")
-    for path in [out] + ([Path(args.table)] if args.table else []):
-        if not path.parent.is_dir() and str(path.parent):
-            raise UsageError(f"output folder {str(path.parent)!r} does not exist")
-    if args.table and Path(args.table).suffix.lower() != ".csv":
-        raise UsageError(f"--table must end in .csv (got {args.table!r})")
+    from .render import check_output
+
+    out = check_output(args.output, (".png", ".svg", ".pdf"), args.force)
+    if args.table:
+        check_output(args.table, (".csv",), args.force)
 
     from ..render.imagefile import atomic_write
 
@@ -173,5 +186,6 @@ def plot_kind(args: argparse.Namespace, out: Path) -> int:
         output=str(out),
         table=None,
         variance=False,
+        force=True,  # `plot` has checked the output already
     )
     return run(forwarded)
