@@ -1,5 +1,6 @@
 """Shared set-up of the explorer tests: the server in a thread, headless Chromium, the page.
 
+Fixtures are module-scoped (each test module imports them: one Playwright at a time).
 Debian's Chromium through Playwright (``playwright install`` cannot download browsers here),
 WebGL2 through SwiftShader (software), flags as in issue 8.
 """
@@ -32,7 +33,7 @@ def _require_chromium() -> None:
         )
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def explorer_url() -> Iterator[str]:
     from roughdiffuse.explorer import make_server, serve_in_thread, url_of
 
@@ -43,7 +44,7 @@ def explorer_url() -> Iterator[str]:
     server.server_close()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser() -> Iterator[object]:
     _require_chromium()
     from playwright.sync_api import sync_playwright

@@ -190,7 +190,7 @@ function drawPlots(a, b) {
   const thetaI = state.light.theta;
   const xs = Array.from({ length: 181 }, (_, k) => k - 90);
   const series = [];
-  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].label.split(" (")[0]}`;
+  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].short}`;
   const lit = thetaI <= 90;
   series.push({ label: label("a"), color: "#1f5fa8", x: xs, y: lit ? planeCurve(a, thetaI, xs) : xs.map(() => 0) });
   if (state.mode !== 0) {
@@ -204,7 +204,7 @@ function drawPlots(a, b) {
     );
     const x = near.map((s) => (Math.cos(s.deltaPhi) >= 0 ? 1 : -1) * (s.thetaR / DEG));
     const y = near.map((s) => ((s.value[0] + s.value[1] + s.value[2]) / 3) * Math.cos(s.thetaI) * E0);
-    series.push({ label: `data (θi ≈ ${thetaI.toFixed(0)}°)`, color: "#c0392b", points: true, x, y });
+    series.push({ label: `data, θi ≈ ${thetaI.toFixed(0)}° (${near.length} points)`, color: "#c0392b", points: true, x, y });
   }
   const title = lit ? `radiance in the plane of incidence, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
   csvDrawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: "L (E0 = π), mean of R, G, B" });
@@ -228,7 +228,7 @@ function drawCsvScatter(a) {
   model.forEach((m, k) => { if (m > 0) { se += ((measured[k] - m) / m) ** 2; n++; } });
   const canvas = $("plot-scatter");
   canvas.hidden = false;
-  const drawn = drawScatter(canvas, model, measured, { title: `${state.csv.name}: measured against model A (all ${smp.length} samples)` });
+  const drawn = drawScatter(canvas, model, measured, { title: `${state.csv.name}: measured (vertical) against model A (all ${smp.length} samples)` });
   document.body.dataset.csvScatter = String(drawn);
   const rms = n ? Math.sqrt(se / n) * 100 : NaN;
   setCsvStatus(`${state.csv.name}: ${smp.length} samples; RMS relative difference to model A: ${rms.toFixed(1)}%. ` +

@@ -2,15 +2,15 @@
 // receives. Ids match brdf.glsl and MODEL_IDS in roughdiffuse/explorer/params.py.
 
 export const MODELS = [
-  { key: "lambert", id: 0, label: "Lambert", uses: ["albedo"] },
-  { key: "oren-nayar", id: 1, label: "Oren–Nayar (qualitative)", uses: ["albedo", "sigma"] },
-  { key: "oren-nayar-full", id: 2, label: "Oren–Nayar (full, with interreflection)", uses: ["albedo", "sigma"] },
-  { key: "fujii", id: 3, label: "Fujii (FON)", uses: ["albedo", "roughness"] },
-  { key: "eon", id: 4, label: "EON (energy-preserving)", uses: ["albedo", "roughness"] },
-  { key: "torrance-sparrow", id: 5, label: "Torrance–Sparrow (specular)", uses: ["sigma", "eta", "distribution"] },
-  { key: "mix", id: 6, label: "Mix: Oren–Nayar full + Torrance–Sparrow", uses: ["albedo", "sigma", "weight", "eta", "distribution"] },
-  { key: "lommel-seeliger", id: 7, label: "Lommel–Seeliger (lunar)", uses: ["albedo"] },
-  { key: "lunar-lambert", id: 8, label: "Lunar-Lambert (McEwen)", uses: ["albedo", "limb"] },
+  { key: "lambert", id: 0, label: "Lambert", short: "Lambert", uses: ["albedo"] },
+  { key: "oren-nayar", id: 1, label: "Oren–Nayar (qualitative)", short: "Oren–Nayar qualitative", uses: ["albedo", "sigma"] },
+  { key: "oren-nayar-full", id: 2, label: "Oren–Nayar (full, with interreflection)", short: "Oren–Nayar full", uses: ["albedo", "sigma"] },
+  { key: "fujii", id: 3, label: "Fujii (FON)", short: "Fujii", uses: ["albedo", "roughness"] },
+  { key: "eon", id: 4, label: "EON (energy-preserving)", short: "EON", uses: ["albedo", "roughness"] },
+  { key: "torrance-sparrow", id: 5, label: "Torrance–Sparrow (specular)", short: "Torrance–Sparrow", uses: ["sigma", "eta", "distribution"] },
+  { key: "mix", id: 6, label: "Mix: Oren–Nayar full + Torrance–Sparrow", short: "Mix", uses: ["albedo", "sigma", "weight", "eta", "distribution"] },
+  { key: "lommel-seeliger", id: 7, label: "Lommel–Seeliger (lunar)", short: "Lommel–Seeliger", uses: ["albedo"] },
+  { key: "lunar-lambert", id: 8, label: "Lunar-Lambert (McEwen)", short: "Lunar-Lambert", uses: ["albedo", "limb"] },
 ];
 
 export const BY_KEY = Object.fromEntries(MODELS.map((m) => [m.key, m]));

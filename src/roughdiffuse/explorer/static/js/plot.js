@@ -27,6 +27,9 @@ function prepare(canvas) {
 }
 
 function legend(ctx, series, x, y) {
+  const widest = Math.max(0, ...series.map((s) => ctx.measureText(s.label).width));
+  ctx.fillStyle = "rgba(255, 255, 255, 0.85)";
+  ctx.fillRect(x - 4, y - 14, widest + 30, 16 * series.length + 4);
   series.forEach((s, k) => {
     ctx.fillStyle = s.color;
     ctx.strokeStyle = s.color;
@@ -51,7 +54,7 @@ function legend(ctx, series, x, y) {
 export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
-  const L = 58, R = 12, T = 26, B = 40;
+  const L = 58, R = 24, T = 26, B = 40;
   const ymax = yMax(series);
   const px = (x) => L + ((x + 90) / 180) * (W - L - R);
   const py = (y) => H - B - (y / ymax) * (H - T - B);
@@ -98,7 +101,7 @@ export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) 
 export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
-  const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 50);
+  const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 90); // legend room above
   const ymax = yMax(series);
   const pt = (deg, v) => {
     const a = (deg * Math.PI) / 180, r = (Math.max(v, 0) / ymax) * R;
@@ -147,14 +150,15 @@ export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) 
       ctx.setLineDash([]);
     }
   }
-  legend(ctx, series, W - 170, 20);
+  const widest = Math.max(...series.map((s) => ctx.measureText(s.label).width));
+  legend(ctx, series, W - widest - 30, 20);
 }
 
 /** Scatter of measured against model values with the identity line; returns points drawn. */
 export function drawScatter(canvas, model, measured, { title = "" } = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
-  const L = 58, R = 12, T = 26, B = 40;
+  const L = 58, R = 24, T = 26, B = 40;
   let m = 0;
   for (let k = 0; k < model.length; k++) m = Math.max(m, model[k], measured[k]);
   const vmax = niceMax(m * 1.05);
