@@ -31,6 +31,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+def _open_browser(url: str) -> None:
+    """Open ``url`` in a graphical browser; without a display (Linux) only say so, rather
+    than let :mod:`webbrowser` start a text browser in this terminal."""
+    import os
+    import webbrowser
+
+    if sys.platform.startswith("linux") and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        print("no display here: open the URL in a browser yourself", flush=True)
+        return
+    if not webbrowser.open(url):
+        print("could not start a browser: open the URL yourself", flush=True)
+
+
 def run(args: argparse.Namespace) -> int:
     from ..explorer.server import make_server, url_of
     from . import UsageError
@@ -42,9 +57,7 @@ def run(args: argparse.Namespace) -> int:
     url = url_of(server)
     print(f"roughdiffuse explorer at {url}  (Ctrl-C to stop)", flush=True)
     if not args.no_browser:
-        import webbrowser
-
-        webbrowser.open(url)
+        _open_browser(url)
     try:
         server.serve_forever()
     except KeyboardInterrupt:
