@@ -226,3 +226,29 @@ def test_bad_shapes_and_lights_raise_value_error():
         SurfaceOfRevolution(profile=[(0, 1), (1, -1)])
     with pytest.raises(ValueError, match="model"):
         render("lambert", Sphere())
+
+
+def test_the_renderer_evaluates_the_models_own_kernel():
+    # a model whose formula exists nowhere else: f = c μo (so L = c μo μi E0)
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    from roughdiffuse.models.base import MODEL_CLASSES, Model, register_pytree
+
+    @register_pytree
+    @dataclass(frozen=True)
+    class ViewCosine(Model):
+        c: float = 1.0
+        array_fields: ClassVar[tuple[str, ...]] = ("c",)
+
+        def _kernel(self, xp, mu_i, mu_o, cos_io, c):
+            return c * mu_o
+
+    MODEL_CLASSES.pop("ViewCosine")  # keep the package's registry to its own models
+    n = 33
+    img, _ = render(ViewCosine(0.5), Sphere(), DistantLight(0.0), size=n, samples_per_pixel=1)
+    x, y, _ = grid(n, 1.0, 1.0)
+    xx, yy = np.meshgrid(x, y)
+    inside = xx**2 + yy**2 < 1
+    nz = np.sqrt(np.where(inside, 1 - xx**2 - yy**2, 0))
+    np.testing.assert_allclose(img[inside], 0.5 * nz[inside] ** 2, atol=1e-6)
