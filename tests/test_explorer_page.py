@@ -233,7 +233,19 @@ def test_csv_drop_plots_points_against_the_model(page):
         ("theta_i_deg,theta_r_deg,brdf\n10,20,0.1\n", "line 1: no azimuth"),
     ],
 )
-def test_bad_csv_shows_its_message_and_the_page_keeps_working(page, text, message):
+def test_bad_csv_shows_its_message_and_the_page_keeps_working(page, text, message, tmp_path):
+    import re
+
+    from roughdiffuse.fit import read_csv
+
+    # roughdiffuse.fit.read_csv rejects the same file, at the same line when it names one
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError) as exc:
+        read_csv(path)
+    py_line = re.search(r"line (\d+)", str(exc.value))
+    if py_line:
+        assert message.startswith(f"line {py_line.group(1)}:"), (str(exc.value), message)
     p = page.page
     drop_csv(p, text, "bad.csv")
     status = p.locator("#csv-status")
@@ -273,4 +285,53 @@ def test_difference_mode_is_zero_for_equal_models_and_signed_otherwise(page):
     limb, centre = (r > 0.85) & (r < 0.97), r < 0.2
     assert (img[limb][:, 0] > img[limb][:, 2] + 0.2).all()
     assert (img[centre][:, 2] > img[centre][:, 0] + 0.2).all()
+    assert not page.errors, page.errors
+
+
+GOOD_CSVS = {
+    "degrees": "theta_i_deg, theta_r_deg, delta_phi_deg, brdf\n30, 45, 0, 0.25\n0, 80, 120, 0.1\n",
+    "radians, bracket units, comments": (
+        "# a comment\ntheta_i [rad], theta_o (rad), phi_d_rad, brdf [1/sr]\n"
+        "0.5, 1.0, 3.0, 0.3\n\n# another\n1.5, 0.2, -1, 0.05\n"
+    ),
+    "phi_i and phi_r, colour": (
+        "theta_i_deg,theta_r_deg,phi_i_deg,phi_r_deg,brdf_r,brdf_g,brdf_b\n"
+        "20,40,10,190,0.3,0.2,0.1\n90,0,0,0,0.1,0.1,0.1\n"
+    ),
+    "radiance with an irradiance line": (
+        "# irradiance = 2.5\ntheta_i_deg,theta_r_deg,delta_phi_deg,radiance\n60,30,45,0.2\n"
+    ),
+    "radiance with an irradiance column": (
+        "theta_i_deg,theta_r_deg,delta_phi_deg,radiance,irradiance\n10,30,45,0.2,3\n"
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(GOOD_CSVS))
+def test_browser_csv_parser_agrees_with_fit_read_csv(page, name, tmp_path):
+    """The page's parser and roughdiffuse.fit.read_csv (written separately) read one file alike."""
+    from roughdiffuse.fit import read_csv
+
+    text = GOOD_CSVS[name]
+    path = tmp_path / "s.csv"
+    path.write_text(text)
+    m = read_csv(path)
+    js = page.page.evaluate(
+        """async (text) => {
+            const { parseBrdfCsv } = await import("./js/csv.js");
+            return parseBrdfCsv(text).samples;
+        }""",
+        text,
+    )
+    ti = np.array([s["thetaI"] for s in js])
+    tr = np.array([s["thetaR"] for s in js])
+    dp = np.array([s["deltaPhi"] for s in js])
+    np.testing.assert_allclose(np.cos(ti), m.mu_i, atol=1e-12)
+    np.testing.assert_allclose(np.cos(tr), m.mu_o, atol=1e-12)
+    cos_io = np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
+    np.testing.assert_allclose(cos_io, m.cos_io, atol=1e-12)
+    brdf = np.asarray(m.value) / (np.asarray(m.scale)[:, None] if m.value.ndim == 2 else m.scale)
+    if brdf.ndim == 1:
+        brdf = np.repeat(brdf[:, None], 3, axis=1)
+    np.testing.assert_allclose(np.array([s["value"] for s in js]), brdf, rtol=1e-12)
     assert not page.errors, page.errors
