@@ -11,10 +11,12 @@ the plane through the centre of the scene, which keeps float32 round-off small.
 
 The surface of revolution of a polyline profile is a stack of cone frusta and flat annuli;
 its ray intersection is the exact root of one quadratic per frustum (or one plane per
-annulus). A smooth profile (a function r(y)) is sampled at ``segments + 1`` heights; its
-intersection is that of the inscribed polyline (distance O(h²) from the smooth surface), and
-its shading normal comes from the function's own slope, interpolated between the nodes, so
-that the shading is smooth (Phong's idea, applied to the profile's tangent).
+annulus). A smooth profile (a function r(y)) is first hit as its inscribed polyline (``segments``
+frusta, within O(h²) of the surface), then, when the function runs on JAX arrays, three
+Newton steps on ρ(t) − r(y(t)) = 0 move the hit onto the smooth surface itself, where the
+normal (x/ρ, −r'(y), z/ρ) uses the exact derivative (``jax.jvp``). A NumPy-only function
+gets its slope interpolated between the nodes instead. The silhouette (coverage) and the
+cast-shadow rays use the polyline.
 """
 
 from __future__ import annotations
@@ -217,6 +219,15 @@ def _polyline(profile: Any, y_range: tuple[float, float], segments: int) -> tupl
     return y, r, tan, smooth  # type: ignore[return-value]
 
 
+def _traceable(profile: Any) -> bool:
+    """True when ``profile`` runs on JAX arrays (needed for the exact, refined hit)."""
+    try:
+        out = jax.eval_shape(profile, jax.ShapeDtypeStruct((3,), jnp.float32))
+    except Exception:  # noqa: BLE001 - any failure means: NumPy only
+        return False
+    return getattr(out, "shape", None) == (3,)
+
+
 @dataclass(frozen=True)
 class SurfaceOfRevolution(Shape):
     """A solid of revolution about the y axis (a vase), closed by flat caps.
@@ -233,6 +244,12 @@ class SurfaceOfRevolution(Shape):
     segments : int
         Number of frusta a function profile is cut into (default 128).
 
+    Attributes
+    ----------
+    exact : bool
+        True when the profile is a function that runs on JAX arrays: normals are then
+        exact (see the module notes).
+
     Notes
     -----
     A frustum from (y_a, r_a) to (y_b, r_b) is the cone ρ = g + h t along the ray, with
@@ -246,6 +263,8 @@ class SurfaceOfRevolution(Shape):
     y_range: tuple[float, float] = (-1.0, 1.0)
     segments: int = 128
     nodes: tuple[tuple[float, ...], ...] = field(init=False, repr=False)
+    exact: bool = field(init=False)
+    _function: Any = field(init=False, default=None, compare=False, hash=False, repr=False)
 
     convex = False
 
@@ -254,6 +273,9 @@ class SurfaceOfRevolution(Shape):
             raise ValueError(f"segments must be an integer in [1, 4096] (got {self.segments!r})")
         profile = clay_vase_profile if self.profile is None else self.profile
         y, r, tan, smooth = _polyline(profile, self.y_range, self.segments)
+        exact = smooth and _traceable(profile)
+        object.__setattr__(self, "exact", exact)
+        object.__setattr__(self, "_function", profile if exact else None)
         ya, yb, ra, rb = y[:-1], y[1:], r[:-1], r[1:]
         if smooth:
             ta, tb = tan[:-1], tan[1:]
@@ -374,9 +396,51 @@ class SurfaceOfRevolution(Shape):
         nx = _safe_div(x, rho) * ty
         nz = _safe_div(z, rho) * ty
         ny = -tr
+        if self._function is not None:
+            # Newton's method on ρ(t) − r(y(t)) = 0 from the polyline hit: the smooth
+            # surface's own point, where the normal is (x/ρ, −r'(y), z/ρ) exactly
+            ok, (ex, ey, ez) = self._refine(o, d, t_safe, hit & ~flat)
+            nx, ny, nz = jnp.where(ok, ex, nx), jnp.where(ok, ey, ny), jnp.where(ok, ez, nz)
         norm = jnp.sqrt(nx * nx + ny * ny + nz * nz)
         norm = jnp.where(norm > 0, norm, 1.0)
         return jnp.where(hit, t, _INF), hit, (nx / norm, ny / norm, nz / norm)
+
+    def _refine(self, o: Vec3, d: Vec3, t0: Any, candidate: Any) -> tuple[Any, Vec3]:
+        """Newton steps from the polyline hit ``t0`` onto the smooth profile's surface.
+
+        Returns where the refined point is accepted (it converged, stayed within a few
+        segment heights and inside ``y_range``) and the unnormalised normal there.
+        """
+        fn = self._function
+        y_lo, y_hi = (float(v) for v in self.y_range)
+
+        def residual(t: Any) -> tuple[Any, ...]:
+            x = o[0] + t * d[0]
+            y = o[1] + t * d[1]
+            z = o[2] + t * d[2]
+            rho = jnp.sqrt(x * x + z * z)
+            r, dr = jax.jvp(fn, (y,), (jnp.ones_like(y),))
+            f = rho - r
+            df = _safe_div(x * d[0] + z * d[2], rho) - dr * d[1]
+            return f, df, x, y, z, rho, dr
+
+        f0 = residual(t0)[0]
+        t = t0
+        for _ in range(3):
+            f, df = residual(t)[:2]
+            t = t - _safe_div(f, df)
+        f, _, x, y, z, rho, dr = residual(t)
+        h = (y_hi - y_lo) / self.segments
+        ok = (
+            candidate
+            & jnp.isfinite(t)
+            & (jnp.abs(t - t0) < 2.0 * h)
+            & (jnp.abs(f) <= jnp.abs(f0))
+            & (y >= y_lo)
+            & (y <= y_hi)
+            & (rho > 0)
+        )
+        return ok, (_safe_div(x, rho), -dr, _safe_div(z, rho))
 
     def occluded(self, p: Vec3, d: Vec3, t_min: float) -> Any:
         _, cones, annuli = self._tables()
