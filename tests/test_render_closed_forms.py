@@ -279,3 +279,17 @@ def test_function_profile_of_a_sphere_shades_like_the_sphere(traceable):
         assert err.max() < 2e-5
     else:  # slope interpolated between 49 nodes: close, not exact
         assert 2e-5 < err.max() < 2e-3
+
+
+def test_rgb_irradiance_with_a_grey_model():
+    img, _ = render(
+        rd.Lambert(0.5),
+        Sphere(),
+        DistantLight(0.0, 0.0, (1.0, 0.5, 0.0)),
+        size=9,
+        samples_per_pixel=1,
+    )
+    assert img.shape == (9, 9, 3)
+    assert img[4, 4, 0] == pytest.approx(0.5 / np.pi, abs=1e-7)  # centre: n·l = 1
+    np.testing.assert_allclose(img[..., 1], 0.5 * img[..., 0], rtol=1e-6, atol=1e-9)
+    assert np.all(img[..., 2] == 0)
