@@ -66,6 +66,8 @@ def main() -> None:
             csv_text(),
         )
         page.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
+        page.check("#gt-show")
+        page.wait_for_function("() => document.body.dataset.gtPoints === '45'", timeout=120_000)
         page.wait_for_timeout(500)
         page.screenshot(path=str(out / "explorer-on-vs-lambert.png"), full_page=True)
         browser.close()

@@ -335,3 +335,24 @@ def test_browser_csv_parser_agrees_with_fit_read_csv(page, name, tmp_path):
         brdf = np.repeat(brdf[:, None], 3, axis=1)
     np.testing.assert_allclose(np.array([s["value"] for s in js]), brdf, rtol=1e-12)
     assert not page.errors, page.errors
+
+
+def test_ground_truth_overlay_from_the_solver(page):
+    """The checkbox asks the server's V-cavity solver; its curve lands on the plots."""
+    p = page.page
+    set_model(p, "a", "oren-nayar", sigma=0.5)  # nearly flat: the solver is quick here
+    p.locator("#light-theta").fill("30")
+    p.check("#gt-show")
+    p.wait_for_function("() => document.body.dataset.gtPoints === '45'", timeout=60_000)
+    frames(p)
+    assert "σ = 0.5°, θi = 30.0°, ρ = 0.800" in p.locator("#gt-status").inner_text()
+    url = p.evaluate("() => document.getElementById('plot-cartesian').toDataURL('image/png')")
+    img = np.asarray(Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGB"))
+    green = (img[..., 1] > 110) & (img[..., 0] < 80) & (img[..., 2] < 110)
+    assert green.sum() > 200  # the dashed curve (the legend alone is ~16 pixels)
+    # a model without σ: the page says why there is no curve
+    set_model(p, "a", "eon")
+    p.wait_for_function(
+        "() => document.getElementById('gt-status').textContent.includes('Oren–Nayar')"
+    )
+    assert not page.errors, page.errors

@@ -137,6 +137,28 @@ def test_vase_is_rendered_by_the_python_renderer(server):
     assert img[0, 0].max() < 0.05  # background
 
 
+def test_ground_truth_is_lambert_for_a_nearly_flat_surface(server):
+    """The solver's curve, served for the page: σ → 0 is a Lambertian plane, f = ρ/π."""
+    status, _, body = get(server, "/api/info.json")
+    if not json.loads(body)["groundtruth"]:
+        pytest.fail("the V-cavity solver (roughdiffuse.simulate) is importable in this project")
+    status, headers, body = get(server, "/api/groundtruth.json?sigma=0.01&theta_i=30&albedo=0.5")
+    assert status == 200 and headers["content-type"] == "application/json"
+    gt = json.loads(body)
+    assert gt["theta_r"][0] == -88 and gt["theta_r"][-1] == 88 and len(gt["theta_r"]) == 45
+    np.testing.assert_allclose(gt["brdf"], 0.5 / math.pi, rtol=2e-3)
+    # radiance as on the page: f E0 cos θi with E0 = π
+    np.testing.assert_allclose(gt["radiance"], 0.5 * math.cos(math.radians(30)), rtol=2e-3)
+    for query, name in (
+        ("sigma=0", "sigma"),
+        ("sigma=0.3&theta_i=90", "theta_i"),
+        ("sigma=0.3&albedo=2", "albedo"),
+        ("sigma=x", "sigma"),
+    ):
+        status, _, body = get(server, f"/api/groundtruth.json?{query}")
+        assert status == 400 and name in json.loads(body)["error"], query
+
+
 def test_model_from_params_is_the_named_model():
     n = np.array([0.0, 0.0, 1.0])
     wi = np.array([math.sin(0.5), 0.0, math.cos(0.5)])

@@ -3,10 +3,10 @@
 It serves the static page in ``static/`` and three small JSON/PNG endpoints under ``/api/``:
 
 * ``/api/info.json``: what this server can do (``vase``: the Python renderer is importable;
-  ``groundtruth``: a V-cavity table is available).
+  ``groundtruth``: the V-cavity solver is importable).
 * ``/api/vase.png?model=…&albedo=…``: the vase preset, rendered by :mod:`roughdiffuse.render`.
 * ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…``: V-cavity radiance in the plane of
-  incidence, from the table :mod:`roughdiffuse.simulate` writes.
+  incidence, computed by :mod:`roughdiffuse.simulate` on request.
 
 It serves only its own files: a path with a ``..`` or ``.`` segment, an empty segment (``//``),
 a backslash, a NUL, or anything that resolves outside ``static/`` gets 404; so does every

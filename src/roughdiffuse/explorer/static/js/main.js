@@ -128,6 +128,7 @@ function setLight(theta, phi) {
   $("light-theta").value = state.light.theta;
   $("light-phi").value = phi;
   refresh();
+  gtSoon();
 }
 
 /** Drag on the sphere: inside the rim the light goes to the point under the pointer (that
@@ -207,7 +208,7 @@ function drawPlots(a, b) {
     series.push({ label: `data, θi ≈ ${thetaI.toFixed(0)}° (${near.length} points)`, color: "#c0392b", points: true, x, y });
   }
   const title = lit ? `radiance in the plane of incidence, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
-  csvDrawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: "L (E0 = π), mean of R, G, B" });
+  csvDrawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: "L (E0 = π, mean of RGB)" });
   drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null });
   document.body.dataset.csvPoints = String(csvDrawn);
   if (state.csv) drawCsvScatter(a);
@@ -337,18 +338,48 @@ function loadVase() {
 }
 
 let gtSeries = null;
+let gtController = null;
+let gtTimer = null;
+/** Ask for ground truth once the inputs have been still for 300 ms. */
+function gtSoon() {
+  clearTimeout(gtTimer);
+  gtTimer = setTimeout(() => loadGroundTruth().catch(showError), 300);
+}
+/** Ground truth from the server's V-cavity solver for model A's σ, ρ (green) and the light's θ. */
 async function loadGroundTruth() {
-  if (!info.groundtruth) {
-    $("gt-status").textContent = "No V-cavity ground-truth table on this server: no ground-truth overlay.";
+  const status = $("gt-status");
+  if (gtController) gtController.abort();
+  gtController = null;
+  const s = state.a;
+  const reason = !info.groundtruth ? "this server has no V-cavity solver"
+    : !$("gt-show").checked ? ""
+    : !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets)"
+    : !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
+    : !(state.light.theta < 90) ? "the light is below the horizon" : null;
+  if (reason !== null) {
+    status.textContent = reason;
+    if (gtSeries) { gtSeries = null; refresh(); }
     return;
   }
-  const s = state.a;
   const q = new URLSearchParams({ sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]) });
-  const r = await fetch(`api/groundtruth.json?${q}`);
-  const gt = await r.json();
-  if (!r.ok || !gt.theta_r) { gtSeries = null; $("gt-status").textContent = gt.error ?? "no ground truth here"; return; }
-  gtSeries = { label: `V-cavity (σ = ${(gt.sigma / DEG).toFixed(0)}°)`, color: "#27ae60", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
-  $("gt-status").textContent = gt.note ?? "";
+  const controller = (gtController = new AbortController());
+  status.textContent = "computing the V-cavity ground truth…";
+  let gt;
+  try {
+    const r = await fetch(`api/groundtruth.json?${q}`, { signal: controller.signal });
+    gt = await r.json();
+    if (!r.ok) throw new Error(gt.error ?? `HTTP ${r.status}`);
+  } catch (err) {
+    if (err.name === "AbortError") return;
+    gtSeries = null;
+    status.textContent = `no ground truth: ${err.message}`;
+    refresh();
+    return;
+  }
+  if (controller !== gtController) return;
+  gtSeries = { label: `V-cavity, all bounces (σ = ${(gt.sigma / DEG).toFixed(1)}°)`, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
+  status.textContent = gt.note;
+  document.body.dataset.gtPoints = String(gt.theta_r.length);
   refresh();
 }
 
@@ -385,8 +416,9 @@ async function start() {
   c.addEventListener("pointerdown", (ev) => { c.setPointerCapture(ev.pointerId); pointerToLight(ev); });
   c.addEventListener("pointermove", (ev) => { if (ev.buttons & 1) pointerToLight(ev); });
   setupCsv();
-  let gtTimer = null;
-  document.addEventListener("input", () => { clearTimeout(gtTimer); gtTimer = setTimeout(() => loadGroundTruth().catch(showError), 200); });
+  document.addEventListener("input", gtSoon);
+  document.addEventListener("change", gtSoon);
+  $("gt-row").hidden = !info.groundtruth;
   await loadGroundTruth();
   refresh();
   window.rdExplorer = {
