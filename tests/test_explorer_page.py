@@ -356,3 +356,18 @@ def test_ground_truth_overlay_from_the_solver(page):
         "() => document.getElementById('gt-status').textContent.includes('Oren–Nayar')"
     )
     assert not page.errors, page.errors
+
+
+def test_specular_highlight_sits_where_the_normal_halves_light_and_view(page):
+    """Torrance–Sparrow, σ = 3°: the highlight is at n = (l + v)/|l + v|, here θ = 30°."""
+    p = page.page
+    set_model(p, "a", "torrance-sparrow", sigma=3)
+    p.locator("#light-theta").fill("60")
+    frames(p)
+    img = canvas_pixels(p)[..., 1]
+    h, w = img.shape
+    x, y = sphere_coordinates(h, w)
+    top = (img >= img.max()) & (np.hypot(x, y) < 1)
+    assert img.max() > 0.5
+    assert abs(x[top].mean() - 0.5) < 0.03 and abs(y[top].mean()) < 0.03
+    assert not page.errors, page.errors

@@ -56,6 +56,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"cannot listen on {args.host}:{args.port or 0}: {exc.strerror}") from None
     url = url_of(server)
     print(f"roughdiffuse explorer at {url}  (Ctrl-C to stop)", flush=True)
+    if args.host not in ("127.0.0.1", "localhost", "::1"):
+        print(f"note: listening on {args.host}: other machines may reach this page", flush=True)
     if not args.no_browser:
         _open_browser(url)
     try:

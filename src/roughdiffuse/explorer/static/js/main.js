@@ -285,8 +285,8 @@ const PRESETS = {
     mode: 1, light: [0, 0], exposure: 2.5,
   }),
   highlights: () => ({
-    a: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 12, weight: 0.15, eta: 1.5 },
-    b: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 30, weight: 0.15, eta: 1.5 },
+    a: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 4, weight: 0.5, eta: 2.5 },
+    b: { ...defaultState("mix"), albedo: [0.7, 0.25, 0.15], sigmaDeg: 12, weight: 0.5, eta: 2.5 },
     mode: 1, light: [45, 30],
   }),
   "eon-vs-on": () => ({
