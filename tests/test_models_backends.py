@@ -147,3 +147,12 @@ def test_jit_keeps_models_with_the_same_fields_apart():
     ts = jax.tree_util.tree_structure
     assert ts(rd.Lambert(0.7)) != ts(rd.LommelSeeliger(0.7))  # equal under register_dataclass
     assert ts(rd.Fujii(0.7, 0.5)) != ts(rd.EON(0.7, 0.5))
+
+
+def test_rgb_albedo_as_list_under_jit():
+    w = jnp.asarray([[0.3, 0.1, 0.8]])
+    for model in (rd.Lambert([0.9, 0.5, 0.2]), rd.EON((0.9, 0.5, 0.2), 0.5)):
+        out = jax.jit(lambda m, a: m.brdf(a, a))(model, w)
+        np.testing.assert_allclose(
+            np.asarray(out), model.brdf(np.asarray(w), np.asarray(w)), rtol=1e-12
+        )

@@ -91,6 +91,13 @@ class Model:
         raise NotImplementedError
 
     # ------------------------------------------------------------------ helpers
+    def _coerce_channels(self) -> None:
+        """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
+        for f in self.channel_fields:
+            value = getattr(self, f)
+            if isinstance(value, list | tuple):
+                object.__setattr__(self, f, np.asarray(value, dtype=np.float64))
+
     def _param_values(self) -> list[Any]:
         return [getattr(self, f) for f in self.array_fields]
 

@@ -62,6 +62,7 @@ class EON(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
 
     def __post_init__(self) -> None:
+        self._coerce_channels()
         check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
         check_range("roughness", self.roughness, 0.0, 1.0)
 

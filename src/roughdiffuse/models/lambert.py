@@ -38,6 +38,7 @@ class Lambert(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
 
     def __post_init__(self) -> None:
+        self._coerce_channels()
         check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:

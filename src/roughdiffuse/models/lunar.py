@@ -51,6 +51,7 @@ class LommelSeeliger(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
 
     def __post_init__(self) -> None:
+        self._coerce_channels()
         check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
@@ -91,6 +92,7 @@ class LunarLambert(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
 
     def __post_init__(self) -> None:
+        self._coerce_channels()
         check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
         check_range("limb_darkening", self.limb_darkening, 0.0, 1.0)
 

@@ -116,6 +116,7 @@ class OrenNayar(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
 
     def __post_init__(self) -> None:
+        self._coerce_channels()
         check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
         check_range("sigma", self.sigma, 0.0, SIGMA_MAX, unit="radians")
         if self.variant not in ("qualitative", "full"):
