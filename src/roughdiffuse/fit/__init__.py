@@ -6,7 +6,7 @@
 >>> ti, tr = np.meshgrid(t, t)
 >>> f = rd.oren_nayar(ti, tr, 0.0, sigma=0.3, albedo=0.8)
 >>> result = fit(rd.OrenNayar, Measurements.from_angles(ti, tr, 0.0, f))
->>> [round(v, 6) for v in result.values]
+>>> [round(float(v), 6) for v in result.values]
 [0.8, 0.3]
 """
 

@@ -1,0 +1,184 @@
+"""``roughdiffuse fit``: fit a model (or rank several) to BRDF samples, a MERL file or an image."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import warnings
+
+from . import UsageError
+
+EXAMPLES = """\
+examples:
+  roughdiffuse fit samples.csv --model oren-nayar --report fit.html
+  roughdiffuse fit samples.csv --compare
+  roughdiffuse fit red-fabric.binary --model oren-nayar-full --max-samples 100000
+  roughdiffuse fit sphere.npy --shape sphere --light 40,0 --model oren-nayar --report fit.html
+  roughdiffuse fit photo.png --exposure 2 --normals normals.npy --light 30,90 --view 0,0
+
+Data by suffix: .csv/.txt (BRDF samples; header names the columns and the angle unit, e.g.
+theta_i_deg, theta_r_deg, delta_phi_deg, brdf), .binary (MERL), .npy/.exr/.png (a linear
+image; give --normals or --shape, and --light). Angles on the command line are in DEGREES;
+the fitted σ is printed in radians and degrees.
+"""
+
+SHAPES = ("sphere", "vase", "cylinder")
+
+
+def _angles(text: str) -> tuple[float, float]:
+    parts = [p for p in text.replace(",", " ").split() if p]
+    try:
+        vals = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected THETA,PHI in degrees (got {text!r})") from None
+    if len(vals) == 1:
+        vals.append(0.0)
+    if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected THETA,PHI in degrees (got {text!r})")
+    return vals[0], vals[1]
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    from ..fit.compare import CANDIDATES
+
+    p = sub.add_parser(
+        "fit",
+        help="fit a model to BRDF samples, a MERL file or an image (albedo, roughness, errors)",
+        description="Fit a reflectance model by nonlinear least squares and print the "
+        "parameters with standard errors, or rank several models (--compare).",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("data", metavar="DATA", help="a .csv, MERL .binary, or .npy/.exr/.png image")
+    p.add_argument(
+        "--model",
+        default="oren-nayar",
+        metavar="NAME",
+        help=f"one of: {', '.join(CANDIDATES)} (default: oren-nayar)",
+    )
+    p.add_argument("--compare", action="store_true", help="fit every model and rank them (BIC)")
+    p.add_argument(
+        "--noise",
+        choices=("absolute", "relative"),
+        default="relative",
+        help="noise model: constant, or proportional to the value (default: relative)",
+    )
+    p.add_argument(
+        "--loss",
+        default="linear",
+        choices=("linear", "soft_l1", "huber", "cauchy", "arctan"),
+        help="robust loss of scipy.optimize.least_squares (default: linear)",
+    )
+    p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    g = p.add_argument_group("samples and MERL files")
+    g.add_argument("--irradiance", type=float, default=None, help="E0 for radiance data")
+    g.add_argument(
+        "--max-samples",
+        type=int,
+        default=200_000,
+        help="MERL: fit a random subset of this many cells (default: 200000)",
+    )
+    g = p.add_argument_group("images")
+    g.add_argument("--normals", metavar="NORMALS.npy", help="normal map (H, W, 3), world frame")
+    g.add_argument("--shape", choices=SHAPES, help="the renderer's shape the image shows")
+    g.add_argument("--light", type=_angles, help="direction to the light THETA,PHI (degrees)")
+    g.add_argument(
+        "--view", type=_angles, default=(0.0, 0.0), help="direction to the viewer (default 0,0)"
+    )
+    g.add_argument("--margin", type=float, default=0.04, help="--shape: the render's margin")
+    g.add_argument("--exposure", type=float, default=None, help="PNG: exposure in stops")
+    g.add_argument("--encoding", choices=("srgb", "linear"), default=None, help="PNG curve")
+    p.set_defaults(func=run)
+
+
+def _load(args: argparse.Namespace):  # noqa: ANN202 - returns Measurements
+    from ..fit import read_csv, read_merl
+
+    path = args.data
+    if not os.path.isfile(path):
+        raise UsageError(f"data file {path!r} does not exist")
+    ext = os.path.splitext(path)[1].lower()
+    if ext in (".csv", ".txt", ".tsv"):
+        return read_csv(path, irradiance=args.irradiance)
+    if ext == ".binary":
+        if args.max_samples < 10:
+            raise UsageError(f"--max-samples must be >= 10 (got {args.max_samples})")
+        return read_merl(path).to_measurements(max_samples=args.max_samples)
+    if ext in (".npy", ".exr", ".png"):
+        return _load_image(args, path)
+    raise UsageError(f"DATA must end in .csv, .binary, .npy, .exr or .png (got {path!r})")
+
+
+def _load_image(args: argparse.Namespace, path: str):  # noqa: ANN202
+    import numpy as np
+
+    from ..fit import image_measurements, read_image, read_normals, shape_normals
+    from ..render import Cylinder, DistantLight, OrthographicCamera, Sphere, SurfaceOfRevolution
+
+    if args.light is None:
+        raise UsageError("an image needs --light THETA,PHI (degrees, direction to the light)")
+    if (args.normals is None) == (args.shape is None):
+        raise UsageError("an image needs exactly one of --normals FILE.npy and --shape NAME")
+    for name, (theta, _) in (("--light", args.light), ("--view", args.view)):
+        if not 0.0 <= theta <= 180.0:
+            raise UsageError(f"{name} theta must be in [0, 180] degrees (got {theta:g})")
+    e0 = 1.0 if args.irradiance is None else args.irradiance
+    if not e0 > 0:
+        raise UsageError(f"--irradiance must be > 0 (got {e0:g})")
+    light = DistantLight(math.radians(args.light[0]), math.radians(args.light[1]), e0)
+    camera = OrthographicCamera(
+        math.radians(args.view[0]), math.radians(args.view[1]), margin=args.margin
+    )
+    image, mask = read_image(path, exposure=args.exposure, encoding=args.encoding)
+    if args.normals is not None:
+        normals = read_normals(args.normals)
+        if normals.shape[:2] != image.shape[:2]:
+            raise UsageError(
+                f"normal map {normals.shape[:2]} and image {image.shape[:2]} differ in size"
+            )
+    else:
+        shape = {"sphere": Sphere(), "vase": SurfaceOfRevolution(), "cylinder": Cylinder()}[
+            args.shape
+        ]
+        normals, on = shape_normals(shape, image.shape[:2], light, camera)
+        mask = mask & on
+    return image_measurements(
+        image, normals, light, camera, mask=np.asarray(mask), source=os.path.basename(path)
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
+    from ..fit.report import write_report
+
+    if args.model not in CANDIDATES:
+        raise UsageError(f"unknown model {args.model!r}; choose one of: {', '.join(CANDIDATES)}")
+    if args.report and not args.report.lower().endswith((".html", ".htm")):
+        raise UsageError(f"--report must name an .html file (got {args.report!r})")
+    data = _load(args)
+    print(f"data: {data.source}: {data.size} samples ({data.kind})")
+    options = {"noise": args.noise, "loss": args.loss}
+    if args.noise == "relative" and (data.value <= 0).any():
+        options["noise"] = "absolute"
+        print("note: some values are 0; using --noise absolute")
+    comparison = None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DegenerateDataWarning)
+        if args.compare:
+            comparison = compare_models(data, **options)
+            results = list(comparison.results)
+            print("models ranked by BIC (lower is better):")
+            print(comparison.table())
+            print()
+            print(results[0].table())
+        else:
+            c = CANDIDATES[args.model]
+            results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
+            print(results[0].table())
+    if caught and not args.compare:
+        print("warning: the data cannot identify every parameter (see the table)")
+    if args.report:
+        write_report(args.report, data, results, comparison)
+        print(f"wrote {args.report}")
+    return 0
