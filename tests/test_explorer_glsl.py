@@ -9,8 +9,9 @@ render to an RGBA32F texture, read back). Agreement required: |GLSL − Python| 
 1 + r s at s → −1; it is 3e-7 of 1/π).
 
 Limits of float32 (WebGL has no double), kept out of the domain and said here:
-* Torrance–Sparrow with σ < 0.05 rad: D's exponent θh²/2σ² multiplies the ~1e-7 rounding of
-  the cosines (θh of 0.1 at σ = 0.02 gives 2e-4 relative). σ from 0.05 rad is tested.
+* Torrance–Sparrow with σ < 0.03 rad (1.7°): D's exponent θh²/2σ² multiplies the ~1e-7
+  rounding of the cosines (σ = 0.02 misses by about 1e-5 sr⁻¹ in the lobe's tail, σ = 0.01 by
+  far). σ from 0.03 rad is tested.
 * η < 1 exactly at the critical angle, where the Fresnel factor has an infinite derivative:
   η = 0.75 (total internal reflection on part of the grid, no grid point on the boundary).
 """
@@ -40,7 +41,7 @@ PARAMETER_SETS: dict[str, list[dict]] = {
     "torrance-sparrow": [
         {"sigma": s, "eta": eta, "distribution": d}
         for d in ("gaussian", "beckmann")
-        for s in (0.0, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
+        for s in (0.0, 0.03, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
         for eta in (1.5, 0.75, 2.5)
     ],
     "mix": [

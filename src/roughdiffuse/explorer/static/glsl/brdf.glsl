@@ -166,10 +166,10 @@ float rd_gaussian_norm(float s) {
 }
 
 // torrance_sparrow.slope_distribution: D(h), normalised, 0 for sigma = 0
-float rd_slope_distribution(float cos_h, float sigma, int distribution) {
+// (sin_h is passed in: rd_torrance_sparrow computes it without the cancellation in 1 - cos_h^2)
+float rd_slope_distribution(float cos_h, float sin_h, float sigma, int distribution) {
   if (!(sigma > 0.0)) return 0.0;
   float s = sigma;
-  float sin_h = rd_safe_sqrt(1.0 - cos_h * cos_h);
   if (distribution == 0) {
     float theta = atan(sin_h, cos_h);
     return exp(-theta * theta / (2.0 * s * s)) * rd_gaussian_norm(s) / (s * s);
@@ -184,10 +184,15 @@ float rd_slope_distribution(float cos_h, float sigma, int distribution) {
 // torrance_sparrow.TorranceSparrow._kernel: F G D / (4 cos theta_i cos theta_r)
 float rd_torrance_sparrow(float mu_i, float mu_o, float cos_io, float eta, float sigma,
                           int distribution) {
-  float len_h = rd_safe_sqrt(2.0 * (1.0 + cos_io));
+  float len2 = 2.0 * (1.0 + cos_io);  // |wi + wo|^2; exact in float32 for cos_io <= -0.5
+  float len_h = rd_safe_sqrt(len2);
   float cos_h = rd_safe_div(mu_i + mu_o, len_h, 0.0);
   float cos_d = 0.5 * len_h;
-  float d = rd_slope_distribution(cos_h, sigma, distribution);
+  // 1 - cos_h^2 = (|wi + wo|^2 - (mu_i + mu_o)^2)/|wi + wo|^2: subtract before dividing, so
+  // that the small difference near the lobe's tail keeps float32's precision
+  float m = mu_i + mu_o;
+  float sin_h = rd_safe_sqrt(rd_safe_div(len2 - m * m, len2, 1.0));
+  float d = rd_slope_distribution(cos_h, sin_h, sigma, distribution);
   float f = rd_fresnel_dielectric(cos_d, eta);
   float mi = max(mu_i, RD_COS_FLOOR);
   float mo = max(mu_o, RD_COS_FLOOR);
