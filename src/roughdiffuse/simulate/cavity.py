@@ -262,7 +262,7 @@ def cavity_radiance(
     wo: np.ndarray,
     albedo: float = 1.0,
     bounces: Bounces = "all",
-    elements: int = 16,
+    elements: int = 32,
     extrapolate: bool = True,
 ) -> np.ndarray:
     """Radiance of one V-cavity seen from ``wo``, lit from ``wi``, per unit irradiance E0.
@@ -284,7 +284,9 @@ def cavity_radiance(
         1: the closed form (shadowing and masking only); N: exactly N bounces; "all":
         the radiosity solution.
     elements : int >= 1
-        Radiosity elements per facet K (unused for one bounce).
+        Radiosity elements per facet K (unused for one bounce). The interreflected part
+        converges as K^-2, except where the visible segment ends inside an element (K^-1):
+        K = 32 is within about 1e-3 of the limit for θa <= 1.4 (tests/test_simulate_cavity.py).
     extrapolate : bool
         Richardson extrapolation from K and 2K elements (see :class:`InterreflectionSolver`).
 
