@@ -262,3 +262,18 @@ def test_docstring_examples():
         module = importlib.import_module(f"roughdiffuse.{name}")
         result = doctest.testmod(module)
         assert result.failed == 0, name
+
+
+def test_full_model_clamped_at_zero_at_grazing_backscatter():
+    """Eq. 27-31 give L1 + L2 < 0 at θi = θr = 89°, Δφ = π, σ = 1.2 (by hand: C2 < 0 wins)."""
+    ti = tr = np.radians(89.0)
+    sigma, rho = 1.2, 0.5
+    s2 = sigma**2
+    c1, t = 1 - 0.5 * s2 / (s2 + 0.33), s2 / (s2 + 0.09)
+    b = 2 * ti / np.pi
+    c2 = 0.45 * t * (np.sin(ti) - b**3)
+    c3 = 0.125 * t * (4 * ti * ti / np.pi**2) ** 2
+    l1 = rho / np.pi * (c1 - c2 * np.tan(ti))  # c = -1: the C3 term has weight 1 - |c| = 0
+    l2 = 0.17 * rho**2 / np.pi * s2 / (s2 + 0.13) * (1 + b**2)
+    assert l1 + l2 < 0 and c3 > 0
+    assert float(rd.oren_nayar(ti, tr, np.pi, sigma, rho, "full")) == 0.0

@@ -20,6 +20,8 @@ pp. 239–246. Roughness σ is the standard deviation of the facet slope angle, 
       L2 = 0.17 ρ²/π E0 cos θi σ²/(σ² + 0.13) [1 − c (2β/π)²],     c = cos(φr − φi)
 
   f = (L1 + L2)/(E0 cos θi). L2 is quadratic in ρ, so f is not linear in the albedo.
+  Near grazing backscatter with σ above about 1 rad the fitted C2 term makes L1 + L2
+  negative; f is clamped at 0 there (the paper's formula is not).
 
 σ = 0 gives Lambert exactly in both variants.
 """
@@ -79,7 +81,9 @@ def _full(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array, albedo
     tan_half = xp.sin(half) / maximum(xp, xp.cos(half), TAN_FLOOR)
     l1 = albedo / math.pi * (c1 + c * c2 * tan_beta + (1.0 - xp.abs(c)) * c3 * tan_half)
     l2 = 0.17 * albedo * albedo / math.pi * s2 / (s2 + 0.13) * (1.0 - c * b2)
-    return l1 + l2
+    # the fitted C2 term (c < 0) drives f below 0 at grazing backscatter for σ > ~1
+    # (θi = θr = 89°, Δφ = π, σ = 1.2: -0.008): a BRDF cannot be negative, clamp at 0
+    return maximum(xp, l1 + l2, 0.0)
 
 
 @register_pytree

@@ -99,7 +99,7 @@ vec3 rd_on_full(float mu_i, float mu_o, float cos_io, float sigma, vec3 albedo) 
   float tan_half = rd_cos_poly(g_half) / max(rd_sin_poly(g_half), RD_TAN_FLOOR);
   vec3 l1 = albedo / RD_PI * (c1 + c * c2 * tan_beta + (1.0 - abs(c)) * c3 * tan_half);
   vec3 l2 = 0.17 * albedo * albedo / RD_PI * s2 / (s2 + 0.13) * (1.0 - c * b2);
-  return l1 + l2;
+  return max(l1 + l2, vec3(0.0));  // clamped as in oren_nayar._full
 }
 
 // ---------------------------------------------------------------- Fujii (FON) and EON (JCGT 2025)
