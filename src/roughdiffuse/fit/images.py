@@ -294,7 +294,7 @@ def image_measurements(
     if hasattr(light, "direction") and hasattr(light, "irradiance"):
         irradiance = light.irradiance
         light = light.direction
-    if hasattr(view, "view"):
+    if not isinstance(view, np.ndarray) and hasattr(view, "basis"):  # OrthographicCamera
         view = view.view
     l = np.asarray(light, dtype=np.float64)
     v = np.asarray(view, dtype=np.float64)

@@ -309,6 +309,14 @@ def _device(data: Measurements, weights: np.ndarray, pad: bool = False) -> tuple
     return tuple(jnp.asarray(a, dtype=jnp.float64) for a in arrays)
 
 
+def _reweight(fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[Any, ...]:
+    """Relative-noise weights 1/model(x), clipped to [1/(2 y), 2/y]; padding keeps weight 0."""
+    mu_i, mu_o, cos_io, scale, y, w = arrays
+    m = fns["predict"](x, mu_i, mu_o, cos_io, scale)
+    m = jnp.clip(m, 0.5 * y, 2.0 * y)
+    return (mu_i, mu_o, cos_io, scale, y, jnp.where(w != 0, 1.0 / m, 0.0))
+
+
 def _gauss_newton(
     fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...], box: np.ndarray
 ) -> tuple[np.ndarray, int]:
@@ -458,8 +466,10 @@ def fit(
         Robust loss of :func:`scipy.optimize.least_squares` ("linear", "soft_l1", "huber",
         "cauchy", "arctan") and its scale (in units of the weighted residual).
     noise : {"absolute", "relative"}
-        Noise model: residuals in data units, or divided by the data (constant relative
-        noise, e.g. 1% of the value). Affects weights and error bars.
+        Noise model: residuals in data units, or relative (constant relative noise, e.g.
+        1% of the value): residuals divided by the model value, by iteratively reweighted
+        least squares (weights from the previous fit, held fixed in each inner fit), which
+        avoids the bias of dividing by the noisy data. Affects weights and error bars.
     multistart_samples : int
         Larger data sets are explored from every start on a random subset of this size;
         the best start is then refined on all the data.
@@ -536,18 +546,33 @@ def fit(
         assert best is not None
         x = np.asarray(best.x, dtype=np.float64)
         success, message = bool(best.success), str(best.message)
-        if sub is not data:
-            if loss == "linear":
-                arrays = _device(data, w, pad=True)
-                x, n_gn = _gauss_newton(fns, x, arrays, box)
-                nfev += n_gn
-            else:
-                arrays = _device(data, w)
-                best = run(x, arrays)
-                x, success, message = np.asarray(best.x, float), bool(best.success), best.message
-                nfev += int(best.nfev)
-        else:
-            arrays = arrays_sub
+        large = sub is not data
+        fast = large and loss == "linear"
+        arrays = _device(data, w, pad=fast) if large else arrays_sub
+
+        def refine(x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[np.ndarray, int]:
+            nonlocal success, message
+            if fast:
+                return _gauss_newton(fns, x, arrays, box)
+            r = run(x, arrays)
+            success, message = bool(r.success), str(r.message)
+            return np.asarray(r.x, dtype=np.float64), int(r.nfev)
+
+        if large:
+            x, k = refine(x, arrays)
+            nfev += k
+        if noise == "relative":
+            # iteratively reweighted: weights 1/model, not 1/data (which biases the fit low
+            # by about 2 (noise)² of the value), held fixed during each inner fit
+            for _ in range(6):
+                arrays = _reweight(fns, x, arrays)
+                x_new, k = refine(x, arrays)
+                nfev += k
+                done = np.all(np.abs(x_new - x) <= 1e-9 * (np.abs(x) + 1e-9))
+                x = x_new
+                if done:
+                    break
+            arrays_sub = _reweight(fns, x, arrays_sub)
         jtj, _, rss = (np.asarray(v) for v in fns["normal"](x, *arrays))
         rss = float(rss)
         jac_sub = np.asarray(fns["jac"](x, *arrays_sub))

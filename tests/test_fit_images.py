@@ -1,0 +1,103 @@
+"""Fitting images: a sphere with exact normals, the renderer's sphere and vase, PNG input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import roughdiffuse as rd
+from roughdiffuse.fit import fit, image_measurements, read_image, shape_normals
+from roughdiffuse.fit.report import residual_image
+
+
+def _sphere_normals(size: int) -> np.ndarray:
+    """Orthographic view of the unit sphere along −z: n = (x, y, √(1 − x² − y²))."""
+    c = (np.arange(size) + 0.5) / size * 2 - 1
+    x, y = np.meshgrid(c, -c)
+    r2 = x * x + y * y
+    n = np.stack([x, y, np.sqrt(np.clip(1 - r2, 0, 1))], axis=-1)
+    return np.where((r2 < 1)[..., None], n, 0.0)
+
+
+@pytest.mark.parametrize("sigma", [0.0, 0.35, 0.7])
+@pytest.mark.parametrize("albedo", [0.4, 0.85])
+def test_sphere_parameters_within_three_sigma(sigma: float, albedo: float) -> None:
+    n = _sphere_normals(96)
+    light = rd.spherical_to_vector(math.radians(35.0), 0.5)
+    view = np.array([0.0, 0.0, 1.0])
+    inside = np.linalg.norm(n, axis=-1) > 0
+    img = np.zeros(n.shape[:2])
+    img[inside] = np.asarray(rd.OrenNayar(albedo, sigma).radiance(n[inside], light, view))
+    rng = np.random.default_rng(int(100 * sigma + 10 * albedo))
+    img *= 1 + 0.01 * rng.standard_normal(img.shape)
+    data = image_measurements(img, n, light, view)
+    r = fit(rd.OrenNayar, data, noise="relative")
+    truth = np.array([albedo, sigma])
+    assert np.all(np.abs(r.values - truth) <= 3 * r.errors), (r.values, r.errors)
+    assert r.errors[0] < 0.005
+    if sigma > 0:
+        assert r.errors[1] < 0.01
+    else:
+        assert r.values[1] < 0.05
+    res = residual_image(data, r)
+    assert res.shape == img.shape
+    assert np.isnan(res[0, 0])  # background: no sample
+    assert 0.008 < np.nanstd(res) < 0.012  # the 1% noise put in
+
+
+@pytest.mark.parametrize("shape_name", ["sphere", "vase"])
+def test_renderer_images_fit_back(shape_name: str) -> None:
+    from roughdiffuse.render import DistantLight, Sphere, SurfaceOfRevolution, render
+
+    shape = Sphere() if shape_name == "sphere" else SurfaceOfRevolution()
+    light = DistantLight(math.radians(50.0), 0.3)
+    model = rd.OrenNayar(0.6, 0.5, "full")
+    img, coverage = render(model, shape, light, size=120, samples_per_pixel=1)
+    normals, mask = shape_normals(shape, 120, light)
+    # the normals computed here cover exactly the pixels the renderer drew
+    np.testing.assert_array_equal(coverage > 0, np.linalg.norm(normals, axis=-1) > 0)
+    rng = np.random.default_rng(7)
+    noisy = img * (1 + 0.01 * rng.standard_normal(img.shape))
+    data = image_measurements(noisy, normals, light, mask=mask)
+    r = fit(rd.OrenNayar, data, fixed={"variant": "full"}, noise="relative")
+    assert np.all(np.abs(r.values - [0.6, 0.5]) <= 3 * r.errors), (r.values, r.errors)
+    assert r.errors[1] < 0.01
+
+
+def test_png_with_stated_exposure(tmp_path) -> None:  # noqa: ANN001
+    from roughdiffuse.render.imagefile import write_png
+
+    rng = np.random.default_rng(0)
+    img = rng.uniform(0.0, 0.3, (20, 30))
+    img[0, 0] = 5.0  # saturates at exposure 1 stop
+    path = tmp_path / "x.png"
+    write_png(path, img, exposure=1.0, bits=16)
+    back, mask = read_image(path)  # exposure from the file's own statement
+    assert not mask[0, 0]
+    # sRGB 16-bit: quantisation step ≤ 1/65535 of the display value
+    np.testing.assert_allclose(back[mask], img[mask], atol=2e-4)
+    back2, _ = read_image(path, exposure=2.0)  # a stated exposure wins
+    np.testing.assert_allclose(back2[mask], img[mask] / 2, atol=2e-4)
+
+
+def test_png_without_exposure_is_an_error(tmp_path) -> None:  # noqa: ANN001
+    from PIL import Image
+
+    path = tmp_path / "plain.png"
+    Image.fromarray(np.full((4, 4), 1000, np.uint16)).save(path)
+    with pytest.raises(ValueError, match="state its exposure"):
+        read_image(path)
+    img, _ = read_image(path, exposure=0.0, encoding="linear")
+    np.testing.assert_allclose(img, 1000 / 65535)
+
+
+def test_image_input_errors() -> None:
+    n = _sphere_normals(8)
+    with pytest.raises(ValueError, match="normals must have shape"):
+        image_measurements(np.zeros((9, 8)), n, (0.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match="light must be a unit 3-vector"):
+        image_measurements(np.zeros((8, 8)), n, (0.0, 0.0, 2.0))
+    with pytest.raises(ValueError, match="no pixel"):
+        image_measurements(np.zeros((8, 8)), n, (0.0, 0.0, -1.0))
