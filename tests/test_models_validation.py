@@ -122,3 +122,16 @@ def test_minus_normal_is_below_horizon():
     for m in _models(0.5, 0.3, 0.5, 1.5, "gaussian"):
         assert float(m.brdf(-N, N)) == 0.0
         assert float(m.brdf(N, -N)) == 0.0
+
+
+def test_nonnegative_on_a_grazing_grid():
+    """A grid dense at grazing angles, where random search rarely lands: f >= 0 and finite."""
+    th = np.radians([0, 30, 60, 80, 85, 88, 89, 89.9, 90])
+    ti, to, dp = np.meshgrid(th, th, np.radians([0, 45, 90, 135, 180]), indexing="ij")
+    wi = rd.spherical_to_vector(ti, 0.0)
+    wo = rd.spherical_to_vector(to, dp)
+    for s in (0.0, 0.5, 1.0, 1.2, np.pi / 2):
+        for a in (0.2, 1.0):
+            for m in _models(a, s, s / (np.pi / 2), 1.5, "gaussian"):
+                f = np.asarray(m.brdf(wi, wo))
+                assert np.all(np.isfinite(f)) and np.all(f >= 0), m
