@@ -1,0 +1,157 @@
+"""``roughdiffuse simulate``: the exact V-cavity BRDF, ground-truth tables, the accuracy report."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from . import UsageError
+
+EXAMPLES = """\
+examples:
+  roughdiffuse simulate --theta-i 40 --theta-r 60 --delta-phi 0 --sigma 20 --bounces all
+  roughdiffuse simulate --table gt.npz --step 10 --delta-phi-step 45 --sigma 10,20,30 --workers 2
+  roughdiffuse simulate --table gt.npz ... --scheduler tcp://127.0.0.1:8786
+  roughdiffuse simulate --report -o report/
+
+A table run writes finished chunks to FILE.chunks/; run the same command again to resume.
+Angles in DEGREES.
+"""
+
+
+def _degrees_list(text: str) -> list[float]:
+    try:
+        vals = [float(p) for p in text.replace(",", " ").split()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated numbers (got {text!r})"
+        ) from None
+    if not vals:
+        raise argparse.ArgumentTypeError("expected at least one number")
+    return vals
+
+
+def _bounces(text: str) -> int | str:
+    if text == "all":
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"bounces must be an integer >= 1 or 'all' (got {text!r})"
+        ) from None
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "simulate",
+        help="exact V-cavity ground truth: one BRDF value, a table, or the accuracy report",
+        description="The exact BRDF of Oren and Nayar's V-cavity surface (shadowing, masking, "
+        "interreflection). Angles in degrees.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("--theta-i", type=float, default=30.0, help="incidence angle, degrees [0, 90]")
+    p.add_argument("--theta-r", type=float, default=30.0, help="viewing angle, degrees [0, 90]")
+    p.add_argument("--delta-phi", type=float, default=0.0, help="azimuth φr − φi, degrees")
+    p.add_argument(
+        "--sigma",
+        type=_degrees_list,
+        default=[20.0],
+        help="roughness σ in DEGREES (list for tables)",
+    )
+    p.add_argument(
+        "--albedo", type=float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
+    )
+    p.add_argument("--bounces", type=_bounces, default="all", help="1, 2, ... or all (default all)")
+    p.add_argument(
+        "--measure",
+        default="angle",
+        choices=["angle", "solid-angle"],
+        help="slope-distribution measure: density in dθa or per solid angle (default angle)",
+    )
+    p.add_argument("--elements", type=int, default=16, help="radiosity elements per facet K")
+    p.add_argument("--table", metavar="FILE", help="compute a ground-truth table into FILE (.npz)")
+    p.add_argument("--step", type=float, default=10.0, help="table step of θi and θr, degrees")
+    p.add_argument("--delta-phi-step", type=float, default=30.0, help="table step of Δφ, degrees")
+    p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask distributed scheduler address")
+    p.add_argument("--report", action="store_true", help="write the accuracy report")
+    p.add_argument("-o", "--output", default="report", help="report folder (default report/)")
+    p.add_argument("--quick", action="store_true", help="report on a coarse grid (for testing)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)
+
+
+def _grid(step: float, lo: float, hi: float, name: str):
+    import numpy as np
+
+    if not 0.0 < step <= hi - lo:
+        raise UsageError(f"--{name} must be in (0, {hi - lo:g}] degrees (got {step:g})")
+    n = int(round((hi - lo) / step))
+    return np.radians(np.linspace(lo, lo + n * step, n + 1))
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..simulate import Settings, brdf, compute_table
+
+    if not 0.0 <= args.albedo <= 1.0:
+        raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
+    for s in args.sigma:
+        if not 0.0 <= s <= 90.0:
+            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+    if args.elements < 1:
+        raise UsageError(f"--elements must be >= 1 (got {args.elements})")
+    if args.workers < 1:
+        raise UsageError(f"--workers must be >= 1 (got {args.workers})")
+    settings = Settings(measure=args.measure, elements=args.elements)
+    if args.report:
+        from ..simulate.report import write_report
+
+        out = write_report(args.output, quick=args.quick, progress=not args.no_progress)
+        print(f"report written to {out}")
+        return 0
+    if args.table:
+        ang = _grid(args.step, 0.0, 90.0, "step")
+        dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+        table = compute_table(
+            args.table,
+            ang,
+            ang,
+            dphi,
+            np.radians(args.sigma),
+            args.albedo,
+            args.bounces,
+            settings,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=not args.no_progress,
+        )
+        print(
+            f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
+            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e}"
+        )
+        return 0
+    for name in ("theta_i", "theta_r"):
+        val = getattr(args, name)
+        if not 0.0 <= val <= 90.0:
+            raise UsageError(f"--{name.replace('_', '-')} must be in [0, 90] degrees (got {val:g})")
+    if len(args.sigma) != 1:
+        raise UsageError("give one --sigma for a single value (a list is for --table)")
+    f, d = brdf(
+        math.radians(args.theta_i),
+        math.radians(args.theta_r),
+        math.radians(args.delta_phi),
+        math.radians(args.sigma[0]),
+        args.albedo,
+        args.bounces,
+        settings,
+        return_difference=True,
+    )
+    print(f"brdf (1/sr): {float(f):.8g}")
+    print(f"f * pi / albedo: {float(f) * math.pi / max(args.albedo, 1e-300):.8g}")
+    print(f"element change f(K) - f(2K): {float(d):.2e} (K = {args.elements}, extrapolated)")
+    print(f"settings: {settings}")
+    return 0
