@@ -14,7 +14,6 @@ no cosine in it (pbrt's convention); it is 0 when either direction is below the 
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any, ClassVar, NamedTuple
 
 import jax
@@ -76,10 +75,14 @@ class Model:
         Numeric parameters (JAX pytree leaves, differentiable). Other fields are static.
     channel_fields : tuple of str
         Parameters that may carry a trailing colour-channel axis (albedo).
+    sampling : str
+        Name of the importance-sampling strategy (:mod:`.sampling`): "cosine", "cltc" or
+        "microfacet".
     """
 
     array_fields: ClassVar[tuple[str, ...]] = ()
     channel_fields: ClassVar[tuple[str, ...]] = ()
+    sampling: ClassVar[str] = "cosine"
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -214,35 +217,33 @@ class Model:
     def sample(self, u: Array, wo: Array) -> BSDFSample:
         """Importance-sample wi given ``wo`` from uniform numbers ``u`` of shape (..., 2).
 
-        The base class samples the cosine-weighted hemisphere (pdf = cos θi / π).
+        The strategy is the class's ``sampling`` (see :mod:`.sampling`): cosine-weighted
+        hemisphere by default, EON's clipped LTC for EON and Fujii, facet-normal sampling
+        for Torrance–Sparrow.
         """
-        xp = self._xp(u, wo)
-        dtype = result_dtype(xp, u, wo)
-        u = asarray(xp, u, dtype)
-        if u.shape[-1] != 2:
-            raise ValueError(f"u must have shape (..., 2) (got shape {tuple(u.shape)})")
-        uc = concrete(u)
-        if uc is not None and (np.any(~(uc >= 0)) or np.any(uc > 1)):
-            raise ValueError("u must lie in [0, 1]")
-        r = xp.sqrt(u[..., 0])
-        phi = (2.0 * math.pi) * u[..., 1]
-        z = xp.sqrt(clip(xp, 1.0 - u[..., 0], 0.0, 1.0))
-        wi = xp.stack([r * xp.cos(phi), r * xp.sin(phi), z], axis=-1)
-        wo = asarray(xp, wo, dtype)
-        pdf = self.pdf(wi, wo)
-        f = self.brdf(wi, wo)
-        valid = pdf > 0
-        if f.ndim > valid.ndim:
-            valid = valid[..., None]
-        weight = xp.where(valid, math.pi * f, 0.0 * f)  # f cos θi / pdf with pdf = cos θi / π
-        return BSDFSample(wi, pdf, weight)
+        from .sampling import sample_model
+
+        return sample_model(self, u, wo)
 
     def pdf(self, wi: Array, wo: Array) -> Array:
         """Density (per solid angle) with which :meth:`sample` returns ``wi`` given ``wo``."""
-        xp = self._xp(wi, wo)
-        dtype = result_dtype(xp, wi, wo)
-        mu_i, mu_o, _ = local_cosines(xp, wi, wo, dtype)
-        return xp.where((mu_i > 0) & (mu_o > 0), mu_i / math.pi, 0.0 * mu_i)
+        from .sampling import pdf_model
+
+        return pdf_model(self, wi, wo)
+
+    def _closed_form_albedo(self, wo: Array, albedo_of_mu: Any) -> Array:
+        """Directional albedo from a closed form ``albedo_of_mu(xp, mu_o, **params)``.
+
+        Handles the namespace, validation of ``wo``, the channel axis and the horizon (0 for
+        wo below it) once for every model that has a closed form.
+        """
+        xp = self._xp(wo)
+        dtype = result_dtype(xp, wo)
+        _, _, z = unit_components(xp, wo, "wo", dtype)
+        if self.channels:
+            z = z[..., None]
+        val = albedo_of_mu(xp, clip(xp, z, 0.0, 1.0), **self._params(xp, dtype))
+        return xp.where(z >= 0, val, 0.0 * val)
 
 
 def register_pytree(cls: type) -> type:

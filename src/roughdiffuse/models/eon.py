@@ -18,12 +18,10 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from .._array import Array, result_dtype, safe_div
+from .._array import Array, safe_div
 from .._validate import check_range
-from ..frames import unit_components
-from .base import BSDFSample, Model, register_pytree
+from .base import Model, register_pytree
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
-from .sampling import pdf_model, sample_model
 
 __all__ = ["EON"]
 
@@ -60,6 +58,7 @@ class EON(Model):
 
     array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+    sampling: ClassVar[str] = "cltc"
 
     def __post_init__(self) -> None:
         self._coerce_channels()
@@ -79,22 +78,9 @@ class EON(Model):
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form ρ E_F(μo) + ρ_ms (1 − E_F(μo)) (paper Eq. 14)."""
-        xp = self._xp(wo)
-        dtype = result_dtype(xp, wo)
-        _, _, z = unit_components(xp, wo, "wo", dtype)
-        p = self._params(xp, dtype)
-        rho, r = p["albedo"], p["roughness"]
-        e = fon_albedo(xp, z, r)
-        if rho.ndim:
-            e = e[..., None]
-        val = rho * e + _rho_ms(rho, fon_average_albedo(r)) * (1.0 - e)
-        above = z >= 0
-        return xp.where(above[..., None] if rho.ndim else above, val, 0.0 * val)
 
-    def sample(self, u: Array, wo: Array) -> BSDFSample:
-        """EON's sampler: clipped LTC mixed with uniform (paper Sec. 5), see :mod:`.sampling`."""
-        return sample_model(self, u, wo)
+        def closed(xp: Any, mu: Array, albedo: Array, roughness: Array) -> Array:
+            e = fon_albedo(xp, mu, roughness)
+            return albedo * e + _rho_ms(albedo, fon_average_albedo(roughness)) * (1.0 - e)
 
-    def pdf(self, wi: Array, wo: Array) -> Array:
-        """Density of :meth:`sample` per solid angle."""
-        return pdf_model(self, wi, wo)
+        return self._closed_form_albedo(wo, closed)

@@ -22,12 +22,10 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from .._array import Array, clip, maximum, result_dtype, safe_sqrt
+from .._array import Array, clip, maximum, safe_sqrt
 from .._validate import check_range
-from ..frames import unit_components
-from .base import BSDFSample, Model, register_pytree
+from .base import Model, register_pytree
 from .oren_nayar import TAN_FLOOR
-from .sampling import pdf_model, sample_model
 
 __all__ = ["Fujii", "fon_albedo", "fon_average_albedo", "K1", "K2"]
 
@@ -86,6 +84,7 @@ class Fujii(Model):
 
     array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
     channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
+    sampling: ClassVar[str] = "cltc"
 
     def __post_init__(self) -> None:
         self._coerce_channels()
@@ -99,17 +98,6 @@ class Fujii(Model):
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form ρ E_F(μo) (EON paper Eq. 8)."""
-        xp = self._xp(wo)
-        dtype = result_dtype(xp, wo)
-        _, _, z = unit_components(xp, wo, "wo", dtype)
-        p = self._params(xp, dtype)
-        e = xp.where(z >= 0, fon_albedo(xp, z, p["roughness"]), 0.0 * z)
-        return e[..., None] * p["albedo"] if p["albedo"].ndim else e * p["albedo"]
-
-    def sample(self, u: Array, wo: Array) -> BSDFSample:
-        """The clipped-LTC sampler of the EON paper (same lobe), see :mod:`.sampling`."""
-        return sample_model(self, u, wo)
-
-    def pdf(self, wi: Array, wo: Array) -> Array:
-        """Density of :meth:`sample` per solid angle."""
-        return pdf_model(self, wi, wo)
+        return self._closed_form_albedo(
+            wo, lambda xp, mu, albedo, roughness: albedo * fon_albedo(xp, mu, roughness)
+        )

@@ -9,9 +9,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from .._array import Array, asarray, result_dtype
+from .._array import Array
 from .._validate import check_range
-from ..frames import unit_components
 from .base import Model, register_pytree
 
 
@@ -46,11 +45,4 @@ class Lambert(Model):
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form: ρ for wo above the horizon, 0 below."""
-        xp = self._xp(wo)
-        dtype = result_dtype(xp, wo)
-        _, _, z = unit_components(xp, wo, "wo", dtype)
-        rho = asarray(xp, self.albedo, dtype)
-        above = z >= 0
-        if rho.ndim:
-            above = above[..., None]
-        return xp.where(above, rho + 0.0 * z[..., None] if rho.ndim else rho + 0.0 * z, 0.0)
+        return self._closed_form_albedo(wo, lambda xp, mu, albedo: albedo + 0.0 * mu)

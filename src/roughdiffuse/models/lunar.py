@@ -24,9 +24,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from .._array import Array, maximum, result_dtype, safe_div
+from .._array import Array, maximum, safe_div
 from .._validate import check_range
-from ..frames import unit_components
 from .base import Model, register_pytree
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
@@ -59,17 +58,14 @@ class LommelSeeliger(Model):
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form (w/2)(1 − μo ln(1 + 1/μo)), 0 below the horizon."""
-        xp = self._xp(wo)
-        dtype = result_dtype(xp, wo)
-        _, _, z = unit_components(xp, wo, "wo", dtype)
-        p = self._params(xp, dtype)
-        mu = maximum(xp, z, 0.0)
-        # μ ln(1 + 1/μ) = μ (ln(1 + μ) − ln μ) -> 0 as μ -> 0
-        pos = mu > 0
-        m = xp.where(pos, mu, 1.0)
-        g = xp.where(pos, 0.5 * (1.0 - m * (xp.log1p(m) - xp.log(m))), 0.5)
-        g = xp.where(z >= 0, g, 0.0 * g)
-        return g[..., None] * p["albedo"] if p["albedo"].ndim else g * p["albedo"]
+
+        def closed(xp: Any, mu: Array, albedo: Array) -> Array:
+            # μ ln(1 + 1/μ) = μ (ln(1 + μ) − ln μ) -> 0 as μ -> 0
+            pos = mu > 0
+            m = xp.where(pos, mu, 1.0)
+            return albedo * xp.where(pos, 0.5 * (1.0 - m * (xp.log1p(m) - xp.log(m))), 0.5)
+
+        return self._closed_form_albedo(wo, closed)
 
 
 @register_pytree

@@ -58,6 +58,9 @@ class Mix(Model):
             vals.extend(m._param_values())
         return vals
 
+    def _params(self, xp: Any, dtype: Any) -> dict[str, Array]:
+        return {}  # the parameters live in the components
+
     @property
     def channels(self) -> int:
         return max(m.channels for _, m in self.components)

@@ -285,10 +285,9 @@ _MICROFACET = {name: microfacet(name) for name in ("gaussian", "beckmann")}
 
 def strategy_for(model: Model) -> Strategy:
     """The best strategy this module has for ``model`` (cosine by default)."""
-    name = type(model).__name__
-    if name in ("EON", "Fujii"):
+    if model.sampling == "cltc":
         return CLTC
-    if name == "TorranceSparrow":
+    if model.sampling == "microfacet":
         return _MICROFACET[model.distribution]  # type: ignore[attr-defined]
     return COSINE
 

@@ -33,9 +33,8 @@ from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_
 from .._validate import check_range
 from ..frames import unit_components
 from ._quadrature import gauss_legendre_01
-from .base import BSDFSample, Model, register_pytree
+from .base import Model, register_pytree
 from .oren_nayar import SIGMA_MAX
-from .sampling import pdf_model, sample_model
 
 __all__ = ["TorranceSparrow", "fresnel_dielectric", "slope_distribution"]
 
@@ -130,6 +129,7 @@ class TorranceSparrow(Model):
     distribution: Distribution = "gaussian"
 
     array_fields: ClassVar[tuple[str, ...]] = ("eta", "sigma")
+    sampling: ClassVar[str] = "microfacet"
 
     def __post_init__(self) -> None:
         check_range("eta", self.eta, 0.0, math.inf, lo_open=True)
@@ -186,11 +186,3 @@ class TorranceSparrow(Model):
         weights = (theta_max * w)[:, None] * (2.0 * math.pi * w)[None, :]
         integrand = f * maximum(xp, mu_i, 0.0) * jac * weights
         return xp.sum(xp.sum(integrand, axis=-1), axis=-1)
-
-    def sample(self, u: Array, wo: Array) -> BSDFSample:
-        """Sample the facet normals (D(h) n·h) and reflect wo, see :mod:`.sampling`."""
-        return sample_model(self, u, wo)
-
-    def pdf(self, wi: Array, wo: Array) -> Array:
-        """Density of :meth:`sample` per solid angle."""
-        return pdf_model(self, wi, wo)
