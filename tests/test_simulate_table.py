@@ -143,3 +143,11 @@ def test_cli(tmp_path, capsys):
     assert main(["simulate", "--table", str(path), "--step", "0"]) == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err and "--step" in err
+
+
+def test_report_quick(tmp_path):
+    assert main(["simulate", "--report", "--quick", "-o", str(tmp_path), "--no-progress"]) == 0
+    text = (tmp_path / "index.md").read_text()
+    assert "reading fits better" in text and "Oren–Nayar full" in text
+    for png in ("plane_of_incidence.png", "error_maps.png"):
+        assert (tmp_path / png).stat().st_size > 10_000
