@@ -110,7 +110,9 @@ def run(args: argparse.Namespace) -> int:
     if args.report:
         from ..simulate.report import write_report
 
-        out = write_report(args.output, quick=args.quick, progress=not args.no_progress)
+        out = write_report(
+            args.output, quick=args.quick, progress=not args.no_progress, workers=args.workers
+        )
         print(f"report written to {out}")
         return 0
     if args.table:
