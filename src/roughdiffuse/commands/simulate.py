@@ -66,9 +66,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--bounces", type=_bounces, default="all", help="1, 2, ... or all (default all)")
     p.add_argument(
         "--measure",
-        default="angle",
+        default="solid-angle",
         choices=["angle", "solid-angle"],
-        help="slope-distribution measure: density in dθa or per solid angle (default angle)",
+        help="slope-distribution measure: density in dθa, or per solid angle of facet normals "
+        "(default; the reading the Oren-Nayar coefficients fit, docs/accuracy.md)",
     )
     p.add_argument("--elements", type=int, default=16, help="radiosity elements per facet K")
     p.add_argument("--table", metavar="FILE", help="compute a ground-truth table into FILE (.npz)")

@@ -100,7 +100,6 @@ def write_report(
     out = Path(out)
     (out / "tables").mkdir(parents=True, exist_ok=True)
     ti, tr, dp, sigmas = _grid(quick)
-    base = Settings()
 
     def table(measure: str, bounces):
         path = out / "tables" / f"truth_{measure}_{bounces}.npz"
@@ -137,9 +136,11 @@ def write_report(
         f"* facet albedo ρ = {ALBEDO}; σ (rad) = {', '.join(f'{s:g}' for s in sigmas)}",
         f"* θi, θr ∈ {{{', '.join(f'{math.degrees(a):.0f}' for a in ti)}}}°, "
         f"Δφ ∈ {{{', '.join(f'{math.degrees(a):.0f}' for a in dp)}}}°",
-        f"* solver: {base} (K elements per facet, Richardson-extrapolated from K and 2K; "
+        "* solver: the defaults of `roughdiffuse.simulate.Settings` (elements=16, "
+        "extrapolate=True, n_theta=16, n_phi=16, n_theta_inter=32; the measure as chosen "
+        "below): K elements per facet, Richardson-extrapolated from K and 2K; "
         "Gauss–Legendre rules split at the integrand's kinks; doubling every rule changes f by "
-        "< 1e-4 relative)",
+        "< 1e-4 relative",
         "* error = (model − truth) / truth; RMS and maximum |error| over the grid",
         "",
         "## Which reading of the slope measure do the Oren–Nayar coefficients fit?",
@@ -165,6 +166,18 @@ def write_report(
         f"{np.mean(rms_measure[better]):.4f} against "
         f"{np.mean(rms_measure['angle' if better != 'angle' else 'solid-angle']):.4f}). "
         "The rest of this report uses it.",
+        "",
+        "At v = n the single-bounce truth is ρ/π E[cos θa] for every θi (tests/"
+        "test_simulate_surface.py), and L1 there is ρ/π C1, C1 = 1 − 0.5σ²/(σ² + 0.33):",
+        "",
+        "| σ | C1 | E[cos θa], `angle` | E[cos θa], `solid-angle` |",
+        "| --- | --- | --- | --- |",
+        *[
+            f"| {s:g} | {1 - 0.5 * s * s / (s * s + 0.33):.4f} | "
+            f"{one['angle'].values[0, 0, 0, k] * math.pi / ALBEDO:.4f} | "
+            f"{one['solid-angle'].values[0, 0, 0, k] * math.pi / ALBEDO:.4f} |"
+            for k, s in enumerate(sigmas)
+        ],
         "",
     ]
     two = table(better, 2)
@@ -237,7 +250,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
                 label=name,
             )
         ax.set_title(f"σ = {s:g} rad, θi = 60°")
-        ax.set_xlabel("θr (°), negative: away from the light side")
+        ax.set_xlabel("θr (°); > 0: on the light's side (Δφ = 0), < 0: Δφ = 180°")
         ax.set_ylabel("π f")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()

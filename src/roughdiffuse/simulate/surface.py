@@ -71,7 +71,8 @@ class Settings:
     Attributes
     ----------
     measure : {"angle", "solid-angle"}
-        Reading of the slope-area measure (module docstring).
+        Reading of the slope-area measure (module docstring). The default, "solid-angle", is
+        the one the Oren–Nayar coefficients fit (docs/accuracy.md).
     elements : int
         Radiosity elements per facet K.
     extrapolate : bool
@@ -81,7 +82,7 @@ class Settings:
         the interreflected part.
     """
 
-    measure: Measure = "angle"
+    measure: Measure = "solid-angle"
     elements: int = 16
     extrapolate: bool = True
     n_theta: int = 16
