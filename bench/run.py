@@ -393,10 +393,12 @@ def write_atomic(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
-def parser() -> argparse.ArgumentParser:
+def parser(add_help: bool = True) -> argparse.ArgumentParser:
+    """The benchmark's options (also the options of ``roughdiffuse bench``)."""
     p = argparse.ArgumentParser(
         prog="bench/run.py",
         description="Throughput of every model: fast path vs C (compiled now) vs NumPy.",
+        add_help=add_help,
     )
     p.add_argument(
         "--sizes",
@@ -417,8 +419,15 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv: list[str] | None = None, prog: str = "python bench/run.py") -> int:
+def main(argv: list[str] | None = None) -> int:
+    """``python bench/run.py [options]``."""
     args = parser().parse_args(argv)
+    words = argv if argv is not None else sys.argv[1:]
+    return run(args, " ".join(["python bench/run.py", *(shlex.quote(a) for a in words)]))
+
+
+def run(args: argparse.Namespace, command: str) -> int:
+    """Run the benchmarks the parsed options ask for; ``command`` is recorded in RESULTS.md."""
     try:
         sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     except ValueError:
@@ -449,9 +458,8 @@ def main(argv: list[str] | None = None, prog: str = "python bench/run.py") -> in
     if args.memory_log2:
         extra["memory"] = memory(args.memory_log2)
         print(f"memory: {json.dumps(extra['memory'])}", flush=True)
-    cmd = " ".join([prog, *(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))])
     meta = {
-        "command": cmd,
+        "command": command,
         "date": dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "cores": cpu_count(),
         "cpu": platform.processor() or platform.machine(),

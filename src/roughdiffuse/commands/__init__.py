@@ -4,7 +4,17 @@ To add a command, write ``commands/NAME.py`` with ``register(subparsers)`` (whic
 parser and sets ``func``) and add ``NAME`` to :data:`COMMANDS`.
 """
 
-COMMANDS: list[str] = ["eval", "explore", "render", "plot", "figures", "fit", "albedo", "simulate"]
+COMMANDS: list[str] = [
+    "eval",
+    "explore",
+    "render",
+    "plot",
+    "figures",
+    "fit",
+    "albedo",
+    "simulate",
+    "bench",
+]
 
 
 class UsageError(Exception):
