@@ -101,3 +101,17 @@ def test_image_input_errors() -> None:
         image_measurements(np.zeros((8, 8)), n, (0.0, 0.0, 2.0))
     with pytest.raises(ValueError, match="no pixel"):
         image_measurements(np.zeros((8, 8)), n, (0.0, 0.0, -1.0))
+
+
+def test_exr_and_npy_read_back(tmp_path) -> None:  # noqa: ANN001
+    from roughdiffuse.render.imagefile import write_exr, write_npy
+
+    rng = np.random.default_rng(1)
+    img = rng.uniform(0.0, 2.0, (6, 5, 3)).astype(np.float32)
+    write_exr(tmp_path / "a.exr", img)
+    write_npy(tmp_path / "a.npy", img[..., 0])
+    back, mask = read_image(tmp_path / "a.exr")
+    np.testing.assert_array_equal(back, img)
+    assert mask.all()
+    grey, _ = read_image(tmp_path / "a.npy")
+    np.testing.assert_array_equal(grey, img[..., 0])

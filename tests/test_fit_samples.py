@@ -235,3 +235,23 @@ def test_table_input() -> None:
     table["brdf"] = [0.1, 0.2]
     d = samples_from_table(table)
     np.testing.assert_allclose(d.mu_i, [1.0, math.sqrt(0.5)])
+
+
+def test_robust_loss_resists_outliers() -> None:
+    data = _noisy(rd.OrenNayar(0.6, 0.4), n=300, seed=21)
+    value = data.value.copy()
+    value[::20] *= 3.0  # 5% gross outliers
+    bad = Measurements(data.mu_i, data.mu_o, data.cos_io, value, data.scale)
+    plain = fit(rd.OrenNayar, bad, noise="relative")
+    robust = fit(rd.OrenNayar, bad, noise="relative", loss="soft_l1", f_scale=0.02)
+    assert abs(plain.values[0] - 0.6) > 0.02  # least squares is pulled up by the outliers
+    np.testing.assert_allclose(robust.values, [0.6, 0.4], atol=0.01)
+
+
+def test_one_channel_model_on_rgb_data() -> None:
+    """A model without albedo (Torrance–Sparrow) predicts one value for every channel."""
+    base = _noisy(rd.TorranceSparrow(1.6, 0.3), n=100, seed=6, noise=0.0)
+    f = base.value
+    rgb = Measurements(base.mu_i, base.mu_o, base.cos_io, np.stack([f, f, f], -1), base.scale)
+    r = fit(rd.TorranceSparrow, rgb, bounds={"eta": (1.0, 3.0), "sigma": (0.05, 1.0)})
+    np.testing.assert_allclose(r.values, [1.6, 0.3], rtol=1e-6)

@@ -79,7 +79,7 @@ class Comparison:
                 for p, v, e in zip(r.names, r.values, r.errors, strict=True)
             )
             lines.append(
-                f"  {k:<5}{n:<18}{r.rms:>11.4g}{100 * r.rms_relative:>8.3g}"
+                f"  {k:<5}{n:<18}{r.rms:>11.4g} {100 * r.rms_relative:>7.3g}"
                 f"{r.aic - a0:>11.1f}{r.bic - b0:>11.1f}  {params}"
             )
         return "\n".join(lines)

@@ -240,6 +240,11 @@ PAD = 1 << 16
 images of similar size share one compiled function."""
 
 
+def _like(m: Any, y: Any) -> Any:
+    """A one-channel prediction (N,) repeated for every channel of data (N, C)."""
+    return jnp.broadcast_to(m[:, None], y.shape) if m.ndim < y.ndim else m
+
+
 def _compiled(layout: _Layout) -> dict[str, Any]:
     """Jitted functions of this layout (cached): residual, jacobian, normal equations, …"""
     try:
@@ -255,7 +260,7 @@ def _compiled(layout: _Layout) -> dict[str, Any]:
         return f * (scale if f.ndim == 1 else scale[:, None])
 
     def residual(x: Any, mu_i: Any, mu_o: Any, cos_io: Any, scale: Any, y: Any, w: Any) -> Any:
-        return ((predict(x, mu_i, mu_o, cos_io, scale) - y) * w).ravel()
+        return ((_like(predict(x, mu_i, mu_o, cos_io, scale), y) - y) * w).ravel()
 
     jac = jax.jacfwd(residual)
 
@@ -271,7 +276,7 @@ def _compiled(layout: _Layout) -> dict[str, Any]:
 
     def raw_stats(x: Any, mu_i: Any, mu_o: Any, cos_io: Any, scale: Any, y: Any, w: Any) -> Any:
         """Σ(model − data)² and Σ((model − data)/data)² over used samples (w > 0)."""
-        d = predict(x, mu_i, mu_o, cos_io, scale) - y
+        d = _like(predict(x, mu_i, mu_o, cos_io, scale), y) - y
         used = (w != 0) & (y == y)
         d = jnp.where(used, d, 0.0)
         pos = used & (y > 0)
@@ -312,7 +317,7 @@ def _device(data: Measurements, weights: np.ndarray, pad: bool = False) -> tuple
 def _reweight(fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[Any, ...]:
     """Relative-noise weights 1/model(x), clipped to [1/(2 y), 2/y]; padding keeps weight 0."""
     mu_i, mu_o, cos_io, scale, y, w = arrays
-    m = fns["predict"](x, mu_i, mu_o, cos_io, scale)
+    m = _like(fns["predict"](x, mu_i, mu_o, cos_io, scale), y)
     m = jnp.clip(m, 0.5 * y, 2.0 * y)
     return (mu_i, mu_o, cos_io, scale, y, jnp.where(w != 0, 1.0 / m, 0.0))
 
