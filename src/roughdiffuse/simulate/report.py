@@ -250,7 +250,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
                 label=name,
             )
         ax.set_title(f"σ = {s:g} rad, θi = 60°")
-        ax.set_xlabel("θr (°); > 0: on the light's side (Δφ = 0), < 0: Δφ = 180°")
+        ax.set_xlabel("θr (°): Δφ = 0 right, Δφ = 180° left")
         ax.set_ylabel("π f")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
