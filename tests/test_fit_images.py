@@ -115,3 +115,17 @@ def test_exr_and_npy_read_back(tmp_path) -> None:  # noqa: ANN001
     assert mask.all()
     grey, _ = read_image(tmp_path / "a.npy")
     np.testing.assert_array_equal(grey, img[..., 0])
+
+
+def test_supersampled_render_fits_after_eroding_edges() -> None:
+    """With 4 samples per pixel, pixels on the terminator and shadow edges average lit and
+    unlit parts; dropping one pixel along every edge removes them from the fit."""
+    from roughdiffuse.render import DistantLight, SurfaceOfRevolution, render
+
+    shape, light = SurfaceOfRevolution(), DistantLight(math.radians(50.0), 0.35)
+    img, _ = render(rd.OrenNayar(0.7, 0.44, "full"), shape, light, size=128, samples_per_pixel=4)
+    normals, mask = shape_normals(shape, 128, light)
+    data = image_measurements(img, normals, light, mask=mask, erode=1)
+    r = fit(rd.OrenNayar, data, fixed={"variant": "full"}, noise="relative")
+    assert abs(r.values[0] - 0.7) < 0.002 and abs(r.values[1] - 0.44) < 0.01, r.values
+    assert r.rms_relative < 0.005

@@ -87,6 +87,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--view", type=_angles, default=(0.0, 0.0), help="direction to the viewer (default 0,0)"
     )
     g.add_argument("--margin", type=float, default=0.04, help="--shape: the render's margin")
+    g.add_argument(
+        "--erode",
+        type=int,
+        default=1,
+        help="drop this many pixels along silhouettes and shadow edges (default 1)",
+    )
     g.add_argument("--exposure", type=float, default=None, help="PNG: exposure in stops")
     g.add_argument("--encoding", choices=("srgb", "linear"), default=None, help="PNG curve")
     p.set_defaults(func=run)
@@ -143,8 +149,16 @@ def _load_image(args: argparse.Namespace, path: str):  # noqa: ANN202
         ]
         normals, on = shape_normals(shape, image.shape[:2], light, camera)
         mask = mask & on
+    if args.erode < 0:
+        raise UsageError(f"--erode must be >= 0 (got {args.erode})")
     return image_measurements(
-        image, normals, light, camera, mask=np.asarray(mask), source=os.path.basename(path)
+        image,
+        normals,
+        light,
+        camera,
+        mask=np.asarray(mask),
+        erode=args.erode,
+        source=os.path.basename(path),
     )
 
 

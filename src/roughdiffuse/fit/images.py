@@ -286,6 +286,7 @@ def image_measurements(
     *,
     irradiance: Any = 1.0,
     mask: Any = None,
+    erode: int = 1,
     source: str = "image",
 ) -> Measurements:
     """Pixels of a linear image as :class:`Measurements` (see
@@ -302,5 +303,5 @@ def image_measurements(
         if a.shape != (3,) or not math.isclose(float(np.linalg.norm(a)), 1.0, rel_tol=1e-6):
             raise ValueError(f"{nm} must be a unit 3-vector (got {a})")
     return Measurements.from_image(
-        image, normals, l, v, irradiance=irradiance, mask=mask, source=source
+        image, normals, l, v, irradiance=irradiance, mask=mask, erode=erode, source=source
     )

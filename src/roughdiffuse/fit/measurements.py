@@ -151,6 +151,7 @@ class Measurements:
         *,
         irradiance: Any = 1.0,
         mask: Any = None,
+        erode: int = 1,
         source: str = "",
     ) -> Measurements:
         """Pixels of a linear radiance image with known normals.
@@ -168,6 +169,11 @@ class Measurements:
         mask : array (H, W) of bool, optional
             Pixels to use; by default every pixel with a normal that sees both the light
             and the viewer (n·l > 0 and n·v > 0).
+        erode : int
+            Drop this many pixels along every edge of the usable region (silhouette,
+            terminator, cast-shadow and mask boundaries): a pixel there integrates parts
+            that are lit and unlit, or on and off the object, which its centre's normal does
+            not describe.
         """
         img = _as_float("image", image)
         if img.ndim not in (2, 3):
@@ -187,13 +193,27 @@ class Measurements:
             use &= m
         l = np.broadcast_to(_as_float("light", light), (h, w, 3))
         v = np.broadcast_to(_as_float("view", view), (h, w, 3))
+        if int(erode) < 0:
+            raise ValueError(f"erode must be >= 0 pixels (got {erode})")
         idx = np.flatnonzero(use)
-        n_sel = nrm.reshape(-1, 3)[idx]
-        l_sel = l.reshape(-1, 3)[idx]
-        v_sel = v.reshape(-1, 3)[idx]
-        mu_i, mu_o, cos_io = world_cosines(np, n_sel, l_sel, v_sel)
+        mu_i, mu_o, cos_io = world_cosines(
+            np, nrm.reshape(-1, 3)[idx], l.reshape(-1, 3)[idx], v.reshape(-1, 3)[idx]
+        )
         lit = (mu_i > 1e-6) & (mu_o > 1e-6)
-        idx, mu_i, mu_o, cos_io = idx[lit], mu_i[lit], mu_o[lit], cos_io[lit]
+        good = np.zeros(h * w, dtype=bool)
+        good[idx[lit]] = True
+        good = good.reshape(h, w)
+        for _ in range(int(erode)):
+            inner = good.copy()
+            inner[1:, :] &= good[:-1, :]
+            inner[:-1, :] &= good[1:, :]
+            inner[:, 1:] &= good[:, :-1]
+            inner[:, :-1] &= good[:, 1:]
+            inner[0, :] = inner[-1, :] = False
+            inner[:, 0] = inner[:, -1] = False
+            good = inner
+        keep = good.reshape(-1)[idx]
+        idx, mu_i, mu_o, cos_io = idx[keep], mu_i[keep], mu_o[keep], cos_io[keep]
         if idx.size == 0:
             raise ValueError("the image has no pixel that sees both the light and the viewer")
         value = img.reshape(h * w, -1)[idx]
