@@ -29,6 +29,7 @@ import argparse
 import ctypes
 import datetime as dt
 import json
+import math
 import os
 import platform
 import shlex
@@ -234,6 +235,76 @@ def _line(e: dict[str, Any]) -> str:
     return "  ".join(parts)
 
 
+# ------------------------------------------------------------------ renderer
+def sphere_samples(size: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Normals (float32, (size² k², 3)) and hit mask of a unit sphere framed as ``render``
+    frames it (``render.pixel_coordinates``), k × k stratified samples per pixel."""
+    from roughdiffuse.render import Sphere, pixel_coordinates
+
+    xc, yc = pixel_coordinates(Sphere(), None, size)
+    step = float(xc[1] - xc[0])
+    off = ((np.arange(k) + 0.5) / k - 0.5) * step
+    x = (xc[:, None] + off[None, :]).reshape(-1)
+    y = (yc[:, None] - off[None, :]).reshape(-1)
+    xx, yy = np.meshgrid(x, y)
+    r2 = xx * xx + yy * yy
+    hit = r2 < 1.0
+    z = np.sqrt(np.maximum(1.0 - r2, 0.0))
+    n = np.stack([np.where(hit, xx, 0.0), np.where(hit, yy, 0.0), np.where(hit, z, 1.0)], -1)
+    return n.reshape(-1, 3).astype(np.float32), hit.reshape(-1)
+
+
+def bench_render(repeat: int, size: int = 1024, spp: int = 4) -> dict[str, Any]:
+    """A size² sphere, spp samples per pixel: ``render`` against NumPy and fast-path loops.
+
+    The baselines shade the same samples with ``model.radiance`` (NumPy) or
+    ``fastpath.evaluate`` on analytic sphere normals (no ray intersection), then average the
+    samples of each pixel: the simplest honest loop for this one image.
+    """
+    import roughdiffuse as rd
+    from roughdiffuse import fastpath
+
+    try:
+        from roughdiffuse.render import DistantLight, Sphere, render
+    except ImportError as exc:  # pragma: no cover - the renderer is another part
+        return {"error": f"renderer not available: {exc}"}
+    k = int(round(math.sqrt(spp)))
+    model = rd.OrenNayar(0.8, 0.3)
+    theta = 0.5
+    l_dir = np.array([math.sin(theta), 0.0, math.cos(theta)], np.float32)
+    v_dir = np.array([0.0, 0.0, 1.0], np.float32)
+    n, hit = sphere_samples(size, k)
+
+    def average(radiance: np.ndarray) -> np.ndarray:
+        img = np.where(hit, radiance, 0.0).reshape(size, k, size, k)
+        return img.mean(axis=(1, 3))
+
+    variants = {
+        "render": lambda: render(
+            model, Sphere(), DistantLight(theta), size=size, samples_per_pixel=spp
+        )[0],
+        "numpy": lambda: average(np.asarray(model.radiance(n, l_dir, v_dir))),
+        "fast": lambda: average(fastpath.evaluate(model, n, l_dir, v_dir)),
+    }
+    images = {key: np.asarray(fn()) for key, fn in variants.items()}  # warm-up (jit)
+    times: dict[str, list[float]] = {key: [] for key in variants}
+    for _ in range(repeat):
+        for key, fn in variants.items():
+            t0 = time.perf_counter()
+            np.asarray(fn())
+            times[key].append(time.perf_counter() - t0)
+    samples = size * size * spp
+    res: dict[str, Any] = {"size": size, "spp": spp, "samples": samples}
+    for key in variants:
+        res[key] = stats(times[key], samples)
+    res["max_abs_difference_vs_render"] = {
+        key: float(np.max(np.abs(images[key] - images["render"]))) for key in ("numpy", "fast")
+    }
+    res["render_over_numpy"] = res["render"]["median"] / res["numpy"]["median"]
+    res["fast_over_numpy"] = res["fast"]["median"] / res["numpy"]["median"]
+    return res
+
+
 # ------------------------------------------------------------------ first call and memory
 _FIRST_CALL = """
 import time, json, sys
@@ -368,6 +439,28 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
             "The cache lives in `$ROUGHDIFFUSE_CACHE_DIR`, else "
             "`$XDG_CACHE_HOME/roughdiffuse/fastpath` (`~/.cache/roughdiffuse/fastpath`)."
         )
+    ren = extra.get("render")
+    if ren:
+        lines += ["", "## Renderer", ""]
+        if "error" in ren:
+            lines.append(f"error: {ren['error']}")
+        else:
+            lines.append(
+                f"A {ren['size']} × {ren['size']} Oren–Nayar sphere, {ren['spp']} samples per "
+                "pixel, in million samples per second: `render` (ray intersection and shading "
+                "under `jax.jit`) against the same samples shaded on analytic normals with "
+                "`model.radiance` on NumPy and with `fastpath.evaluate`."
+            )
+            lines += ["", "| variant | M samples/s | vs NumPy |", "| --- | --- | --- |"]
+            for key, ratio in (("render", "render_over_numpy"), ("fast", "fast_over_numpy")):
+                lines.append(f"| {key} | {_fmt(ren[key])} | {ren[ratio]:.1f} |")
+            lines.append(f"| numpy | {_fmt(ren['numpy'])} | 1 |")
+            diff = ren["max_abs_difference_vs_render"]
+            lines.append("")
+            lines.append(
+                f"Largest pixel difference from `render`: NumPy {diff['numpy']:.1e}, fast "
+                f"{diff['fast']:.1e}."
+            )
     mem = extra.get("memory")
     if mem:
         lines += ["", "## Memory", ""]
@@ -413,6 +506,7 @@ def parser(add_help: bool = True) -> argparse.ArgumentParser:
         "--memory-log2", type=int, default=26, help="log2 rows of the memory test (0: skip)"
     )
     p.add_argument("--no-first-call", action="store_true", help="skip the first-call test")
+    p.add_argument("--no-render", action="store_true", help="skip the renderer benchmark")
     p.add_argument(
         "--output-dir", type=Path, default=HERE, help="where RESULTS.md and results.json go"
     )
@@ -455,6 +549,9 @@ def run(args: argparse.Namespace, command: str) -> int:
     if not args.no_first_call:
         extra["first_call"] = first_call()
         print(f"first call: {json.dumps(extra['first_call'])}", flush=True)
+    if not args.no_render:
+        extra["render"] = bench_render(args.repeat)
+        print(f"render: {json.dumps(extra['render'])}", flush=True)
     if args.memory_log2:
         extra["memory"] = memory(args.memory_log2)
         print(f"memory: {json.dumps(extra['memory'])}", flush=True)
