@@ -15,20 +15,29 @@ Measured:
 * from those rates, the time of a 90 × 90 × 180 × 1 table (θi, θr, Δφ at 1°, one σ) on 2
   cores, assuming two worker processes scale linearly (the chunks are independent).
 
+BLAS runs single-threaded here (set before NumPy is imported): the solver's matrices are small
+(2K ≤ 256), and two BLAS threads per process on 2 shared cores ran it 3× slower. Dask workers
+(``--workers``) get one BLAS thread each by default; for a single process, set
+``OPENBLAS_NUM_THREADS=1`` yourself.
+
 ``bench/run.py`` may import :func:`bench_simulate` and add its rows to its report.
 """
 
 from __future__ import annotations
 
-import argparse
-import json
-import math
 import os
-import platform
-import time
-from pathlib import Path
 
-import numpy as np
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import platform  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 TABLE_SIZE = 90 * 90 * 180

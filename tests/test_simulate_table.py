@@ -75,7 +75,7 @@ def test_resume_refuses_other_settings(tmp_path, monkeypatch):
         _table(path)
     monkeypatch.setattr(table_mod, "compute_chunk", real)
     with pytest.raises(ValueError, match="refusing to mix"):
-        _table(path, settings=Settings(measure="solid-angle"))
+        _table(path, settings=Settings(measure="angle"))
 
 
 def test_bad_files(tmp_path):

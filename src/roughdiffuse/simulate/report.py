@@ -278,4 +278,65 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
     fig.savefig(out / "error_maps.png", dpi=110)
     plt.close(fig)
     figs.append(("Error maps", "error_maps.png"))
+    try:
+        import mitsuba as mi
+    except ImportError:  # optional: the finite-pixel figure needs Mitsuba 3
+        return figs
+    _pixels_figure(plt, mi, out, quick)
+    figs.append(("Finite pixels: a rendered V-groove surface averaged to pixels", "pixels.png"))
     return figs
+
+
+def _pixels_figure(plt, mi, out: Path, quick: bool) -> None:
+    """Render a V-groove surface with visible facets, average it to pixels, and compare the
+    averaged brightness over view angles with the solver (the lecture's finite-pixel point)."""
+    import tempfile
+
+    from .cavity import cavity_radiance
+    from .grooves import render_grooves, write_groove_ply
+
+    mi.set_variant("scalar_rgb")
+    theta_a, theta_i, rho = 0.6, math.radians(50.0), 0.8
+    wi = np.array([math.sin(theta_i), 0.0, math.cos(theta_i)])
+
+    def view(t):  # t > 0: on the light's side of the normal (Δφ = 0)
+        return np.array([math.sin(t), 0.0, math.cos(t)])
+
+    with tempfile.TemporaryDirectory() as tmp:
+        ply = write_groove_ply(Path(tmp) / "grooves.ply", theta_a)
+        fine = render_grooves(
+            mi, ply, rho, wi, view(math.radians(20.0)), 64, spp=16, res=256, n_periods=4
+        )
+        angles = np.radians(np.arange(-80.0, 81.0, 40.0 if quick else 10.0))
+        means = [
+            float(render_grooves(mi, ply, rho, wi, view(t), 64, spp=16, res=32).mean())
+            for t in angles
+        ]
+    curve_t = np.radians(np.linspace(-85.0, 85.0, 171))
+    curve = cavity_radiance(theta_a, 0.0, wi, np.stack([view(t) for t in curve_t]), rho, "all")
+    coarse = fine.reshape(4, 64, 4, 64).mean(axis=(1, 3))  # 4 x 4 pixels, one period each
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), gridspec_kw={"width_ratios": [1, 1, 1.6]})
+    vmax = float(fine.max())
+    axes[0].imshow(fine, cmap="gray", vmin=0, vmax=vmax)
+    axes[0].set_title("rendered, facets visible (θr = 20°)")
+    axes[1].imshow(np.kron(coarse, np.ones((64, 64))), cmap="gray", vmin=0, vmax=vmax)
+    axes[1].set_title("averaged to pixels one groove wide")
+    for ax in axes[:2]:
+        ax.set_xticks([])
+        ax.set_yticks([])
+    axes[2].plot(np.degrees(curve_t), curve, "k-", label="solver: cavity radiance, all bounces")
+    axes[2].plot(np.degrees(angles), means, "o", color="C3", label="Mitsuba: pixel average")
+    axes[2].plot(
+        np.degrees(curve_t),
+        np.full_like(curve_t, rho / math.pi * math.cos(theta_i)),
+        "C2:",
+        label="flat Lambertian plane",
+    )
+    axes[2].axvline(math.degrees(theta_i), color="0.7", lw=0.8)
+    axes[2].set_xlabel("θr (°): > 0 towards the light (θi = 50°, marked)")
+    axes[2].set_ylabel("radiance / E0")
+    axes[2].set_title(f"V-grooves θa = {theta_a} rad, ρ = {rho}, across the plane of incidence")
+    axes[2].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "pixels.png", dpi=110)
+    plt.close(fig)
