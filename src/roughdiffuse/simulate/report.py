@@ -211,6 +211,7 @@ def write_report(
                 f"| {label} | {against} | {s:g} | {np.sqrt(np.mean(e**2)):.4f} | "
                 f"{np.abs(e).max():.4f} | {_where(inf, idx)} | {'' if r is None else f'{r:.2f}'} |"
             )
+    lines += _convergence_lines(quick)
     # figures: plane of incidence and error maps
     figs = _plots(plt, out, better, sigmas, quick, progress, workers)
     lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
@@ -222,6 +223,36 @@ def write_report(
     ]
     (out / "index.md").write_text("\n".join(lines), encoding="utf-8")
     return out / "index.md"
+
+
+def _convergence_lines(quick: bool) -> list[str]:
+    """Relative change of f when each quadrature rule (and K) is doubled."""
+    from .surface import quadrature_convergence
+
+    g = np.radians([[0, 0, 0], [30, 45, 0], [60, 60, 180], [80, 85, 90], [89, 30, 30]])
+    if quick:
+        g = g[:2]
+    lines = [
+        "",
+        "## Quadrature convergence",
+        "",
+        "Largest relative change of f (all bounces, ρ = 0.9) over the geometries "
+        + ", ".join(f"({a:.0f}°, {b:.0f}°, {c:.0f}°)" for a, b, c in np.degrees(g))
+        + " (θi, θr, Δφ) when one rule, or K, or everything is doubled:",
+        "",
+        "| measure | σ | n_theta | n_phi | n_theta_inter | K | all doubled |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for measure in ("angle", "solid-angle"):
+        for s in (0.3,) if quick else (0.1, 0.3, 0.7):
+            c = quadrature_convergence(
+                g[:, 0], g[:, 1], g[:, 2], s, ALBEDO, "all", Settings(measure=measure)
+            )
+            lines.append(
+                f"| {measure} | {s:g} | {c['n_theta']:.1e} | {c['n_phi']:.1e} | "
+                f"{c['n_theta_inter']:.1e} | {c['elements']:.1e} | {c['all']:.1e} |"
+            )
+    return lines
 
 
 def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, workers: int):

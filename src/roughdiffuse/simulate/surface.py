@@ -74,7 +74,8 @@ class Settings:
         Reading of the slope-area measure (module docstring). The default, "solid-angle", is
         the one the Oren–Nayar coefficients fit (docs/accuracy.md).
     elements : int
-        Radiosity elements per facet K.
+        Radiosity elements per facet K (raised to 2K where tan θa > 3 and 4K where
+        tan θa > 12, see :func:`roughdiffuse.simulate.cavity.elements_for_slope`).
     extrapolate : bool
         Richardson extrapolation from K and 2K elements.
     n_theta, n_phi, n_theta_inter : int
