@@ -322,23 +322,47 @@ def _reweight(fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...]) -> tu
     return (mu_i, mu_o, cos_io, scale, y, jnp.where(w != 0, 1.0 / m, 0.0))
 
 
+STEP_TOL = 1e-3
+"""Refinement stops when a step is below this fraction of every parameter's standard error."""
+
+
+def _standard_errors(a: np.ndarray, cost: float, dof: int) -> np.ndarray:
+    """sqrt(diag((JᵀJ)⁻¹) · RSS/dof); ``inf`` where JᵀJ is singular."""
+    try:
+        inv = np.linalg.inv(a)
+    except np.linalg.LinAlgError:
+        return np.full(a.shape[0], math.inf)
+    var = np.diag(inv) * cost / max(dof, 1)
+    return np.sqrt(np.where(np.isfinite(var) & (var > 0), var, math.inf))
+
+
 def _gauss_newton(
-    fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...], box: np.ndarray
-) -> tuple[np.ndarray, int]:
+    fns: dict[str, Any], x: np.ndarray, arrays: tuple[Any, ...], box: np.ndarray, dof: int
+) -> tuple[np.ndarray, int, np.ndarray]:
     """Levenberg–Marquardt from ``x`` on the normal equations, steps clipped to the bounds.
 
     Used to refine, on all of a large data set, the optimum found on a subset: each step
     needs only JᵀJ and Jᵀr (P×P and P numbers) from the compiled function, where
     :func:`scipy.optimize.least_squares` would move M×P arrays through NumPy. Marquardt's
-    damping (Numerical Recipes §15.5.2) with the diagonal of JᵀJ.
+    damping (Numerical Recipes §15.5.2) with the diagonal of JᵀJ. Stops when the
+    Gauss–Newton step is below :data:`STEP_TOL` standard errors (taken, undamped).
+
+    Returns the point, the number of evaluations and the standard errors there.
     """
     lam = 1e-4
     nfev = 0
     a, g, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
     nfev += 1
+    se = _standard_errors(a, float(cost), dof)
     for _ in range(50):
         d = np.diag(a).copy()
         d[d <= 0] = 1.0
+        try:
+            newton = np.linalg.solve(a, -g)
+        except np.linalg.LinAlgError:
+            newton = np.full_like(g, math.inf)
+        if np.all(np.abs(newton) <= STEP_TOL * se):
+            return np.clip(x + newton, box[:, 0], box[:, 1]), nfev, se
         try:
             step = np.linalg.solve(a + lam * np.diag(d), -g)
         except np.linalg.LinAlgError:
@@ -348,18 +372,18 @@ def _gauss_newton(
         nfev += 1
         if cost_new <= cost:
             moved = np.abs(x_new - x)
-            gain = cost - cost_new
             x = x_new
             lam = max(lam / 10.0, 1e-12)
-            if np.all(moved <= 1e-10 * (np.abs(x) + 1e-8)) or gain <= 1e-13 * cost:
+            if np.all(moved <= 1e-12 * (np.abs(x) + 1e-12)):
                 break
             a, g, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
             nfev += 1
+            se = _standard_errors(a, float(cost), dof)
         else:
             lam *= 10.0
             if lam > 1e12:
                 break
-    return x, nfev
+    return x, nfev, se
 
 
 def _noise_weights(data: Measurements, noise: str) -> np.ndarray:
@@ -555,25 +579,28 @@ def fit(
         fast = large and loss == "linear"
         arrays = _device(data, w, pad=fast) if large else arrays_sub
 
-        def refine(x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[np.ndarray, int]:
+        def refine(x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[np.ndarray, int, Any]:
             nonlocal success, message
             if fast:
-                return _gauss_newton(fns, x, arrays, box)
+                return _gauss_newton(fns, x, arrays, box, m - npar)
             r = run(x, arrays)
             success, message = bool(r.success), str(r.message)
-            return np.asarray(r.x, dtype=np.float64), int(r.nfev)
+            x = np.asarray(r.x, dtype=np.float64)
+            a, _, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
+            return x, int(r.nfev) + 1, _standard_errors(a, float(cost), m - npar)
 
-        if large:
-            x, k = refine(x, arrays)
+        if large and noise != "relative":
+            x, k, _ = refine(x, arrays)
             nfev += k
         if noise == "relative":
             # iteratively reweighted: weights 1/model, not 1/data (which biases the fit low
-            # by about 2 (noise)² of the value), held fixed during each inner fit
-            for _ in range(6):
+            # by about 2 (noise)² of the value), held fixed during each inner fit; stops
+            # when the weights move the optimum by less than STEP_TOL standard errors
+            for _ in range(8):
                 arrays = _reweight(fns, x, arrays)
-                x_new, k = refine(x, arrays)
+                x_new, k, se = refine(x, arrays)
                 nfev += k
-                done = np.all(np.abs(x_new - x) <= 1e-9 * (np.abs(x) + 1e-9))
+                done = np.all(np.abs(x_new - x) <= STEP_TOL * se)
                 x = x_new
                 if done:
                     break
