@@ -129,3 +129,18 @@ def test_supersampled_render_fits_after_eroding_edges() -> None:
     r = fit(rd.OrenNayar, data, fixed={"variant": "full"}, noise="relative")
     assert abs(r.values[0] - 0.7) < 0.002 and abs(r.values[1] - 0.44) < 0.01, r.values
     assert r.rms_relative < 0.005
+
+
+def test_flat_patch_is_degenerate() -> None:
+    """A plane under a distant light, seen by an orthographic camera: every pixel has the
+    same geometry, so ρ and σ cannot be told apart."""
+    from roughdiffuse.fit import DegenerateDataWarning
+
+    n = np.zeros((16, 16, 3))
+    n[..., 2] = 1.0
+    light = rd.spherical_to_vector(math.radians(40.0), 0.0)
+    img = np.full((16, 16), float(rd.OrenNayar(0.5, 0.3).radiance(n[0, 0], light, n[0, 0])))
+    img *= 1 + 0.01 * np.random.default_rng(0).standard_normal(img.shape)
+    with pytest.warns(DegenerateDataWarning):
+        r = fit(rd.OrenNayar, image_measurements(img, n, light, (0.0, 0.0, 1.0)))
+    assert np.isinf(r.errors).any()

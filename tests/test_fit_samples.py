@@ -246,6 +246,9 @@ def test_robust_loss_resists_outliers() -> None:
     robust = fit(rd.OrenNayar, bad, noise="relative", loss="soft_l1", f_scale=0.02)
     assert abs(plain.values[0] - 0.6) > 0.02  # least squares is pulled up by the outliers
     np.testing.assert_allclose(robust.values, [0.6, 0.4], atol=0.01)
+    # error bars from the robust noise level (MAD), not inflated by the outliers
+    assert np.all(np.abs(robust.values - [0.6, 0.4]) <= 3 * robust.errors)
+    assert np.all(robust.errors < 0.2 * plain.errors)
 
 
 def test_one_channel_model_on_rgb_data() -> None:

@@ -70,6 +70,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         choices=("linear", "soft_l1", "huber", "cauchy", "arctan"),
         help="robust loss of scipy.optimize.least_squares (default: linear)",
     )
+    p.add_argument(
+        "--f-scale",
+        type=float,
+        default=None,
+        help="residual scale where a robust loss sets in: a fraction of the value "
+        "(default 0.03, i.e. 3%%)",
+    )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
     g = p.add_argument_group("samples and MERL files")
     g.add_argument("--irradiance", type=float, default=None, help="E0 for radiance data")
@@ -82,9 +89,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     g = p.add_argument_group("images")
     g.add_argument("--normals", metavar="NORMALS.npy", help="normal map (H, W, 3), world frame")
     g.add_argument("--shape", choices=SHAPES, help="the renderer's shape the image shows")
-    g.add_argument("--light", type=_angles, help="direction to the light THETA,PHI (degrees)")
     g.add_argument(
-        "--view", type=_angles, default=(0.0, 0.0), help="direction to the viewer (default 0,0)"
+        "--light",
+        type=_angles,
+        metavar="THETA,PHI",
+        help="direction to the light (degrees)",
+    )
+    g.add_argument(
+        "--view",
+        type=_angles,
+        default=(0.0, 0.0),
+        metavar="THETA,PHI",
+        help="direction to the viewer (degrees, default 0,0)",
     )
     g.add_argument("--margin", type=float, default=0.04, help="--shape: the render's margin")
     g.add_argument(
@@ -163,6 +179,8 @@ def _load_image(args: argparse.Namespace, path: str):  # noqa: ANN202
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
     from ..fit.report import write_report
 
@@ -176,6 +194,12 @@ def run(args: argparse.Namespace) -> int:
     if args.noise == "relative" and (data.value <= 0).any():
         options["noise"] = "absolute"
         print("note: some values are 0; using --noise absolute")
+    f_scale = 0.03 if args.f_scale is None else args.f_scale
+    if not f_scale > 0:
+        raise UsageError(f"--f-scale must be > 0 (got {f_scale:g})")
+    if options["noise"] == "absolute":  # weighted residuals are in data units
+        f_scale *= float(np.median(np.abs(data.value)))
+    options["f_scale"] = f_scale
     comparison = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", DegenerateDataWarning)

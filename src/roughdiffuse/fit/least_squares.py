@@ -493,7 +493,9 @@ def fit(
         Number of automatic starting points (centre of the bounds, then Halton points).
     loss, f_scale : str, float
         Robust loss of :func:`scipy.optimize.least_squares` ("linear", "soft_l1", "huber",
-        "cauchy", "arctan") and its scale (in units of the weighted residual).
+        "cauchy", "arctan") and its scale (in units of the weighted residual). With a robust
+        loss the noise level in the error bars is 1.4826 × the median absolute deviation of
+        the residuals, so that outliers do not inflate them.
     noise : {"absolute", "relative"}
         Noise model: residuals in data units, or relative (constant relative noise, e.g.
         1% of the value): residuals divided by the model value, by iteratively reweighted
@@ -609,10 +611,16 @@ def fit(
         rss = float(rss)
         jac_sub = np.asarray(fns["jac"](x, *arrays_sub))
         raw_ss, rel_ss, n_pos = (float(v) for v in fns["raw_stats"](x, *arrays))
+        robust_s2 = None
+        if loss != "linear":  # outliers must not set the noise level: 1.4826 MAD
+            res = np.asarray(fns["residual"](x, *arrays))[: data.value.size]
+            robust_s2 = (1.4826 * float(np.median(np.abs(res - np.median(res))))) ** 2
 
     notes: list[str] = []
     dof = m - npar
     s2 = rss / dof if dof > 0 else math.inf
+    if robust_s2 is not None and dof > 0:
+        s2 = robust_s2
     null_here = _unidentified(jac_sub)
     cov = np.full((npar, npar), math.inf)
     ok = ~null_here
