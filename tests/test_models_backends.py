@@ -10,7 +10,13 @@ from conftest import all_models, random_hemisphere
 
 jax = pytest.importorskip("jax")
 jnp = jax.numpy
-jax.config.update("jax_enable_x64", True)
+
+
+@pytest.fixture(autouse=True)
+def _x64():
+    """float64 JAX for these comparisons only (a global switch would leak into other tests)."""
+    with jax.enable_x64(True):
+        yield
 
 
 def _models():

@@ -361,7 +361,10 @@ class SurfaceOfRevolution(Shape):
                 jnp.where(admissible(r1), r1, _INF), jnp.where(admissible(r2), r2, _INF)
             )
             closer = t < t_best
-            return jnp.where(closer, t, t_best), jnp.where(closer, piece, idx)
+            return (
+                jnp.where(closer, t, t_best).astype(t_best.dtype),  # x64 tables, f32 rays
+                jnp.where(closer, piece, idx).astype(idx.dtype),
+            )
 
         def annulus(i: Any, carry: tuple[Any, Any]) -> tuple[Any, Any]:
             t_best, idx = carry
@@ -372,7 +375,10 @@ class SurfaceOfRevolution(Shape):
             rho2 = x * x + z * z
             ok = (dy != 0) & (rho2 >= lo2) & (rho2 <= hi2) & (t > t_min)
             closer = ok & (t < t_best)
-            return jnp.where(closer, t, t_best), jnp.where(closer, piece, idx)
+            return (
+                jnp.where(closer, t, t_best).astype(t_best.dtype),  # x64 tables, f32 rays
+                jnp.where(closer, piece, idx).astype(idx.dtype),
+            )
 
         carry = jax.lax.fori_loop(0, cones.shape[1], cone, init)
         return jax.lax.fori_loop(0, annuli.shape[1], annulus, carry)
