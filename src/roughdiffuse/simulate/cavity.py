@@ -158,9 +158,14 @@ def segment_factors(theta_a: float, edges: np.ndarray, g: np.ndarray) -> np.ndar
     By reciprocity it is also A_S F_S→j, and the irradiance that S, emitting uniformly with
     exitance B, sends to element j is B A_j F_j→S / A_j.
     """
-    e0, e1 = edges[:-1], edges[1:]
-    gg = np.asarray(g)[..., None]
-    return _strings(theta_a, np.zeros_like(gg), gg, e0, e1)
+    # crossed strings as in _strings, with the distances shared between adjacent elements
+    # and those from the fixed rim computed once
+    ex, ey = _points(theta_a, edges, -1.0)
+    d0 = np.sqrt((ex + 0.5) ** 2 + ey**2)  # from the rim of the other facet, (-1/2, 0)
+    gx, gy = _points(theta_a, np.asarray(g)[..., None], 1.0)
+    dx, dy = ex - gx, ey - gy
+    dg = np.sqrt(dx * dx + dy * dy)
+    return 0.5 * np.abs(d0[1:] + dg[..., :-1] - d0[:-1] - dg[..., 1:])
 
 
 def _overlap(edges: np.ndarray, g: np.ndarray) -> np.ndarray:

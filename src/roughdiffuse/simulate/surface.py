@@ -140,7 +140,9 @@ def _solve_kinks(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[np.ndarray
 
 
 def _phi_edges(theta_a, ti, tr, dphi) -> np.ndarray:
-    """Sorted φa piece edges in [0, π] (kinks of the cavity radiance, mod π), shape (..., 12).
+    """Sorted φa piece edges in [0, π] (kinks of the cavity radiance, mod π), shape (..., E).
+
+    E ≤ 12: columns of kinks that exist for none of the geometries are left out.
 
     Conditions for the facet of normal azimuth φ (the other facet is φ + π, hence mod π),
     with l at azimuth 0 and v at azimuth Δφ: n_f·l = 0, n_f·l = 2 cos θa cos θi (shadowing
@@ -158,8 +160,12 @@ def _phi_edges(theta_a, ti, tr, dphi) -> np.ndarray:
     roots += _solve_kinks(ci * sr * cd - cr * si + zero, ci * sr * sd + zero, zero)
     k = np.stack(roots, axis=-1)
     k = np.where(np.isnan(k), math.pi, np.mod(k, math.pi))
-    ends = np.broadcast_to(np.array([0.0, math.pi]), k.shape[:-1] + (2,))
-    return np.sort(np.concatenate([ends, k], axis=-1), axis=-1)
+    k = np.sort(k, axis=-1)
+    # kinks that do not exist sit at π: drop the columns where no row has a real one
+    n = int(np.max(np.sum(k < math.pi, axis=-1), initial=0))
+    k = k[..., :n]
+    zero = np.zeros(k.shape[:-1] + (1,))
+    return np.concatenate([zero, k, zero + math.pi], axis=-1)
 
 
 def _directions(ti, tr, dphi):
