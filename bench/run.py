@@ -414,7 +414,7 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
         fc = e.get("fast_over_c")
         fn = e.get("fast_over_numpy")
         target = TARGET_C_QUALITATIVE if "qualitative" in e["model"] else TARGET_C
-        fc_txt = "–" if fc is None else f"{fc:.2f}" + ("" if fc >= target else " ✗")
+        fc_txt = "–" if fc is None else f"{fc:.3f}" + ("" if fc >= target else " ✗")
         fn_txt = "–" if fn is None else f"{fn:.1f}" + ("" if fn >= TARGET_NUMPY else " ✗")
         err_txt = ", ".join(f"{err[k]:.1e}" for k in ("fast", "c") if k in err)
         lines.append(
