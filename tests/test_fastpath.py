@@ -212,6 +212,17 @@ def test_bad_input_raises_value_error(rng):
         fastpath.evaluate(model, n, l, v, chunk=0)
 
 
+def test_long_and_short_vectors_are_valid_where_the_reference_accepts_them():
+    """Squared norms of 1e26 and 1e-26 are fine in float32 (their product is not)."""
+    n = np.array([[0.0, 0.0, 1e13], [0.0, 0.0, 1e-13]], np.float32)
+    l = np.array([[0.0, 6e12, 8e12], [0.0, 6e-14, 8e-14]], np.float32)
+    v = np.array([[3e12, 0.0, 4e12], [3e-14, 0.0, 4e-14]], np.float32)
+    model = rd.OrenNayar(0.8, 0.3)
+    np.testing.assert_allclose(
+        fastpath.evaluate(model, n, l, v), model.radiance(n, l, v), rtol=1e-5
+    )
+
+
 def test_jax_input_is_refused_with_a_pointer_to_radiance():
     jnp = pytest.importorskip("jax.numpy")
     z = jnp.asarray([[0.0, 0.0, 1.0]])
