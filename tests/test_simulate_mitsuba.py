@@ -16,6 +16,7 @@ import math
 
 import mitsuba as mi  # a test dependency (pyproject's "test" extra): no skip without it
 import numpy as np
+import pytest
 
 from roughdiffuse.simulate.cavity import cavity_radiance
 from roughdiffuse.simulate.grooves import render_grooves, write_groove_ply
@@ -33,8 +34,16 @@ def _dir(theta: float, phi: float) -> np.ndarray:
     )
 
 
-def test_mitsuba_v_grooves_match_cavity_radiance(tmp_path):
+@pytest.fixture
+def scalar_rgb():
+    previous = mi.variant()
     mi.set_variant("scalar_rgb")
+    yield
+    if previous is not None:  # other test modules may rely on the variant they set
+        mi.set_variant(previous)
+
+
+def test_mitsuba_v_grooves_match_cavity_radiance(tmp_path, scalar_rgb):
     rng = np.random.default_rng(11)
     geometries = []
     for ta in (0.3, 0.7, 1.0):

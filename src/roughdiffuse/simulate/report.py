@@ -321,12 +321,21 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
 def _pixels_figure(plt, mi, out: Path, quick: bool) -> None:
     """Render a V-groove surface with visible facets, average it to pixels, and compare the
     averaged brightness over view angles with the solver (the lecture's finite-pixel point)."""
+    previous = mi.variant()
+    mi.set_variant("scalar_rgb")
+    try:
+        _pixels_render(plt, mi, out, quick)
+    finally:
+        if previous is not None:  # leave Mitsuba as the caller had it
+            mi.set_variant(previous)
+
+
+def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
     import tempfile
 
     from .cavity import cavity_radiance
     from .grooves import render_grooves, write_groove_ply
 
-    mi.set_variant("scalar_rgb")
     theta_a, theta_i, rho = 0.6, math.radians(50.0), 0.8
     wi = np.array([math.sin(theta_i), 0.0, math.cos(theta_i)])
 
