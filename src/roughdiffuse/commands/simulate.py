@@ -112,7 +112,11 @@ def run(args: argparse.Namespace) -> int:
         from ..simulate.report import write_report
 
         out = write_report(
-            args.output, quick=args.quick, progress=not args.no_progress, workers=args.workers
+            args.output,
+            quick=args.quick,
+            progress=not args.no_progress,
+            workers=args.workers,
+            scheduler=args.scheduler,
         )
         print(f"report written to {out}")
         return 0
@@ -134,7 +138,8 @@ def run(args: argparse.Namespace) -> int:
         )
         print(
             f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
-            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e}"
+            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
+            "(before Richardson extrapolation, which the values have)"
         )
         return 0
     for name in ("theta_i", "theta_r"):

@@ -89,9 +89,17 @@ def _where(t, idx) -> str:
 
 
 def write_report(
-    out: str | Path, quick: bool = False, progress: bool = True, workers: int = 1
+    out: str | Path,
+    quick: bool = False,
+    progress: bool = True,
+    workers: int = 1,
+    scheduler: str | None = None,
 ) -> Path:
-    """Compute the ground truth and write the accuracy report into folder ``out``."""
+    """Compute the ground truth and write the accuracy report into folder ``out``.
+
+    The tables are computed by :func:`compute_table` (``workers`` processes, or the Dask
+    ``scheduler`` at that address) and reused by later runs with the same grid.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -121,6 +129,7 @@ def write_report(
             bounces,
             Settings(measure=measure),
             workers=workers,
+            scheduler=scheduler,
             progress=progress,
         )
 
