@@ -130,3 +130,19 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
 def test_missing_folder_is_a_value_error(tmp_path):
     with pytest.raises(ValueError, match="does not exist"):
         write_npy(tmp_path / "nope" / "a.npy", np.zeros(2))
+
+
+def test_read_png_agrees_with_pillow(tmp_path):
+    """Our PNG decoder against Pillow on 8-bit RGB and 16-bit grey (both filters paths)."""
+    from roughdiffuse.render.imagefile import read_png
+
+    rng = np.random.default_rng(0)
+    rgb = rng.integers(0, 256, size=(37, 23, 3), dtype=np.uint8)
+    rgb[:, :5] = 200  # flat areas make the encoder pick other filters
+    Image.fromarray(rgb).save(tmp_path / "a.png")
+    pix, bits, _ = read_png(tmp_path / "a.png")
+    assert bits == 8 and np.array_equal(pix, rgb)
+    grey = rng.integers(0, 65536, size=(19, 31), dtype=np.uint16)
+    Image.fromarray(grey).save(tmp_path / "b.png")
+    pix, bits, _ = read_png(tmp_path / "b.png")
+    assert bits == 16 and np.array_equal(pix[..., 0], np.asarray(Image.open(tmp_path / "b.png")))

@@ -18,115 +18,20 @@ from __future__ import annotations
 
 import math
 import os
-import struct
-import zlib
 from typing import Any
 
 import numpy as np
 
+from ..render.imagefile import read_png, srgb_to_linear
 from .measurements import Measurements
 
 __all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]
 
 
-# --------------------------------------------------------------------------- PNG
-def _paeth(a: int, b: int, c: int) -> int:
-    p = a + b - c
-    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-    if pa <= pb and pa <= pc:
-        return a
-    return b if pb <= pc else c
-
-
-def _unfilter(raw: np.ndarray, h: int, stride: int, bpp: int) -> np.ndarray:
-    """Undo the PNG scanline filters (ISO/IEC 15948 §9); rows of ``stride`` bytes."""
-    data = raw.reshape(h, stride + 1)
-    out = np.zeros((h, stride), dtype=np.uint8)
-    prev = np.zeros(stride, dtype=np.int64)
-    for y in range(h):
-        kind = int(data[y, 0])
-        row = data[y, 1:].astype(np.int64)
-        if kind == 0:
-            cur = row
-        elif kind == 1:  # Sub: running sum along each byte lane
-            lanes = np.zeros(stride + (-stride) % bpp, dtype=np.int64)
-            lanes[:stride] = row
-            cur = (np.cumsum(lanes.reshape(-1, bpp), axis=0).ravel()[:stride]) % 256
-        elif kind == 2:  # Up
-            cur = (row + prev) % 256
-        elif kind in (3, 4):  # Average, Paeth: sequential along the row
-            cur = np.zeros(stride, dtype=np.int64)
-            r, p = row.tolist(), prev.tolist()
-            c = [0] * stride
-            for x in range(stride):
-                left = c[x - bpp] if x >= bpp else 0
-                if kind == 3:
-                    c[x] = (r[x] + (left + p[x]) // 2) % 256
-                else:
-                    ul = p[x - bpp] if x >= bpp else 0
-                    c[x] = (r[x] + _paeth(left, p[x], ul)) % 256
-            cur = np.asarray(c, dtype=np.int64)
-        else:
-            raise ValueError(f"PNG row {y}: unknown filter type {kind}")
-        out[y] = cur
-        prev = cur
-    return out
-
-
-def _read_png(path: str) -> tuple[np.ndarray, int, dict[str, str]]:
-    """(pixels (H, W, C) uint, bit depth, text chunks) of a non-interlaced PNG."""
-    name = os.path.basename(path)
-    with open(path, "rb") as fh:
-        blob = fh.read()
-    if blob[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError(f"{name}: not a PNG file")
-    pos, idat, text = 8, [], {}
-    header = None
-    while pos + 8 <= len(blob):
-        (length,) = struct.unpack(">I", blob[pos : pos + 4])
-        kind = blob[pos + 4 : pos + 8]
-        payload = blob[pos + 8 : pos + 8 + length]
-        if len(payload) < length:
-            raise ValueError(f"{name}: truncated PNG file")
-        pos += 12 + length
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", payload)
-        elif kind == b"IDAT":
-            idat.append(payload)
-        elif kind in (b"tEXt", b"iTXt"):
-            key, _, rest = payload.partition(b"\0")
-            if kind == b"iTXt":
-                rest = rest[2:].split(b"\0", 2)[-1]
-            text[key.decode("latin-1")] = rest.decode("utf-8", "replace")
-        elif kind == b"IEND":
-            break
-    if header is None:
-        raise ValueError(f"{name}: PNG without IHDR")
-    w, h, bits, color, _, _, interlace = header
-    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
-    if channels is None or bits not in (8, 16) or interlace:
-        raise ValueError(
-            f"{name}: only non-interlaced 8- or 16-bit grey/RGB(A) PNG is supported "
-            f"(colour type {color}, {bits} bits, interlace {interlace})"
-        )
-    try:
-        raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
-    except zlib.error as exc:
-        raise ValueError(f"{name}: corrupt PNG data ({exc})") from None
-    bpp = channels * bits // 8
-    stride = w * bpp
-    if raw.size != h * (stride + 1):
-        raise ValueError(f"{name}: truncated PNG data")
-    rows = _unfilter(raw, h, stride, bpp)
-    dtype = ">u2" if bits == 16 else "u1"
-    pix = rows.reshape(h, -1).view(dtype).reshape(h, w, channels).astype(np.uint32)
-    return pix, bits, text
-
-
 def _png_linear(
     path: str, exposure: float | None, encoding: str | None
 ) -> tuple[np.ndarray, np.ndarray]:
-    pix, bits, text = _read_png(path)
+    pix, bits, text = read_png(path)
     name = os.path.basename(path)
     top = (1 << bits) - 1
     c = pix.shape[2]
@@ -149,7 +54,7 @@ def _png_linear(
     if encoding is None:
         encoding = "srgb" if "sRGB" in text.get("roughdiffuse:encoding", "sRGB") else "linear"
     if encoding == "srgb":
-        lin = np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+        lin = srgb_to_linear(v)
     elif encoding == "linear":
         lin = v
     else:
