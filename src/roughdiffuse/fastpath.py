@@ -53,9 +53,11 @@ __all__ = [
 ]
 
 DEFAULT_CHUNK = 1 << 18
-"""Rows per unit of work (a chunk of float32 inputs and output is about 10 MB). Smaller
-chunks cost Python overhead per chunk (2^16 ran about 10% slower than 2^18 at 2^24 rows);
-converted inputs (another dtype, not contiguous) need one chunk of buffers per thread."""
+"""Rows per unit of work when inputs must be converted (another dtype, not contiguous): one
+chunk of buffers per thread (about 10 MB in float32). Inputs read in place are split in one
+contiguous part per thread instead, like OpenMP's static schedule: each chunk costs Python
+overhead and a GIL hand-over, and on 2^22 rows chunks of 2^16, 2^18, 2^20 and 2^21 rows ran
+at 380, 510, 575 and 590 million rows/s here (two direct halves: 620)."""
 
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 _LOCK = threading.Lock()
@@ -267,7 +269,7 @@ def evaluate(
     irradiance: Any = 1.0,
     *,
     out: np.ndarray | None = None,
-    chunk: int = DEFAULT_CHUNK,
+    chunk: int | None = None,
     threads: int | None = None,
 ) -> np.ndarray:
     """Radiance L = f_r E0 cos θi of ``model``, compiled, on NumPy arrays.
@@ -289,8 +291,10 @@ def evaluate(
     out : ndarray, optional
         Where to write the result (C-contiguous, the right shape and dtype; may be a
         ``numpy.memmap``).
-    chunk : int
-        Rows per unit of work (default :data:`DEFAULT_CHUNK`).
+    chunk : int, optional
+        Rows per unit of work. Default: one contiguous part per thread when the inputs are
+        read in place, else :data:`DEFAULT_CHUNK` rows (converted chunk by chunk). With
+        ``numpy.memmap`` inputs, give a chunk to bound the pages touched at once.
     threads : int, optional
         Threads to use (default: every core this process may run on, :func:`cpu_count`).
 
@@ -308,7 +312,7 @@ def evaluate(
     """
     if not isinstance(model, Model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
-    if chunk < 1:
+    if chunk is not None and chunk < 1:
         raise ValueError(f"chunk must be a positive number of rows (got {chunk})")
     threads = cpu_count() if threads is None else int(threads)
     if threads < 1:
@@ -347,6 +351,13 @@ def evaluate(
         )
     flat_out = out.reshape(-1)
     width = max(channels, 1)
+
+    if chunk is None:
+        in_place = all(
+            const or (a.ndim == 2 and a.dtype == dtype and a.flags.c_contiguous)
+            for a, const in zip(flats, pattern, strict=True)
+        )
+        chunk = max(1, -(-rows // threads)) if in_place else DEFAULT_CHUNK
 
     def rows_of(a: np.ndarray, const: bool, start: int, stop: int) -> np.ndarray:
         if const:
