@@ -97,10 +97,15 @@ def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
+    # Idle OpenMP threads spin (libgomp's default), and spinning after each C call took a
+    # core from the variant timed next: the fast path ran at 0.57 of C interleaved with it,
+    # 0.81 with passive waiting. Passive waiting cost C itself nothing measurable.
+    os.environ.setdefault("OMP_WAIT_POLICY", "passive")
     version = subprocess.run([gcc, "--version"], capture_output=True, text=True).stdout
     line = version.splitlines()[0] if version else "gcc"
     cmd_text = " ".join(["gcc", *CFLAGS, "-o", "kernels.so", "bench/c/kernels.c", "-lm"])
-    return ctypes.CDLL(str(lib)), f"{line}; `{cmd_text}`"
+    policy = os.environ["OMP_WAIT_POLICY"]
+    return ctypes.CDLL(str(lib)), f"{line}; `{cmd_text}`; OMP_WAIT_POLICY={policy}"
 
 
 def c_caller(lib: ctypes.CDLL, name: str, params: tuple[float, ...]) -> Callable[..., None]:
@@ -200,10 +205,13 @@ def bench_size(
             res = fn()
             got = {"fast": out_fast, "c": out_c}.get(k, res)
             errors[k] = rel_error(np.asarray(got)[check], ref)
-        for _ in range(repeat):
-            for k, fn in variants.items():
+        keys = list(variants)
+        for r in range(repeat):
+            # rotate the order: the variant that runs right after the single-threaded NumPy
+            # one starts on an idle second core, which costs it a few percent
+            for k in keys[r % len(keys) :] + keys[: r % len(keys)]:
                 t0 = time.perf_counter()
-                fn()
+                variants[k]()
                 times[k].append(time.perf_counter() - t0)
         entry: dict[str, Any] = {
             "model": label,
