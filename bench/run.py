@@ -207,9 +207,13 @@ def bench_size(
             errors[k] = rel_error(np.asarray(got)[check], ref)
         keys = list(variants)
         for r in range(repeat):
-            # rotate the order: the variant that runs right after the single-threaded NumPy
-            # one starts on an idle second core, which costs it a few percent
+            # rotate the order, and run the short variants once untimed right before their
+            # timed run: after the long single-threaded NumPy run, the first few ms of a
+            # two-thread run were slow (fast/C 0.64 interleaved with NumPy, 0.81 without it,
+            # qualitative Oren-Nayar at 2^22), so each timing is of a steady state
             for k in keys[r % len(keys) :] + keys[: r % len(keys)]:
+                if k != "numpy":
+                    variants[k]()
                 t0 = time.perf_counter()
                 variants[k]()
                 times[k].append(time.perf_counter() - t0)
@@ -408,7 +412,9 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
         f"C reference: {meta['c_compiler']}.",
         "",
         "Radiance of each model on float32 (N, 3) arrays of n, l, v, in million evaluations "
-        f"per second: median of {meta['repeat']} runs after a warm-up, (min–max). "
+        f"per second: median of {meta['repeat']} runs after a warm-up, (min–max); the "
+        "variants take turns in a rotating order, and each timed run of `fast` and `C` "
+        "follows an untimed run of itself (steady state). "
         "`fast` is `roughdiffuse.fastpath.evaluate`, `NumPy` is `model.radiance` on the same "
         "NumPy arrays, `C` is `bench/c/kernels.c`. The ratios are what counts: this machine "
         "is shared and noisy. Targets: fast/C ≥ 0.5 (≥ 0.8 for the qualitative Oren–Nayar "
