@@ -11,12 +11,13 @@ are printed as the body of a scalar loop over the rows, and Numba compiles that 
 (float32 code for float32 input, ``fastmath`` without the no-NaN/no-Inf assumptions). The
 model's parameters are run-time arguments, so a new σ or albedo does not recompile.
 
-Threads: the rows are cut into chunks that a thread pool of ``os.sched_getaffinity`` size
-(all usable cores) evaluates with the GIL released. Memory: nothing but the output is
+Threads: the rows are cut into chunks (by default one contiguous part per core, like
+OpenMP's static schedule) that a thread pool of ``os.sched_getaffinity`` size (all usable
+cores) evaluates with the GIL released. Memory: nothing but the output is
 allocated when the inputs are C-contiguous arrays of the output's dtype; otherwise each chunk
 is converted on its own, so the peak stays near inputs + output. For inputs larger than
-memory, pass ``numpy.memmap`` arrays (and a memmap ``out``): chunks are read and written as
-they are computed. :func:`evaluate_batches` streams an iterable of batches instead.
+memory, pass ``numpy.memmap`` arrays, a memmap ``out`` and a ``chunk``: chunks are read
+and written as they are computed. :func:`evaluate_batches` streams an iterable of batches instead.
 
 Compiled code is cached on disk: the generated modules and Numba's cache files live in
 ``$ROUGHDIFFUSE_CACHE_DIR`` or else ``$XDG_CACHE_HOME/roughdiffuse/fastpath`` (default
@@ -307,7 +308,7 @@ def evaluate(
     --------
     >>> import numpy as np, roughdiffuse as rd
     >>> z = np.array([[0.0, 0.0, 1.0]], dtype=np.float32)
-    >>> float(evaluate(rd.Lambert(1.0), z, z, z)[0] * np.pi)
+    >>> round(float(evaluate(rd.Lambert(1.0), z, z, z)[0] * np.pi), 6)  # float32 in, float32 out
     1.0
     """
     if not isinstance(model, Model):
