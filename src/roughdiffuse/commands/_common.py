@@ -30,6 +30,17 @@ MODEL_NAMES: dict[str, Callable[[argparse.Namespace], Model]] = {
 }
 
 
+def float_list(text: str) -> list[float]:
+    """argparse type: "1, 2,3" or "1 2 3" -> [1.0, 2.0, 3.0] (at least one number)."""
+    try:
+        vals = [float(p) for p in text.replace(",", " ").split()]
+    except ValueError:
+        vals = []
+    if not vals:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers (got {text!r})")
+    return vals
+
+
 def _albedo(text: str) -> float | list[float]:
     parts = [p for p in text.replace(",", " ").split() if p]
     try:

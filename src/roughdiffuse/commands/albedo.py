@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 from . import UsageError
+from ._common import float_list
 
 EXAMPLES = """\
 examples:
@@ -34,16 +35,6 @@ USES_SIGMA = ("oren-nayar", "oren-nayar-full", "torrance-sparrow")
 USES_R = ("fujii", "eon")
 
 
-def _floats(text: str) -> list[float]:
-    try:
-        vals = [float(p) for p in text.split(",") if p.strip()]
-    except ValueError:
-        vals = []
-    if not vals:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers (got {text!r})")
-    return vals
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "albedo",
@@ -62,13 +53,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--sigma",
-        type=_floats,
+        type=float_list,
         default=[0.0, 15.0, 30.0, 45.0, 60.0],
         help="roughness σ in DEGREES, 0 to 90, comma-separated (default: 0,15,30,45,60)",
     )
     p.add_argument(
         "--roughness",
-        type=_floats,
+        type=float_list,
         default=[0.0, 0.25, 0.5, 0.75, 1.0],
         help="Fujii/EON roughness r in [0, 1], comma-separated (default: 0,0.25,0.5,0.75,1)",
     )

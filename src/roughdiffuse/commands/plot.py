@@ -7,7 +7,7 @@ import copy
 import math
 
 from . import UsageError
-from ._common import MODEL_NAMES, add_model_arguments, model_from_args
+from ._common import MODEL_NAMES, add_model_arguments, float_list, model_from_args
 from .render import add_output_arguments, add_scene_arguments, check_output, make_shape
 
 EXAMPLES = """\
@@ -25,16 +25,6 @@ without σ once). σ and the angles are in degrees.
 KINDS = ("plane", "polar", "cross-section", "roughness-series", "albedo")
 
 
-def _floats(text: str) -> list[float]:
-    try:
-        vals = [float(p) for p in text.split(",") if p.strip()]
-    except ValueError:
-        vals = []
-    if not vals:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers (got {text!r})")
-    return vals
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "plot",
@@ -49,12 +39,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "model":
             action.help = f"comma-separated names from: {', '.join(MODEL_NAMES)}"
         if action.dest == "sigma":
-            action.type = _floats
+            action.type = float_list
             action.default = [20.0]
             action.help = "roughness σ in DEGREES, 0 to 90, comma-separated (default: 20)"
     p.add_argument(
         "--theta-i",
-        type=_floats,
+        type=float_list,
         default=[30.0, 60.0],
         help="plane/polar: incidence angles θi, degrees [0, 90], comma-separated (default 30,60)",
     )

@@ -6,6 +6,7 @@ import argparse
 import math
 
 from . import UsageError
+from ._common import float_list
 
 EXAMPLES = """\
 examples:
@@ -17,18 +18,6 @@ examples:
 A table run writes finished chunks to FILE.chunks/; run the same command again to resume.
 Angles in DEGREES.
 """
-
-
-def _degrees_list(text: str) -> list[float]:
-    try:
-        vals = [float(p) for p in text.replace(",", " ").split()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected comma-separated numbers (got {text!r})"
-        ) from None
-    if not vals:
-        raise argparse.ArgumentTypeError("expected at least one number")
-    return vals
 
 
 def _bounces(text: str) -> int | str:
@@ -56,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--delta-phi", type=float, default=0.0, help="azimuth φr − φi, degrees")
     p.add_argument(
         "--sigma",
-        type=_degrees_list,
+        type=float_list,
         default=[20.0],
         help="roughness σ in DEGREES (list for tables)",
     )
