@@ -2,9 +2,13 @@
 
 Run from the repository root::
 
-    python bench/run.py                 # 2^22 and 2^24 geometries, 7 runs each
+    python bench/run.py                 # 2^22 and 2^24 geometries, 7 runs each; all parts
     python bench/run.py --sizes 22 --repeat 9
     roughdiffuse bench --sizes 22       # the same through the CLI
+    python bench/run.py --no-render --no-fit --no-simulate     # the models only
+    python bench/run.py --sizes 10 --repeat 1 --no-first-call --memory-log2 0 \
+        --fit-size 64 --fit-repeat 1 --simulate-repeat 1 --simulate-cavities 400 \
+        --simulate-geometries 1 --output-dir /tmp/bench          # a quick check of every part
 
 For each model and size it builds float32 (N, 3) arrays of normals, light and view directions
 (as a user would pass them) and times, interleaved run by run so that the machine's noise hits
@@ -19,8 +23,12 @@ Each variant's output is checked against ``model.radiance`` first. Reported: mil
 evaluations per second, median of ``--repeat`` runs after one warm-up, with min and max, and
 the ratios fast/C and fast/NumPy (the numbers that count on a noisy shared machine). Also
 measured: the first call of the fast path in a new process (cold and warm disk cache) and the
-peak memory of evaluating 2^26 geometries. Writes ``bench/RESULTS.md`` and
-``bench/results.json`` (atomically).
+peak memory of evaluating 2^26 geometries; the renderer (a 1024² sphere, 4 samples per pixel,
+against NumPy shading); the fit of (ρ, σ) to a 1-megapixel image against a SciPy baseline
+(``bench/fit_bench.py``); the V-cavity solver, NumPy and JAX paths
+(``bench/simulate_bench.py``, run in a subprocess with single-threaded BLAS). Writes
+``bench/RESULTS.md`` and ``bench/results.json`` (atomically). Timing helpers:
+``bench/timing.py``.
 """
 
 from __future__ import annotations
@@ -37,7 +45,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -45,6 +52,11 @@ from typing import Any
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
+if str(HERE) not in sys.path:  # also when loaded by `roughdiffuse bench`
+    sys.path.insert(0, str(HERE))
+
+from timing import interleaved, rate_summary, write_atomic  # noqa: E402
+
 C_SOURCE = HERE / "c" / "kernels.c"
 CFLAGS = ["-O3", "-march=native", "-fopenmp", "-ffast-math", "-shared", "-fPIC"]
 
@@ -157,17 +169,7 @@ def geometries(rows: int, seed: int = 1994) -> tuple[np.ndarray, np.ndarray, np.
     return out[0], out[1], out[2]
 
 
-# ------------------------------------------------------------------ timing
-def stats(times: list[float], rows: int) -> dict[str, float]:
-    rates = sorted(rows / t / 1e6 for t in times)
-    return {
-        "median": float(np.median(rates)),
-        "min": rates[0],
-        "max": rates[-1],
-        "runs": len(rates),
-    }
-
-
+# ------------------------------------------------------------------ agreement
 def rel_error(a: np.ndarray, ref: np.ndarray) -> float:
     ref = np.asarray(ref, np.float64)
     scale = max(float(np.max(np.abs(ref))), 1e-30)
@@ -200,23 +202,15 @@ def bench_size(
             variants["numpy"] = lambda m=model: m.radiance(n, l, v)
         ref = np.asarray(model.radiance(n[check], l[check], v[check]))
         errors = {}
-        times: dict[str, list[float]] = {k: [] for k in variants}
         for k, fn in variants.items():  # warm-up (compiles) and the agreement check
             res = fn()
             got = {"fast": out_fast, "c": out_c}.get(k, res)
             errors[k] = rel_error(np.asarray(got)[check], ref)
-        keys = list(variants)
-        for r in range(repeat):
-            # rotate the order, and run the short variants once untimed right before their
-            # timed run: after the long single-threaded NumPy run, the first few ms of a
-            # two-thread run were slow (fast/C 0.64 interleaved with NumPy, 0.81 without it,
-            # qualitative Oren-Nayar at 2^22), so each timing is of a steady state
-            for k in keys[r % len(keys) :] + keys[: r % len(keys)]:
-                if k != "numpy":
-                    variants[k]()
-                t0 = time.perf_counter()
-                variants[k]()
-                times[k].append(time.perf_counter() - t0)
+        # rotate the order, and run the short variants once untimed right before their
+        # timed run: after the long single-threaded NumPy run, the first few ms of a
+        # two-thread run were slow (fast/C 0.64 interleaved with NumPy, 0.81 without it,
+        # qualitative Oren-Nayar at 2^22), so each timing is of a steady state
+        times = interleaved(variants, repeat, steady=[k for k in variants if k != "numpy"])
         entry: dict[str, Any] = {
             "model": label,
             "repr": repr(model),
@@ -225,7 +219,7 @@ def bench_size(
             "max_rel_error_vs_reference": errors,
         }
         for k in variants:
-            entry[k] = stats(times[k], rows)
+            entry[k] = rate_summary(times[k], rows)
         if "c" in entry:
             entry["fast_over_c"] = entry["fast"]["median"] / entry["c"]["median"]
         if "numpy" in entry:
@@ -299,21 +293,58 @@ def bench_render(repeat: int, size: int = 1024, spp: int = 4) -> dict[str, Any]:
         "fast": lambda: average(fastpath.evaluate(model, n, l_dir, v_dir)),
     }
     images = {key: np.asarray(fn()) for key, fn in variants.items()}  # warm-up (jit)
-    times: dict[str, list[float]] = {key: [] for key in variants}
-    for _ in range(repeat):
-        for key, fn in variants.items():
-            t0 = time.perf_counter()
-            np.asarray(fn())
-            times[key].append(time.perf_counter() - t0)
+    times = interleaved(variants, repeat)
     samples = size * size * spp
     res: dict[str, Any] = {"size": size, "spp": spp, "samples": samples}
     for key in variants:
-        res[key] = stats(times[key], samples)
+        res[key] = rate_summary(times[key], samples)
     res["max_abs_difference_vs_render"] = {
         key: float(np.max(np.abs(images[key] - images["render"]))) for key in ("numpy", "fast")
     }
     res["render_over_numpy"] = res["render"]["median"] / res["numpy"]["median"]
     res["fast_over_numpy"] = res["fast"]["median"] / res["numpy"]["median"]
+    return res
+
+
+# ------------------------------------------------------------------ fit and solver
+def bench_fit(repeat: int, size: int) -> dict[str, Any]:
+    """``bench/fit_bench.py``: our fit against the SciPy baseline, every case."""
+    import fit_bench
+
+    return {"image_size": size, "repeat": repeat, "rows": fit_bench.bench_fit(repeat, size=size)}
+
+
+SOLVER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+"""Environment of the solver's subprocess: single-threaded BLAS (its matrices are small)."""
+
+
+def bench_simulate(repeat: int, cavities: int, geometries: int, cases: str) -> dict[str, Any]:
+    """``bench/simulate_bench.py`` in a subprocess with :data:`SOLVER_ENV`; its JSON rows.
+
+    This process has imported NumPy (and its BLAS threads) already, so the solver runs in a
+    new one, where BLAS starts single-threaded.
+    """
+    cmd = [
+        sys.executable,
+        str(HERE / "simulate_bench.py"),
+        "--repeat", str(repeat),
+        "--cavities", str(cavities),
+        "--geometries", str(geometries),
+        "--json", "-",
+    ]  # fmt: skip
+    if cases:
+        cmd += ["--cases", cases]
+    res: dict[str, Any] = {
+        "repeat": repeat,
+        "cavities": cavities,
+        "geometries": geometries,
+        "environment": SOLVER_ENV,
+    }
+    out = subprocess.run(cmd, env={**os.environ, **SOLVER_ENV}, capture_output=True, text=True)
+    if out.returncode != 0:
+        res["error"] = (out.stderr.strip().splitlines() or ["failed"])[-1]
+        return res
+    res["rows"] = json.loads(out.stdout.strip().splitlines()[-1])
     return res
 
 
@@ -408,7 +439,7 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
         "",
         f"Produced by `{meta['command']}` on {meta['date']} — {meta['cores']} cores "
         f"({meta['cpu']}), Python {meta['python']}, NumPy {meta['numpy']}, "
-        f"Numba {meta['numba']}.",
+        f"Numba {meta['numba']}, JAX {meta.get('jax', '–')}, SciPy {meta.get('scipy', '–')}.",
         f"C reference: {meta['c_compiler']}.",
         "",
         "Radiance of each model on float32 (N, 3) arrays of n, l, v, in million evaluations "
@@ -475,6 +506,43 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
                 f"Largest pixel difference from `render`: NumPy {diff['numpy']:.1e}, fast "
                 f"{diff['fast']:.1e}."
             )
+    fit = extra.get("fit")
+    if fit:
+        import fit_bench
+
+        size = fit["image_size"]
+        lines += ["", f"## Fit of (ρ, σ) to a {size} × {size} image", ""]
+        lines.append(
+            f"`roughdiffuse.fit.fit` of an Oren–Nayar model to a {size} × {size} sphere image "
+            "(ρ = 0.7, σ = 0.4, 1% noise; `bench/fit_bench.py`), against the simplest honest "
+            "baseline, timed interleaved with it: `scipy.optimize.least_squares` on the same "
+            "pixels, residuals from `model.radiance` on NumPy arrays, its default "
+            "finite-difference Jacobian, from the centre of the same bounds (fit's first start)."
+            f" Warm runs: median of {fit['repeat']} (min–max); the first fit in a process adds "
+            f"JAX compilation. Target: under {fit_bench.TARGET_S:g} s. "
+            f"Command: `{meta['command']}`."
+        )
+        lines += ["", fit_bench.table(fit["rows"])]
+    sim = extra.get("simulate")
+    if sim:
+        import simulate_bench
+
+        lines += ["", "## V-cavity solver", ""]
+        env = " ".join(f"{k}={v}" for k, v in sim["environment"].items())
+        lines.append(
+            "`roughdiffuse.simulate`: evaluations per second, median of "
+            f"{sim['repeat']} runs after a warm-up (min–max), of the NumPy path (the baseline) "
+            "and of the same call with `jax.numpy` arrays (float64, after a warm-up call that "
+            "compiles), interleaved. Surface BRDF rows use the default `Settings()` (1e-4 "
+            "accuracy, docs/accuracy.md); the table time is extrapolated from the median "
+            f"rate, for two worker processes. Run by `bench/simulate_bench.py` in a subprocess "
+            f"with {env}. Command: `{meta['command']}`."
+        )
+        lines.append("")
+        if "error" in sim:
+            lines.append(f"error: {sim['error']}")
+        else:
+            lines.append(simulate_bench.markdown(sim["rows"]))
     mem = extra.get("memory")
     if mem:
         lines += ["", "## Memory", ""]
@@ -494,10 +562,17 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
     return "\n".join(lines)
 
 
-def write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + f".{os.getpid()}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+def _versions(*names: str) -> dict[str, str]:
+    """Installed versions of these distributions (without importing them)."""
+    from importlib import metadata
+
+    out = {}
+    for name in names:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = "not installed"
+    return out
 
 
 def parser(add_help: bool = True) -> argparse.ArgumentParser:
@@ -521,6 +596,28 @@ def parser(add_help: bool = True) -> argparse.ArgumentParser:
     )
     p.add_argument("--no-first-call", action="store_true", help="skip the first-call test")
     p.add_argument("--no-render", action="store_true", help="skip the renderer benchmark")
+    p.add_argument("--no-fit", action="store_true", help="skip the fit benchmark")
+    p.add_argument("--fit-size", type=int, default=1200, help="fit image side (default 1200)")
+    p.add_argument("--fit-repeat", type=int, default=5, help="timed runs of each fit (default 5)")
+    p.add_argument("--no-simulate", action="store_true", help="skip the V-cavity solver")
+    p.add_argument("--simulate-repeat", type=int, default=3, help="timed solver runs (default 3)")
+    p.add_argument(
+        "--simulate-cavities",
+        type=int,
+        default=200_000,
+        help="cavities of the solver's cavity cases (default 200000)",
+    )
+    p.add_argument(
+        "--simulate-geometries",
+        type=int,
+        default=48,
+        help="geometries of the solver's surface BRDF cases (default 48)",
+    )
+    p.add_argument(
+        "--simulate-cases",
+        default="",
+        help="only solver cases whose name contains one of these comma-separated texts",
+    )
     p.add_argument(
         "--output-dir", type=Path, default=HERE, help="where RESULTS.md and results.json go"
     )
@@ -544,6 +641,13 @@ def run(args: argparse.Namespace, command: str) -> int:
         raise ValueError(f"--sizes must be log2 sizes in [4, 28] (got {args.sizes!r})")
     if args.repeat < 1:
         raise ValueError(f"--repeat must be >= 1 (got {args.repeat})")
+    for name in ("fit_repeat", "simulate_repeat", "simulate_geometries"):
+        if getattr(args, name) < 1:
+            raise ValueError(f"--{name.replace('_', '-')} must be >= 1 (got {getattr(args, name)})")
+    if args.fit_size < 16:
+        raise ValueError(f"--fit-size must be >= 16 pixels (got {args.fit_size})")
+    if args.simulate_cavities < 100:
+        raise ValueError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
     if args.memory_log2 and not 10 <= args.memory_log2 <= 28:
         raise ValueError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
     import numba
@@ -566,6 +670,16 @@ def run(args: argparse.Namespace, command: str) -> int:
     if not args.no_render:
         extra["render"] = bench_render(args.repeat)
         print(f"render: {json.dumps(extra['render'])}", flush=True)
+    if not args.no_fit:
+        extra["fit"] = bench_fit(args.fit_repeat, args.fit_size)
+    if not args.no_simulate:
+        extra["simulate"] = bench_simulate(
+            args.simulate_repeat,
+            args.simulate_cavities,
+            args.simulate_geometries,
+            args.simulate_cases,
+        )
+        print(f"simulate: {json.dumps(extra['simulate'])}", flush=True)
     if args.memory_log2:
         extra["memory"] = memory(args.memory_log2)
         print(f"memory: {json.dumps(extra['memory'])}", flush=True)
@@ -577,6 +691,7 @@ def run(args: argparse.Namespace, command: str) -> int:
         "python": platform.python_version(),
         "numpy": np.__version__,
         "numba": numba.__version__,
+        **_versions("jax", "scipy"),
         "c_compiler": c_note,
         "repeat": args.repeat,
     }

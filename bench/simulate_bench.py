@@ -1,148 +1,263 @@
 """Speed of the V-cavity solver (roughdiffuse.simulate): cavities per second, table times.
 
-Run from the repository root::
+``bench/run.py`` runs this file in a subprocess (BLAS must be single-threaded, see below) and
+puts its rows in ``bench/RESULTS.md``; on its own::
 
-    python bench/simulate_bench.py     # prints a table, writes bench/simulate_results.md
-    python bench/simulate_bench.py --json bench/simulate_results.json
+    python bench/simulate_bench.py                          # prints the table
+    python bench/simulate_bench.py --cavities 2000 --geometries 2 --json /tmp/sim.json
+    python bench/simulate_bench.py --cases "closed form,bounces=1"   # only those cases
 
-Measured:
+Measured, each with the NumPy solver path (the baseline) and, next to it, the same call with
+``jax.numpy`` arrays (the solver's JAX path, jitted; timed after a warm-up call, float64),
+interleaved run by run:
 
-* cavity evaluations per second, one bounce (closed form) and all bounces (radiosity, K = 16
-  elements per facet, Richardson-extrapolated from K and 2K), for cavities that share one
-  slope θa (as the surface quadrature calls them) and for cavities of all-different θa;
-* surface BRDF evaluations per second with the default settings (those that give 1e-4, see
-  docs/accuracy.md) for σ = 0.3 and 0.7, one bounce and all bounces, on random geometries;
+* cavity evaluations per second (``cavity_radiance``), one bounce (closed form) and all
+  bounces (radiosity, K = 16 and 32 elements per facet, Richardson-extrapolated from K and
+  2K), for cavities that share one slope θa (as the surface quadrature calls them) and for
+  cavities of all-different θa;
+* surface BRDF evaluations per second (``brdf``) with the default settings (those that give
+  1e-4, see docs/accuracy.md) for σ = 0.3 and 0.7, one bounce and all bounces, on random
+  geometries;
 * from those rates, the time of a 90 × 90 × 180 × 1 table (θi, θr, Δφ at 1°, one σ) on 2
   cores, assuming two worker processes scale linearly (the chunks are independent).
 
-BLAS runs single-threaded here (set before NumPy is imported): the solver's matrices are small
-(2K ≤ 256), and two BLAS threads per process on 2 shared cores ran it 3× slower. Dask workers
-(``--workers``) get one BLAS thread each by default; for a single process, set
-``OPENBLAS_NUM_THREADS=1`` yourself.
-
-``bench/run.py`` may import :func:`bench_simulate` and add its rows to its report.
+If the call with JAX arrays raises, or returns a NumPy array (no JAX path), the row says "not
+available" with the reason. BLAS runs single-threaded here (set before NumPy is imported): the
+solver's matrices are small (2K ≤ 256), and two BLAS threads per process on 2 shared cores ran
+it 3× slower. Run as a script, this file sets ``OPENBLAS_NUM_THREADS=1`` and
+``OMP_NUM_THREADS=1`` (unless set); imported, it changes nothing, so call :func:`bench_simulate`
+in a process started with them (as ``bench/run.py`` does). Dask workers (``--workers``) get one
+BLAS thread each by default; for a single process, set ``OPENBLAS_NUM_THREADS=1`` yourself.
 """
 
 from __future__ import annotations
 
 import os
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+if __name__ == "__main__":  # before NumPy is imported; bench/run.py sets them for its subprocess
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
-import platform  # noqa: E402
-import time  # noqa: E402
+import sys  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from timing import block, interleaved, rate_summary  # noqa: E402
+
 TABLE_SIZE = 90 * 90 * 180
+CORES = 2
+CAVITIES = 200_000
+GEOMETRIES = 48
 
 
-def _rate(fn, n: int, repeat: int) -> float:
-    fn()  # warm-up
-    best = math.inf
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return n / best
-
-
-def _dirs(rng, n):
+def _dirs(rng: np.random.Generator, n: int) -> np.ndarray:
     th = rng.uniform(0, 1.4, n)
     ph = rng.uniform(0, 2 * math.pi, n)
     return np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], axis=-1)
 
 
-def bench_simulate(repeat: int = 3, n_surface: int = 48) -> list[dict]:
-    """Time the cases; one dict per case with evaluations per second."""
+def _jax_numpy() -> Any:
+    """``jax.numpy`` with float64 enabled (the solver's precision), or None without JAX."""
+    try:
+        import jax
+    except ImportError:
+        return None
+    jax.config.update("jax_enable_x64", True)
+    return jax.numpy
+
+
+def _rel_difference(a: Any, ref: np.ndarray) -> float:
+    ref = np.asarray(ref, np.float64)
+    scale = max(float(np.max(np.abs(ref))), 1e-300)
+    return float(np.max(np.abs(np.asarray(a, np.float64) - ref)) / scale)
+
+
+def _case(
+    name: str,
+    count: int,
+    run: Callable[[Any], Any],
+    args: tuple[np.ndarray, ...],
+    repeat: int,
+    jnp: Any,
+) -> dict[str, Any]:
+    """Time ``run(*args)`` on NumPy arrays and on JAX arrays; evaluations per second."""
+    variants: dict[str, Callable[[], Any]] = {"numpy": lambda: run(*args)}
+    ref = np.asarray(run(*args))  # warm-up
+    row: dict[str, Any] = {"case": name, "evaluations": count}
+    if jnp is None:
+        row["jax_error"] = "not available: JAX is not installed"
+    else:
+        jargs = tuple(jnp.asarray(a) for a in args)
+        try:
+            got = block(run(*jargs))  # warm-up: tracing and compilation
+            if isinstance(got, np.ndarray) or not hasattr(got, "block_until_ready"):
+                raise TypeError(f"returned {type(got).__name__}, not a JAX array (no JAX path)")
+            row["jax_max_rel_difference_vs_numpy"] = _rel_difference(got, ref)
+            variants["jax"] = lambda: run(*jargs)
+        except Exception as exc:  # the JAX path may not exist (yet): say so, go on
+            msg = " ".join(f"{type(exc).__name__}: {exc}".split())
+            row["jax_error"] = "not available: " + msg[:300]
+    times = interleaved(variants, repeat)
+    for k, t in times.items():
+        row[k] = rate_summary(t, count, unit=1.0)
+    if "jax" in row:
+        row["jax_over_numpy"] = row["jax"]["median"] / row["numpy"]["median"]
+    return row
+
+
+def bench_simulate(
+    repeat: int = 3,
+    n_surface: int = GEOMETRIES,
+    n_cavities: int = CAVITIES,
+    only: list[str] | None = None,
+) -> list[dict[str, Any]]:
+    """Time the cases; one dict per case with evaluations per second (median, min, max).
+
+    Parameters
+    ----------
+    repeat : int
+        Timed runs per variant, after one warm-up call.
+    n_surface : int
+        Random geometries of the surface BRDF cases.
+    n_cavities : int
+        Cavities of the one-bounce case; a quarter of them for the all-bounce cases of one
+        shared slope, a hundredth for all-different slopes.
+    only : list of str, optional
+        Run only the cases whose name contains one of these texts.
+    """
     from roughdiffuse.simulate import Settings, brdf, cavity_radiance
-    from roughdiffuse.simulate.cavity import InterreflectionSolver, _Facets
 
     rng = np.random.default_rng(0)
-    rows = []
-    n = 200_000
+    n = n_cavities
     ta = rng.uniform(0, 1.4, n)
     pa = rng.uniform(0, 2 * math.pi, n)
     wi, wo = _dirs(rng, n), _dirs(rng, n)
-    r = _rate(lambda: cavity_radiance(ta, pa, wi, wo, 0.9, 1), n, repeat)
-    rows.append({"case": "cavity, 1 bounce (closed form)", "per_second": r})
-
-    n2 = 50_000
-    l = tuple(wi[:n2, k] for k in range(3))
-    v = tuple(wo[:n2, k] for k in range(3))
-    for k in (16, 32):
-        solver = InterreflectionSolver(0.8, 0.9, "all", k, True)
-
-        def shared(solver=solver):
-            f = _Facets(0.8, np.cos(pa[:n2]), np.sin(pa[:n2]), l, v, 0.9)
-            return f.single + solver(f)
-
-        rows.append(
-            {
-                "case": f"cavity, all bounces, K={k} (+2K), shared θa",
-                "per_second": _rate(shared, n2, repeat),
-            }
-        )
-    n3 = 2000
-    r = _rate(lambda: cavity_radiance(ta[:n3], pa[:n3], wi[:n3], wo[:n3], 0.9, "all", 16), n3, 1)
-    rows.append({"case": "cavity, all bounces, K=16 (+2K), distinct θa", "per_second": r})
-
+    n2, n3 = max(n // 4, 1), max(n // 100, 1)
     ti, tr = rng.uniform(0, 1.5, (2, n_surface))
     dp = rng.uniform(0, math.pi, n_surface)
+
+    def cavities(bounces: Any, k: int = 32) -> Callable[..., Any]:
+        return lambda t, p, i, o: cavity_radiance(t, p, i, o, 0.9, bounces, k)
+
+    def surface(sigma: float, bounces: Any) -> Callable[..., Any]:
+        return lambda a, b, c: brdf(a, b, c, sigma, 0.9, bounces, Settings())
+
+    specs: list[tuple[str, int, Callable[..., Any], tuple[np.ndarray, ...]]] = [
+        ("cavity, 1 bounce (closed form)", n, cavities(1), (ta, pa, wi, wo))
+    ]
+    shared = (np.full(n2, 0.8), pa[:n2], wi[:n2], wo[:n2])
+    for k in (16, 32):
+        specs.append(
+            (f"cavity, all bounces, K={k} (+2K), shared θa", n2, cavities("all", k), shared)
+        )
+    specs.append(
+        (
+            "cavity, all bounces, K=16 (+2K), distinct θa",
+            n3,
+            cavities("all", 16),
+            (ta[:n3], pa[:n3], wi[:n3], wo[:n3]),
+        )
+    )
     for sigma in (0.3, 0.7):
         for bounces in (1, "all"):
-            rate = _rate(
-                lambda s=sigma, b=bounces: brdf(ti, tr, dp, s, 0.9, b, Settings()), n_surface, 1
+            specs.append(
+                (
+                    f"surface BRDF, σ={sigma}, bounces={bounces}",
+                    n_surface,
+                    surface(sigma, bounces),
+                    (ti, tr, dp),
+                )
             )
-            rows.append(
-                {
-                    "case": f"surface BRDF, σ={sigma}, bounces={bounces}",
-                    "per_second": rate,
-                    "table_90x90x180_hours_2_cores": TABLE_SIZE / rate / 2 / 3600,
-                }
-            )
+    if only:
+        specs = [s for s in specs if any(text in s[0] for text in only)]
+        if not specs:
+            raise ValueError(f"no solver case matches {only!r}")
+    jnp = _jax_numpy()
+    rows = []
+    for name, count, fn, args in specs:
+        row = _case(name, count, fn, args, repeat, jnp)
+        if name.startswith("surface"):
+            for k in ("numpy", "jax"):
+                if k in row:
+                    row[f"table_90x90x180_hours_{CORES}_cores_{k}"] = (
+                        TABLE_SIZE / row[k]["median"] / CORES / 3600
+                    )
+        rows.append(row)
     return rows
 
 
-def markdown(rows: list[dict]) -> str:
+def markdown(rows: list[dict[str, Any]]) -> str:
+    """Markdown table of :func:`bench_simulate` rows."""
     lines = [
-        "# V-cavity solver speed (bench/simulate_bench.py)",
-        "",
-        f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-        f"Python {platform.python_version()}, NumPy {np.__version__}. Best of repeated runs; "
-        "the machine is shared, so the figures are lower bounds of its speed.",
-        "",
-        "| case | evaluations / s | 90×90×180 table on 2 cores (h, extrapolated) |",
-        "| --- | --- | --- |",
+        "| case | N | NumPy, evaluations / s | JAX, evaluations / s | JAX / NumPy "
+        f"| 90×90×180 table on {CORES} cores, h (NumPy; JAX) |",
+        "| --- | ---: | --- | --- | ---: | --- |",
     ]
     for r in rows:
-        t = r.get("table_90x90x180_hours_2_cores")
-        lines.append(f"| {r['case']} | {r['per_second']:.4g} | {'' if t is None else f'{t:.3g}'} |")
-    lines.append("")
+        num = r["numpy"]
+        num_txt = f"{num['median']:.4g} ({num['min']:.4g}–{num['max']:.4g})"
+        if "jax" in r:
+            j = r["jax"]
+            jax_txt = f"{j['median']:.4g} ({j['min']:.4g}–{j['max']:.4g})"
+            ratio = f"{r['jax_over_numpy']:.2f}"
+        else:
+            jax_txt = r.get("jax_error", "–").replace("|", "\\|")
+            ratio = "–"
+        hours = [
+            f"{r[key]:.3g}"
+            for key in (f"table_90x90x180_hours_{CORES}_cores_{k}" for k in ("numpy", "jax"))
+            if key in r
+        ]
+        lines.append(
+            f"| {r['case']} | {r['evaluations']:,} | {num_txt} | {jax_txt} | {ratio} "
+            f"| {'; '.join(hours)} |"
+        )
     return "\n".join(lines)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> int:
+    """``python bench/simulate_bench.py [--repeat N] [--cavities N] [--geometries N]``."""
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--repeat", type=int, default=3)
-    p.add_argument("--json", type=Path, help="also write the rows as JSON")
-    p.add_argument("--output", type=Path, default=HERE / "simulate_results.md")
-    args = p.parse_args()
-    rows = bench_simulate(args.repeat)
-    text = markdown(rows)
-    print(text)
-    tmp = args.output.with_suffix(".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, args.output)
+    p.add_argument("--repeat", type=int, default=3, help="timed runs per variant (default 3)")
+    p.add_argument("--cavities", type=int, default=CAVITIES, help=f"cavities (default {CAVITIES})")
+    p.add_argument(
+        "--geometries",
+        type=int,
+        default=GEOMETRIES,
+        help=f"surface BRDF geometries (default {GEOMETRIES})",
+    )
+    p.add_argument(
+        "--cases",
+        default="",
+        help="only cases whose name contains one of these comma-separated texts",
+    )
+    p.add_argument("--json", type=Path, help="write the rows as JSON (- : standard output)")
+    args = p.parse_args(argv)
+    if args.repeat < 1 or args.cavities < 100 or args.geometries < 1:
+        p.error("--repeat and --geometries must be >= 1, --cavities >= 100")
+    only = [t.strip() for t in args.cases.split(",") if t.strip()]
+    try:
+        rows = bench_simulate(args.repeat, args.geometries, args.cavities, only or None)
+    except ValueError as exc:
+        p.error(str(exc))
+    if str(args.json) == "-":
+        print(json.dumps(rows))
+        return 0
+    print(markdown(rows))
     if args.json:
-        args.json.write_text(json.dumps(rows, indent=1))
+        from timing import write_atomic
+
+        write_atomic(args.json, json.dumps(rows, indent=1) + "\n")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

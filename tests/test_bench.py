@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import shutil
 import subprocess
 import sys
+import types
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -22,12 +25,15 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
         "--repeat", "1",
         "--no-first-call",
         "--no-render",
+        "--no-fit",
+        "--no-simulate",
         "--memory-log2", "0",
         "--output-dir", str(tmp_path),
     ]  # fmt: skip
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     data = json.loads((tmp_path / "results.json").read_text())
+    assert "fit" not in data and "simulate" not in data
     labels = [r["model"] for r in data["results"]]
     for name in ("Lambert", "qualitative", "full", "Fujii", "EON", "Torrance"):
         assert any(name in x for x in labels)
@@ -42,6 +48,97 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
     text = (tmp_path / "RESULTS.md").read_text()
     assert "| 2^10 | Oren–Nayar qualitative |" in text
     assert "bench/run.py --sizes 10" in text
+    assert "## Fit" not in text and "## V-cavity solver" not in text
+
+
+def test_bench_run_fit_and_solver_sections_at_tiny_scale(tmp_path, monkeypatch):
+    monkeypatch.setenv("ROUGHDIFFUSE_CACHE_DIR", str(tmp_path / "cache"))
+    cmd = [
+        sys.executable,
+        str(ROOT / "bench" / "run.py"),
+        "--sizes", "10",
+        "--models", "Lambert",
+        "--repeat", "1",
+        "--no-c",
+        "--no-numpy",
+        "--no-first-call",
+        "--no-render",
+        "--memory-log2", "0",
+        "--fit-size", "48",
+        "--fit-repeat", "1",
+        "--simulate-repeat", "1",
+        "--simulate-cavities", "400",
+        "--simulate-geometries", "1",
+        "--simulate-cases", "closed form,bounces=1",
+        "--output-dir", str(tmp_path),
+    ]  # fmt: skip
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads((tmp_path / "results.json").read_text())
+
+    fit = data["fit"]
+    assert fit["image_size"] == 48
+    assert [r["name"] for r in fit["rows"]] == [
+        "Oren-Nayar qualitative, absolute noise",
+        "Oren-Nayar qualitative, relative noise",
+        "Oren-Nayar full, relative noise",
+    ]
+    for r in fit["rows"]:
+        # the SciPy baseline (finite differences on model.radiance) and our fit (JAX
+        # Jacobian, multistart, Gauss-Newton refinement) minimise the same cost
+        assert abs(r["albedo"] - r["scipy_albedo"]) < 1e-3
+        assert abs(r["sigma"] - r["scipy_sigma"]) < 1e-3
+        # and both find the parameters the image was made with (ρ = 0.7, σ = 0.4, 1% noise)
+        assert abs(r["albedo"] - 0.7) < 0.01 and abs(r["sigma"] - 0.4) < 0.03
+        assert r["ours_s"]["runs"] == 1 and r["scipy_s"]["runs"] == 1
+        assert r["scipy_over_ours"] > 0 and r["pixels"] > 1000
+
+    sim = data["simulate"]
+    assert sim["environment"]["OPENBLAS_NUM_THREADS"] == "1"
+    assert "error" not in sim, sim.get("error")
+    names = [r["case"] for r in sim["rows"]]
+    assert names == [
+        "cavity, 1 bounce (closed form)",
+        "surface BRDF, σ=0.3, bounces=1",
+        "surface BRDF, σ=0.7, bounces=1",
+    ]
+    for r in sim["rows"]:
+        assert r["numpy"]["runs"] == 1 and r["numpy"]["median"] > 0
+        if "jax" in r:  # the JAX path computes the NumPy path's values
+            assert r["jax_max_rel_difference_vs_numpy"] < 1e-9
+            assert r["jax_over_numpy"] > 0
+        else:
+            assert r["jax_error"].startswith("not available: ")
+        if r["case"].startswith("surface"):
+            assert r["table_90x90x180_hours_2_cores_numpy"] > 0
+
+    text = (tmp_path / "RESULTS.md").read_text()
+    assert "## Fit of (ρ, σ) to a 48 × 48 image" in text
+    assert "| Oren-Nayar full, relative noise |" in text
+    assert "## V-cavity solver" in text
+    assert "| cavity, 1 bounce (closed form) | 400 |" in text
+    assert text.count("--simulate-cases 'closed form,bounces=1'") >= 3  # header + 2 sections
+
+
+def test_solver_case_reports_a_missing_jax_path_and_goes_on():
+    spec = importlib.util.spec_from_file_location(
+        "simulate_bench_under_test", ROOT / "bench" / "simulate_bench.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+
+    def numpy_only(x):
+        if not isinstance(x, np.ndarray):
+            raise TypeError("no JAX path here")
+        return 2.0 * x
+
+    fake_jnp = types.SimpleNamespace(asarray=lambda a: a.tolist())  # arrays of another kind
+    row = module._case("doubling", 8, numpy_only, (np.arange(8.0),), 2, fake_jnp)
+    assert row["jax_error"] == "not available: TypeError: no JAX path here"
+    assert "jax" not in row and row["numpy"]["runs"] == 2
+    # a call that "works" by returning NumPy is no JAX path either
+    row = module._case("doubling", 8, lambda x: 2.0 * np.asarray(x), (np.arange(8.0),), 1, fake_jnp)
+    assert row["jax_error"].startswith("not available: TypeError: returned ndarray")
 
 
 def test_cli_bench_rejects_bad_sizes_in_one_line():

@@ -1,4 +1,6 @@
-"""``roughdiffuse bench``: the benchmark suite of ``bench/run.py`` (needs a source checkout)."""
+"""``roughdiffuse bench``: the benchmark suite of ``bench/run.py`` (needs a source checkout):
+every model's fast path, the renderer, the fit and the V-cavity solver, each against a
+baseline timed in the same run."""
 
 from __future__ import annotations
 
@@ -16,6 +18,8 @@ examples:
   roughdiffuse bench                     # every model at 2^22 and 2^24, 7 runs each
   roughdiffuse bench --sizes 22 --repeat 9 --memory-log2 0
   roughdiffuse bench --models oren       # only the Oren-Nayar variants
+  roughdiffuse bench --no-render --no-fit --no-simulate   # only the models' fast path
+  roughdiffuse bench --sizes 20 --no-render --no-simulate --fit-size 400 --fit-repeat 2
 
 Writes bench/RESULTS.md and bench/results.json (see the README's "Benchmarks" section).
 """
@@ -45,10 +49,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "bench",
         parents=parents,
-        help="throughput of every model: fast path vs a C reference vs NumPy",
+        help="benchmarks: models' fast path vs C and NumPy, renderer, fit, V-cavity solver",
         description="Benchmarks of bench/run.py: every model's fast path against a C "
-        "reference compiled in this run (gcc) and against plain NumPy. Needs a source "
-        "checkout (bench/ is not installed with the package).",
+        "reference compiled in this run (gcc) and against plain NumPy; the renderer against "
+        "NumPy shading; the fit of (ρ, σ) to an image against scipy.optimize.least_squares; "
+        "the V-cavity solver's NumPy and JAX paths. Needs a source checkout (bench/ is not "
+        "installed with the package).",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

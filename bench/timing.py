@@ -1,0 +1,120 @@
+"""Timing helpers shared by the benchmark scripts (``run.py``, ``fit_bench.py``,
+``simulate_bench.py``): summary statistics, an interleaved timing loop, atomic writes.
+
+The machine the benchmarks run on is shared and noisy, so variants are timed interleaved, run
+by run, in a rotating order: the noise then hits every variant alike, and the ratios between
+variants measured in one run are what the reports quote.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import time
+from collections.abc import Callable, Collection, Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+
+def summary(values: Iterable[float]) -> dict[str, float]:
+    """Median, min and max of ``values`` (and how many there were).
+
+    Parameters
+    ----------
+    values : iterable of float
+        Timings (seconds) or rates; at least one.
+
+    Returns
+    -------
+    dict
+        ``{"median", "min", "max", "runs"}``.
+    """
+    vals = sorted(float(v) for v in values)
+    if not vals:
+        raise ValueError("summary needs at least one value")
+    return {
+        "median": float(statistics.median(vals)),
+        "min": vals[0],
+        "max": vals[-1],
+        "runs": len(vals),
+    }
+
+
+def rate_summary(times: Iterable[float], count: float, unit: float = 1e6) -> dict[str, float]:
+    """:func:`summary` of the rates ``count / t / unit`` (e.g. million evaluations per second).
+
+    Parameters
+    ----------
+    times : iterable of float
+        Seconds per run.
+    count : float
+        Work done by one run (evaluations, samples, ...).
+    unit : float
+        Divisor of the rate (1e6: millions per second; 1: per second).
+    """
+    return summary(count / t / unit for t in times)
+
+
+def block(result: Any) -> Any:
+    """Wait for an asynchronous (JAX) result; other results are returned as they are."""
+    wait = getattr(result, "block_until_ready", None)
+    return wait() if callable(wait) else result
+
+
+def interleaved(
+    variants: Mapping[str, Callable[[], Any]],
+    repeat: int,
+    steady: Collection[str] = (),
+) -> dict[str, list[float]]:
+    """Seconds of ``repeat`` timed calls of each variant, interleaved in a rotating order.
+
+    Run ``r`` times the variants in the order of ``variants`` rotated by ``r``, so that no
+    variant always follows the same one. The variants named in ``steady`` get an untimed
+    call right before each timed call, so that their timing is of a steady state (e.g. a
+    multi-threaded loop timed right after a long single-threaded one starts slowly). JAX
+    results are waited for inside the timed interval (:func:`block`). No warm-up here: call
+    each variant once before (that is also where outputs are checked).
+
+    Parameters
+    ----------
+    variants : mapping of str to callable
+        The functions to time, without arguments.
+    repeat : int
+        Timed calls per variant (>= 1).
+    steady : collection of str
+        Variants that get an untimed call before each timed one.
+
+    Returns
+    -------
+    dict of str to list of float
+        Seconds of each timed call, per variant.
+    """
+    if repeat < 1:
+        raise ValueError(f"repeat must be >= 1 (got {repeat})")
+    keys = list(variants)
+    times: dict[str, list[float]] = {k: [] for k in keys}
+    for r in range(repeat):
+        shift = r % len(keys) if keys else 0
+        for k in keys[shift:] + keys[:shift]:
+            fn = variants[k]
+            if k in steady:
+                block(fn())
+            t0 = time.perf_counter()
+            block(fn())
+            times[k].append(time.perf_counter() - t0)
+    return times
+
+
+def timed(fn: Callable[[], Any]) -> tuple[Any, float]:
+    """(result, seconds) of one call of ``fn`` (JAX results waited for)."""
+    t0 = time.perf_counter()
+    result = block(fn())
+    return result, time.perf_counter() - t0
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and a rename (no half-written file)."""
+    path = Path(path)
+    tmp = path.with_name(path.name + f".{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
