@@ -8,6 +8,7 @@ gradients finite where a square root or a division meets zero.
 
 from __future__ import annotations
 
+import contextlib
 import numbers
 from typing import Any
 
@@ -139,3 +140,16 @@ def maximum(xp: Any, a: Array, b: Array | float) -> Array:
 def minimum(xp: Any, a: Array, b: Array | float) -> Array:
     """Elementwise minimum."""
     return xp.where(a <= b, a, b)
+
+
+def float64(xp: Any) -> contextlib.AbstractContextManager[None]:
+    """Context in which ``xp`` computes in float64: JAX's ``enable_x64``, else nothing.
+
+    For code that needs double precision whatever the caller's JAX setting (the V-cavity
+    solver's crossed-strings differences lose digits in float32).
+    """
+    if is_jax(xp):
+        import jax
+
+        return jax.enable_x64(True)
+    return contextlib.nullcontext()

@@ -26,10 +26,11 @@ Radiances here are per unit irradiance E0 on a plane facing the source.
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
+from .._array import Array, asarray, clip, concrete, float64, maximum, minimum, namespace
 from .._validate import check_range
 
 __all__ = [
@@ -118,9 +119,13 @@ def radiosity_operator(
     return m
 
 
-def _points(theta_a: float, s: np.ndarray, sign: float) -> tuple[np.ndarray, np.ndarray]:
-    """Cross-section points at fractions s of facet "+" (sign 1) or "−" (sign −1)."""
-    return sign * (-0.5 + 0.5 * s), -0.5 * math.tan(theta_a) * s
+def _points(theta_a, s, sign: float, tangent: bool = False):
+    """Cross-section points at fractions s of facet "+" (sign 1) or "−" (sign −1).
+
+    ``theta_a`` is the slope, or tan θa itself with ``tangent``.
+    """
+    tan_a = theta_a if tangent else math.tan(theta_a)
+    return sign * (-0.5 + 0.5 * s), -0.5 * tan_a * s
 
 
 def _strings(theta_a: float, a0, a1, b0, b1) -> np.ndarray:
@@ -151,45 +156,57 @@ def view_factors(theta_a: float, edges: np.ndarray) -> np.ndarray:
     return af / (np.diff(edges) * 0.5 / math.cos(theta_a))[:, None]
 
 
-def segment_factors(theta_a: float, edges: np.ndarray, g: np.ndarray) -> np.ndarray:
+def _const(xp: Any, a: np.ndarray | float) -> Array:
+    """A float64 constant of the solver (element edges, operators) in namespace ``xp``."""
+    return xp.asarray(np.asarray(a, dtype=np.float64), dtype=xp.float64)
+
+
+def segment_factors(theta_a: float | Array, edges: np.ndarray, g: Array, xp: Any = None) -> Array:
     """A_j F_j→S: area times view factor from each element j of one facet to the segment
     S = [0, g] of the other; shape (..., K) for ``g`` of shape (...).
 
     By reciprocity it is also A_S F_S→j, and the irradiance that S, emitting uniformly with
-    exitance B, sends to element j is B A_j F_j→S / A_j.
+    exitance B, sends to element j is B A_j F_j→S / A_j. ``theta_a`` is a float or a 0-d
+    array (a traced slope under ``jax.lax.scan``).
     """
+    xp = xp or namespace(g)
+    tan_a = math.tan(theta_a) if isinstance(theta_a, float | int) else xp.tan(theta_a)
     # crossed strings as in _strings, with the distances shared between adjacent elements
     # and those from the fixed rim computed once
-    ex, ey = _points(theta_a, edges, -1.0)
-    d0 = np.sqrt((ex + 0.5) ** 2 + ey**2)  # from the rim of the other facet, (-1/2, 0)
-    gx, gy = _points(theta_a, np.asarray(g)[..., None], 1.0)
+    s = _const(xp, edges)
+    ex, ey = 0.5 - 0.5 * s, -0.5 * tan_a * s  # points of the "−" facet (_points, sign −1)
+    d0 = xp.sqrt((ex + 0.5) ** 2 + ey**2)  # from the other facet's rim (-1/2, 0)
+    gx, gy = _points(tan_a, g[..., None], 1.0, tangent=True)
     dx, dy = ex - gx, ey - gy
-    dg = np.sqrt(dx * dx + dy * dy)
-    return 0.5 * np.abs(d0[1:] + dg[..., :-1] - d0[:-1] - dg[..., 1:])
+    dg = xp.sqrt(dx * dx + dy * dy)
+    return 0.5 * xp.abs(d0[1:] + dg[..., :-1] - d0[:-1] - dg[..., 1:])
 
 
-def _overlap(edges: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """Length of [s_k, s_{k+1}] ∩ [0, g] per element, shape (..., K)."""
-    lo, hi = edges[:-1], edges[1:]
-    return np.clip(g[..., None], lo, hi) - lo
-
-
-def _facet_terms(cos_a, mu_f: np.ndarray, mu_n: np.ndarray) -> np.ndarray:
+def _facet_terms(xp: Any, cos_a: Array, mu_f: Array, mu_n: Array) -> Array:
     """Lit (or visible) fraction g = min(1, 2 cos θa μ / μ_f) where μ_f > 0, else 0."""
     pos = mu_f > 0
-    g = np.where(pos, 2.0 * cos_a * mu_n / np.where(pos, mu_f, 1.0), 0.0)
-    return np.clip(g, 0.0, 1.0)
+    g = xp.where(pos, 2.0 * cos_a * mu_n / xp.where(pos, mu_f, 1.0), 0.0)
+    return clip(xp, g, 0.0, 1.0)
 
 
 class _Facets:
-    """Per-facet quantities of cavities lit from l and seen from v (no bounce yet)."""
+    """Per-facet quantities of cavities lit from l and seen from v (no bounce yet).
 
-    def __init__(self, theta_a, cos_phi, sin_phi, l, v, albedo: float) -> None:
-        sa, ca = np.sin(theta_a), np.cos(theta_a)
+    ``theta_a`` is a float or an array, ``cos_phi``, ``sin_phi`` and the components of ``l``
+    and ``v`` arrays of one namespace (NumPy, JAX or PyTorch), broadcast together.
+    """
+
+    def __init__(self, theta_a, cos_phi, sin_phi, l, v, albedo: float, xp: Any = None) -> None:
+        xp = xp or namespace(cos_phi, *l, *v)
+        self.xp = xp
+        if isinstance(theta_a, float | int | np.floating):
+            sa, ca = math.sin(theta_a), math.cos(theta_a)
+        else:
+            sa, ca = xp.sin(theta_a), xp.cos(theta_a)
         lx, ly, lz = l
         vx, vy, vz = v
-        lz = np.maximum(lz, COS_FLOOR)
-        vz = np.maximum(vz, COS_FLOOR)
+        lz = maximum(xp, lz, COS_FLOOR)
+        vz = maximum(xp, vz, COS_FLOOR)
         la = lx * cos_phi + ly * sin_phi  # components along a (the cross-section's x axis)
         va = vx * cos_phi + vy * sin_phi
         self.facet_len = 0.5 / ca
@@ -198,38 +215,51 @@ class _Facets:
         for sign in (1.0, -1.0):
             mu_l = sign * sa * la + ca * lz
             mu_v = sign * sa * va + ca * vz
-            g_l = _facet_terms(ca, mu_l, lz)
-            g_v = _facet_terms(ca, mu_v, vz)
-            b1 = albedo * np.maximum(mu_l, 0.0)  # exitance of the lit segment, per E0
-            view = np.maximum(mu_v, 0.0) / vz  # (n_f·v)/(n·v): projected length per length
-            self.single = self.single + b1 / math.pi * np.minimum(g_l, g_v) * self.facet_len * view
+            g_l = _facet_terms(xp, ca, mu_l, lz)
+            g_v = _facet_terms(xp, ca, mu_v, vz)
+            b1 = albedo * maximum(xp, mu_l, 0.0)  # exitance of the lit segment, per E0
+            view = maximum(xp, mu_v, 0.0) / vz  # (n_f·v)/(n·v): projected length per length
+            self.single = self.single + b1 / math.pi * minimum(xp, g_l, g_v) * (
+                self.facet_len * view
+            )
             self.terms.append((g_l, g_v, b1, view))
 
 
 def _interreflected(
-    theta_a: float,
+    theta_a: float | Array,
     facets: _Facets,
     albedo: float,
-    operator: np.ndarray | None,
+    operator: Array | None,
     edges: np.ndarray,
-) -> np.ndarray:
-    """Radiance / E0 of bounces 2..N (``operator`` from :func:`radiosity_operator`)."""
+) -> Array:
+    """Radiance / E0 of bounces 2..N of cavities of slope ``theta_a`` (a float or a 0-d array).
+
+    ``operator`` is :func:`radiosity_operator`'s matrix (NumPy or ``facets.xp``; ``None``
+    for the identity).
+    """
+    xp = facets.xp
     (gl_p, gv_p, b1_p, view_p), (gl_m, gv_m, b1_m, view_m) = facets.terms
-    lengths = np.diff(edges) * facets.facet_len
+    lengths = _const(xp, np.diff(edges)) * facets.facet_len
     # bounce 2 on the elements, exact: what each element receives from the other facet's
     # lit segment (exitance ρ μl), then bounces 3..N by the element operator
-    s_lp, s_lm = segment_factors(theta_a, edges, gl_p), segment_factors(theta_a, edges, gl_m)
-    b2 = albedo * np.concatenate([b1_m[..., None] * s_lm, b1_p[..., None] * s_lp], axis=-1)
-    b2 = b2 / np.concatenate([lengths, lengths])
+    s_lp = segment_factors(theta_a, edges, gl_p, xp)
+    s_lm = segment_factors(theta_a, edges, gl_m, xp)
+    scale = albedo / lengths
+    b2 = xp.concat([b1_m[..., None] * s_lm * scale, b1_p[..., None] * s_lp * scale], axis=-1)
     if operator is not None:  # one 2-D product (stacked matmul is far slower in NumPy)
-        b2 = (b2.reshape(-1, b2.shape[-1]) @ operator.T).reshape(b2.shape)
-    b = b2
+        op = _const(xp, operator) if isinstance(operator, np.ndarray) else operator
+        flat = xp.reshape(b2, (-1, b2.shape[-1]))
+        b2 = xp.reshape(xp.matmul(flat, xp.matrix_transpose(op)), b2.shape)
     # seen: element radiosity over the visible segment (keeps the discrete energy balance)
-    seen = np.concatenate(
-        [_overlap(edges, gv_p) * view_p[..., None], _overlap(edges, gv_m) * view_m[..., None]],
+    lo, hi = _const(xp, edges[:-1]), _const(xp, edges[1:])
+    seen = xp.concat(
+        [
+            (clip(xp, gv_p[..., None], lo, hi) - lo) * view_p[..., None],
+            (clip(xp, gv_m[..., None], lo, hi) - lo) * view_m[..., None],
+        ],
         axis=-1,
     )
-    return facets.facet_len / math.pi * np.sum(b * seen, axis=-1)
+    return facets.facet_len / math.pi * xp.sum(b2 * seen, axis=-1)
 
 
 class InterreflectionSolver:
@@ -255,27 +285,45 @@ class InterreflectionSolver:
             self.levels.append((edges, radiosity_operator(self.theta_a, albedo, bounces, edges)))
 
     def __call__(self, facets: _Facets, difference: bool = False):
-        vals = [_interreflected(self.theta_a, facets, self.albedo, op, e) for e, op in self.levels]
-        if len(vals) == 1:
-            return (vals[0], None) if difference else vals[0]
-        best = (4.0 * vals[1] - vals[0]) / 3.0
-        return (best, vals[1] - vals[0]) if difference else best
+        best, diff = extrapolated(self.theta_a, facets, self.albedo, self.levels)
+        return (best, diff) if difference else best
+
+
+def extrapolated(theta_a, facets: _Facets, albedo: float, levels) -> tuple[Array, Array | None]:
+    """Bounces 2..N at each (edges, operator) level; with two levels (K and 2K),
+    Richardson's (4 L_2K − L_K)/3.
+
+    Returns the value and L_2K − L_K (``None`` for one level).
+    """
+    vals = [_interreflected(theta_a, facets, albedo, op, e) for e, op in levels]
+    if len(vals) == 1:
+        return vals[0], None
+    return (4.0 * vals[1] - vals[0]) / 3.0, vals[1] - vals[0]
+
+
+def _components(xp: Any, w: Array, shape: tuple[int, ...]) -> tuple[Array, Array, Array]:
+    return tuple(xp.broadcast_to(w[..., k], shape) for k in range(3))
 
 
 def cavity_radiance(
-    theta_a: np.ndarray | float,
-    phi_a: np.ndarray | float,
-    wi: np.ndarray,
-    wo: np.ndarray,
+    theta_a: Array | float,
+    phi_a: Array | float,
+    wi: Array,
+    wo: Array,
     albedo: float = 1.0,
     bounces: Bounces = "all",
     elements: int = 32,
     extrapolate: bool = True,
-) -> np.ndarray:
+) -> Array:
     """Radiance of one V-cavity seen from ``wo``, lit from ``wi``, per unit irradiance E0.
 
     L = Σ_f ∫_visible L_f(x) (n_f·v) dx / (w (n·v)) (DESIGN.md, "The V-cavity microsurface";
     Oren & Nayar 1994, Sec. 4). Divide by cos θi for the cavity's BRDF.
+
+    Array-API code: NumPy, JAX and PyTorch arrays give a float64 result of their own kind
+    (JAX computes in float64 whether or not ``jax_enable_x64`` is set). One bounce runs under
+    ``jax.jit``; more bounces need concrete values of ``theta_a`` (the cavities are grouped by
+    slope, each group with its own radiosity operator).
 
     Parameters
     ----------
@@ -299,7 +347,7 @@ def cavity_radiance(
 
     Returns
     -------
-    ndarray
+    array
         Broadcast shape of θa, φa, wi[..., 0], wo[..., 0]; 0 where l or v is below the
         horizon.
 
@@ -316,35 +364,58 @@ def cavity_radiance(
     check_range("albedo", albedo, 0.0, 1.0)
     bounces = check_bounces(bounces)
     elements = check_elements(elements)
-    theta_a = np.asarray(theta_a, dtype=float)
     check_range("theta_a", theta_a, 0.0, math.pi / 2, unit="radians", scalar=False)
-    if np.any(theta_a >= math.pi / 2):
+    th_value = concrete(theta_a)
+    if th_value is not None and np.any(th_value >= math.pi / 2):
         raise ValueError("theta_a must be in [0, π/2) radians (got π/2)")
-    wi = np.asarray(wi, dtype=float)
-    wo = np.asarray(wo, dtype=float)
-    for name, w in (("wi", wi), ("wo", wo)):
-        if w.shape[-1:] != (3,):
-            raise ValueError(f"{name} must have shape (..., 3) (got {w.shape})")
-    phi_a = np.asarray(phi_a, dtype=float)
-    shape = np.broadcast_shapes(theta_a.shape, phi_a.shape, wi.shape[:-1], wo.shape[:-1])
-    th = np.broadcast_to(theta_a, shape)
-    ph = np.broadcast_to(phi_a, shape)
-    l = tuple(np.broadcast_to(wi[..., k], shape) for k in range(3))
-    v = tuple(np.broadcast_to(wo[..., k], shape) for k in range(3))
-    above = (l[2] >= 0) & (v[2] >= 0)
-    facets = _Facets(th, np.cos(ph), np.sin(ph), l, v, albedo)
-    out = np.array(np.broadcast_to(facets.single, shape), dtype=float)
-    if bounces != 1:
-        for t in np.unique(th):
-            sel = th == t
-            sub = _Facets(
-                t,
-                np.cos(ph[sel]),
-                np.sin(ph[sel]),
-                [c[sel] for c in l],
-                [c[sel] for c in v],
-                albedo,
+    xp = namespace(theta_a, phi_a, wi, wo)
+    with float64(xp):
+        theta_a, phi_a, wi, wo = (asarray(xp, a, xp.float64) for a in (theta_a, phi_a, wi, wo))
+        for name, w in (("wi", wi), ("wo", wo)):
+            if tuple(w.shape[-1:]) != (3,):
+                raise ValueError(f"{name} must have shape (..., 3) (got {tuple(w.shape)})")
+        shape = tuple(
+            np.broadcast_shapes(
+                tuple(theta_a.shape), tuple(phi_a.shape), tuple(wi.shape[:-1]), tuple(wo.shape[:-1])
             )
-            solver = InterreflectionSolver(float(t), albedo, bounces, elements, extrapolate)
-            out[sel] += solver(sub)
-    return np.where(above, out, 0.0)
+        )
+        th = xp.broadcast_to(theta_a, shape)
+        ph = xp.broadcast_to(phi_a, shape)
+        l, v = _components(xp, wi, shape), _components(xp, wo, shape)
+        above = (l[2] >= 0) & (v[2] >= 0)
+        out = _Facets(th, xp.cos(ph), xp.sin(ph), l, v, albedo, xp).single
+        if bounces != 1:
+            out = out + _interreflected_grouped(
+                xp, th, ph, l, v, albedo, bounces, elements, extrapolate
+            )
+        return xp.where(above, out, 0.0)
+
+
+def _interreflected_grouped(xp, th, ph, l, v, albedo, bounces, elements, extrapolate) -> Array:
+    """Bounces 2..N of cavities of any slopes: one radiosity operator per distinct θa.
+
+    The cavities are sorted by θa, each run of equal slopes is solved at once, and the
+    results are put back in place (``take`` with the inverse permutation: no in-place update,
+    so JAX and PyTorch run the same code).
+    """
+    values = concrete(th)
+    if values is None:
+        raise ValueError(
+            "cavity_radiance with bounces > 1 needs concrete theta_a values (not a jax.jit "
+            "tracer): each slope gets its own radiosity operator"
+        )
+    flat = values.reshape(-1)
+    order = np.argsort(flat, kind="stable")
+    slopes, starts = np.unique(flat[order], return_index=True)
+    ends = list(starts[1:]) + [flat.size]
+    idx = xp.asarray(order)
+    rows = [xp.take(xp.reshape(c, (-1,)), idx) for c in (ph, *l, *v)]
+    parts = []
+    for t, a, b in zip(slopes, starts, ends, strict=True):
+        sub = [r[int(a) : int(b)] for r in rows]
+        facets = _Facets(float(t), xp.cos(sub[0]), xp.sin(sub[0]), sub[1:4], sub[4:7], albedo, xp)
+        parts.append(
+            InterreflectionSolver(float(t), albedo, bounces, elements, extrapolate)(facets)
+        )
+    inverse = xp.asarray(np.argsort(order, kind="stable"))
+    return xp.reshape(xp.take(xp.concat(parts), inverse), th.shape)

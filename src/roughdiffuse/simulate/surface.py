@@ -31,19 +31,35 @@ Quadrature (the rule, and why it reaches 1e-4):
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
+from .._array import (
+    Array,
+    asarray,
+    clip,
+    concrete,
+    float64,
+    is_jax,
+    is_tracer,
+    minimum,
+    namespace,
+)
 from .._validate import check_range
 from .cavity import (
     Bounces,
-    InterreflectionSolver,
+    _const,
     _Facets,
     check_bounces,
     check_elements,
+    element_edges,
+    elements_for_slope,
+    extrapolated,
+    radiosity_operator,
 )
 
 __all__ = [
@@ -107,10 +123,11 @@ class Settings:
         return Settings(**d)
 
 
-def slope_weight(theta_a: np.ndarray, sigma: float, measure: Measure) -> np.ndarray:
+def slope_weight(theta_a: Array, sigma: float, measure: Measure) -> Array:
     """Unnormalised slope density at θa: exp(−θa²/2σ²), times sin θa for "solid-angle"."""
-    w = np.exp(-0.5 * (theta_a / sigma) ** 2)
-    return w * np.sin(theta_a) if measure == "solid-angle" else w
+    xp = namespace(theta_a)
+    w = xp.exp(-0.5 * (theta_a / sigma) ** 2)
+    return w * xp.sin(theta_a) if measure == "solid-angle" else w
 
 
 def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -118,99 +135,153 @@ def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (x + 1.0), 0.5 * w
 
 
-def _pieces(edges: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+def _pieces(xp: Any, edges: Array, n: int) -> tuple[Array, Array]:
     """Gauss–Legendre nodes and weights on each interval of sorted ``edges`` (..., E)."""
-    t, w = _gauss(n)
+    t, w = (_const(xp, a) for a in _gauss(n))
     a, b = edges[..., :-1, None], edges[..., 1:, None]
     nodes = a + (b - a) * t
     weights = (b - a) * w
-    shape = edges.shape[:-1] + (-1,)
-    return nodes.reshape(shape), weights.reshape(shape)
+    shape = tuple(edges.shape[:-1]) + (-1,)
+    return xp.reshape(nodes, shape), xp.reshape(weights, shape)
 
 
-def _solve_kinks(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[np.ndarray]:
+def _solve_kinks(xp: Any, a: Array, b: Array, c: Array) -> list[Array]:
     """Both roots φ of a cos φ + b sin φ = c (NaN where none)."""
-    r = np.hypot(a, b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(r > 0, c / np.where(r > 0, r, 1.0), np.inf)
-        ok = np.abs(ratio) <= 1.0
-        d = np.arccos(np.clip(ratio, -1.0, 1.0))
-    delta = np.arctan2(b, a)
-    return [np.where(ok, delta + d, np.nan), np.where(ok, delta - d, np.nan)]
+    r = xp.sqrt(a * a + b * b)
+    ratio = xp.where(r > 0, c / xp.where(r > 0, r, 1.0), math.inf)
+    ok = xp.abs(ratio) <= 1.0
+    d = xp.acos(clip(xp, ratio, -1.0, 1.0))
+    delta = xp.atan2(b, a)
+    return [xp.where(ok, delta + d, math.nan), xp.where(ok, delta - d, math.nan)]
 
 
-def _phi_edges(theta_a, ti, tr, dphi) -> np.ndarray:
+def _phi_edges(xp: Any, theta_a, ti, tr, dphi) -> Array:
     """Sorted φa piece edges in [0, π] (kinks of the cavity radiance, mod π), shape (..., E).
 
-    E ≤ 12: columns of kinks that exist for none of the geometries are left out.
+    E ≤ 12: with concrete values, columns of kinks that exist for none of the geometries are
+    left out (under ``jax.jit`` all are kept: a kink that does not exist is a piece of zero
+    width at π, with zero weight).
 
     Conditions for the facet of normal azimuth φ (the other facet is φ + π, hence mod π),
     with l at azimuth 0 and v at azimuth Δφ: n_f·l = 0, n_f·l = 2 cos θa cos θi (shadowing
     starts), the same two for v, and cos θi (n_f·v) = cos θr (n_f·l) (lit and visible
     fractions equal).
     """
-    sa, ca = np.sin(theta_a), np.cos(theta_a)
-    si, ci, sr, cr = np.sin(ti), np.cos(ti), np.sin(tr), np.cos(tr)
-    cd, sd = np.cos(dphi), np.sin(dphi)
-    zero = np.zeros_like(sa * si * sr * cd)
+    if isinstance(theta_a, float):
+        sa, ca = math.sin(theta_a), math.cos(theta_a)
+    else:
+        sa, ca = xp.sin(theta_a), xp.cos(theta_a)
+    si, ci, sr, cr = xp.sin(ti), xp.cos(ti), xp.sin(tr), xp.cos(tr)
+    cd, sd = xp.cos(dphi), xp.sin(dphi)
+    zero = xp.zeros_like(sa * si * sr * cd)
     roots = []
     for sign in (-1.0, 1.0):
-        roots += _solve_kinks(sa * si + zero, zero, sign * ca * ci + zero)
-        roots += _solve_kinks(sa * sr * cd + zero, sa * sr * sd + zero, sign * ca * cr + zero)
-    roots += _solve_kinks(ci * sr * cd - cr * si + zero, ci * sr * sd + zero, zero)
-    k = np.stack(roots, axis=-1)
-    k = np.where(np.isnan(k), math.pi, np.mod(k, math.pi))
-    k = np.sort(k, axis=-1)
-    # kinks that do not exist sit at π: drop the columns where no row has a real one
-    n = int(np.max(np.sum(k < math.pi, axis=-1), initial=0))
-    k = k[..., :n]
-    zero = np.zeros(k.shape[:-1] + (1,))
-    return np.concatenate([zero, k, zero + math.pi], axis=-1)
+        roots += _solve_kinks(xp, sa * si + zero, zero, sign * ca * ci + zero)
+        roots += _solve_kinks(xp, sa * sr * cd + zero, sa * sr * sd + zero, sign * ca * cr + zero)
+    roots += _solve_kinks(xp, ci * sr * cd - cr * si + zero, ci * sr * sd + zero, zero)
+    k = xp.stack(roots, axis=-1)
+    k = xp.sort(xp.where(xp.isnan(k), math.pi, xp.remainder(k, math.pi)), axis=-1)
+    values = concrete(k)
+    if values is not None:  # kinks that do not exist sit at π: drop the columns of none
+        k = k[..., : int(np.max(np.sum(values < math.pi, axis=-1), initial=0))]
+    zero = xp.zeros(tuple(k.shape[:-1]) + (1,), dtype=k.dtype)
+    return xp.concat([zero, k, zero + math.pi], axis=-1)
 
 
-def _directions(ti, tr, dphi):
-    l = (np.sin(ti), np.zeros_like(ti), np.cos(ti))
-    v = (np.sin(tr) * np.cos(dphi), np.sin(tr) * np.sin(dphi), np.cos(tr))
+def _directions(xp: Any, ti, tr, dphi):
+    l = (xp.sin(ti), xp.zeros_like(ti), xp.cos(ti))
+    v = (xp.sin(tr) * xp.cos(dphi), xp.sin(tr) * xp.sin(dphi), xp.cos(tr))
     return l, v
 
 
-def _single_bounce(ti, tr, dphi, sigma, albedo, s: Settings) -> np.ndarray:
+def _single_bounce(xp: Any, ti, tr, dphi, sigma, albedo, s: Settings) -> Array:
     """∫∫ P L1 dθa dφa / cos θi for flat arrays of geometries (one bounce, closed form)."""
     theta_max = min(SIGMA_MAX, 10.0 * sigma)
-    c1 = np.clip(math.pi / 2 - ti, 0.0, theta_max)
-    c2 = np.clip(math.pi / 2 - tr, 0.0, theta_max)
-    edges = np.sort(
-        np.stack([np.zeros_like(ti), c1, c2, np.full_like(ti, theta_max)], axis=-1), axis=-1
-    )
-    th, wth = _pieces(edges, s.n_theta)  # (M, 3 n)
+    c1 = clip(xp, math.pi / 2 - ti, 0.0, theta_max)
+    c2 = clip(xp, math.pi / 2 - tr, 0.0, theta_max)
+    edges = xp.sort(xp.stack([xp.zeros_like(ti), c1, c2, xp.zeros_like(ti) + theta_max], axis=-1))
+    th, wth = _pieces(xp, edges, s.n_theta)  # (M, 3 n)
     wth = wth * slope_weight(th, sigma, s.measure)
-    norm = np.sum(wth, axis=-1)
+    norm = xp.sum(wth, axis=-1)
     ti_, tr_, dp_ = (a[:, None] for a in (ti, tr, dphi))
-    ph, wph = _pieces(_phi_edges(th, ti_, tr_, dp_), s.n_phi)  # (M, 3n, 11 n_phi)
-    l, v = _directions(ti_[..., None], tr_[..., None], dp_[..., None])
-    facets = _Facets(th[..., None], np.cos(ph), np.sin(ph), l, v, albedo)
-    inner = np.sum(facets.single * wph, axis=-1) / math.pi
-    return np.sum(inner * wth, axis=-1) / norm / np.cos(ti)
+    ph, wph = _pieces(xp, _phi_edges(xp, th, ti_, tr_, dp_), s.n_phi)  # (M, 3n, 11 n_phi)
+    l, v = _directions(xp, ti_[..., None], tr_[..., None], dp_[..., None])
+    facets = _Facets(th[..., None], xp.cos(ph), xp.sin(ph), l, v, albedo, xp)
+    inner = xp.sum(facets.single * wph, axis=-1) / math.pi
+    return xp.sum(inner * wth, axis=-1) / norm / xp.cos(ti)
 
 
-def _interreflected(ti, tr, dphi, sigma, albedo, bounces, s: Settings, difference: bool):
-    """Bounces 2..N of the surface BRDF (and the K vs 2K change if ``difference``)."""
+def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
+    """Bounces 2..N of the surface BRDF and the change from K to 2K elements.
+
+    The θa nodes are grouped by their element count (:func:`elements_for_slope`); within a
+    group every node runs the same code with its own slope, weight and radiosity operators:
+    a Python loop, or under JAX one ``lax.scan`` (compiled once per group, not per node).
+    """
     theta_max = min(SIGMA_MAX, 10.0 * sigma)
     t, w = _gauss(s.n_theta_inter)
     nodes, weights = theta_max * t, theta_max * w * slope_weight(theta_max * t, sigma, s.measure)
     weights = weights / weights.sum()
-    out = np.zeros_like(ti)
-    diff = np.zeros_like(ti)
-    for ta, wa in zip(nodes, weights, strict=True):
-        solver = InterreflectionSolver(ta, albedo, bounces, s.elements, s.extrapolate)
-        ph, wph = _pieces(_phi_edges(ta, ti, tr, dphi), s.n_phi)
-        l, v = _directions(ti[:, None], tr[:, None], dphi[:, None])
-        facets = _Facets(ta, np.cos(ph), np.sin(ph), l, v, albedo)
-        val, dk = solver(facets, difference=True)
-        out += wa * np.sum(val * wph, axis=-1) / math.pi
-        if dk is not None:
-            diff += wa * np.sum(dk * wph, axis=-1) / math.pi
-    return out / np.cos(ti), diff / np.cos(ti)
+    l, v = _directions(xp, ti[:, None], tr[:, None], dphi[:, None])
+    groups: dict[int, list[tuple[float, float]]] = {}
+    for ta, wa in zip(nodes.tolist(), weights.tolist(), strict=True):
+        groups.setdefault(elements_for_slope(ta, s.elements), []).append((ta, wa))
+    out = diff = xp.zeros_like(ti)
+    for k, members in groups.items():
+        edges = [element_edges(n) for n in ((k, 2 * k) if s.extrapolate else (k,))]
+
+        def term(ta, wa, operators, edges=edges):
+            ph, wph = _pieces(xp, _phi_edges(xp, ta, ti, tr, dphi), s.n_phi)
+            facets = _Facets(ta, xp.cos(ph), xp.sin(ph), l, v, albedo, xp)
+            ops = operators if operators else [None] * len(edges)
+            val, dk = extrapolated(ta, facets, albedo, list(zip(edges, ops, strict=True)))
+            dk = xp.zeros_like(val) if dk is None else dk
+            return (
+                wa / math.pi * xp.sum(val * wph, axis=-1),
+                wa / math.pi * xp.sum(dk * wph, axis=-1),
+            )
+
+        ops = [[radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members]
+        if ops[0][0] is None:  # N <= 2 bounces: no operator (the identity)
+            ops = [[] for _ in members]
+        if is_jax(xp) and len(members) > 1:
+            import jax
+
+            def body(carry, x, term=term):
+                f, d = term(x[0], x[1], list(x[2]))
+                return (carry[0] + f, carry[1] + d), None
+
+            xs = (
+                _const(xp, [m[0] for m in members]),
+                _const(xp, [m[1] for m in members]),
+                tuple(_const(xp, np.stack([o[j] for o in ops])) for j in range(len(ops[0]))),
+            )
+            (out, diff), _ = jax.lax.scan(body, (out, diff), xs)
+        else:
+            for (ta, wa), op in zip(members, ops, strict=True):
+                f, d = term(ta, wa, op)
+                out, diff = out + f, diff + d
+    return out / xp.cos(ti), diff / xp.cos(ti)
+
+
+def _evaluate(xp: Any, ti, tr, dp, sigma, albedo, bounces, s: Settings):
+    """f and its K-to-2K change for flat float64 arrays of (clamped) geometries."""
+    if sigma == 0.0:
+        return xp.zeros_like(ti) + albedo / math.pi, xp.zeros_like(ti)
+    f = _single_bounce(xp, ti, tr, dp, sigma, albedo, s)
+    if bounces == 1 or albedo == 0:
+        return f, xp.zeros_like(ti)
+    inter, dk = _interreflected(xp, ti, tr, dp, sigma, albedo, bounces, s)
+    return f + inter, -dk
+
+
+@functools.lru_cache(maxsize=32)
+def _jitted(sigma: float, albedo: float, bounces: Bounces, s: Settings):
+    """:func:`_evaluate` on JAX arrays of one chunk, compiled once per parameter set."""
+    import jax
+    import jax.numpy as jnp
+
+    return jax.jit(lambda ti, tr, dp: _evaluate(jnp, ti, tr, dp, sigma, albedo, bounces, s))
 
 
 def _validate(sigma, albedo, bounces, settings) -> tuple[float, float, Bounces, Settings]:
@@ -233,10 +304,17 @@ def brdf(
     bounces: Bounces = "all",
     settings: Settings | None = None,
     *,
-    chunk: int = 256,
+    chunk: int = 32,
     return_difference: bool = False,
 ):
     """Exact BRDF of the V-cavity surface, f(θi, θr, φr − φi; σ, ρ, bounces), in 1/sr.
+
+    Vectorised over arrays of geometries, written once against the array API: NumPy,
+    PyTorch and JAX arrays give a float64 array of their own kind. JAX arrays run the
+    compiled path: each chunk of ``chunk`` geometries is one ``jax.jit`` program (compiled
+    once per σ, ρ, bounces and settings; the quadrature nodes and radiosity operators are its
+    constants), in float64 whether or not ``jax_enable_x64`` is set. Called inside the
+    caller's own ``jax.jit``, it is traced like any JAX code (σ, ρ, bounces static).
 
     Parameters
     ----------
@@ -253,14 +331,15 @@ def brdf(
     settings : Settings, optional
         Slope measure and quadrature settings (default :class:`Settings`).
     chunk : int
-        Geometries evaluated at once (memory: about chunk × 2000 × 4K doubles).
+        Geometries evaluated at once (memory: about chunk × 2000 × 4K doubles). Small
+        chunks keep the work in cache: 32 ran 1.8× faster than 256 in NumPy here.
     return_difference : bool
         Also return f(K) − f(2K) elementwise for the interreflected part (zeros for one
         bounce or without extrapolation).
 
     Returns
     -------
-    ndarray
+    array
         f_r, broadcast shape of the angles (and the K difference if asked).
 
     Examples
@@ -268,34 +347,60 @@ def brdf(
     >>> import numpy as np
     >>> round(float(brdf(0.3, 0.5, 1.0, sigma=0.0, albedo=0.5) * np.pi), 12)
     0.5
+
+    The same on JAX arrays (compiled):
+
+    >>> import jax.numpy as jnp
+    >>> f = brdf(jnp.array([0.3]), 0.5, 1.0, sigma=0.2, albedo=0.5, bounces=1)
+    >>> g = brdf(0.3, 0.5, 1.0, sigma=0.2, albedo=0.5, bounces=1)
+    >>> bool(abs(float(f[0]) - float(g)) < 1e-9)
+    True
     """
     sigma, albedo, bounces, s = _validate(sigma, albedo, bounces, settings)
     for name, val in (("theta_i", theta_i), ("theta_r", theta_r)):
-        check_range(name, val, 0.0, math.pi / 2, unit="radians", scalar=False)
-    ti, tr, dp = np.broadcast_arrays(
-        *(np.asarray(a, dtype=float) for a in (theta_i, theta_r, delta_phi))
-    )
-    shape = ti.shape
-    if not np.all(np.isfinite(dp)):
+        # π/2 rounded to float32 is a little above π/2 and must pass
+        top = float(np.float32(math.pi / 2)) if _is_float32(val) else math.pi / 2
+        check_range(name, val, 0.0, top, unit="radians", scalar=False)
+    if isinstance(chunk, bool) or not isinstance(chunk, int | np.integer) or chunk < 1:
+        raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
+    dp_value = concrete(delta_phi)
+    if dp_value is not None and not np.all(np.isfinite(dp_value)):
         raise ValueError("delta_phi must be finite")
-    ti = np.minimum(ti.ravel(), THETA_GRAZING)
-    tr = np.minimum(tr.ravel(), THETA_GRAZING)
-    dp = dp.ravel()
-    out = np.empty(ti.shape)
-    diff = np.zeros(ti.shape)
-    if sigma == 0.0:
-        out[:] = albedo / math.pi
-    else:
-        for a in range(0, ti.size, chunk):
-            sl = slice(a, a + chunk)
-            out[sl] = _single_bounce(ti[sl], tr[sl], dp[sl], sigma, albedo, s)
-            if bounces != 1 and albedo > 0:
-                inter, dk = _interreflected(ti[sl], tr[sl], dp[sl], sigma, albedo, bounces, s, True)
-                out[sl] += inter
-                diff[sl] = -dk
-    if return_difference:
-        return out.reshape(shape), diff.reshape(shape)
-    return out.reshape(shape)
+    xp = namespace(theta_i, theta_r, delta_phi)
+    with float64(xp):
+        ti, tr, dp = xp.broadcast_arrays(
+            *(asarray(xp, a, xp.float64) for a in (theta_i, theta_r, delta_phi))
+        )
+        shape = tuple(ti.shape)
+        ti = minimum(xp, xp.reshape(ti, (-1,)), THETA_GRAZING)
+        tr = minimum(xp, xp.reshape(tr, (-1,)), THETA_GRAZING)
+        dp = xp.reshape(dp, (-1,))
+        rows = int(ti.shape[0])
+        compiled = is_jax(xp) and not is_tracer(ti) and not is_tracer(dp) and not is_tracer(tr)
+        out, diff = [], []
+        if compiled:  # few compiled shapes: a power of two up to chunk, the last one padded
+            chunk = min(chunk, 1 << max(rows - 1, 0).bit_length())
+        for a in range(0, rows, chunk):
+            part = [x[a : a + chunk] for x in (ti, tr, dp)]
+            n = int(part[0].shape[0])
+            if compiled:
+                if n < chunk:  # pad with a benign geometry (θi = θr = 0)
+                    part = [xp.concat([x, xp.zeros(chunk - n, dtype=x.dtype)]) for x in part]
+                f, d = _jitted(sigma, albedo, bounces, s)(*part)
+            else:
+                f, d = _evaluate(xp, *part, sigma, albedo, bounces, s)
+            out.append(f[:n])
+            diff.append(d[:n])
+        if rows == 0:
+            out, diff = [ti], [ti]
+        f = xp.reshape(xp.concat(out), shape)
+        if return_difference:
+            return f, xp.reshape(xp.concat(diff), shape)
+        return f
+
+
+def _is_float32(x: Any) -> bool:
+    return "float32" in str(getattr(x, "dtype", ""))
 
 
 def quadrature_convergence(
