@@ -151,3 +151,12 @@ def test_report_quick(tmp_path):
     assert "reading fits better" in text and "Oren–Nayar full" in text
     for png in ("plane_of_incidence.png", "error_maps.png"):
         assert (tmp_path / png).stat().st_size > 10_000
+
+
+def test_backends_agree_and_bad_backend(tmp_path):
+    # the compiled JAX chunks and the NumPy chunks hold the same values
+    jx = compute_table(tmp_path / "j.npz", TI, TR, DP, SIG, 0.8, 2, progress=False, backend="jax")
+    ref = brdf(TI[:, None, None], TR[None, :, None], DP[None, None, :], SIG[1], 0.8, 2)
+    np.testing.assert_allclose(jx.values[..., 1], ref, rtol=1e-9)
+    with pytest.raises(ValueError, match="backend"):
+        compute_table(tmp_path / "x.npz", TI, TR, DP, SIG, progress=False, backend="cuda")

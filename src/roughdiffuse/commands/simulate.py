@@ -65,6 +65,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--step", type=float, default=10.0, help="table step of θi and θr, degrees")
     p.add_argument("--delta-phi-step", type=float, default=30.0, help="table step of Δφ, degrees")
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
+    p.add_argument(
+        "--backend",
+        choices=("jax", "numpy"),
+        default="jax",
+        help="array namespace of the table's solver: compiled JAX (default) or NumPy",
+    )
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask distributed scheduler address")
     p.add_argument("--report", action="store_true", help="write the accuracy report")
     p.add_argument("-o", "--output", default="report", help="report folder (default report/)")
@@ -124,6 +130,7 @@ def run(args: argparse.Namespace) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             progress=not args.no_progress,
+            backend=args.backend,
         )
         print(
             f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
