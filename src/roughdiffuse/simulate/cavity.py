@@ -25,12 +25,24 @@ Radiances here are per unit irradiance E0 on a plane facing the source.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any, Literal
 
 import numpy as np
 
-from .._array import Array, asarray, clip, concrete, float64, maximum, minimum, namespace
+from .._array import (
+    Array,
+    asarray,
+    clip,
+    concrete,
+    float64,
+    is_jax,
+    is_tracer,
+    maximum,
+    minimum,
+    namespace,
+)
 from .._validate import check_range
 
 __all__ = [
@@ -382,13 +394,30 @@ def cavity_radiance(
         th = xp.broadcast_to(theta_a, shape)
         ph = xp.broadcast_to(phi_a, shape)
         l, v = _components(xp, wi, shape), _components(xp, wo, shape)
-        above = (l[2] >= 0) & (v[2] >= 0)
-        out = _Facets(th, xp.cos(ph), xp.sin(ph), l, v, albedo, xp).single
+        if is_jax(xp) and not any(is_tracer(a) for a in (th, ph, wi, wo)):
+            out = _single_jitted(albedo)(th, ph, l, v)  # one compiled pass, not op by op
+        else:
+            out = _single(xp, th, ph, l, v, albedo)
         if bounces != 1:
-            out = out + _interreflected_grouped(
+            inter = _interreflected_grouped(
                 xp, th, ph, l, v, albedo, bounces, elements, extrapolate
             )
-        return xp.where(above, out, 0.0)
+            out = xp.where((l[2] >= 0) & (v[2] >= 0), out + inter, 0.0)
+        return out
+
+
+def _single(xp: Any, th, ph, l, v, albedo: float) -> Array:
+    """One bounce (closed form), 0 where l or v is below the horizon."""
+    out = _Facets(th, xp.cos(ph), xp.sin(ph), l, v, albedo, xp).single
+    return xp.where((l[2] >= 0) & (v[2] >= 0), out, 0.0)
+
+
+@functools.lru_cache(maxsize=16)
+def _single_jitted(albedo: float):
+    import jax
+    import jax.numpy as jnp
+
+    return jax.jit(lambda th, ph, l, v: _single(jnp, th, ph, l, v, albedo))
 
 
 def _interreflected_grouped(xp, th, ph, l, v, albedo, bounces, elements, extrapolate) -> Array:
