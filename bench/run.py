@@ -535,8 +535,10 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
             "and of the same call with `jax.numpy` arrays (float64, after a warm-up call that "
             "compiles), interleaved. Surface BRDF rows use the default `Settings()` (1e-4 "
             "accuracy, docs/accuracy.md); the table time is extrapolated from the median "
-            f"rate, for two worker processes. Run by `bench/simulate_bench.py` in a subprocess "
-            f"with {env}. Command: `{meta['command']}`."
+            "rate: NumPy in two single-core worker processes, JAX in the one process measured "
+            "(XLA already runs it on every core). Cavities of all-different slopes run op by "
+            "op on JAX, one radiosity operator per slope. Run by `bench/simulate_bench.py` in "
+            f"a subprocess with {env}. Command: `{meta['command']}`."
         )
         lines.append("")
         if "error" in sim:
