@@ -67,9 +67,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
     p.add_argument(
         "--backend",
-        choices=("jax", "numpy"),
-        default="jax",
-        help="array namespace of the table's solver: compiled JAX (default) or NumPy",
+        choices=("auto", "jax", "numpy"),
+        default="auto",
+        help="array namespace of the table's solver: compiled JAX or NumPy (default auto: "
+        "JAX in one process, NumPy with --workers or --scheduler)",
     )
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask distributed scheduler address")
     p.add_argument("--report", action="store_true", help="write the accuracy report")

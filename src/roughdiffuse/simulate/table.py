@@ -151,7 +151,7 @@ def load_table(path: str | os.PathLike) -> GroundTruth:
 # --------------------------------------------------------------------------- chunked runs
 
 
-BACKENDS: tuple[str, ...] = ("jax", "numpy")
+BACKENDS: tuple[str, ...] = ("auto", "jax", "numpy")
 
 
 def compute_chunk(spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
@@ -196,7 +196,7 @@ def compute_table(
     workers: int = 1,
     scheduler: str | None = None,
     progress: bool = True,
-    backend: str = "jax",
+    backend: str = "auto",
 ) -> GroundTruth:
     """Compute a :class:`GroundTruth` table into ``path``, resumably (module docstring).
 
@@ -220,14 +220,18 @@ def compute_table(
         Address of a Dask distributed scheduler (e.g. ``tcp://127.0.0.1:8786``).
     progress : bool
         Show a tqdm progress bar of chunks.
-    backend : {"jax", "numpy"}
+    backend : {"auto", "jax", "numpy"}
         Array namespace of :func:`~roughdiffuse.simulate.brdf` in each chunk: the compiled
-        JAX path (about 2.5× NumPy's speed on one process with 2 cores, after a compilation
-        of a few seconds per σ and process; bench/RESULTS.md) or NumPy. Both give the same
-        values to 1e-9 relative, so a resumed run may switch.
+        JAX path (all bounces about 1.5× NumPy in one process, where XLA uses every core;
+        1.4× per core; a compilation of a few seconds per σ and process) or NumPy (one core
+        per process: several workers). "auto": JAX in this process (``workers=1``, no
+        scheduler), else NumPy (bench/RESULTS.md: on 2 cores two NumPy workers beat one JAX
+        process). Both give the same values to 1e-9 relative, so a resumed run may switch.
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS} (got {backend!r})")
+    if backend == "auto":
+        backend = "jax" if workers == 1 and scheduler is None else "numpy"
     if albedo is None or not 0.0 <= float(albedo) <= 1.0:
         raise ValueError(f"albedo must be in [0, 1] (got {albedo!r})")
     bounces = check_bounces(bounces)
