@@ -55,7 +55,7 @@ HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:  # also when loaded by `roughdiffuse bench`
     sys.path.insert(0, str(HERE))
 
-from timing import interleaved, rate_summary, write_atomic  # noqa: E402
+from timing import interleaved, rate_summary, rel_error, write_atomic  # noqa: E402
 
 C_SOURCE = HERE / "c" / "kernels.c"
 CFLAGS = ["-O3", "-march=native", "-fopenmp", "-ffast-math", "-shared", "-fPIC"]
@@ -170,12 +170,6 @@ def geometries(rows: int, seed: int = 1994) -> tuple[np.ndarray, np.ndarray, np.
 
 
 # ------------------------------------------------------------------ agreement
-def rel_error(a: np.ndarray, ref: np.ndarray) -> float:
-    ref = np.asarray(ref, np.float64)
-    scale = max(float(np.max(np.abs(ref))), 1e-30)
-    return float(np.max(np.abs(np.asarray(a, np.float64) - ref)) / scale)
-
-
 def bench_size(
     log_rows: int,
     repeat: int,

@@ -52,7 +52,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from timing import block, interleaved, rate_summary  # noqa: E402
+from timing import block, interleaved, rate_summary, rel_error  # noqa: E402
 
 TABLE_SIZE = 90 * 90 * 180
 CORES = 2
@@ -76,12 +76,6 @@ def _jax_numpy() -> Any:
     return jax.numpy
 
 
-def _rel_difference(a: Any, ref: np.ndarray) -> float:
-    ref = np.asarray(ref, np.float64)
-    scale = max(float(np.max(np.abs(ref))), 1e-300)
-    return float(np.max(np.abs(np.asarray(a, np.float64) - ref)) / scale)
-
-
 def _case(
     name: str,
     count: int,
@@ -102,7 +96,7 @@ def _case(
             got = block(run(*jargs))  # warm-up: tracing and compilation
             if isinstance(got, np.ndarray) or not hasattr(got, "block_until_ready"):
                 raise TypeError(f"returned {type(got).__name__}, not a JAX array (no JAX path)")
-            row["jax_max_rel_difference_vs_numpy"] = _rel_difference(got, ref)
+            row["jax_max_rel_difference_vs_numpy"] = rel_error(got, ref)
             variants["jax"] = lambda: run(*jargs)
         except Exception as exc:  # the JAX path may not exist (yet): say so, go on
             msg = " ".join(f"{type(exc).__name__}: {exc}".split())

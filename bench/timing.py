@@ -1,5 +1,6 @@
 """Timing helpers shared by the benchmark scripts (``run.py``, ``fit_bench.py``,
-``simulate_bench.py``): summary statistics, an interleaved timing loop, atomic writes.
+``simulate_bench.py``): summary statistics, an interleaved timing loop, atomic writes, and
+the relative difference by which each variant is checked against its reference.
 
 The machine the benchmarks run on is shared and noisy, so variants are timed interleaved, run
 by run, in a rotating order: the noise then hits every variant alike, and the ratios between
@@ -118,3 +119,12 @@ def write_atomic(path: Path, text: str) -> None:
     tmp = path.with_name(path.name + f".{os.getpid()}.tmp")
     tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, path)
+
+
+def rel_error(a: Any, ref: Any) -> float:
+    """Largest |a − ref| relative to the largest |ref| (any arrays NumPy can read)."""
+    import numpy as np
+
+    ref = np.asarray(ref, np.float64)
+    scale = max(float(np.max(np.abs(ref))), 1e-300)
+    return float(np.max(np.abs(np.asarray(a, np.float64) - ref)) / scale)
