@@ -142,7 +142,7 @@ def minimum(xp: Any, a: Array, b: Array | float) -> Array:
     return xp.where(a <= b, a, b)
 
 
-def float64(xp: Any) -> contextlib.AbstractContextManager[None]:
+def double_precision(xp: Any) -> contextlib.AbstractContextManager[None]:
     """Context in which ``xp`` computes in float64: JAX's ``enable_x64``, else nothing.
 
     For code that needs double precision whatever the caller's JAX setting (the V-cavity

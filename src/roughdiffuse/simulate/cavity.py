@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 from typing import Any, Literal
 
 import numpy as np
@@ -36,7 +37,7 @@ from .._array import (
     asarray,
     clip,
     concrete,
-    float64,
+    double_precision,
     is_jax,
     is_tracer,
     maximum,
@@ -131,12 +132,19 @@ def radiosity_operator(
     return m
 
 
-def _points(theta_a, s, sign: float, tangent: bool = False):
-    """Cross-section points at fractions s of facet "+" (sign 1) or "−" (sign −1).
+def slope_function(xp: Any, name: str, theta_a: float | Array) -> float | Array:
+    """``math.<name>`` of a number, ``xp.<name>`` of an array (a slope traced by JAX).
 
-    ``theta_a`` is the slope, or tan θa itself with ``tangent``.
+    The slope of a group of cavities is a Python float in loops and a 0-d array under
+    ``jax.lax.scan``; functions of it stay Python floats where they can.
     """
-    tan_a = theta_a if tangent else math.tan(theta_a)
+    if isinstance(theta_a, numbers.Real):
+        return getattr(math, name)(theta_a)
+    return getattr(xp, name)(theta_a)
+
+
+def _points(tan_a, s, sign: float):
+    """Cross-section points at fractions s of facet "+" (sign 1) or "−" (sign −1)."""
     return sign * (-0.5 + 0.5 * s), -0.5 * tan_a * s
 
 
@@ -147,8 +155,9 @@ def _strings(theta_a: float, a0, a1, b0, b1) -> np.ndarray:
     (crossed strings − uncrossed strings) / 2 (Modest, *Radiative Heat Transfer*, §4.8).
     Lengths are per unit cavity width; the facets of a V see each other entirely.
     """
-    pa0, pa1 = _points(theta_a, a0, 1.0), _points(theta_a, a1, 1.0)
-    pb0, pb1 = _points(theta_a, b0, -1.0), _points(theta_a, b1, -1.0)
+    t = math.tan(theta_a)
+    pa0, pa1 = _points(t, a0, 1.0), _points(t, a1, 1.0)
+    pb0, pb1 = _points(t, b0, -1.0), _points(t, b1, -1.0)
 
     def d(p, q):
         return np.hypot(p[0] - q[0], p[1] - q[1])
@@ -182,13 +191,12 @@ def segment_factors(theta_a: float | Array, edges: np.ndarray, g: Array, xp: Any
     array (a traced slope under ``jax.lax.scan``).
     """
     xp = xp or namespace(g)
-    tan_a = math.tan(theta_a) if isinstance(theta_a, float | int) else xp.tan(theta_a)
+    tan_a = slope_function(xp, "tan", theta_a)
     # crossed strings as in _strings, with the distances shared between adjacent elements
     # and those from the fixed rim computed once
-    s = _const(xp, edges)
-    ex, ey = 0.5 - 0.5 * s, -0.5 * tan_a * s  # points of the "−" facet (_points, sign −1)
+    ex, ey = _points(tan_a, _const(xp, edges), -1.0)
     d0 = xp.sqrt((ex + 0.5) ** 2 + ey**2)  # from the other facet's rim (-1/2, 0)
-    gx, gy = _points(tan_a, g[..., None], 1.0, tangent=True)
+    gx, gy = _points(tan_a, g[..., None], 1.0)
     dx, dy = ex - gx, ey - gy
     dg = xp.sqrt(dx * dx + dy * dy)
     return 0.5 * xp.abs(d0[1:] + dg[..., :-1] - d0[:-1] - dg[..., 1:])
@@ -211,10 +219,7 @@ class _Facets:
     def __init__(self, theta_a, cos_phi, sin_phi, l, v, albedo: float, xp: Any = None) -> None:
         xp = xp or namespace(cos_phi, *l, *v)
         self.xp = xp
-        if isinstance(theta_a, float | int | np.floating):
-            sa, ca = math.sin(theta_a), math.cos(theta_a)
-        else:
-            sa, ca = xp.sin(theta_a), xp.cos(theta_a)
+        sa, ca = slope_function(xp, "sin", theta_a), slope_function(xp, "cos", theta_a)
         lx, ly, lz = l
         vx, vy, vz = v
         lz = maximum(xp, lz, COS_FLOOR)
@@ -381,7 +386,7 @@ def cavity_radiance(
     if th_value is not None and np.any(th_value >= math.pi / 2):
         raise ValueError("theta_a must be in [0, π/2) radians (got π/2)")
     xp = namespace(theta_a, phi_a, wi, wo)
-    with float64(xp):
+    with double_precision(xp):
         theta_a, phi_a, wi, wo = (asarray(xp, a, xp.float64) for a in (theta_a, phi_a, wi, wo))
         for name, w in (("wi", wi), ("wo", wo)):
             if tuple(w.shape[-1:]) != (3,):

@@ -43,7 +43,7 @@ from .._array import (
     asarray,
     clip,
     concrete,
-    float64,
+    double_precision,
     is_jax,
     is_tracer,
     minimum,
@@ -60,6 +60,7 @@ from .cavity import (
     elements_for_slope,
     extrapolated,
     radiosity_operator,
+    slope_function,
 )
 
 __all__ = [
@@ -167,10 +168,7 @@ def _phi_edges(xp: Any, theta_a, ti, tr, dphi) -> Array:
     starts), the same two for v, and cos θi (n_f·v) = cos θr (n_f·l) (lit and visible
     fractions equal).
     """
-    if isinstance(theta_a, float):
-        sa, ca = math.sin(theta_a), math.cos(theta_a)
-    else:
-        sa, ca = xp.sin(theta_a), xp.cos(theta_a)
+    sa, ca = slope_function(xp, "sin", theta_a), slope_function(xp, "cos", theta_a)
     si, ci, sr, cr = xp.sin(ti), xp.cos(ti), xp.sin(tr), xp.cos(tr)
     cd, sd = xp.cos(dphi), xp.sin(dphi)
     zero = xp.zeros_like(sa * si * sr * cd)
@@ -230,10 +228,10 @@ def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
     for k, members in groups.items():
         edges = [element_edges(n) for n in ((k, 2 * k) if s.extrapolate else (k,))]
 
-        def term(ta, wa, operators, edges=edges):
+        def term(ta, wa, ops, edges=edges):
+            ops = list(ops) or [None] * len(edges)  # () from lax.scan when there are none
             ph, wph = _pieces(xp, _phi_edges(xp, ta, ti, tr, dphi), s.n_phi)
             facets = _Facets(ta, xp.cos(ph), xp.sin(ph), l, v, albedo, xp)
-            ops = operators if operators else [None] * len(edges)
             val, dk = extrapolated(ta, facets, albedo, list(zip(edges, ops, strict=True)))
             dk = xp.zeros_like(val) if dk is None else dk
             return (
@@ -241,20 +239,24 @@ def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
                 wa / math.pi * xp.sum(dk * wph, axis=-1),
             )
 
+        # one operator per node and level (None, the identity, for N <= 2 bounces)
         ops = [[radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members]
-        if ops[0][0] is None:  # N <= 2 bounces: no operator (the identity)
-            ops = [[] for _ in members]
         if is_jax(xp) and len(members) > 1:
             import jax
 
             def body(carry, x, term=term):
-                f, d = term(x[0], x[1], list(x[2]))
+                f, d = term(x[0], x[1], x[2])
                 return (carry[0] + f, carry[1] + d), None
 
+            stacked = (
+                ()
+                if ops[0][0] is None
+                else tuple(_const(xp, np.stack([o[j] for o in ops])) for j in range(len(edges)))
+            )
             xs = (
                 _const(xp, [m[0] for m in members]),
                 _const(xp, [m[1] for m in members]),
-                tuple(_const(xp, np.stack([o[j] for o in ops])) for j in range(len(ops[0]))),
+                stacked,
             )
             (out, diff), _ = jax.lax.scan(body, (out, diff), xs)
         else:
@@ -359,7 +361,10 @@ def brdf(
     sigma, albedo, bounces, s = _validate(sigma, albedo, bounces, settings)
     for name, val in (("theta_i", theta_i), ("theta_r", theta_r)):
         # π/2 rounded to float32 is a little above π/2 and must pass
-        top = float(np.float32(math.pi / 2)) if _is_float32(val) else math.pi / 2
+        value = concrete(val)
+        top = math.pi / 2
+        if value is not None and value.dtype == np.float32:
+            top = float(np.float32(top))
         check_range(name, val, 0.0, top, unit="radians", scalar=False)
     if isinstance(chunk, bool) or not isinstance(chunk, int | np.integer) or chunk < 1:
         raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
@@ -367,7 +372,7 @@ def brdf(
     if dp_value is not None and not np.all(np.isfinite(dp_value)):
         raise ValueError("delta_phi must be finite")
     xp = namespace(theta_i, theta_r, delta_phi)
-    with float64(xp):
+    with double_precision(xp):
         ti, tr, dp = xp.broadcast_arrays(
             *(asarray(xp, a, xp.float64) for a in (theta_i, theta_r, delta_phi))
         )
@@ -397,10 +402,6 @@ def brdf(
         if return_difference:
             return f, xp.reshape(xp.concat(diff), shape)
         return f
-
-
-def _is_float32(x: Any) -> bool:
-    return "float32" in str(getattr(x, "dtype", ""))
 
 
 def quadrature_convergence(
