@@ -209,24 +209,40 @@ def _single_bounce(xp: Any, ti, tr, dphi, sigma, albedo, s: Settings) -> Array:
     return xp.sum(inner * wth, axis=-1) / norm / xp.cos(ti)
 
 
-def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
-    """Bounces 2..N of the surface BRDF and the change from K to 2K elements.
+@functools.lru_cache(maxsize=16)
+def _slope_nodes(sigma: float, albedo: float, bounces: Bounces, s: Settings):
+    """θa nodes of the interreflected part, grouped by element count, with their operators.
 
-    The θa nodes are grouped by their element count (:func:`elements_for_slope`); within a
-    group every node runs the same code with its own slope, weight and radiosity operators:
-    a Python loop, or under JAX one ``lax.scan`` (compiled once per group, not per node).
+    Returns ``[(edges, nodes, weights, operators), ...]``, one entry per element count
+    (:func:`elements_for_slope`): the element edges of each level (K and 2K), the nodes and
+    normalised weights of the group, and per node and level the radiosity operator (None,
+    the identity, for N <= 2 bounces). Cached: every chunk of a table uses the same ones.
     """
     theta_max = min(SIGMA_MAX, 10.0 * sigma)
     t, w = _gauss(s.n_theta_inter)
     nodes, weights = theta_max * t, theta_max * w * slope_weight(theta_max * t, sigma, s.measure)
     weights = weights / weights.sum()
-    l, v = _directions(xp, ti[:, None], tr[:, None], dphi[:, None])
     groups: dict[int, list[tuple[float, float]]] = {}
     for ta, wa in zip(nodes.tolist(), weights.tolist(), strict=True):
         groups.setdefault(elements_for_slope(ta, s.elements), []).append((ta, wa))
-    out = diff = xp.zeros_like(ti)
+    out = []
     for k, members in groups.items():
         edges = [element_edges(n) for n in ((k, 2 * k) if s.extrapolate else (k,))]
+        ops = [[radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members]
+        out.append((edges, [m[0] for m in members], [m[1] for m in members], ops))
+    return out
+
+
+def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
+    """Bounces 2..N of the surface BRDF and the change from K to 2K elements.
+
+    Within a group of :func:`_slope_nodes` every node runs the same code with its own slope,
+    weight and radiosity operators: a Python loop, or under JAX one ``lax.scan`` (compiled
+    once per group, not per node).
+    """
+    l, v = _directions(xp, ti[:, None], tr[:, None], dphi[:, None])
+    out = diff = xp.zeros_like(ti)
+    for edges, nodes, weights, ops in _slope_nodes(sigma, albedo, bounces, s):
 
         def term(ta, wa, ops, edges=edges):
             ops = list(ops) or [None] * len(edges)  # () from lax.scan when there are none
@@ -239,9 +255,7 @@ def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
                 wa / math.pi * xp.sum(dk * wph, axis=-1),
             )
 
-        # one operator per node and level (None, the identity, for N <= 2 bounces)
-        ops = [[radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members]
-        if is_jax(xp) and len(members) > 1:
+        if is_jax(xp) and len(nodes) > 1:
             import jax
 
             def body(carry, x, term=term):
@@ -253,14 +267,10 @@ def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
                 if ops[0][0] is None
                 else tuple(_const(xp, np.stack([o[j] for o in ops])) for j in range(len(edges)))
             )
-            xs = (
-                _const(xp, [m[0] for m in members]),
-                _const(xp, [m[1] for m in members]),
-                stacked,
-            )
+            xs = (_const(xp, nodes), _const(xp, weights), stacked)
             (out, diff), _ = jax.lax.scan(body, (out, diff), xs)
         else:
-            for (ta, wa), op in zip(members, ops, strict=True):
+            for ta, wa, op in zip(nodes, weights, ops, strict=True):
                 f, d = term(ta, wa, op)
                 out, diff = out + f, diff + d
     return out / xp.cos(ti), diff / xp.cos(ti)
