@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from roughdiffuse.render.imagefile import (
-    atomic_write,
+from roughdiffuse.io.atomic import atomic_write
+from roughdiffuse.io.images import (
     exposure_scale,
     linear_to_srgb,
     write_exr,
@@ -134,7 +134,7 @@ def test_missing_folder_is_a_value_error(tmp_path):
 
 def test_read_png_agrees_with_pillow(tmp_path):
     """Our PNG decoder against Pillow on 8-bit RGB and 16-bit grey (both filters paths)."""
-    from roughdiffuse.render.imagefile import read_png
+    from roughdiffuse.io.images import read_png
 
     rng = np.random.default_rng(0)
     rgb = rng.integers(0, 256, size=(37, 23, 3), dtype=np.uint8)

@@ -45,7 +45,7 @@ def albedo_curves(models: Mapping[str, Model], theta_o: Sequence[float]) -> dict
 
 def write_albedo_csv(path: Any, theta_o: Sequence[float], curves: Mapping[str, np.ndarray]) -> None:
     """Write the table: one row per θo (degrees), one column per curve (atomically)."""
-    from .render.imagefile import atomic_write
+    from .io.atomic import atomic_write
 
     labels = list(curves)
     rows = ["theta_o_deg," + ",".join(f'"{label}"' for label in labels)]

@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         check_output(args.table, (".csv",), args.force)
 
-    from ..render.imagefile import atomic_write
+    from ..io.atomic import atomic_write
 
     th = np.radians(np.arange(0.0, 89.75, 0.5))
     fig = energy.plot_albedo(groups, th)

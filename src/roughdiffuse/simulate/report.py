@@ -131,6 +131,7 @@ def write_report(
             workers=workers,
             scheduler=scheduler,
             progress=progress,
+            force=True,  # a table of this report's other grid (checked above) is replaced
         )
 
     one = {m: table(m, 1) for m in ("angle", "solid-angle")}
