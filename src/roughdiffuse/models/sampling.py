@@ -40,6 +40,7 @@ import numpy as np
 
 from .._array import Array, asarray, concrete, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from ..frames import unit_components
+from ..quadrature import gauss_legendre
 from .base import BSDFSample, Model
 
 __all__ = [
@@ -180,8 +181,7 @@ CLTC = Strategy("cltc", _eon_sample, _eon_pdf)
 
 
 # ---------------------------------------------------------------------------- microfacet
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
-_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
+_GL_X, _GL_W = gauss_legendre(32)
 _NEWTON_STEPS = 5
 
 

@@ -27,12 +27,10 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
-import numpy as np
-
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from .._validate import check_range
 from ..frames import unit_components
-from ._quadrature import gauss_legendre_01
+from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .oren_nayar import SIGMA_MAX
 
@@ -44,8 +42,7 @@ _COS_FLOOR = 1e-6
 SIGMA_FLOOR = 1e-4
 """Smallest σ the facet distribution resolves: a smaller positive σ is evaluated as 1e-4 rad
 (peak D = 1.6e7 /sr), so that D stays finite in float32 as σ -> 0 (σ = 0 itself gives 0)."""
-_GL_T, _GL_W = np.polynomial.legendre.leggauss(96)
-_GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
+_GL_T, _GL_W = gauss_legendre(96)
 
 
 def fresnel_dielectric(xp: Any, cos_t: Array, eta: Array) -> Array:
@@ -175,7 +172,7 @@ class TorranceSparrow(Model):
             theta_max = minimum(xp, 10.0 * sigma, math.pi / 2)
         else:
             theta_max = xp.atan(10.0 * math.sqrt(2.0) * sigma)
-        t, w = (asarray(xp, a, dtype) for a in gauss_legendre_01(n))
+        t, w = (asarray(xp, a, dtype) for a in gauss_legendre(n))
         th = theta_max * t[:, None]
         ph = math.pi * t[None, :]
         cos_oh = sin_o * xp.sin(th) * xp.cos(ph) + mu_o * xp.cos(th)
