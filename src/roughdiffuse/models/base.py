@@ -206,7 +206,7 @@ class Model:
     def directional_albedo(self, wo: Array) -> Array:
         """∫ f_r(wi, wo) cos θi dωi over the upper hemisphere.
 
-        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θo and
+        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θr and
         φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
         override this.
         """
