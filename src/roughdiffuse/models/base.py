@@ -93,6 +93,17 @@ class Model:
         """The BRDF from the local cosines (mu in [0, 1]); subclasses implement it."""
         raise NotImplementedError
 
+    def kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **params: Any) -> Array:
+        """The model's formula on the local cosines, with the parameters given as arrays.
+
+        For code that supplies its own parameter values in its own array namespace ``xp``
+        (the Mitsuba 3 plugins pass Dr.Jit values and textures). ``mu_i``, ``mu_o`` must lie
+        in [0, 1] and ``cos_io`` in [-1, 1]; no horizon test or validation is made (use
+        :meth:`brdf_cosines` for that). ``params`` are the model's ``array_fields``.
+        Subclasses implement the formula in ``_kernel``.
+        """
+        return self._kernel(xp, mu_i, mu_o, cos_io, **params)
+
     # ------------------------------------------------------------------ helpers
     def _coerce_channels(self) -> None:
         """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
