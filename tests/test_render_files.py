@@ -146,3 +146,14 @@ def test_read_png_agrees_with_pillow(tmp_path):
     Image.fromarray(grey).save(tmp_path / "b.png")
     pix, bits, _ = read_png(tmp_path / "b.png")
     assert bits == 16 and np.array_equal(pix[..., 0], np.asarray(Image.open(tmp_path / "b.png")))
+
+
+def test_read_png_with_a_bad_header_is_a_value_error_naming_the_file(tmp_path):
+    from roughdiffuse.io.images import read_png
+
+    good = write_png(tmp_path / "g.png", np.zeros((2, 2))).read_bytes()
+    # shorten the IHDR chunk's declared length from 13 to 5 bytes
+    bad = good[:8] + (5).to_bytes(4, "big") + good[12:]
+    (tmp_path / "bad.png").write_bytes(bad)
+    with pytest.raises(ValueError, match="bad.png: corrupt PNG header"):
+        read_png(tmp_path / "bad.png")

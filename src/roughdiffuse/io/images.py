@@ -276,6 +276,8 @@ def read_png(path: str | os.PathLike[str]) -> tuple[np.ndarray, int, dict[str, s
             raise ValueError(f"{name}: truncated PNG file")
         pos += 12 + length
         if kind == b"IHDR":
+            if len(payload) != 13:  # ISO/IEC 15948 §11.2.2: IHDR holds 13 bytes
+                raise ValueError(f"{name}: corrupt PNG header ({len(payload)}-byte IHDR)")
             header = struct.unpack(">IIBBBBB", payload)
         elif kind == b"IDAT":
             idat.append(payload)
