@@ -176,6 +176,12 @@ class Model:
         """
         return self._kernel(xp, mu_i, mu_o, cos_io, **params)
 
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
+        """The numeric parameters as arrays of namespace ``xp``: what :meth:`kernel` and the
+        sampling strategies (:mod:`.sampling`) receive. Subclasses adapt it in ``_params``.
+        """
+        return self._params(xp, dtype)
+
     # ------------------------------------------------------------------ helpers
     def _coerce_channels(self) -> None:
         """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
