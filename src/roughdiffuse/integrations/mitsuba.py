@@ -19,9 +19,10 @@ Plugins (parameters named as in roughdiffuse; σ in radians):
 =================================  ==============================================
 
 ``albedo`` is a texture (a float, ``{"type": "rgb", ...}``, a bitmap...). The formulas are
-not copied here: ``eval`` calls the model's own ``_kernel`` and ``sample``/``pdf`` the
-strategy of :mod:`roughdiffuse.models.sampling`, through the Dr.Jit array namespace of
-:mod:`.drjit_namespace`. Mitsuba's conventions: ``si.wi`` points to the viewer (roughdiffuse's
+not copied here: ``eval`` calls the model's own formula
+(:meth:`~roughdiffuse.models.base.Model.kernel`) and ``sample``/``pdf`` the strategy of
+:mod:`roughdiffuse.models.sampling`, through the Dr.Jit array namespace of :mod:`.drjit_namespace`.
+Mitsuba's conventions: ``si.wi`` points to the viewer (roughdiffuse's
 ``wo``), the ``wo`` argument to the light (roughdiffuse's ``wi``); ``eval`` includes the
 cosine of the light direction; the BSDF is one-sided (0 and pdf 0 below the horizon).
 
@@ -104,7 +105,7 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
             mu_i = dr.clip(wi.z, 0.0, 1.0)
             mu_o = dr.clip(si.wi.z, 0.0, 1.0)
             cos_io = dr.clip(dr.dot(wi, si.wi), -1.0, 1.0)
-            f = self.model._kernel(
+            f = self.model.kernel(
                 xp, wrap(mu_i), wrap(mu_o), wrap(cos_io), **self._params(si, active)
             )
             return mi.Color3f(unwrap(f))
