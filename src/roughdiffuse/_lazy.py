@@ -21,23 +21,29 @@ _WAITING: dict[str, list[Callable[[ModuleType], None]]] = {}
 
 
 def attach(
-    package: str, submodules: Iterable[str]
+    package: str, submodules: Iterable[str] = (), names: dict[str, str] | None = None
 ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
-    """``__getattr__`` and ``__dir__`` for ``package`` that import ``submodules`` on first use.
+    """``__getattr__`` and ``__dir__`` for ``package`` that import ``submodules``, and the
+    attributes ``names`` (attribute -> submodule defining it), on first use.
 
     Examples
     --------
     >>> __getattr__, __dir__ = attach("roughdiffuse", ["fastpath"])  # in a package's __init__
     """
-    names = set(submodules)
+    modules = set(submodules)
+    attributes = dict(names or {})
 
     def __getattr__(name: str) -> Any:
-        if name in names:
+        if name in modules:
             return importlib.import_module(f"{package}.{name}")
+        if name in attributes:
+            value = getattr(importlib.import_module(f"{package}.{attributes[name]}"), name)
+            setattr(sys.modules[package], name, value)
+            return value
         raise AttributeError(f"module {package!r} has no attribute {name!r}")
 
     def __dir__() -> list[str]:
-        return sorted(set(vars(sys.modules[package])) | names)
+        return sorted(set(vars(sys.modules[package])) | modules | set(attributes))
 
     return __getattr__, __dir__
 

@@ -100,10 +100,7 @@ def write_report(
     The tables are computed by :func:`compute_table` (``workers`` processes, or the Dask
     ``scheduler`` at that address) and reused by later runs with the same grid.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .. import _figure as plt  # Figure objects, no pyplot (see roughdiffuse._figure)
 
     out = Path(out)
     (out / "tables").mkdir(parents=True, exist_ok=True)
@@ -295,7 +292,6 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "plane_of_incidence.png", dpi=110)
-    plt.close(fig)
     figs.append(("Plane of incidence", "plane_of_incidence.png"))
     # error maps over θi × θr at Δφ = 0, σ = 0.3, against all bounces
     ang = np.radians(np.arange(0.0, 86.0, 20.0 if quick else 5.0))
@@ -316,7 +312,6 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
         fig.colorbar(im, ax=ax, label="relative error")
     fig.tight_layout()
     fig.savefig(out / "error_maps.png", dpi=110)
-    plt.close(fig)
     figs.append(("Error maps", "error_maps.png"))
     try:
         import mitsuba as mi
@@ -388,4 +383,3 @@ def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
     axes[2].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "pixels.png", dpi=110)
-    plt.close(fig)
