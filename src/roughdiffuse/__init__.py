@@ -27,6 +27,8 @@ from .models import (
     TorranceSparrow,
     oren_nayar,
 )
+from .models.declaration import Param
+from .registry import register_model
 
 SUBMODULES = (
     "bench",
@@ -70,10 +72,12 @@ __all__ = [
     "Mix",
     "Model",
     "OrenNayar",
+    "Param",
     "TorranceSparrow",
     "__version__",
     "fastpath_enabled",
     "oren_nayar",
+    "register_model",
     "roughness",
     "spherical_to_vector",
     "use_fastpath",
