@@ -219,7 +219,7 @@ class Model:
 
         The strategy is the class's ``sampling`` (see :mod:`.sampling`): cosine-weighted
         hemisphere by default, EON's clipped LTC for EON and Fujii, facet-normal sampling
-        for Torrance–Sparrow.
+        for Torrance–Sparrow, the mixture of its components' strategies for a Mix.
         """
         from .sampling import sample_model
 
@@ -230,6 +230,22 @@ class Model:
         from .sampling import pdf_model
 
         return pdf_model(self, wi, wo)
+
+    def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
+        """A cheap estimate of the directional albedo at view cosine ``mu_o``.
+
+        ``p`` holds the parameters as the sampling strategies receive them (``_params``).
+        :class:`~roughdiffuse.models.mix.Mix` samples component k with probability
+        proportional to w_k times this estimate. Default: the ``albedo`` parameter (the mean
+        of its channels), or 1 for a model without one; Torrance–Sparrow overrides it. It
+        only steers sampling: the estimates change the variance, never the mean.
+        """
+        a = p.get("albedo")
+        if a is None:
+            return 1.0 + 0.0 * mu_o
+        if self.channels:
+            a = xp.sum(a, axis=-1) / self.channels
+        return a + 0.0 * mu_o
 
     def _closed_form_albedo(self, wo: Array, albedo_of_mu: Any) -> Array:
         """Directional albedo from a closed form ``albedo_of_mu(xp, mu_o, **params)``.

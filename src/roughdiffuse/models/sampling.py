@@ -284,7 +284,14 @@ _MICROFACET = {name: microfacet(name) for name in ("gaussian", "beckmann")}
 
 
 def strategy_for(model: Model) -> Strategy:
-    """The best strategy this module has for ``model`` (cosine by default)."""
+    """The best strategy this module has for ``model`` (cosine by default).
+
+    A model whose strategy depends on its components (:class:`~roughdiffuse.models.mix.Mix`)
+    builds it with its ``sampling_strategy()`` method.
+    """
+    own = getattr(model, "sampling_strategy", None)
+    if own is not None:
+        return own()
     if model.sampling == "cltc":
         return CLTC
     if model.sampling == "microfacet":
