@@ -87,6 +87,14 @@ class Mix(Model):
     def channels(self) -> int:
         return max(m.channels for _, m in self.components)
 
+    @property
+    def lobes(self) -> frozenset[str]:
+        """The lobe types of the components (``"diffuse"``, ``"glossy"``)."""
+        out: set[str] = set()
+        for _, m in self.components:
+            out |= set(getattr(m, "lobes", {getattr(type(m), "lobe", "diffuse")}))
+        return frozenset(out)
+
     def _weighted_sum(self, values: Sequence[Array], channels: Sequence[int]) -> Array:
         total = None
         ch = self.channels
