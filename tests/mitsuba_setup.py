@@ -32,3 +32,29 @@ def mitsuba_variant(variant: str) -> Any:
 
     register()
     return mi
+
+
+def parameter_sets(entry: Any) -> list[dict[str, Any]]:
+    """Two parameter sets of a registry model for the plugin tests: its defaults ({}) and a
+    "rough" set (angles at 1 rad, numbers whose range lies inside [0, 10] at its middle,
+    colour parameters at 0.7), so that every declared parameter is tried off its default."""
+    rough: dict[str, Any] = {}
+    for p in entry.parameters:
+        if p.categorical:
+            continue
+        if p.channels:
+            rough[p.name] = 0.7
+        elif p.unit == "radians" and (p.max is None or p.max >= 1.0):
+            rough[p.name] = 1.0
+        elif p.min is not None and p.max is not None and 0 <= p.min and p.max <= 10:
+            rough[p.name] = 0.5 * (p.min + p.max)
+    return [{}, rough]
+
+
+def can_sample(model: Any) -> bool:
+    """Whether ``model`` has anything to sample (not a mirror's Dirac delta, where every
+    sample has pdf 0)."""
+    import numpy as np
+
+    s = model.sample(np.random.default_rng(0).random((256, 2)), np.array([0.3, 0.0, 0.95]))
+    return bool(np.any(np.asarray(s.pdf) > 0))
