@@ -178,3 +178,17 @@ def test_sampling_in_jax_matches_numpy():
     b = m.sample(jnp.asarray(u), jnp.asarray(_wo(0.7)))
     np.testing.assert_allclose(np.asarray(b.wi), a.wi, rtol=1e-5, atol=1e-6)
     np.testing.assert_allclose(np.asarray(b.weight), a.weight, rtol=1e-4, atol=1e-6)
+
+
+def test_channel_of_a_mix_is_the_mix_of_its_components_channels():
+    """``channel(c)`` (what a per-channel evaluator calls): channel c of the RGB Mix's BRDF."""
+    rgb = np.array([0.9, 0.5, 0.2])
+    m = rd.Mix([(0.6, rd.EON(rgb, 0.7)), (0.4, rd.TorranceSparrow(1.5, 0.3))])
+    wi, _ = _grid(8)
+    wo = _wo(0.6)
+    full = np.asarray(m.brdf(wi, wo))
+    for c in range(3):
+        ref = 0.6 * np.asarray(rd.EON(rgb[c], 0.7).brdf(wi, wo))
+        ref = ref + 0.4 * np.asarray(rd.TorranceSparrow(1.5, 0.3).brdf(wi, wo))
+        np.testing.assert_allclose(np.asarray(m.channel(c).brdf(wi, wo)), ref, rtol=1e-12)
+        np.testing.assert_allclose(full[..., c], ref, rtol=1e-12)

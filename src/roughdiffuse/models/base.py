@@ -309,6 +309,24 @@ class Model:
 
         return pdf_model(self, wi, wo)
 
+    def channel(self, c: int) -> Model:
+        """This model for colour channel ``c`` alone: each channel parameter with one value per
+        channel replaced by its ``c``-th value (a scalar or one-value parameter kept).
+
+        A per-channel evaluator (the fast path) calls this instead of looking inside the
+        model; :class:`~roughdiffuse.models.mix.Mix` passes it on to its components.
+
+        >>> from roughdiffuse import Lambert
+        >>> Lambert([0.9, 0.5, 0.2]).channel(1)
+        Lambert(albedo=0.5)
+        """
+        changes = {}
+        for f in self.channel_fields:
+            value = getattr(self, f)
+            if getattr(value, "ndim", 0) == 1:
+                changes[f] = float(value[c]) if value.shape[0] > 1 else float(value[0])
+        return dataclasses.replace(self, **changes) if changes else self  # type: ignore[type-var]
+
     def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
         """A cheap estimate of the directional albedo at view cosine ``mu_o``.
 

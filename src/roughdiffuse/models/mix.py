@@ -140,6 +140,10 @@ class Mix(Model):
     def channels(self) -> int:
         return max(m.channels for _, m in self.components)
 
+    def channel(self, c: int) -> Mix:
+        """This Mix for colour channel ``c`` alone (each component's :meth:`channel`)."""
+        return Mix([(w, m.channel(c)) for w, m in self.components])
+
     @property
     def lobes(self) -> frozenset[str]:
         """The lobe types of the components (``"diffuse"``, ``"glossy"``)."""
