@@ -85,14 +85,6 @@ def _lobes(model: Model) -> set[str]:
     return set(lobes) if lobes is not None else {type(model).lobe}
 
 
-def _entry_for(entry: registry.Entry, choices: dict[str, str]) -> registry.Entry:
-    """The id of ``entry``'s class whose fixed values match ``choices`` (else ``entry``)."""
-    for e in registry.entries():
-        if e.cls is entry.cls and all(choices.get(k) == v for k, v in e.fixed.items()):
-            return e
-    return entry
-
-
 _MISSING = object()
 
 
@@ -113,6 +105,8 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
         return (c[0] + c[1] + c[2]) * (1.0 / 3.0)
 
     class RoughdiffuseBSDF(mi.BSDF):
+        # the parameters are attributes named as declared (Mitsuba's traverse/update sets
+        # them by name); the plugin's own attributes start with rd_
         def __init__(self, props: Any) -> None:
             mi.BSDF.__init__(self, props)
             for key in props.keys():
@@ -125,18 +119,17 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
                        for p in categorical}
             for p in categorical:
                 p.check(choices[p.name])
-            self.entry = _entry_for(entry, choices)
             # validate with the given numbers (a texture: its default, it has no one value)
             given = {p.name: float(props[p.name]) for p in numbers if p.name in props}
             constant = {}
             for p in textures:
                 if p.name in props and isinstance(props[p.name], float | int):
                     constant[p.name] = float(props[p.name])
-            self.model = factory(**choices, **given, **constant)  # ValueError if out of range
-            self.choices = choices
-            self.numbers: list[str] = []
+            self.rd_model = factory(**choices, **given, **constant)  # ValueError if out of range
+            self.rd_choices = choices
+            self.rd_numbers: list[str] = []
             for p in numbers:  # the numbers this instance has (e.g. sigma or alpha)
-                value = getattr(self.model, p.name, _MISSING)
+                value = getattr(self.rd_model, p.name, _MISSING)
                 if value is _MISSING:  # built by from_params: the declared parameter itself
                     if not p.applies(choices):
                         continue
@@ -144,12 +137,12 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
                 if value is None:
                     continue
                 setattr(self, p.name, mi.Float(float(value)))
-                self.numbers.append(p.name)
-            self.textures = [p.name for p in textures if p.applies(choices)]
-            for name in self.textures:
+                self.rd_numbers.append(p.name)
+            self.rd_textures = [p.name for p in textures if p.applies(choices)]
+            for name in self.rd_textures:
                 setattr(self, name, props.get_texture(name, float(declared[name].default)))
-            lobes = _lobes(self.model)
-            self.lobe_flags = [
+            lobes = _lobes(self.rd_model)
+            self.rd_lobe_flags = [
                 flag
                 for name, flag in (
                     ("diffuse", mi.BSDFFlags.DiffuseReflection),
@@ -157,24 +150,24 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
                 )
                 if name in lobes
             ] or [mi.BSDFFlags.DiffuseReflection]
-            self.lobe = self.lobe_flags[-1]  # the sampled type: glossy if there is such a lobe
+            self.rd_lobe = self.rd_lobe_flags[-1]  # sampled type: glossy if there is such a lobe
             flags = mi.BSDFFlags.FrontSide
-            for flag in self.lobe_flags:
+            for flag in self.rd_lobe_flags:
                 flags = flags | flag
             self.m_flags = flags
             self.m_components = [flags]
 
         def _enabled(self, ctx: Any) -> bool:
-            return any(ctx.is_enabled(flag) for flag in self.lobe_flags)
+            return any(ctx.is_enabled(flag) for flag in self.rd_lobe_flags)
 
         # -------------------------------------------------------------- the model
         def _model(self, si: Any, active: Any, mean: bool = False) -> Model:
             """The model with this BSDF's Dr.Jit values (textures evaluated at ``si``; their
             channel mean where ``mean``: sampling needs one number per lane)."""
-            kwargs: dict[str, Any] = dict(self.choices)
-            for name in self.numbers:
+            kwargs: dict[str, Any] = dict(self.rd_choices)
+            for name in self.rd_numbers:
                 kwargs[name] = wrap(getattr(self, name))
-            for name in self.textures:
+            for name in self.rd_textures:
                 value = getattr(self, name).eval(si, active)
                 kwargs[name] = wrap(channel_mean(value) if mean else value)
             return factory(**kwargs)
@@ -214,7 +207,7 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
             bs.wo = wi
             bs.pdf = dr.select(active, pdf, 0.0)
             bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+self.lobe)
+            bs.sampled_type = mi.UInt32(+self.rd_lobe)
             bs.sampled_component = mi.UInt32(0)
             value = self._brdf(si, wi, active) * (wi.z / dr.select(active, pdf, 1.0))
             return bs, dr.select(active, value, 0.0)
@@ -232,16 +225,16 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def traverse(self, callback: Any) -> None:
-            for name in self.textures:
+            for name in self.rd_textures:
                 callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
-            for name in self.numbers:
+            for name in self.rd_numbers:
                 callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
 
         def parameters_changed(self, keys: Any = None) -> None:
             pass
 
         def to_string(self) -> str:
-            return f"Roughdiffuse[{self.model!r}]"
+            return f"Roughdiffuse[{plugin}: {self.rd_model!r}]"
 
     RoughdiffuseBSDF.__name__ = f"Roughdiffuse{cls.__name__}BSDF"
     return RoughdiffuseBSDF
