@@ -182,7 +182,7 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
 
         def _strategy(self, si: Any, active: Any) -> tuple[Any, dict[str, Any]]:
             model = self._model(si, active, mean=True)
-            return model.sampling_strategy(), model._params(xp, None)
+            return model.sampling_strategy(), model.parameter_arrays(xp)
 
         def _pdf(self, si: Any, wi: Any, active: Any) -> Any:
             strategy, p = self._strategy(si, active)

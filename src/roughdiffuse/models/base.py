@@ -165,6 +165,23 @@ class Model:
         """The BRDF from the local cosines (mu in [0, 1]); subclasses implement it."""
         raise NotImplementedError
 
+    def kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **params: Any) -> Array:
+        """The model's formula on the local cosines, with the parameters given as arrays.
+
+        For code that supplies its own parameter values in its own array namespace ``xp``
+        (the Mitsuba 3 plugins pass Dr.Jit values and textures). ``mu_i``, ``mu_o`` must lie
+        in [0, 1] and ``cos_io`` in [-1, 1]; no horizon test or validation is made (use
+        :meth:`brdf_cosines` for that). ``params`` are the model's ``array_fields``.
+        Subclasses implement the formula in ``_kernel``.
+        """
+        return self._kernel(xp, mu_i, mu_o, cos_io, **params)
+
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
+        """The numeric parameters as arrays of namespace ``xp``: what :meth:`kernel` and the
+        sampling strategies (:mod:`.sampling`) receive. Subclasses adapt it in ``_params``.
+        """
+        return self._params(xp, dtype)
+
     # ------------------------------------------------------------------ helpers
     def _coerce_channels(self) -> None:
         """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
@@ -284,7 +301,7 @@ class Model:
     def directional_albedo(self, wo: Array) -> Array:
         """∫ f_r(wi, wo) cos θi dωi over the upper hemisphere.
 
-        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θo and
+        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θr and
         φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
         override this.
         """

@@ -34,7 +34,7 @@ from typing import Any, ClassVar, Literal
 
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from ..frames import unit_components
-from ._quadrature import gauss_legendre_01
+from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
 from .microfacet import (
@@ -209,7 +209,7 @@ class TorranceSparrow(Model):
             theta_max = minimum(xp, 10.0 * width, math.pi / 2)
         else:
             theta_max = xp.atan(10.0 * width)
-        t, w = (asarray(xp, a, dtype) for a in gauss_legendre_01(n))
+        t, w = (asarray(xp, a, dtype) for a in gauss_legendre(n))
         th = theta_max * t[:, None]
         ph = math.pi * t[None, :]
         cos_oh = sin_o * xp.sin(th) * xp.cos(ph) + mu_o * xp.cos(th)
