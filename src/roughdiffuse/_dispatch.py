@@ -23,6 +23,7 @@ for the process, or as a context manager).
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import threading
 from types import TracebackType
@@ -128,14 +129,15 @@ def _rows(entry: str, arrays: tuple[Any, ...]) -> int:
     return rows
 
 
-def _plain_parameters(model: Any) -> bool:
-    for value in model._param_values():
-        if isinstance(value, list | tuple):
-            if not all(isinstance(x, _PLAIN) for x in value):
-                return False
-        elif not isinstance(value, _PLAIN):
-            return False
-    return True
+def _plain_parameters(x: Any) -> bool:
+    """Whether a model's numeric parameters are all concrete NumPy or Python values (no JAX
+    array or tracer, no tensor); a Mix's components are looked into."""
+    fields = getattr(type(x), "array_fields", None)
+    if fields is not None and dataclasses.is_dataclass(x):
+        return all(_plain_parameters(getattr(x, f)) for f in fields)
+    if isinstance(x, list | tuple):
+        return all(_plain_parameters(v) for v in x)
+    return x is None or isinstance(x, _PLAIN)
 
 
 def compiled(model: Any, entry: str, *arrays: Any, irradiance: Any = 1.0) -> Any:

@@ -43,8 +43,8 @@ from typing import Any
 import numpy as np
 
 from ._trace import Graph, SymVec, TraceError, scalar_source
+from .io.atomic import write_text
 from .models.base import Model
-from .models.mix import Mix
 
 __all__ = [
     "DEFAULT_CHUNK",
@@ -106,43 +106,34 @@ _ENTRIES: dict[str, tuple[tuple[str, int], ...]] = {
 
 
 # ------------------------------------------------------------------ tracing
-def _channel_model(model: Model, c: int) -> Model:
-    """The model of colour channel ``c``: per-channel parameters replaced by their c-th value."""
-    if isinstance(model, Mix):
-        return Mix([(w, _channel_model(m, c)) for w, m in model.components])
-    changes = {}
-    for f in model.channel_fields:
-        a = np.asarray(getattr(model, f))
-        if a.ndim == 1:
-            changes[f] = a[c] if a.shape[0] > 1 else a[0]
-    return dataclasses.replace(model, **changes) if changes else model
-
-
 def _value_key(x: Any) -> Any:
+    """A hashable key of a model's (or a value's) type and every value it holds."""
     if isinstance(x, Model):
-        if isinstance(x, Mix):
-            return ("Mix", tuple((_value_key(w), _value_key(m)) for w, m in x.components))
         fields = tuple((f.name, _value_key(getattr(x, f.name))) for f in dataclasses.fields(x))
-        return (type(x).__qualname__, fields)
+        return (type(x).__module__, type(x).__qualname__, fields)
     if isinstance(x, str | bool | int | float | type(None)):
         return x
+    if isinstance(x, list | tuple):  # a Mix's components
+        return ("seq", tuple(_value_key(v) for v in x))
     a = np.asarray(x)
     return (a.dtype.str, a.shape, a.tobytes())
 
 
-def _structure_key(x: Model) -> Any:
+def _structure_key(x: Any) -> Any:
     """What the generated code depends on besides parameter values: the class, its static
     fields and the shapes of its parameters (a new σ or albedo reuses the kernel)."""
-    if isinstance(x, Mix):
-        return ("Mix", tuple(_structure_key(m) for _, m in x.components))
-    fields = []
-    for f in dataclasses.fields(x):
-        value = getattr(x, f.name)
-        if f.name in x.array_fields:
-            fields.append((f.name, np.shape(value)))
-        else:
-            fields.append((f.name, _value_key(value)))
-    return (type(x).__module__, type(x).__qualname__, tuple(fields))
+    if isinstance(x, Model):
+        fields = []
+        for f in dataclasses.fields(x):
+            value = getattr(x, f.name)
+            if f.name in x.array_fields:
+                fields.append((f.name, _structure_key(value)))
+            else:
+                fields.append((f.name, _value_key(value)))
+        return (type(x).__module__, type(x).__qualname__, tuple(fields))
+    if isinstance(x, list | tuple):
+        return ("seq", tuple(_structure_key(v) for v in x))
+    return None if x is None else np.shape(x)
 
 
 def _source(
@@ -265,10 +256,8 @@ def _load(source: str) -> Any:
         try:
             path = directory / f"rdk_{digest}.py"
             if not path.exists() or path.read_text() != source:
-                tmp = directory / f".rdk_{digest}.{os.getpid()}.{threading.get_ident()}.tmp"
-                tmp.write_text(source)
-                os.replace(tmp, path)
-        except OSError:
+                write_text(path, source)
+        except (OSError, ValueError):  # ValueError: check_output_path found it unwritable
             path = None
     if path is not None:
         spec = importlib.util.spec_from_file_location(name, path)
@@ -295,7 +284,7 @@ def _trace(
     symbols = [SymVec(graph, name) if w == 3 else graph.input(f"{name}0") for name, w in inputs]
     outputs = []
     for c in range(max(channels, 1)):
-        m = _channel_model(model, c) if channels else model
+        m = model.channel(c) if channels else model
         if entry == "radiance":
             e = e0[c] if e0.ndim else e0
             outputs.append(m.radiance(*symbols, e.astype(dtype)))

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _figure
+from .io.atomic import atomic_write
 from .models import EON, Fujii, Lambert, LommelSeeliger, Mix, OrenNayar, TorranceSparrow
 from .plots import (
     ROUGHNESS_SERIES,
@@ -35,7 +36,6 @@ from .render import (
     pixel_coordinates,
     render,
 )
-from .render.imagefile import atomic_write
 
 __all__ = ["FIGURES", "Figure", "make_figures"]
 
