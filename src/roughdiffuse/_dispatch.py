@@ -4,12 +4,13 @@
 compiled result (:mod:`roughdiffuse.fastpath`) or ``None`` for the array-API path. This module
 imports nothing heavy: Numba is imported only when a kernel is first needed.
 
-The rule (measured in ``bench/RESULTS.md``, "Where the fast path starts"):
+The rule (the measurements behind the two thresholds are in their docstrings):
 
-* only NumPy float32/float64 arrays with concrete parameters (no JAX, no PyTorch, no tracers,
-  no integer arrays), shaped as the reference path accepts them;
-* at least :data:`MIN_ROWS` rows: below that, the call's overhead (parameter conversion,
-  thread hand-over) outweighs the gain;
+* only NumPy float32/float64 arrays (``numpy.ndarray`` or ``numpy.memmap``; no subclass
+  such as a masked array, no integers) with concrete parameters (no JAX, no PyTorch, no
+  tracers), shaped as the reference path accepts them;
+* at least :data:`MIN_ROWS` rows: below that, the compiled call's fixed cost (laying out the
+  call, looking up the kernel) outweighs the gain;
 * a kernel that is not yet loaded in this process is built (loaded from the disk cache, or
   compiled on a cold cache) once the rows evaluated with it on the reference path reach
   :data:`BUILD_ROWS`, so that a few small calls never pay a compilation; a single call of
@@ -106,7 +107,7 @@ def _rows(entry: str, arrays: tuple[Any, ...]) -> int:
     dtype = None
     shapes = []
     for a in arrays:
-        if type(a) is not np.ndarray:
+        if type(a) is not np.ndarray and type(a) is not np.memmap:  # no masked arrays...
             if isinstance(a, float | int) and entry == "brdf_cosines":
                 continue
             return 0
