@@ -1,12 +1,16 @@
-"""The fast path: compiled radiance of any model on NumPy arrays, in place, on every core.
+"""The fast path: compiled ``radiance``, ``brdf`` and ``brdf_cosines`` of any model on NumPy
+arrays, in place, on every core.
 
-``model.radiance(n, l, v)`` on NumPy arrays makes one pass over memory per operation (about
-25 million evaluations per second for Oren–Nayar here). :func:`evaluate` computes the same
-values in one pass: it compiles the model's own code, not a second copy of its formula.
+The array-API reference path makes one pass over memory per operation (about 25 million
+evaluations per second for Oren–Nayar); the compiled kernel computes the same values in one
+pass: it compiles the model's own code, not a second copy of its formula. The models' own
+methods run it by default on large NumPy arrays (:mod:`roughdiffuse._dispatch`, switched off
+by ``roughdiffuse.use_fastpath(False)`` or ``ROUGHDIFFUSE_FASTPATH=0``); :func:`evaluate`,
+:func:`brdf` and :func:`brdf_cosines` are the explicit forms (``out``, ``chunk``, ``threads``).
 
-How: the model's :meth:`~roughdiffuse.models.base.Model.radiance` (with its ``_kernel``, the
-frame normalisation and the horizon test of ``models/base.py``) is run once on *symbols* for
-one row of ``n``, ``l`` and ``v`` (see :mod:`roughdiffuse._trace`); the recorded operations
+How: the model's method, e.g. :meth:`~roughdiffuse.models.base.Model.radiance` (with its
+``_kernel``, the frame normalisation and the horizon test of ``models/base.py``) is run once
+on *symbols* for one row of the inputs (see :mod:`roughdiffuse._trace`); the recorded operations
 are printed as the body of a scalar loop over the rows, and Numba compiles that loop
 (float32 code for float32 input, ``fastmath`` without the no-NaN/no-Inf assumptions,
 vectors no wider than the CPU's tuning prefers: see ``_numba_math.tuned_vector_width``). The
@@ -22,7 +26,10 @@ and written as they are computed. :func:`evaluate_batches` streams an iterable o
 
 Compiled code is cached on disk: the generated modules and Numba's cache files live in
 ``$ROUGHDIFFUSE_CACHE_DIR`` or else ``$XDG_CACHE_HOME/roughdiffuse/fastpath`` (default
-``~/.cache/roughdiffuse/fastpath``); a new process loads them instead of compiling.
+``~/.cache/roughdiffuse/fastpath``, created with mode 0700); a new process loads them instead
+of compiling. The folder is used only if it is private (:func:`private_cache_dir`): Numba
+unpickles its index files, so a folder another user can write to could run their code here.
+Otherwise kernels are compiled in memory.
 """
 
 from __future__ import annotations
