@@ -68,6 +68,11 @@ class DrArray:
     def __getitem__(self, key: Any) -> DrArray:
         return self  # x[..., None] on a per-lane value: nothing to add
 
+    def __array_namespace__(self, api_version: str | None = None) -> Any:
+        """The namespace of this value (so ``roughdiffuse._array.namespace`` finds it and
+        parameter checks, which need a concrete value, let it pass)."""
+        return drjit_namespace
+
     def __repr__(self) -> str:
         return f"DrArray({self.v!r})"
 

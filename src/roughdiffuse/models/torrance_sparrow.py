@@ -186,6 +186,12 @@ class TorranceSparrow(Model):
         f = fresnel_dielectric(xp, cos_d, eta)
         return f * d * v_groove_masking(xp, mu_i, mu_o, cos_h, cos_d) / 4.0
 
+    def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
+        """F(μo, η), the albedo of the smooth surface (σ → 0), for choosing this lobe in a
+        :class:`~roughdiffuse.models.mix.Mix` (Mitsuba 3's ``roughplastic`` weights its
+        specular lobe by the Fresnel reflectance at the incident angle in the same way)."""
+        return fresnel_dielectric(xp, mu_o, p["eta"]) + 0.0 * mu_o
+
     def directional_albedo(self, wo: Array, n: int = 96) -> Array:
         """∫ f cos θi dωi, integrated over the half vector h where the lobe lives.
 
