@@ -85,7 +85,7 @@ def test_eval_and_pdf_match_the_library(model_id, params):
 @pytest.mark.parametrize(("model_id", "params"), CASES, ids=IDS)
 def test_white_furnace_mean_weight_is_the_albedo(model_id, params):
     """Mean of Mitsuba's sample weights (channel 0, albedo 1) against the library's
-    directional albedo at θo = 50°; EON's is 1 (it conserves energy at ρ = 1)."""
+    directional albedo at θr = 50°; EON's is 1 (it conserves energy at ρ = 1)."""
     import drjit as dr
 
     mi = mitsuba_variant("llvm_ad_rgb")
