@@ -8,7 +8,13 @@ import math
 
 from . import UsageError
 from ._common import MODEL_NAMES, add_model_arguments, float_list, model_from_args
-from .render import add_output_arguments, add_scene_arguments, check_output, make_shape
+from .render import (
+    add_output_arguments,
+    add_scene_arguments,
+    check_output,
+    check_render_memory,
+    make_shape,
+)
 
 EXAMPLES = """\
 examples:
@@ -101,6 +107,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.kind == "cross-section":
         models = _models(args)
         shape = make_shape(args.shape)
+        check_render_memory(args, channels=3, images=len(models))
         results = {
             k: render(
                 m,

@@ -4,9 +4,22 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 
 from . import UsageError
+from ._checks import finite_float, fits_in_memory, output_file, output_folder
 from ._common import float_list
+
+MAX_BOUNCES = 100
+"""Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
+node (``simulate.cavity.radiosity_operator``): 100 bounces take about 45 s on a 2-core machine
+where the default takes 15 s, a million took hours. The all-bounce limit ('all', one matrix
+inverse) is what many bounces approach."""
+
+MAX_ELEMENTS = 128
+"""Largest --elements K (default 16): the solver's time grows about as K² to K³ (64 took
+twice the default's time on a 2-core machine, 200 over two minutes); see
+:func:`_solver_bytes` for its memory."""
 
 EXAMPLES = """\
 examples:
@@ -24,11 +37,22 @@ def _bounces(text: str) -> int | str:
     if text == "all":
         return text
     try:
-        return int(text)
+        n = int(text)
     except ValueError:
+        n = 0
+    if not 1 <= n <= MAX_BOUNCES:
         raise argparse.ArgumentTypeError(
-            f"bounces must be an integer >= 1 or 'all' (got {text!r})"
-        ) from None
+            f"bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {text!r})"
+        )
+    return n
+
+
+def _solver_bytes(elements: int) -> float:
+    """Memory of the radiosity solver for K elements per facet: deep cavities take 4K
+    (``simulate.cavity.elements_for_slope``), Richardson extrapolation doubles that, two
+    facets double it again: float64 matrices of (16 K)² entries, about 20 of them at once
+    (measured: K = 64 added 150 MB to the process)."""
+    return 20 * 8 * float(16 * elements) ** 2
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -40,9 +64,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--theta-i", type=float, default=30.0, help="incidence angle, degrees [0, 90]")
-    p.add_argument("--theta-r", type=float, default=30.0, help="viewing angle, degrees [0, 90]")
-    p.add_argument("--delta-phi", type=float, default=0.0, help="azimuth φr − φi, degrees")
+    p.add_argument(
+        "--theta-i", type=finite_float, default=30.0, help="incidence angle, degrees [0, 90]"
+    )
+    p.add_argument(
+        "--theta-r", type=finite_float, default=30.0, help="viewing angle, degrees [0, 90]"
+    )
+    p.add_argument("--delta-phi", type=finite_float, default=0.0, help="azimuth φr − φi, degrees")
     p.add_argument(
         "--sigma",
         type=float_list,
@@ -50,9 +78,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="roughness σ in DEGREES (list for tables)",
     )
     p.add_argument(
-        "--albedo", type=float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
+        "--albedo", type=finite_float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
     )
-    p.add_argument("--bounces", type=_bounces, default="all", help="1, 2, ... or all (default all)")
+    p.add_argument(
+        "--bounces",
+        type=_bounces,
+        default="all",
+        help=f"1, 2, ... {MAX_BOUNCES} or all (default all)",
+    )
     p.add_argument(
         "--measure",
         default="solid-angle",
@@ -60,10 +93,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="slope-distribution measure: density in dθa, or per solid angle of facet normals "
         "(default; the reading the Oren-Nayar coefficients fit, docs/accuracy.md)",
     )
-    p.add_argument("--elements", type=int, default=16, help="radiosity elements per facet K")
+    p.add_argument(
+        "--elements",
+        type=int,
+        default=16,
+        help=f"radiosity elements per facet K, 1 to {MAX_ELEMENTS} (default 16)",
+    )
     p.add_argument("--table", metavar="FILE", help="compute a ground-truth table into FILE (.npz)")
-    p.add_argument("--step", type=float, default=10.0, help="table step of θi and θr, degrees")
-    p.add_argument("--delta-phi-step", type=float, default=30.0, help="table step of Δφ, degrees")
+    p.add_argument(
+        "--step", type=finite_float, default=10.0, help="table step of θi and θr, degrees"
+    )
+    p.add_argument(
+        "--delta-phi-step", type=finite_float, default=30.0, help="table step of Δφ, degrees"
+    )
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
     p.add_argument(
         "--backend",
@@ -99,14 +141,19 @@ def run(args: argparse.Namespace) -> int:
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
-    if args.elements < 1:
-        raise UsageError(f"--elements must be >= 1 (got {args.elements})")
+    if not 1 <= args.elements <= MAX_ELEMENTS:
+        raise UsageError(f"--elements must be in [1, {MAX_ELEMENTS}] (got {args.elements})")
+    fits_in_memory(
+        _solver_bytes(args.elements) * args.workers,
+        f"--elements {args.elements} --workers {args.workers}",
+    )
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
     settings = Settings(measure=args.measure, elements=args.elements)
     if args.report:
         from ..simulate.report import write_report
 
+        output_folder(args.output, option="-o")
         out = write_report(
             args.output,
             quick=args.quick,
@@ -119,6 +166,11 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         ang = _grid(args.step, 0.0, 90.0, "step")
         dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+        # checked before any chunk is computed; an existing table is resumed or reused
+        output_file(args.table, option="--table", overwrite=True)
+        chunks = f"{args.table}.chunks"
+        if os.path.exists(chunks) and not os.path.isdir(chunks):
+            raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
         table = compute_table(
             args.table,
             ang,
