@@ -218,7 +218,9 @@ def run(args: argparse.Namespace) -> int:
     if args.model not in CANDIDATES:
         raise UsageError(f"unknown model {args.model!r}; choose one of: {', '.join(CANDIDATES)}")
     if args.report:  # checked before the data is read or fitted; replaced if it exists
-        output_file(args.report, (".html", ".htm"), option="--report", overwrite=True)
+        if not args.report.lower().endswith((".html", ".htm")):
+            raise UsageError(f"--report must name an .html file (got {args.report!r})")
+        output_file(args.report, option="--report", overwrite=True)
     data = _load(args)
     _check_values(data.value, args.data)
     print(f"data: {data.source}: {data.size} samples ({data.kind})")
