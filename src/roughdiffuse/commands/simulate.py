@@ -7,7 +7,7 @@ import math
 import os
 
 from . import UsageError
-from ._checks import finite_float, fits_in_memory, output_file, output_folder
+from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
 from ._common import float_list
 
 MAX_BOUNCES = 100
@@ -207,6 +207,7 @@ def run(args: argparse.Namespace) -> int:
         settings,
         return_difference=True,
     )
+    require_finite([f, d], "the BRDF", f"--sigma {args.sigma[0]:g} --albedo {args.albedo:g}")
     print(f"brdf (1/sr): {float(f):.8g}")
     print(f"f * pi / albedo: {float(f) * math.pi / max(args.albedo, 1e-300):.8g}")
     print(f"element change f(K) - f(2K): {float(d):.2e} (K = {args.elements}, extrapolated)")
