@@ -76,9 +76,8 @@ def test_a_half_open_socket_is_closed_after_the_idle_timeout(monkeypatch, server
     monkeypatch.setattr(ExplorerHandler, "timeout", 0.5)
     s = socket.create_connection(server.server_address[:2], timeout=10)
     s.sendall(b"GET / HTTP/1.1\r\nHost: 127.0.0.1")  # never finished
-    t0 = time.monotonic()
-    assert s.recv(1024) == b""  # closed by the server, well before our own 10 s timeout
-    assert time.monotonic() - t0 < 9
+    # b"": closed by the server; had it kept the socket, recv would raise at our own 10 s
+    assert s.recv(1024) == b""
     s.close()
 
 

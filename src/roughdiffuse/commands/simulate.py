@@ -37,14 +37,11 @@ def _bounces(text: str) -> int | str:
     if text == "all":
         return text
     try:
-        n = int(text)
+        return int(text)
     except ValueError:
-        n = 0
-    if not 1 <= n <= MAX_BOUNCES:
         raise argparse.ArgumentTypeError(
             f"bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {text!r})"
-        )
-    return n
+        ) from None
 
 
 def _solver_bytes(elements: int) -> float:
@@ -141,6 +138,10 @@ def run(args: argparse.Namespace) -> int:
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+    if args.bounces != "all" and not 1 <= args.bounces <= MAX_BOUNCES:
+        raise UsageError(
+            f"--bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {args.bounces})"
+        )
     if not 1 <= args.elements <= MAX_ELEMENTS:
         raise UsageError(f"--elements must be in [1, {MAX_ELEMENTS}] (got {args.elements})")
     fits_in_memory(
