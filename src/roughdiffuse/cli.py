@@ -33,6 +33,7 @@ PACKAGE_DIR = Path(__file__).resolve().parent
 EPILOG = """\
 examples:
   roughdiffuse eval --model oren-nayar --sigma 20 --albedo 0.8 --theta-i 30 --theta-r 60
+  roughdiffuse models
   roughdiffuse figures -o figures/
   roughdiffuse <command> --help
 
