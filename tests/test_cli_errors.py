@@ -294,3 +294,27 @@ def test_file_system_errors_are_one_line(capsys, monkeypatch):
     _with_command(monkeypatch, full_disk)
     line = one_line_error(capsys, ["eval"], "/data/out.npz", "No space left")
     assert line.startswith("roughdiffuse eval: error:")
+
+
+def test_truncated_merl_file_is_named(capsys, tmp_path):
+    bad = tmp_path / "fabric.binary"
+    bad.write_bytes(struct.pack("<iii", 90, 90, 180) + b"\0" * 100)  # far too short
+    one_line_error(capsys, ["fit", str(bad)], "fabric.binary")
+
+
+def test_console_script_prints_no_traceback(tmp_path):
+    """The same through a real process: exit status 2, one line on stderr."""
+    import subprocess
+    import sys
+
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    out = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "figures", "-o", str(blocker)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert "is not a folder" in out.stderr
