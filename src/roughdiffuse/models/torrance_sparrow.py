@@ -31,7 +31,7 @@ import numpy as np
 
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from .._validate import check_range
-from ..frames import unit_components
+from ..frames import half_vector_cosines, unit_components
 from ._quadrature import gauss_legendre_01
 from .base import Model, register_pytree
 from .oren_nayar import SIGMA_MAX
@@ -142,10 +142,7 @@ class TorranceSparrow(Model):
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, sigma: Array
     ) -> Array:
-        # |wi + wo| = sqrt(2 (1 + cos_io)); n·h and wi·h = wo·h from the cosines alone
-        len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
-        cos_h = safe_div(xp, mu_i + mu_o, len_h)
-        cos_d = 0.5 * len_h  # wi·h = √((1 + cos_io)/2)
+        cos_h, cos_d = half_vector_cosines(xp, mu_i, mu_o, cos_io)
         d = slope_distribution(xp, cos_h, sigma, self.distribution)
         f = fresnel_dielectric(xp, cos_d, eta)
         mi = maximum(xp, mu_i, _COS_FLOOR)
