@@ -148,17 +148,17 @@ class Hapke(Model):
         sin2_half = 0.5 * (1.0 - cos_phi)
         i_le_e = mu_i >= mu_o
         # i <= e
-        den_a = 2.0 - e1e - phi_pi * e1i
+        den_a = maximum(xp, 2.0 - e1e - phi_pi * e1i, _TINY)  # 0 only both grazing, φ = π
         mu0e_a = chi * (mu_i + sin_i * tan_t * (cos_phi * e2e + sin2_half * e2i) / den_a)
         mue_a = chi * (mu_o + sin_e * tan_t * (e2e - sin2_half * e2i) / den_a)
         # i > e
-        den_b = 2.0 - e1i - phi_pi * e1e
+        den_b = maximum(xp, 2.0 - e1i - phi_pi * e1e, _TINY)
         mu0e_b = chi * (mu_i + sin_i * tan_t * (e2i - sin2_half * e2e) / den_b)
         mue_b = chi * (mu_o + sin_e * tan_t * (cos_phi * e2i + sin2_half * e2e) / den_b)
         mu0e = xp.where(i_le_e, mu0e_a, mu0e_b)
         mue = xp.where(i_le_e, mue_a, mue_b)
         q = xp.where(i_le_e, chi * mu_i / mu0e_0, chi * mu_o / mue_0)
         # S/μ0 = μe/(μe(0) μ0e(0)) χ/(1 − f + f q)
-        s_over_mu0 = mue * chi / (mue_0 * mu0e_0 * (1.0 - f_phi + f_phi * q))
+        s_over_mu0 = mue * chi / maximum(xp, mue_0 * mu0e_0 * (1.0 - f_phi + f_phi * q), _TINY)
         rough = w / 4.0 * mu0e / maximum(xp, mu0e + mue, _TINY) * bracket(mu0e, mue) * s_over_mu0
         return brdf_from_radiance_factor(xp.where(theta_bar > 0, rough, smooth))
