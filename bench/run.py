@@ -96,6 +96,20 @@ def bench_models() -> list[tuple[str, Any, str, tuple[float, ...]]]:
             "rd_torrance_sparrow",
             (1.5, s, norm),
         ),
+        ("Burley", rd.Burley(0.8, 0.5), "rd_burley", (0.8, 0.5)),
+        ("Frostbite", rd.BurleyRenormalized(0.8, 0.5), "rd_frostbite", (0.8, 0.5)),
+        ("Burley 2015", rd.Burley2015(0.8, 0.5), "rd_burley_2015", (0.8, 0.5)),
+        ("Hammon", rd.Hammon(0.8, 0.3), "rd_hammon", (0.8, 0.3)),
+        ("Chan", rd.Chan(0.8, 0.3), "rd_chan", (0.8, 0.3)),
+        ("Minnaert", rd.Minnaert(0.8, 0.7), "rd_minnaert", (0.8, 0.7)),
+        ("Lambert sphere fast", rd.LambertSphere(0.8, "fast"), "rd_lambert_sphere_fast", (0.8,)),
+        ("Lambert sphere full", rd.LambertSphere(0.8, "full"), "rd_lambert_sphere_full", (0.8,)),
+        (
+            "Hapke",
+            rd.Hapke(0.5, 0.8, 0.06, -0.3, 0.35),
+            "rd_hapke",
+            (0.5, 0.8, 0.06, -0.3, 0.35),
+        ),
     ]
 
 
