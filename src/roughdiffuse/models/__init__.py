@@ -3,6 +3,7 @@
 from .base import MODEL_CLASSES, BSDFSample, Model
 from .burley import Burley, Burley2015, BurleyRenormalized
 from .chan import Chan
+from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
 from .hammon import Hammon
@@ -34,6 +35,7 @@ __all__ = [
     "Mix",
     "Model",
     "OrenNayar",
+    "Param",
     "TorranceSparrow",
     "fon_albedo",
     "fon_average_albedo",

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array
-from .._validate import check_range
 from ..frames import half_vector_cosines
 from .base import Model, register_pytree
+from .declaration import Param
 
 __all__ = ["Burley", "Burley2015", "BurleyRenormalized", "schlick_weight"]
 
@@ -55,24 +55,24 @@ def _schlick_product(mu_i: Array, mu_o: Array, f90: Array) -> Array:
     return (1.0 + (f90 - 1.0) * schlick_weight(mu_i)) * (1.0 + (f90 - 1.0) * schlick_weight(mu_o))
 
 
-class _AlbedoRoughness:
-    """Mixin: the fields and validation shared by the three (albedo ρ, roughness r in [0, 1])."""
-
-    albedo: Any
-    roughness: Any
-
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("roughness", self.roughness, 0.0, 1.0)
+def _params(roughness: str) -> tuple[Param, ...]:
+    return (
+        Param(
+            "albedo",
+            "base colour ρ",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param("roughness", roughness, min=0.0, max=1.0, default=0.5),
+    )
 
 
 @register_pytree
 @dataclass(frozen=True)
-class Burley(_AlbedoRoughness, Model):
+class Burley(Model):
     """Burley's (Disney's) 2012 diffuse BRDF.
 
     Burley, "Physically-Based Shading at Disney", SIGGRAPH 2012 course notes, Eq. (3); as in
@@ -99,8 +99,15 @@ class Burley(_AlbedoRoughness, Model):
     1.0
     """
 
-    albedo: Any = 1.0
-    roughness: Any = 0.5
+    albedo: float | Array = 1.0
+    roughness: float | Array = 0.5
+
+    params: ClassVar[tuple[Param, ...]] = _params("Disney's roughness r (as it is, not squared)")
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"burley": {}}
+    labels: ClassVar[dict[str, str]] = {"burley": "Burley 2012 (Disney)"}
+    reference: ClassVar[str] = (
+        "B. Burley, Physically-Based Shading at Disney, SIGGRAPH 2012 course notes, Eq. 3"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -111,7 +118,7 @@ class Burley(_AlbedoRoughness, Model):
 
 @register_pytree
 @dataclass(frozen=True)
-class BurleyRenormalized(_AlbedoRoughness, Model):
+class BurleyRenormalized(Model):
     """Frostbite's renormalised Disney diffuse.
 
     Lagarde & de Rousiers, "Moving Frostbite to Physically Based Rendering", SIGGRAPH 2014
@@ -138,8 +145,16 @@ class BurleyRenormalized(_AlbedoRoughness, Model):
     0.662251655629
     """
 
-    albedo: Any = 1.0
-    roughness: Any = 0.5
+    albedo: float | Array = 1.0
+    roughness: float | Array = 0.5
+
+    params: ClassVar[tuple[Param, ...]] = _params("Frostbite's linear roughness r")
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"frostbite": {}}
+    labels: ClassVar[dict[str, str]] = {"frostbite": "Frostbite (renormalised Burley)"}
+    reference: ClassVar[str] = (
+        "S. Lagarde, C. de Rousiers, Moving Frostbite to Physically Based Rendering,"
+        " SIGGRAPH 2014 course notes, Listing 1"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -151,7 +166,7 @@ class BurleyRenormalized(_AlbedoRoughness, Model):
 
 @register_pytree
 @dataclass(frozen=True)
-class Burley2015(_AlbedoRoughness, Model):
+class Burley2015(Model):
     """Burley's 2015 diffuse: a Lambertian part and a separate retro-reflection lobe.
 
     Burley, "Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering",
@@ -182,8 +197,16 @@ class Burley2015(_AlbedoRoughness, Model):
     1.0
     """
 
-    albedo: Any = 1.0
-    roughness: Any = 0.5
+    albedo: float | Array = 1.0
+    roughness: float | Array = 0.5
+
+    params: ClassVar[tuple[Param, ...]] = _params("Disney's roughness r")
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"burley-2015": {}}
+    labels: ClassVar[dict[str, str]] = {"burley-2015": "Burley 2015 (diffuse + retro-reflection)"}
+    reference: ClassVar[str] = (
+        "B. Burley, Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering, "
+        "SIGGRAPH 2015 course notes, Eq. 4-5"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_sqrt
-from .._validate import check_range
 from ..frames import half_vector_cosines
 from .base import Model, register_pytree
 from .burley import schlick_weight
+from .declaration import Param
 
 __all__ = ["Chan", "chan_gloss"]
 
@@ -62,16 +62,26 @@ class Chan(Model):
     True
     """
 
-    albedo: Any = 1.0
-    alpha: Any = 0.3
+    albedo: float | Array = 1.0
+    alpha: float | Array = 0.3
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "alpha")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("alpha", self.alpha, 0.0, 1.0)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "albedo ρ",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param("alpha", "GGX roughness α", min=0.0, max=1.0, default=0.3),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"chan": {}}
+    labels: ClassVar[dict[str, str]] = {"chan": "Chan (Call of Duty: WWII)"}
+    reference: ClassVar[str] = (
+        "D. Chan, Material Advances in Call of Duty: WWII, SIGGRAPH 2018 course notes, Sec. 5"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

@@ -23,10 +23,10 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum
-from .._validate import check_range
 from ..frames import half_vector_cosines
 from .base import Model, register_pytree
 from .burley import schlick_weight
+from .declaration import Param
 
 __all__ = ["Hammon"]
 
@@ -59,16 +59,26 @@ class Hammon(Model):
     1.05
     """
 
-    albedo: Any = 1.0
-    alpha: Any = 0.3
+    albedo: float | Array = 1.0
+    alpha: float | Array = 0.3
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "alpha")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("alpha", self.alpha, 0.0, 1.0)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "facet albedo ρ",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param("alpha", "GGX roughness α (perceptual roughness²)", min=0.0, max=1.0, default=0.3),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"hammon": {}}
+    labels: ClassVar[dict[str, str]] = {"hammon": "Hammon (GGX diffuse)"}
+    reference: ClassVar[str] = (
+        "E. Hammon Jr., PBR Diffuse Lighting for GGX+Smith Microsurfaces, GDC 2017"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["Hapke", "chandrasekhar_h"]
@@ -87,22 +87,48 @@ class Hapke(Model):
     0.0965097
     """
 
-    albedo: Any = 0.5
-    b0: Any = 0.0
-    h: Any = 0.1
-    g: Any = 0.0
-    theta_bar: Any = 0.0
+    albedo: float | Array = 0.5
+    b0: float | Array = 0.0
+    h: float | Array = 0.1
+    g: float | Array = 0.0
+    theta_bar: float | Array = 0.0
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "b0", "h", "g", "theta_bar")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("b0", self.b0, 0.0, 1.0)
-        check_range("h", self.h, 0.0, 1.0)
-        check_range("g", self.g, -0.99, 0.99)
-        check_range("theta_bar", self.theta_bar, 0.0, THETA_BAR_MAX, unit="radians")
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "single-scattering albedo w",
+            min=0.0,
+            max=1.0,
+            default=0.5,
+            channels=True,
+            example=0.3,
+        ),
+        Param("b0", "opposition-surge amplitude B0", min=0.0, max=1.0, default=0.0, example=0.8),
+        Param("h", "opposition-surge width h", min=0.0, max=1.0, default=0.1, example=0.06),
+        Param(
+            "g",
+            "Henyey–Greenstein asymmetry ξ (< 0 backscatters)",
+            min=-0.99,
+            max=0.99,
+            default=0.0,
+            example=-0.3,
+        ),
+        Param(
+            "theta_bar",
+            "mean slope angle θ̄ of the macroscopic roughness",
+            unit="radians",
+            min=0.0,
+            max=THETA_BAR_MAX,
+            default=0.0,
+            example=0.35,
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke": {}}
+    labels: ClassVar[dict[str, str]] = {"hapke": "Hapke (planetary)"}
+    reference: ClassVar[str] = (
+        "B. Hapke, Theory of Reflectance and Emittance Spectroscopy,"
+        " 2nd ed. (2012); roughness: Hapke, Icarus 59 (1984) 41"
+    )
 
     def _kernel(
         self,

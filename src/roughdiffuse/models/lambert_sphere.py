@@ -37,8 +37,8 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 
 __all__ = ["LambertSphere", "lambert_sphere_phase", "single_scattering_albedo"]
 
@@ -161,17 +161,31 @@ class LambertSphere(Model):
     1.0
     """
 
-    albedo: Any = 0.8
+    albedo: float | Array = 0.8
     variant: Literal["full", "fast"] = "full"
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        if self.variant not in ("full", "fast"):
-            raise ValueError(f"variant must be 'full' or 'fast' (got {self.variant!r})")
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "diffuse colour k_d (mapped to the single-scattering albedo c)",
+            min=0.0,
+            max=1.0,
+            default=0.8,
+            channels=True,
+            example=0.8,
+        ),
+        Param(
+            "variant",
+            "d'Eon's analytic fit or its fast approximation",
+            choices=("full", "fast"),
+            default="full",
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert-sphere": {}}
+    labels: ClassVar[dict[str, str]] = {"lambert-sphere": "d'Eon Lambertian spheres"}
+    reference: ClassVar[str] = (
+        "E. d'Eon, An analytic BRDF for materials with spherical Lambertian scatterers, EGSR 2021"
+    )
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         c = single_scattering_albedo(albedo)

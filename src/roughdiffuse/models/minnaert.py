@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["Minnaert"]
@@ -53,16 +53,26 @@ class Minnaert(Model):
     0.903602
     """
 
-    albedo: Any = 1.0
-    k: Any = 1.0
+    albedo: float | Array = 1.0
+    k: float | Array = 1.0
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "k")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("k", self.k, 0.0, 2.0)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "normal albedo ρ (I/F at i = e = 0)",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param("k", "Minnaert exponent k (1 = Lambert)", min=0.0, max=2.0, default=1.0, example=0.7),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"minnaert": {}}
+    labels: ClassVar[dict[str, str]] = {"minnaert": "Minnaert (planetary)"}
+    reference: ClassVar[str] = (
+        "M. Minnaert, The reciprocity principle in lunar photometry, ApJ 93 (1941) 403"
+    )
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, k: Array
