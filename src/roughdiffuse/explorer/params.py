@@ -15,10 +15,18 @@ from typing import Any
 
 from ..models import (
     EON,
+    Burley,
+    Burley2015,
+    BurleyRenormalized,
+    Chan,
     Fujii,
+    Hammon,
+    Hapke,
     Lambert,
+    LambertSphere,
     LommelSeeliger,
     LunarLambert,
+    Minnaert,
     Mix,
     Model,
     OrenNayar,
@@ -37,6 +45,14 @@ MODEL_IDS: dict[str, int] = {
     "mix": 6,
     "lommel-seeliger": 7,
     "lunar-lambert": 8,
+    "burley": 9,
+    "frostbite": 10,
+    "burley-2015": 11,
+    "hammon": 12,
+    "chan": 13,
+    "lambert-sphere": 14,
+    "hapke": 15,
+    "minnaert": 16,
 }
 """Model names and the ids ``brdf.glsl`` dispatches on (the same numbers there)."""
 
@@ -49,6 +65,13 @@ DEFAULTS: dict[str, Any] = {
     "weight": 0.0,
     "limb": 0.5,
     "distribution": "gaussian",
+    "alpha": 0.3,
+    "variant": "full",
+    "k": 1.0,
+    "b0": 0.0,
+    "h": 0.1,
+    "g": 0.0,
+    "theta_bar": 0.0,
 }
 """Values of the parameters a parameter set leaves out (σ in radians)."""
 
@@ -62,8 +85,10 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         ``model`` (a key of :data:`MODEL_IDS`), ``albedo`` (three numbers in [0, 1]),
         ``sigma`` (radians, [0, π/2]), ``roughness`` (r in [0, 1]), ``eta`` (> 0), ``weight``
         (Mix: weight of the specular lobe, [0, 1]), ``limb`` (Lunar-Lambert L, [0, 1]),
-        ``distribution`` (``"gaussian"`` or ``"beckmann"``). Missing keys take
-        :data:`DEFAULTS`.
+        ``distribution`` (``"gaussian"`` or ``"beckmann"``); issue 17's models: ``alpha``
+        (Hammon, Chan), ``variant`` (Lambert spheres), ``k`` (Minnaert), ``b0``, ``h``, ``g``,
+        ``theta_bar`` (Hapke, radians); Burley, Frostbite and Burley 2015 take ``roughness``.
+        Missing keys take :data:`DEFAULTS`.
 
     Returns
     -------
@@ -109,4 +134,18 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         )
     if name == "lommel-seeliger":
         return LommelSeeliger(albedo)
+    if name in ("burley", "frostbite", "burley-2015"):
+        cls = {"burley": Burley, "frostbite": BurleyRenormalized, "burley-2015": Burley2015}[name]
+        return cls(albedo, r)
+    if name == "hammon":
+        return Hammon(albedo, float(p["alpha"]))
+    if name == "chan":
+        return Chan(albedo, float(p["alpha"]))
+    if name == "lambert-sphere":
+        return LambertSphere(albedo, str(p["variant"]))
+    if name == "hapke":
+        b0, h, g, tb = (float(p[k]) for k in ("b0", "h", "g", "theta_bar"))
+        return Hapke(albedo, b0, h, g, tb)
+    if name == "minnaert":
+        return Minnaert(albedo, float(p["k"]))
     return LunarLambert(albedo, limb)

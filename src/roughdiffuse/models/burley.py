@@ -108,6 +108,7 @@ class Burley(Model):
     reference: ClassVar[str] = (
         "B. Burley, Physically-Based Shading at Disney, SIGGRAPH 2012 course notes, Eq. 3"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -155,6 +156,7 @@ class BurleyRenormalized(Model):
         "S. Lagarde, C. de Rousiers, Moving Frostbite to Physically Based Rendering,"
         " SIGGRAPH 2014 course notes, Listing 1"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -207,6 +209,7 @@ class Burley2015(Model):
         "B. Burley, Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering, "
         "SIGGRAPH 2015 course notes, Eq. 4-5"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

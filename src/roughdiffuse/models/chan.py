@@ -82,6 +82,7 @@ class Chan(Model):
     reference: ClassVar[str] = (
         "D. Chan, Material Advances in Call of Duty: WWII, SIGGRAPH 2018 course notes, Sec. 5"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

@@ -79,6 +79,7 @@ class Hammon(Model):
     reference: ClassVar[str] = (
         "E. Hammon Jr., PBR Diffuse Lighting for GGX+Smith Microsurfaces, GDC 2017"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

@@ -129,6 +129,7 @@ class Hapke(Model):
         "B. Hapke, Theory of Reflectance and Emittance Spectroscopy,"
         " 2nd ed. (2012); roughness: Hapke, Icarus 59 (1984) 41"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self,

@@ -52,9 +52,19 @@ def single_scattering_albedo(kd: Array) -> Array:
 
 
 def lambert_sphere_phase(xp: Any, u: Array) -> Array:
-    """P(u) = 2 (√(1 − u²) − u acos u)/(3π²), normalised to 1 over the sphere."""
+    """P(u) = 2 (√(1 − u²) − u acos u)/(3π²), normalised to 1 over the sphere.
+
+    With t = acos u this is 2 (sin t − t cos t)/(3π²), which cancels as t → 0 (u → 1,
+    wi = −wo: both directions grazing); there the series t³/3 − t⁵/30 + t⁷/840 − t⁹/45360
+    (truncation below 1e-12 for t < 0.3) replaces it. t comes from atan2 of
+    √((1 − u)(1 + u)), accurate near u = ±1 where acos is not (float32: the explorer's GLSL).
+    """
     u = clip(xp, u, -1.0, 1.0)
-    return 2.0 * (safe_sqrt(xp, 1.0 - u * u) - u * xp.acos(u)) / (3.0 * math.pi**2)
+    sin_t = safe_sqrt(xp, (1.0 - u) * (1.0 + u))
+    t = xp.atan2(sin_t, u)
+    t2 = t * t
+    series = t * t2 * (1.0 / 3.0 + t2 * (-1.0 / 30.0 + t2 * (1.0 / 840.0 - t2 / 45360.0)))
+    return 2.0 * xp.where(t < 0.3, series, sin_t - t * u) / (3.0 * math.pi**2)
 
 
 def _h0(xp: Any, u: Array, c: Array) -> Array:
@@ -186,6 +196,7 @@ class LambertSphere(Model):
     reference: ClassVar[str] = (
         "E. d'Eon, An analytic BRDF for materials with spherical Lambertian scatterers, EGSR 2021"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         c = single_scattering_albedo(albedo)
@@ -207,7 +218,9 @@ class LambertSphere(Model):
             return maximum(xp, f, 0.0)
         s = safe_sqrt(xp, (1.0 - mu_i * mu_i) * (1.0 - mu_o * mu_o))
         phi = xp.acos(clip(xp, safe_div(xp, cos_phi_sin, s), -1.0, 1.0))
-        ratio = s / (xp.acos(clip(xp, s, 0.0, 1.0)) + 0.113706 * s)
+        # acos S as atan2(√(1 − S²), S), 1 − S² = μi² + μo² − μi² μo² (no cancellation at S → 1)
+        cos_s = safe_sqrt(xp, mu_i * mu_i + mu_o * mu_o - mu_i * mu_i * mu_o * mu_o)
+        ratio = s / (xp.atan2(cos_s, s) + 0.113706 * s)
         kd_term = (1.94208 * albedo) ** 1.85432
         multi = (phi + safe_sqrt(xp, mu_i * mu_o)) * (c - 0.249978) * ratio / 4.50996 + kd_term
         return maximum(xp, 0.995917 * c * ss + 0.0684744 * multi, 0.0)

@@ -73,6 +73,7 @@ class Minnaert(Model):
     reference: ClassVar[str] = (
         "M. Minnaert, The reciprocity principle in lunar photometry, ApJ 93 (1941) 403"
     )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, k: Array

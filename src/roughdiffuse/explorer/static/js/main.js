@@ -61,7 +61,18 @@ function buildPanel(slot) {
     weight: slider(root, `${p}weight`, "specular weight", 0, 1, 0.01, s.weight, f3),
     eta: slider(root, `${p}eta`, "specular index η", 1.0, 3.0, 0.01, s.eta, (v) => v.toFixed(2)),
     limb: slider(root, `${p}limb`, "limb darkening L", 0, 1, 0.01, s.limb, f3),
+    alpha: slider(root, `${p}alpha`, "GGX α (Hammon/Chan)", 0, 1, 0.01, s.alpha, f3),
+    k: slider(root, `${p}k`, "Minnaert k (1 = Lambert)", 0, 2, 0.01, s.k, f3),
+    b0: slider(root, `${p}b0`, "Hapke surge B0", 0, 1, 0.01, s.b0, f3),
+    hh: slider(root, `${p}hh`, "Hapke surge width h", 0, 1, 0.005, s.hh, f3),
+    hg: slider(root, `${p}hg`, "Hapke asymmetry ξ (< 0 back)", -0.99, 0.99, 0.01, s.hg, f3),
+    thetaBar: slider(root, `${p}thetaBar`, "Hapke roughness θ̄", 0, 60, 0.5, s.thetaBarDeg, (v) => `${v.toFixed(1)}°`),
   };
+  const variant = document.createElement("label");
+  variant.id = `${p}variant-row`;
+  variant.innerHTML = `d'Eon variant <select id="${p}variant"><option value="full">full</option><option value="fast">fast</option></select>`;
+  root.append(variant);
+  ctl.variant = variant.querySelector("select");
   const dist = document.createElement("label");
   dist.id = `${p}distribution-row`;
   dist.innerHTML = `facet distribution <select id="${p}distribution"><option value="gaussian">Gaussian in slope angle</option><option value="beckmann">Beckmann</option></select>`;
@@ -90,6 +101,13 @@ function readPanel(slot) {
   s.eta = Number(c.eta.value);
   s.limb = Number(c.limb.value);
   s.distribution = c.distribution.value;
+  s.alpha = Number(c.alpha.value);
+  s.k = Number(c.k.value);
+  s.b0 = Number(c.b0.value);
+  s.hh = Number(c.hh.value);
+  s.hg = Number(c.hg.value);
+  s.thetaBarDeg = Number(c.thetaBar.value);
+  s.variant = c.variant.value;
   showUsed(slot);
 }
 
@@ -104,14 +122,22 @@ function writePanel(slot) {
   c.eta.value = s.eta;
   c.limb.value = s.limb;
   c.distribution.value = s.distribution;
-  for (const el of [...c.albedo, c.sigma, c.roughness, c.weight, c.eta, c.limb]) el.dispatchEvent(new Event("input"));
+  const d = defaultState();
+  c.alpha.value = s.alpha ?? d.alpha;
+  c.k.value = s.k ?? d.k;
+  c.b0.value = s.b0 ?? d.b0;
+  c.hh.value = s.hh ?? d.hh;
+  c.hg.value = s.hg ?? d.hg;
+  c.thetaBar.value = s.thetaBarDeg ?? d.thetaBarDeg;
+  c.variant.value = s.variant ?? d.variant;
+  for (const el of [...c.albedo, c.sigma, c.roughness, c.weight, c.eta, c.limb, c.alpha, c.k, c.b0, c.hh, c.hg, c.thetaBar]) el.dispatchEvent(new Event("input"));
   showUsed(slot);
 }
 
 function showUsed(slot) {
   const uses = BY_KEY[state[slot].model].uses;
   const p = `${slot}-`;
-  for (const k of ["sigma", "roughness", "weight", "eta", "limb", "distribution"]) $(`${p}${k}-row`).hidden = !uses.includes(k);
+  for (const k of ["sigma", "roughness", "weight", "eta", "limb", "distribution", "alpha", "k", "b0", "hh", "hg", "thetaBar", "variant"]) $(`${p}${k}-row`).hidden = !uses.includes(k);
   for (const c of ["r", "g", "b"]) $(`${p}albedo-${c}-row`).hidden = !uses.includes("albedo");
   $(`${p}grey-row`).hidden = !uses.includes("albedo");
 }
@@ -318,6 +344,8 @@ function queryFor(slot) {
   const q = new URLSearchParams({
     model: s.model, albedo: s.albedo.join(","), sigma: String(s.sigmaDeg * DEG), roughness: String(s.roughness),
     eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), distribution: s.distribution,
+    alpha: String(s.alpha ?? 0.3), k: String(s.k ?? 1), b0: String(s.b0 ?? 0), h: String(s.hh ?? 0.1),
+    g: String(s.hg ?? 0), theta_bar: String((s.thetaBarDeg ?? 0) * DEG), variant: s.variant ?? "full",
     light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
   return q.toString();

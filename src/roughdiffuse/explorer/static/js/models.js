@@ -11,6 +11,14 @@ export const MODELS = [
   { key: "mix", id: 6, label: "Mix: Oren–Nayar full + Torrance–Sparrow", short: "Mix", uses: ["albedo", "sigma", "weight", "eta", "distribution"] },
   { key: "lommel-seeliger", id: 7, label: "Lommel–Seeliger (lunar)", short: "Lommel–Seeliger", uses: ["albedo"] },
   { key: "lunar-lambert", id: 8, label: "Lunar-Lambert (McEwen)", short: "Lunar-Lambert", uses: ["albedo", "limb"] },
+  { key: "burley", id: 9, label: "Burley 2012 (Disney)", short: "Burley", uses: ["albedo", "roughness"] },
+  { key: "frostbite", id: 10, label: "Frostbite (renormalised Burley)", short: "Frostbite", uses: ["albedo", "roughness"] },
+  { key: "burley-2015", id: 11, label: "Burley 2015 (diffuse + retro-reflection)", short: "Burley 2015", uses: ["albedo", "roughness"] },
+  { key: "hammon", id: 12, label: "Hammon (GGX diffuse)", short: "Hammon", uses: ["albedo", "alpha"] },
+  { key: "chan", id: 13, label: "Chan (Call of Duty: WWII)", short: "Chan", uses: ["albedo", "alpha"] },
+  { key: "lambert-sphere", id: 14, label: "d'Eon Lambertian spheres", short: "Lambert spheres", uses: ["albedo", "variant"] },
+  { key: "hapke", id: 15, label: "Hapke (planetary)", short: "Hapke", uses: ["albedo", "b0", "hh", "hg", "thetaBar"] },
+  { key: "minnaert", id: 16, label: "Minnaert (planetary)", short: "Minnaert", uses: ["albedo", "k"] },
 ];
 
 export const BY_KEY = Object.fromEntries(MODELS.map((m) => [m.key, m]));
@@ -26,6 +34,13 @@ export function defaultState(key = "oren-nayar") {
     weight: 0.1,
     limb: 0.5,
     distribution: "gaussian",
+    alpha: 0.3,
+    variant: "full",
+    k: 0.7,
+    b0: 0.8,
+    hh: 0.06,
+    hg: -0.3,
+    thetaBarDeg: 20,
   };
 }
 
@@ -46,5 +61,12 @@ export function gpuParams(s) {
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
     distribution: (s.distribution ?? "gaussian") === "beckmann" ? 1 : 0,
+    alpha: s.alpha ?? 0.3,
+    variant: (s.variant ?? "full") === "fast" ? 1 : 0,
+    k: s.k ?? 1.0,
+    b0: s.b0 ?? 0.0,
+    hh: s.h ?? s.hh ?? 0.1,
+    hg: s.g ?? s.hg ?? 0.0,
+    thetaBar: s.theta_bar !== undefined ? s.theta_bar : ((s.thetaBarDeg ?? 0) * Math.PI) / 180,
   };
 }
