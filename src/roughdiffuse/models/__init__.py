@@ -1,6 +1,6 @@
 """Reflectance models: one module per family, one interface (see :mod:`.base`)."""
 
-from .base import MODEL_CLASSES, BSDFSample, Model
+from .base import MODEL_CLASSES, BSDFSample, Model, register_pytree
 from .burley import Burley, Burley2015, BurleyRenormalized
 from .chan import Chan
 from .declaration import Param
@@ -41,5 +41,6 @@ __all__ = [
     "fon_average_albedo",
     "fresnel_dielectric",
     "oren_nayar",
+    "register_pytree",
     "slope_distribution",
 ]

@@ -49,39 +49,15 @@ class Mix(Model):
     # (1 − w) Oren–Nayar full + w Torrance–Sparrow with one σ (see from_params); these are its
     # parameters, not fields of the class.
     params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "facet albedo ρ of the diffuse part",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param(
-            "sigma",
-            "σ, slope-angle standard deviation of both parts",
-            unit="radians",
-            min=0.0,
-            max=SIGMA_MAX,
-            default=0.2,
-            example=math.radians(20.0),
-        ),
+        Param("albedo", "facet albedo ρ of the diffuse part", min=0.0, max=1.0, default=1.0,
+              channels=True, example=0.8),
+        Param("sigma", "σ, slope-angle standard deviation of both parts", unit="radians",
+              min=0.0, max=SIGMA_MAX, default=0.2, example=math.radians(20.0)),
         Param("weight", "w, weight of the specular part", min=0.0, max=1.0, default=0.1),
-        Param(
-            "eta",
-            "relative refractive index η of the specular part",
-            min=0.0,
-            max=ETA_MAX,
-            min_open=True,
-            default=1.5,
-        ),
-        Param(
-            "distribution",
-            "facet distribution of the specular part (Beckmann: α = √2 σ)",
-            choices=("gaussian", "beckmann"),
-            default="gaussian",
-        ),
+        Param("eta", "relative refractive index η of the specular part", min=0.0, max=ETA_MAX,
+              min_open=True, default=1.5, fit_range=(1.0, 3.0)),
+        Param("distribution", "facet distribution of the specular part (Beckmann: α = √2 σ)",
+              choices=("gaussian", "beckmann"), default="gaussian"),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"mix": {}}
     labels: ClassVar[dict[str, str]] = {"mix": "Mix: Oren–Nayar full + Torrance–Sparrow"}

@@ -53,9 +53,9 @@ function setParams(gl, prog, name, g) {
   gl.uniform1i(loc("variant"), g.variant);
   gl.uniform1f(loc("k"), g.k);
   gl.uniform1f(loc("b0"), g.b0);
-  gl.uniform1f(loc("hh"), g.hh);
-  gl.uniform1f(loc("hg"), g.hg);
-  gl.uniform1f(loc("theta_bar"), g.thetaBar);
+  gl.uniform1f(loc("h"), g.h);
+  gl.uniform1f(loc("g"), g.g);
+  gl.uniform1f(loc("theta_bar"), g.theta_bar);
 }
 
 /**
