@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from ._trace import Graph, SymVec, TraceError, scalar_source
+from .io.atomic import write_text
 from .models.base import Model
 from .models.mix import Mix
 
@@ -190,11 +191,9 @@ def _load(source: str) -> Any:
             directory.mkdir(parents=True, exist_ok=True)
             path = directory / f"rdk_{digest}.py"
             if not path.exists() or path.read_text() != source:
-                tmp = directory / f".rdk_{digest}.{os.getpid()}.tmp"
-                tmp.write_text(source)
-                os.replace(tmp, path)
+                write_text(path, source)
             break
-        except OSError:
+        except (OSError, ValueError):  # ValueError: check_output_path found it unwritable
             continue
     else:  # pragma: no cover - no writable directory at all
         raise OSError("no writable cache directory for the fast path (set ROUGHDIFFUSE_CACHE_DIR)")

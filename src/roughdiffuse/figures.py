@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .io.atomic import atomic_write
 from .models import (
     EON,
     Burley,
@@ -51,7 +52,6 @@ from .render import (
     pixel_coordinates,
     render,
 )
-from .render.imagefile import atomic_write
 
 __all__ = ["FIGURES", "Figure", "make_figures"]
 

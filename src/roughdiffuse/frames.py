@@ -5,10 +5,10 @@ Convention (fixed here, used everywhere): the local frame has the surface normal
 φ is the azimuth in the xy-plane. Every isotropic model depends on a pair of directions only
 through three numbers, the *local cosines*::
 
-    mu_i = cos θi = n·wi,   mu_o = cos θo = n·wo,   cos_io = wi·wo,
+    mu_i = cos θi = n·wi,   mu_o = cos θr = n·wo,   cos_io = wi·wo,
 
 so kernels take those three arrays (structure of arrays) rather than (..., 3) vectors.
-The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θo cos(φo − φi).
+The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θr cos(φr − φi).
 """
 
 from __future__ import annotations

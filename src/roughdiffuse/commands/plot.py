@@ -77,8 +77,8 @@ def _models(args: argparse.Namespace, sigma_list: list[float] | None = None) -> 
 
 def run(args: argparse.Namespace) -> int:
     from .. import plots
+    from ..io.atomic import atomic_write
     from ..render import DistantLight, pixel_coordinates, render
-    from ..render.imagefile import atomic_write
     from .render import scene_from_args
 
     if args.kind not in KINDS:

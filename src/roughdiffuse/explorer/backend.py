@@ -66,8 +66,8 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
 def _render_vase() -> Any:
     """A function (model, query) -> PNG bytes of the vase, or None without the renderer."""
     try:
+        from ..io.images import linear_to_srgb
         from ..render import DistantLight, SurfaceOfRevolution, render
-        from ..render.imagefile import linear_to_srgb
     except ImportError:
         return None
 

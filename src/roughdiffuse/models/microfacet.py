@@ -24,7 +24,7 @@ import math
 from typing import Any
 
 from .._array import Array, asarray, maximum, minimum, safe_div, safe_sqrt
-from ._quadrature import gauss_legendre_01
+from ..quadrature import gauss_legendre
 
 __all__ = [
     "ALPHA_FLOOR",
@@ -52,8 +52,8 @@ SIGMA_FLOOR = 1e-4
 ALPHA_FLOOR = math.sqrt(2.0) * SIGMA_FLOOR
 """The same floor for Beckmann's α (α = √2 σ at small slopes)."""
 
-_GL_T, _GL_W = gauss_legendre_01(96)
-_GL_X32, _GL_W32 = gauss_legendre_01(32)
+_GL_T, _GL_W = gauss_legendre(96)
+_GL_X32, _GL_W32 = gauss_legendre(32)
 _NEWTON_STEPS = 5
 
 

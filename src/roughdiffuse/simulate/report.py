@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.atomic import atomic_write, write_text
 from ..models import EON, Fujii, Lambert, OrenNayar
 from .surface import Settings
 from .table import compute_table, load_table
@@ -138,6 +139,7 @@ def write_report(
             workers=workers,
             scheduler=scheduler,
             progress=progress,
+            force=True,  # a table of this report's other grid (checked above) is replaced
         )
 
     one = {m: table(m, 1) for m in ("angle", "solid-angle")}
@@ -237,7 +239,7 @@ def write_report(
         f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
         "",
     ]
-    (out / "index.md").write_text("\n".join(lines), encoding="utf-8")
+    write_text(out / "index.md", "\n".join(lines))
     return out / "index.md"
 
 
@@ -301,7 +303,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
         ax.set_ylabel("π f")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "plane_of_incidence.png", dpi=110)
+    atomic_write(out / "plane_of_incidence.png", lambda tmp: fig.savefig(tmp, dpi=110))
     plt.close(fig)
     figs.append(("Plane of incidence", "plane_of_incidence.png"))
     # error maps over θi × θr at Δφ = 0, σ = 0.3, against all bounces
@@ -322,7 +324,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
         ax.set_ylabel("θr (°)")
         fig.colorbar(im, ax=ax, label="relative error")
     fig.tight_layout()
-    fig.savefig(out / "error_maps.png", dpi=110)
+    atomic_write(out / "error_maps.png", lambda tmp: fig.savefig(tmp, dpi=110))
     plt.close(fig)
     figs.append(("Error maps", "error_maps.png"))
     try:
@@ -394,5 +396,5 @@ def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
     axes[2].set_title(f"V-grooves θa = {theta_a} rad, ρ = {rho}, across the plane of incidence")
     axes[2].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "pixels.png", dpi=110)
+    atomic_write(out / "pixels.png", lambda tmp: fig.savefig(tmp, dpi=110))
     plt.close(fig)

@@ -89,9 +89,9 @@ vec3 rd_on_full(float mu_i, float mu_o, float cos_io, float sigma, vec3 albedo) 
   float sin_i = rd_safe_sqrt(1.0 - mu_i * mu_i);
   float sin_o = rd_safe_sqrt(1.0 - mu_o * mu_o);
   float theta_i = atan(sin_i, mu_i);
-  float theta_o = atan(sin_o, mu_o);
-  float alpha = max(theta_i, theta_o);
-  float beta = min(theta_i, theta_o);
+  float theta_r = atan(sin_o, mu_o);
+  float alpha = max(theta_i, theta_r);
+  float beta = min(theta_i, theta_r);
   float sin_alpha = max(sin_i, sin_o);
   float tan_beta = min(sin_i, sin_o) / max(max(mu_i, mu_o), RD_TAN_FLOOR);
   float c = clamp(rd_safe_div(cos_io - mu_i * mu_o, sin_i * sin_o, 0.0), -1.0, 1.0);
