@@ -156,17 +156,17 @@ class LambertSphere(Model):
     variant : {"full", "fast"}
         The paper's analytic fit or the symbolic-regression approximation.
 
-    Reciprocal (both variants are symmetric in wi and wo). Backscattering (u = −wi·wo near 1)
+    Reciprocal (both variants are symmetric in wi and wo). Backscattering (wi near wo, u = −wi·wo near −1)
     brightens: the dusty look.
 
     Examples
     --------
-    Lit and seen along the normal, single scattering is c P(1)/2 = c/(3π²):
+    Lit and seen along the normal, u = −wi·wo = −1 (pure backscattering), where the phase
+    function peaks at P(−1) = 2/(3π); single scattering is then c P(−1)/2 = c/(3π):
 
     >>> import numpy as np
-    >>> n = np.array([0.0, 0.0, 1.0])
-    >>> round(float(lambert_sphere_phase(np, np.float64(1.0))), 12) == round(2 / (3 * np.pi**2), 12)
-    True
+    >>> round(float(lambert_sphere_phase(np, np.float64(-1.0))) * 3 * np.pi / 2, 12)
+    1.0
     >>> round(float(single_scattering_albedo(1.0)), 12)
     1.0
     """
