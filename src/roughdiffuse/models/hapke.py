@@ -157,7 +157,7 @@ class Hapke(Model):
         smooth = w / 4.0 * bracket(mu_i, mu_o) / maximum(xp, mu_i + mu_o, _TINY)
 
         # rough surface (Hapke 1984; the expressions of ISIS's Hapke.cpp)
-        tan_t = maximum(xp, xp.tan(theta_bar), _TAN_FLOOR)
+        tan_t = maximum(xp, xp.sin(theta_bar) / xp.cos(theta_bar), _TAN_FLOOR)  # θ̄ <= π/3
         cot_t = 1.0 / tan_t
         chi = 1.0 / (1.0 + math.pi * tan_t * tan_t) ** 0.5
         sin_i = safe_sqrt(xp, 1.0 - mu_i * mu_i)
