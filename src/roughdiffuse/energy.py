@@ -75,17 +75,14 @@ def plot_albedo(
     -------
     matplotlib Figure
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ._figure import colormap, figure
 
     th = np.radians(np.arange(0.0, 89.75, 0.5)) if theta_r is None else np.asarray(theta_r)
     n = len(groups)
     ncols = n if n <= 3 else (2 if n == 4 else 3)
     nrows = -(-n // ncols)
     if fig is None:
-        fig = plt.figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
+        fig = figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
     axes = fig.subplots(nrows, ncols, sharey=True, squeeze=False).ravel()
     for ax in axes[n:]:
         ax.set_visible(False)
@@ -93,7 +90,7 @@ def plot_albedo(
     hi = 1.0
     for ax, (title, models) in zip(axes[:n], groups.items(), strict=True):
         curves = albedo_curves(models, th)
-        colors = plt.cm.viridis(np.linspace(0.0, 0.9, max(len(curves), 1)))
+        colors = colormap("viridis")(np.linspace(0.0, 0.9, max(len(curves), 1)))
         for color, (label, a) in zip(colors, curves.items(), strict=True):
             ax.plot(np.degrees(th), a, color=color, label=label)
             lo, hi = min(lo, float(a.min())), max(hi, float(a.max()))

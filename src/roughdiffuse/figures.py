@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _figure
 from .io.atomic import atomic_write
 from .models import (
     EON,
@@ -41,7 +42,6 @@ from .plots import (
     plot_cross_section,
     plot_plane_of_incidence,
     plot_roughness_series,
-    plt,
     show_radiance,
 )
 from .render import (
@@ -82,7 +82,7 @@ def _suptitle(fig: Any, text: str) -> None:
 def _lambert_sphere() -> Any:
     rho = 0.8
     img, mask = render(Lambert(rho), Sphere(), DistantLight(0.0), size=SIZE, samples_per_pixel=SPP)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
+    fig, (a, b) = _figure.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
     show_radiance(a, img, float(img.max()), "Lambert, ρ = 0.8, light behind the viewer")
     xs, _ = pixel_coordinates(Sphere(), None, SIZE)
     plot_cross_section({"rendered": img}, masks={"rendered": mask}, ax=b, x=xs)
@@ -120,7 +120,7 @@ def _full_moon() -> Any:
     results = {
         k: render(m, moon, light, size=SIZE, samples_per_pixel=SPP) for k, m in models.items()
     }
-    fig = plt.figure(figsize=(14, 6.6))
+    fig = _figure.figure(figsize=(14, 6.6))
     grid = fig.add_gridspec(2, len(models), height_ratios=[1, 0.9])
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
@@ -154,7 +154,7 @@ def _vase() -> Any:
     mask = next(iter(results.values()))[1]
     row = int(np.argmax(mask.sum(axis=1)))  # the widest row: the vase's belly
     vmax = max(float(r[0].max()) for r in results.values())
-    fig = plt.figure(figsize=(11, 4.4))
+    fig = _figure.figure(figsize=(11, 4.4))
     grid = fig.add_gridspec(1, 3, width_ratios=[1, 1, 1.6])
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
@@ -198,7 +198,7 @@ def _view_dependence() -> Any:
             label = f"Oren–Nayar {variant}, σ = {s:g}"
             models[label] = OrenNayar(0.8, s, variant)
             styles[label] = {"color": colours[s], "ls": ls}
-    fig = plt.figure(figsize=(13, 4.2))
+    fig = _figure.figure(figsize=(13, 4.2))
     for i, deg in enumerate((30.0, 60.0)):
         ax = fig.add_subplot(1, 3, i + 1)
         plot_plane_of_incidence(models, math.radians(deg), ax=ax, styles=styles)
@@ -217,7 +217,7 @@ def _view_dependence() -> Any:
 def _blurred_highlights() -> Any:
     sigmas = (0.05, 0.1, 0.2, 0.3, 0.4)
     light = DistantLight(math.radians(30.0), 0.0)
-    fig, axes = plt.subplots(1, len(sigmas), figsize=(2.2 * len(sigmas), 2.9))
+    fig, axes = _figure.subplots(1, len(sigmas), figsize=(2.2 * len(sigmas), 2.9))
     for ax, s in zip(axes, sigmas, strict=True):
         img, mask = render(
             TorranceSparrow(1.5, s), Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP
@@ -247,7 +247,7 @@ def _diffuse_plus_specular() -> Any:
         for k, m in models.items()
     }
     vmax = float(np.percentile(imgs["mix: 1 × ON + 1 × TS"], 99.5))
-    fig = plt.figure(figsize=(12, 4))
+    fig = _figure.figure(figsize=(12, 4))
     grid = fig.add_gridspec(1, 4, width_ratios=[1, 1, 1, 1.5])
     for i, (label, img) in enumerate(imgs.items()):
         ax = fig.add_subplot(grid[0, i])
@@ -285,7 +285,7 @@ def _models_side_by_side() -> Any:
     ref = imgs["qualitative ON"]
     vmax = max(float(v.max()) for v in imgs.values())
     dmax = max(float(np.abs(v - ref).max()) for v in imgs.values()) or 1.0
-    fig, axes = plt.subplots(2, 4, figsize=(11, 6), layout="constrained")
+    fig, axes = _figure.subplots(2, 4, figsize=(11, 6), layout="constrained")
     for i, (label, img) in enumerate(imgs.items()):
         show_radiance(axes[0, i], img, vmax, label)
         ax = axes[1, i]
@@ -330,7 +330,7 @@ def _production_models() -> Any:
         for k, m in models.items()
     }
     vmax = max(float(v.max()) for v in imgs.values())
-    fig = plt.figure(figsize=(14, 7.2))
+    fig = _figure.figure(figsize=(14, 7.2))
     grid = fig.add_gridspec(2, len(models), height_ratios=[1, 1.5])
     for i, (label, img) in enumerate(imgs.items()):
         show_radiance(fig.add_subplot(grid[0, i]), img, vmax, label)
@@ -556,6 +556,5 @@ def make_figures(
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
-        plt.close(fig)
     out.append(_write_index(folder))
     return out

@@ -12,10 +12,12 @@ import math
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .least_squares import DegenerateDataWarning, FitResult, fit
 from .measurements import Measurements
+
+if TYPE_CHECKING:  # least_squares imports JAX and SciPy: only when fitting
+    from .least_squares import FitResult
 
 __all__ = ["CANDIDATES", "Comparison", "compare_models"]
 
@@ -125,6 +127,8 @@ def compare_models(
             f"models must be names from: {', '.join(CANDIDATES)} "
             f"(got {', '.join(unknown) or 'none'})"
         )
+    from .least_squares import DegenerateDataWarning, fit
+
     out = []
     for n in names:
         c = CANDIDATES[n]

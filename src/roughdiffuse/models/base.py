@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar, NamedTuple
 
-import jax
 import numpy as np
 
 from .._array import (
@@ -29,6 +28,8 @@ from .._array import (
     namespace,
     result_dtype,
 )
+from .._dispatch import compiled
+from .._lazy import when_imported
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
 from .sampling import COSINE, Strategy
@@ -66,6 +67,8 @@ _JITTED: dict[str, Any] = {}
 def _jitted(method: str) -> Any:
     fn = _JITTED.get(method)
     if fn is None:
+        import jax
+
         fn = jax.jit(lambda model, *args: getattr(model, method)(*args))
         _JITTED[method] = fn
     return fn
@@ -224,8 +227,12 @@ class Model:
         """The BRDF from the local cosines n·wi, n·wo and wi·wo (no normalisation done).
 
         This is the entry point of renderers and tables that already hold cosines. Output
-        shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo.
+        shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
+        NumPy inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
+        fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
+        if fast is not None:
+            return fast
         xp = self._xp(mu_i, mu_o, cos_io)
         dtype = result_dtype(xp, mu_i, mu_o, cos_io)
         mu_i, mu_o, cos_io = (asarray(xp, a, dtype) for a in (mu_i, mu_o, cos_io))
@@ -254,8 +261,12 @@ class Model:
         -------
         array (...) or (..., C)
             In the namespace of the inputs (NumPy, JAX, PyTorch); a channel axis is added
-            for an RGB albedo. 0 where either direction is below the horizon.
+            for an RGB albedo. 0 where either direction is below the horizon. Large NumPy
+            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
+        fast = compiled(self, "brdf", wi, wo)
+        if fast is not None:
+            return fast
         xp = self._xp(wi, wo)
         if self._should_jit(xp, wi, wo):
             for name, w in (("wi", wi), ("wo", wo)):
@@ -279,9 +290,13 @@ class Model:
         Returns
         -------
         array (...) or (..., C)
-            Radiance; 0 where the point faces away from the light or the viewer.
+            Radiance; 0 where the point faces away from the light or the viewer. Large NumPy
+            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
         _check_irradiance(irradiance)
+        fast = compiled(self, "radiance", n, l, v, irradiance=irradiance)
+        if fast is not None:
+            return fast
         xp = self._xp(n, l, v, irradiance)
         if self._should_jit(xp, n, l, v, irradiance):
             for name, w in (("n", n), ("l", l), ("v", v)):
@@ -389,6 +404,7 @@ def _check_irradiance(value: Any) -> None:
 def register_pytree(cls: type) -> type:
     """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static.
 
+    Registered when JAX is imported (now, if it is), so defining a model does not import JAX.
     ``jax.tree_util.register_dataclass`` is not used: in JAX 0.10 its tree definitions of two
     classes with the same field names compare equal (Lambert and LommelSeeliger, say), so a
     jitted function could reuse one model's compiled code for the other. Unflattening skips
@@ -407,5 +423,5 @@ def register_pytree(cls: type) -> type:
             object.__setattr__(obj, name, value)
         return obj
 
-    jax.tree_util.register_pytree_node(cls, flatten, unflatten)
+    when_imported("jax", lambda jax: jax.tree_util.register_pytree_node(cls, flatten, unflatten))
     return cls
