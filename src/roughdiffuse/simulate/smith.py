@@ -239,6 +239,8 @@ class WalkResult:
         standard error; K = ``max_order``.
     samples : int
         Paths per geometry.
+    segments : int
+        Path segments traced (rays from one height to the next or out), for all geometries.
     """
 
     albedos: tuple[float, ...]
@@ -247,6 +249,7 @@ class WalkResult:
     orders: np.ndarray
     orders_stderr: np.ndarray
     samples: int
+    segments: int = 0
 
 
 def _walk(
@@ -438,7 +441,7 @@ def random_walk(
     def paths(group, rng):
         return wi_all[group], wo_all[group], inv_cos[group]
 
-    values, stderr, ords, ords_se, _ = _run(
+    values, stderr, ords, ords_se, segments = _run(
         paths, n_groups, samples, alpha, dist, albedos, depth, orders, seed, progress
     )
     return WalkResult(
@@ -448,6 +451,7 @@ def random_walk(
         ords.reshape((-1, *shape)),
         ords_se.reshape((-1, *shape)),
         samples,
+        segments,
     )
 
 
