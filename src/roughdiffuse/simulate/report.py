@@ -221,6 +221,7 @@ def write_report(
                 f"{np.abs(e).max():.4f} | {_where(inf, idx)} | {'' if r is None else f'{r:.2f}'} |"
             )
     lines += _convergence_lines(quick)
+    lines += _second_truth_lines(out, quick, progress)
     # figures: plane of incidence and error maps
     figs = _plots(plt, out, better, sigmas, quick, progress, workers)
     lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
@@ -232,6 +233,13 @@ def write_report(
     ]
     (out / "index.md").write_text("\n".join(lines), encoding="utf-8")
     return out / "index.md"
+
+
+def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
+    """The Smith microsurface's checks and the rendered heightfields (:mod:`.report_smith`)."""
+    from .report_smith import heightfield_lines, smith_check_lines
+
+    return smith_check_lines(quick) + heightfield_lines(out, quick, progress)
 
 
 def _convergence_lines(quick: bool) -> list[str]:
