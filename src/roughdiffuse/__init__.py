@@ -23,6 +23,7 @@ from .models import (
     Mix,
     Model,
     OrenNayar,
+    SmithDiffuse,
     TorranceSparrow,
     oren_nayar,
 )
@@ -45,6 +46,7 @@ __all__ = [
     "Model",
     "OrenNayar",
     "Param",
+    "SmithDiffuse",
     "TorranceSparrow",
     "__version__",
     "oren_nayar",

@@ -317,6 +317,11 @@ def evaluate(
     """
     if not isinstance(model, Model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+    if not type(model).traceable:
+        raise ValueError(
+            f"{type(model).__name__} is computed by simulation, not a formula: the fast path "
+            "compiles formulas only; call model.radiance (NumPy) instead"
+        )
     if chunk is not None and chunk < 1:
         raise ValueError(f"chunk must be a positive number of rows (got {chunk})")
     threads = cpu_count() if threads is None else int(threads)

@@ -234,10 +234,21 @@ def _register_builtins() -> None:
         LunarLambert,
         Mix,
         OrenNayar,
+        SmithDiffuse,
         TorranceSparrow,
     )
 
-    for cls in (Lambert, OrenNayar, Fujii, EON, TorranceSparrow, Mix, LommelSeeliger, LunarLambert):
+    for cls in (
+        Lambert,
+        OrenNayar,
+        Fujii,
+        EON,
+        TorranceSparrow,
+        Mix,
+        LommelSeeliger,
+        LunarLambert,
+        SmithDiffuse,
+    ):
         register_model(cls, source="roughdiffuse")
 
 

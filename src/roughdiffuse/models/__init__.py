@@ -8,6 +8,7 @@ from .lambert import Lambert
 from .lunar import LommelSeeliger, LunarLambert
 from .mix import Mix
 from .oren_nayar import OrenNayar, oren_nayar
+from .smith_diffuse import SmithDiffuse
 from .torrance_sparrow import TorranceSparrow, fresnel_dielectric, slope_distribution
 
 __all__ = [
@@ -22,6 +23,7 @@ __all__ = [
     "Model",
     "OrenNayar",
     "Param",
+    "SmithDiffuse",
     "TorranceSparrow",
     "fon_albedo",
     "fon_average_albedo",

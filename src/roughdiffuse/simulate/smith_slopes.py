@@ -13,9 +13,9 @@ distribution of roughness α, for directions on the whole sphere:
   D_ωi(ωm) = ⟨ωi, ωm⟩⁺ D(ωm) / ∫⟨ωi, ω⟩⁺ D(ω) dω (Heitz & d'Eon 2014, "Importance sampling
   microfacet-based BSDFs using the distribution of visible normals", eq. 2), for ωi above or
   below the horizon: GGX by spherical caps (Dupuy & Benyoub 2023, "Sampling visible GGX
-  normals with spherical caps", Listing 3), Beckmann by exact inversion of the visible-slope
-  CDF in the stretched configuration α = 1 (Heitz & d'Eon 2014, Sec. 4: P22 visible ∝
-  (cos θ − x̃ sin θ)⁺ exp(−x̃² − ỹ²)), solved by safeguarded Newton steps.
+  normals with spherical caps", Listing 3), Beckmann in the stretched configuration α = 1
+  (Heitz & d'Eon 2014, Sec. 4: P22 visible ∝ (cos θ − x̃ sin θ)⁺ exp(−x̃² − ỹ²)) by exact
+  composition and rejection sampling of x̃.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import erf, erfcx
+from scipy.special import erf, erfcx, erfinv
 
 __all__ = [
     "DISTRIBUTIONS",
@@ -118,59 +118,65 @@ def _visible_ggx(w: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray) ->
     return m / np.where(norm > 0.0, norm, 1.0)
 
 
-def _visible_slope_beckmann(mu: np.ndarray, u: np.ndarray) -> np.ndarray:
+def _visible_slope_beckmann(mu: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """x̃ ~ (μ − x̃)⁺ exp(−x̃²), μ = cot θ (stretched α = 1 Beckmann, Heitz & d'Eon 2014).
 
-    Samples t = μ − x̃ ≥ 0 of density ∝ t exp(−(t − μ)²) by inverting its CDF
-    F(t) = ½(e^{−μ²} − e^{−(t−μ)²}) + μ (√π/2)(erf(t − μ) + erf μ) with safeguarded Newton
-    steps (bisection when a step leaves the bracket). For μ < 0 everything is multiplied by
-    e^{μ²} and written with erfcx, so that steep upward-travelling rays (μ ≪ 0) do not
-    underflow.
+    Exact, by composition and rejection from proposals sampled in closed form:
+
+    * μ ≥ 0, x̃ < 0: (μ + |x̃|) e^{−x̃²} is a mixture of a half-Gaussian (mass μ√π/2) and
+      |x̃| e^{−x̃²} (mass 1/2, |x̃| = √(−ln U));
+    * μ ≥ 0, 0 ≤ x̃ < μ: the envelope μ e^{−x̃²} (mass μ (√π/2) erf μ), a Gaussian
+      truncated to [0, μ), accepted with probability (μ − x̃)/μ (a rejection draws both
+      parts anew: the parts are chosen by their envelope masses);
+    * μ < 0 (y = −x̃ > m = −μ, density (y − m) e^{−y²}): for m < 0.8, y from y e^{−y²}
+      truncated to y > m (y = √(m² − ln U)), accepted with probability (y − m)/y; for
+      m ≥ 0.8, y = m + s with s ~ Gamma(2, 2m), accepted with probability e^{−s²}.
+
+    Every acceptance rate is above 0.3.
     """
-    t = np.empty_like(mu)
-    for neg in (False, True):
-        sel = np.nonzero((mu < 0.0) if neg else (mu >= 0.0))[0]
-        if sel.size == 0:
-            continue
-        m = mu[sel]
-        if neg:
-            total = 0.5 + m * (_SQRT_PI / 2) * erfcx(-m)
-        else:
-            total = 0.5 * np.exp(-m * m) + m * (_SQRT_PI / 2) * (1.0 + erf(m))
-        target = u[sel] * total
-        lo = np.zeros_like(m)
-        hi = np.maximum(m, 0.0) + 9.0
-        x = np.clip(0.5 * (m + np.sqrt(m * m + 2.0)), 1e-6, hi)  # the mode
-        active = np.arange(m.size)
-        for _ in range(60):
-            mm, xx = m[active], x[active]
-            if neg:
-                e = np.exp(xx * (2.0 * mm - xx))
-                f = 0.5 * (1.0 - e) + mm * (_SQRT_PI / 2) * (erfcx(-mm) - erfcx(xx - mm) * e)
-                dens = xx * e
-            else:
-                e = np.exp(-((xx - mm) ** 2))
-                f = 0.5 * (np.exp(-mm * mm) - e) + mm * (_SQRT_PI / 2) * (erf(xx - mm) + erf(mm))
-                dens = xx * e
-            r = f - target[active]
-            above = r > 0.0
-            hi[active] = np.where(above, xx, hi[active])
-            lo[active] = np.where(above, lo[active], xx)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                step = xx - r / dens
-            ok = (dens > 0.0) & (step > lo[active]) & (step < hi[active])
-            new = np.where(ok, step, 0.5 * (lo[active] + hi[active]))
-            x[active] = new
-            done = np.abs(new - xx) <= 1e-12 * (1.0 + np.abs(new))
-            active = active[~done]
-            if active.size == 0:
-                break
-        t[sel] = x
-    return mu - t
+    x = np.empty_like(mu)
+    todo = np.arange(mu.size)
+    while todo.size:
+        m = mu[todo]
+        u = rng.random((3, todo.size))
+        out = np.full(todo.size, np.nan)
+        pos = m >= 0.0
+        # μ ≥ 0
+        mp = m[pos]
+        neg_mass = mp * (_SQRT_PI / 2) + 0.5
+        pos_mass = mp * (_SQRT_PI / 2) * erf(mp)  # of the envelope μ e^{−x̃²} on [0, μ)
+        u0, u1, u2 = u[0][pos], u[1][pos], u[2][pos]
+        left = u0 * (neg_mass + pos_mass) < neg_mass
+        gauss = u1 * neg_mass < mp * (_SQRT_PI / 2)
+        half = np.abs(erfinv(np.clip(2.0 * u2 - 1.0, -1.0 + 1e-16, 1.0 - 1e-16)))
+        xl = -np.where(gauss, half, np.sqrt(-np.log1p(-u2)))
+        xr = erfinv(u1 * erf(mp))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            keep_r = u2 * mp < mp - xr
+        out_pos = np.where(left, xl, np.where(keep_r, xr, np.nan))
+        # μ < 0
+        mn = -m[~pos]
+        v0, v1, v2 = u[0][~pos], u[1][~pos], u[2][~pos]
+        small = mn < 0.8
+        y_small = np.sqrt(mn * mn - np.log1p(-v0))
+        with np.errstate(divide="ignore", invalid="ignore"):  # Gamma(2, 2m): two exponentials
+            s_big = -(np.log1p(-v0) + np.log1p(-v2)) / (2.0 * mn)
+        y_big = mn + s_big
+        ok_small = v1 * y_small < y_small - mn
+        ok_big = v1 < np.exp(-s_big * s_big)
+        y = np.where(small, y_small, y_big)
+        ok = np.where(small, ok_small, ok_big)
+        out_neg = np.where(ok, -y, np.nan)
+        out[pos] = out_pos
+        out[~pos] = out_neg
+        done = np.isfinite(out)
+        x[todo[done]] = out[done]
+        todo = todo[~done]
+    return x
 
 
 def _visible_beckmann(
-    w: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray, u3: np.ndarray
+    w: np.ndarray, alpha: float, u2: np.ndarray, u3: np.ndarray, rng: np.random.Generator
 ) -> np.ndarray:
     """Beckmann visible normals for directions ``w`` (N, 3) on the whole sphere."""
     sx, sy = alpha * w[:, 0], alpha * w[:, 1]
@@ -187,7 +193,7 @@ def _visible_beckmann(
     finite = np.isfinite(mu)
     if np.any(finite):
         tx = tx.copy()
-        tx[finite] = _visible_slope_beckmann(mu[finite], u1[finite])
+        tx[finite] = _visible_slope_beckmann(mu[finite], rng)
     px = alpha * (cphi * tx - sphi * ty)
     py = alpha * (sphi * tx + cphi * ty)
     m = np.stack([-px, -py, np.ones_like(px)], axis=1)
@@ -205,5 +211,5 @@ def sample_visible_normals(
     if distribution == "ggx":
         u = rng.random((2, n))
         return _visible_ggx(w, alpha, u[0], u[1])
-    u = rng.random((3, n))
-    return _visible_beckmann(w, alpha, u[0], u[1], u[2])
+    u = rng.random((2, n))
+    return _visible_beckmann(w, alpha, u[0], u[1], rng)
