@@ -5,9 +5,9 @@ unit of Heitz et al. 2016's walk: one height sample, one visible-normal sample, 
 estimate and one cosine-lobe direction). Measured, all bounces at ρ = 1 (the longest walks),
 48 random geometries, for Beckmann and GGX at α = 0.3 and 1.0:
 
-* one process (NumPy's element-wise loops use one core);
-* two processes at once, each with its own seed and half of the paths (the paths are
-  independent, so that is how the walk uses 2 cores);
+* one worker (NumPy's element-wise loops use one core);
+* two workers (``random_walk(..., workers=2)``: threads tracing batches at once, NumPy
+  releases the GIL in its loops; the values are the same as with one);
 * the reference, measured in the same run and interleaved with the walks: NumPy's default
   generator drawing the same number of uniform doubles as there were segments, so the
   ratio says what a segment costs in units of one random draw on this machine.
@@ -32,7 +32,6 @@ import math  # noqa: E402
 import platform  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
-from concurrent.futures import ProcessPoolExecutor  # noqa: E402
 from datetime import UTC, datetime  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -53,13 +52,15 @@ def _geometries(n: int):
     return rng.uniform(0, 1.4, n), rng.uniform(0, 1.4, n), rng.uniform(0, 2 * math.pi, n)
 
 
-def walk(dist: str, alpha: float, paths: int, seed: int) -> tuple[int, float]:
+def walk(dist: str, alpha: float, paths: int, seed: int, workers: int = 1) -> tuple[int, float]:
     """(segments, seconds) of one all-bounce walk with ``paths`` paths per geometry."""
     from roughdiffuse.simulate.smith import random_walk
 
     ti, tr, dp = _geometries(GEOMETRIES)
     t0 = time.perf_counter()
-    r = random_walk(ti, tr, dp, alpha, 1.0, "all", dist, samples=paths, seed=seed)
+    r = random_walk(
+        ti, tr, dp, alpha, 1.0, "all", dist, samples=paths, seed=seed, workers=workers
+    )
     return r.segments, time.perf_counter() - t0
 
 
@@ -76,29 +77,25 @@ def draws(count: int) -> float:
 
 def run(paths: int, repeat: int) -> list[dict]:
     rows = []
-    with ProcessPoolExecutor(2) as pool:
-        pool.submit(walk, "ggx", 0.3, 64, 0).result()  # start both workers (imports)
-        for dist, alpha in CASES:
-            one, two, ref = [], [], []
-            walk(dist, alpha, max(paths // 8, 16), 0)  # warm-up
-            for r in range(repeat):
-                seg, t = walk(dist, alpha, paths, r)
-                one.append(seg / t / 1e6)
-                t0 = time.perf_counter()
-                futs = [pool.submit(walk, dist, alpha, paths // 2, 100 + 2 * r + k) for k in (0, 1)]
-                segs = sum(f.result()[0] for f in futs)
-                two.append(segs / (time.perf_counter() - t0) / 1e6)
-                ref.append(seg / draws(seg) / 1e6)
-            rows.append(
-                {
-                    "case": f"{dist}, α = {alpha:g}",
-                    "segments": seg,
-                    "segments_per_path": seg / (paths * GEOMETRIES),
-                    "one": summary(one),
-                    "two": summary(two),
-                    "draws": summary(ref),
-                }
-            )
+    for dist, alpha in CASES:
+        one, two, ref = [], [], []
+        walk(dist, alpha, max(paths // 8, 16), 0)  # warm-up
+        for r in range(repeat):
+            seg, t = walk(dist, alpha, paths, r)
+            one.append(seg / t / 1e6)
+            seg2, t2 = walk(dist, alpha, paths, r, workers=2)
+            two.append(seg2 / t2 / 1e6)
+            ref.append(seg / draws(seg) / 1e6)
+        rows.append(
+            {
+                "case": f"{dist}, α = {alpha:g}",
+                "segments": seg,
+                "segments_per_path": seg / (paths * GEOMETRIES),
+                "one": summary(one),
+                "two": summary(two),
+                "draws": summary(ref),
+            }
+        )
     return rows
 
 
@@ -115,13 +112,13 @@ def markdown(rows: list[dict], paths: int) -> str:
         f"`bench/smith_bench.py` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {os.cpu_count()} "
         f"cores ({cpu}), NumPy {np.__version__}: `roughdiffuse.simulate.smith.random_walk`, "
         f"all bounces at ρ = 1, {GEOMETRIES} random geometries × {paths:,} paths, in million "
-        "path segments per second, median of the runs (min–max). One process; two processes "
-        "at once, each with half of the paths (how the walk uses 2 cores); and, measured in "
-        "the same run, NumPy's default generator drawing as many uniform doubles as there were "
+        "path segments per second, median of the runs (min–max). One worker; two workers "
+        "(threads, `workers=2`, the same values); and, measured in the same run, NumPy's "
+        "default generator drawing as many uniform doubles as there were "
         "segments (a segment's cost in random draws = draws / segments).",
         "",
-        "| case | segments per path | 1 process, M segments/s | 2 processes, M segments/s "
-        "| 2 / 1 | M draws/s | draws / segments (1 process) |",
+        "| case | segments per path | 1 worker, M segments/s | 2 workers, M segments/s "
+        "| 2 / 1 | M draws/s | draws / segments (1 worker) |",
         "| --- | ---: | --- | --- | ---: | --- | ---: |",
     ]
     for r in rows:

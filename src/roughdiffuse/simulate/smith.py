@@ -319,37 +319,61 @@ def _run(
     orders: int,
     seed: int,
     progress: bool = False,
+    workers: int = 1,
 ):
     """Trace ``samples`` paths for each of ``n_groups`` groups in batches.
 
     ``wi_fn(group, rng)`` returns (wi, wo, weight) for the paths of the given groups.
     Returns the means and standard errors, and the number of segments traced.
     """
-    rng = np.random.default_rng(seed)
     a_n = len(albedos)
-    sums = {
-        "sum1": np.zeros((a_n, n_groups)),
-        "sum2": np.zeros((a_n, n_groups)),
-        "order1": np.zeros((orders, n_groups)),
-        "order2": np.zeros((orders, n_groups)),
-    }
+
+    def zeros():
+        return {
+            "sum1": np.zeros((a_n, n_groups)),
+            "sum2": np.zeros((a_n, n_groups)),
+            "order1": np.zeros((orders, n_groups)),
+            "order2": np.zeros((orders, n_groups)),
+        }
+
     total = n_groups * samples
+    starts = range(0, total, _BATCH)
+    # one generator per batch, spawned from the seed: the numbers do not depend on workers
+    seeds = np.random.SeedSequence(seed).spawn(len(starts))
+
+    def batch(b: int):
+        rng = np.random.default_rng(seeds[b])
+        group = np.arange(starts[b], min(starts[b] + _BATCH, total)) // samples
+        part = zeros()
+        wi, wo, weight = wi_fn(group, rng)
+        n = _walk(wi, wo, weight, group, n_groups, alpha, dist, albedos, bounces, orders, rng, part)
+        return part, n, group.size
+
+    sums = zeros()
     segments = 0
     bar = None
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=total, unit="path", desc="Smith random walk")
-    for start in range(0, total, _BATCH):
-        group = np.arange(start, min(start + _BATCH, total)) // samples
-        wi, wo, weight = wi_fn(group, rng)
-        segments += _walk(
-            wi, wo, weight, group, n_groups, alpha, dist, albedos, bounces, orders, rng, sums
-        )
+    pool = None
+    if workers > 1 and len(starts) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(workers)  # NumPy's loops release the GIL
+    try:
+        results = pool.map(batch, range(len(starts))) if pool else map(batch, range(len(starts)))
+        for part, n, count in results:  # in batch order: the same sums for any workers
+            for key in sums:
+                sums[key] += part[key]
+            segments += n
+            if bar is not None:
+                bar.update(count)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
         if bar is not None:
-            bar.update(group.size)
-    if bar is not None:
-        bar.close()
+            bar.close()
 
     def stats(s1, s2):
         mean = s1 / samples
@@ -387,6 +411,7 @@ def random_walk(
     seed: int = 0,
     max_order: int = 8,
     progress: bool = False,
+    workers: int = 1,
 ) -> WalkResult:
     """The Smith Lambertian microsurface's BRDF by the random walk of Heitz et al. 2016.
 
@@ -412,6 +437,10 @@ def random_walk(
         Orders reported one by one in ``WalkResult.orders``.
     progress : bool
         Show a progress bar (tqdm).
+    workers : int
+        Threads tracing batches of 2^17 paths at once (NumPy releases the GIL in its loops);
+        each batch has its own generator spawned from ``seed``, so the values do not depend
+        on ``workers``.
 
     Returns
     -------
@@ -442,7 +471,8 @@ def random_walk(
         return wi_all[group], wo_all[group], inv_cos[group]
 
     values, stderr, ords, ords_se, segments = _run(
-        paths, n_groups, samples, alpha, dist, albedos, depth, orders, seed, progress
+        paths, n_groups, samples, alpha, dist, albedos, depth, orders, seed, progress,
+        _check_count("workers", workers),
     )
     return WalkResult(
         albedos,
