@@ -121,7 +121,7 @@ def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str
     )
     geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
     alphas = (0.5,) if quick else HF_ALPHAS
-    samples = 5_000 if quick else 100_000
+    samples = 5_000 if quick else 40_000
     bounces = (1, 2, "all")
     rows = []
     todo = [(a, g) for a in alphas for g in geoms]
@@ -208,7 +208,7 @@ def _convergence_lines(base) -> list[str]:
         ("6 cells per ℓ (finer mesh, same patch)", replace(base, n=192, cells_per_length=6.0)),
         ("3 cells per ℓ (coarser mesh)", replace(base, n=96, cells_per_length=3.0)),
         ("patch 64 ℓ (n = 256)", replace(base, n=256)),
-        ("4 × the samples per pixel", replace(base, spp=4 * base.spp)),
+        ("2 × the samples per pixel", replace(base, spp=2 * base.spp)),
         ("5 × 5 tiles", replace(base, tiles=5)),
     ]
     lines = [
