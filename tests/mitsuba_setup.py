@@ -10,6 +10,8 @@ from typing import Any
 def mitsuba_variant(variant: str) -> Any:
     """Import Mitsuba, set ``variant``, register roughdiffuse's plugins; return ``mitsuba``.
 
+    Skips the calling test, with the reason, where Mitsuba or the variant is missing.
+
     The llvm variants need libLLVM >= 15 (``make test`` installs Debian's libllvm19 and
     exports DRJIT_LIBLLVM_PATH; this finds it when the variable is not set).
     """
@@ -19,10 +21,40 @@ def mitsuba_variant(variant: str) -> Any:
         )
         if found:
             os.environ["DRJIT_LIBLLVM_PATH"] = found[-1]
-    import mitsuba as mi
+    import pytest
 
-    mi.set_variant(variant)
+    mi = pytest.importorskip("mitsuba", reason="Mitsuba 3 is not installed (pip install mitsuba)")
+    try:
+        mi.set_variant(variant)
+    except (ImportError, RuntimeError, AttributeError) as exc:
+        pytest.skip(f"Mitsuba variant {variant} is not available here: {exc}")
     from roughdiffuse.integrations.mitsuba import register
 
     register()
     return mi
+
+
+def parameter_sets(entry: Any) -> list[dict[str, Any]]:
+    """Two parameter sets of a registry model for the plugin tests: its defaults ({}) and a
+    "rough" set (angles at 1 rad, numbers whose range lies inside [0, 10] at its middle,
+    colour parameters at 0.7), so that every declared parameter is tried off its default."""
+    rough: dict[str, Any] = {}
+    for p in entry.parameters:
+        if p.categorical:
+            continue
+        if p.channels:
+            rough[p.name] = 0.7
+        elif p.unit == "radians" and (p.max is None or p.max >= 1.0):
+            rough[p.name] = 1.0
+        elif p.min is not None and p.max is not None and 0 <= p.min and p.max <= 10:
+            rough[p.name] = 0.5 * (p.min + p.max)
+    return [{}, rough]
+
+
+def can_sample(model: Any) -> bool:
+    """Whether ``model`` has anything to sample (not a mirror's Dirac delta, where every
+    sample has pdf 0)."""
+    import numpy as np
+
+    s = model.sample(np.random.default_rng(0).random((256, 2)), np.array([0.3, 0.0, 0.95]))
+    return bool(np.any(np.asarray(s.pdf) > 0))

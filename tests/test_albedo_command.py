@@ -32,10 +32,10 @@ def test_plot_and_table(tmp_path, capsys):
     assert status == 0
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     head, body = _table(table)
-    assert head[0] == "theta_o_deg"
+    assert head[0] == "theta_r_deg"
     col = {name: body[:, i] for i, name in enumerate(head)}
-    assert np.allclose(col["theta_o_deg"][:3], [0.0, 0.5, 1.0])
-    assert col["theta_o_deg"].max() < 90.0
+    assert np.allclose(col["theta_r_deg"][:3], [0.0, 0.5, 1.0])
+    assert col["theta_r_deg"].max() < 90.0
     np.testing.assert_allclose(col["Lambert, ρ = 1"], 1.0, atol=1e-7)
     np.testing.assert_allclose(col["EON, r = 1"], 1.0, atol=1e-6)  # white furnace
     assert col["Fujii (FON), r = 1"][0] == pytest.approx(1.0 / (1.0 + K1), abs=1e-6)

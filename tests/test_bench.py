@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import shutil
 import subprocess
@@ -28,12 +27,23 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
         "--no-fit",
         "--no-simulate",
         "--memory-log2", "0",
+        "--brdf-sizes", "10",
+        "--startup-repeat", "0",
         "--output-dir", str(tmp_path),
     ]  # fmt: skip
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     data = json.loads((tmp_path / "results.json").read_text())
-    assert "fit" not in data and "simulate" not in data
+    assert "fit" not in data and "simulate" not in data and "startup" not in data
+    assert {r["dtype"] for r in data["brdf"]} == {"float32", "float64"}
+    for r in data["brdf"]:
+        errors = r["max_rel_error_vs_reference"]
+        assert errors["default"] < 1e-4  # model.brdf: the reference path's values
+        if shutil.which("gcc"):
+            # the C transcription of the same formula (float32: rounding of a few dozen
+            # operations, amplified near the kinks; float64: the same, 2^29 times smaller)
+            assert errors["c"] < (2e-3 if r["dtype"] == "float32" else 1e-9)
+            assert r["default_over_c"] > 0
     labels = [r["model"] for r in data["results"]]
     for name in ("Lambert", "qualitative", "full", "Fujii", "EON", "Torrance"):
         assert any(name in x for x in labels)
@@ -121,11 +131,7 @@ def test_bench_run_fit_and_solver_sections_at_tiny_scale(tmp_path, monkeypatch):
 
 
 def test_solver_case_reports_a_missing_jax_path_and_goes_on():
-    spec = importlib.util.spec_from_file_location(
-        "simulate_bench_under_test", ROOT / "bench" / "simulate_bench.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    from roughdiffuse.bench import simulate_bench as module
 
     def numpy_only(x):
         if not isinstance(x, np.ndarray):
@@ -163,4 +169,61 @@ def test_bench_run_rejects_bad_options(bad):
         timeout=120,
     )
     assert proc.returncode == 2
-    assert proc.stderr.strip().startswith("bench/run.py: error:")
+    assert proc.stderr.strip().startswith("python bench/run.py: error:")
+
+
+MARKER_CODE = """
+import pathlib
+pathlib.Path(__file__).resolve().parents[{up}].joinpath("RAN-{name}").write_text("ran")
+"""
+
+
+def plant(folder: Path) -> list[Path]:
+    """Files a command must never run: bench/run.py (which `roughdiffuse bench` used to load
+    from the current directory), and modules the old benchmark scripts imported by name."""
+    planted = {
+        "bench/run.py": 1,
+        "bench/timing.py": 1,
+        "bench/fit_bench.py": 1,
+        "bench/simulate_bench.py": 1,
+        "bench/__init__.py": 1,
+        "timing.py": 0,
+        "run.py": 0,
+    }
+    for rel, up in planted.items():
+        path = folder / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(MARKER_CODE.format(up=up, name=rel.replace("/", "_")))
+    return sorted(folder.glob("RAN-*"))
+
+
+def test_no_command_runs_a_bench_script_from_the_current_directory(tmp_path, monkeypatch):
+    from roughdiffuse import cli
+    from roughdiffuse.commands import COMMANDS
+
+    assert plant(tmp_path) == []
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))  # even with the folder on sys.path
+    for argv in [["--help"], *([name, "--help"] for name in COMMANDS)]:
+        with pytest.raises(SystemExit) as exit_:
+            cli.main(argv)
+        assert exit_.value.code == 0, argv
+    assert sorted(tmp_path.glob("RAN-*")) == []
+    # a real, tiny benchmark run and an evaluation, in a new process started in that folder
+    runs = [
+        ["bench", "--sizes", "6", "--brdf-sizes", "6", "--models", "Lambert", "--repeat", "1",
+         "--no-c", "--no-first-call", "--no-render", "--no-fit", "--no-simulate",
+         "--memory-log2", "0", "--startup-repeat", "0", "--output-dir", "out"],
+        ["eval", "--model", "oren-nayar", "--sigma", "20", "--albedo", "0.8"],
+    ]  # fmt: skip
+    for args in runs:
+        proc = subprocess.run(
+            [sys.executable, "-m", "roughdiffuse", *args],
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+            timeout=300,
+        )
+        assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "out" / "RESULTS.md").is_file()
+    assert sorted(p.name for p in tmp_path.glob("RAN-*")) == []

@@ -67,7 +67,7 @@ def test_renderer_images_fit_back(shape_name: str) -> None:
 
 
 def test_png_with_stated_exposure(tmp_path) -> None:  # noqa: ANN001
-    from roughdiffuse.render.imagefile import write_png
+    from roughdiffuse.io.images import write_png
 
     rng = np.random.default_rng(0)
     img = rng.uniform(0.0, 0.3, (20, 30))
@@ -104,7 +104,7 @@ def test_image_input_errors() -> None:
 
 
 def test_exr_and_npy_read_back(tmp_path) -> None:  # noqa: ANN001
-    from roughdiffuse.render.imagefile import write_exr, write_npy
+    from roughdiffuse.io.images import write_exr, write_npy
 
     rng = np.random.default_rng(1)
     img = rng.uniform(0.0, 2.0, (6, 5, 3)).astype(np.float32)

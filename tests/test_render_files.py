@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from roughdiffuse.render.imagefile import (
-    atomic_write,
+from roughdiffuse.io.atomic import atomic_write
+from roughdiffuse.io.images import (
     exposure_scale,
     linear_to_srgb,
     write_exr,
@@ -134,7 +134,7 @@ def test_missing_folder_is_a_value_error(tmp_path):
 
 def test_read_png_agrees_with_pillow(tmp_path):
     """Our PNG decoder against Pillow on 8-bit RGB and 16-bit grey (both filters paths)."""
-    from roughdiffuse.render.imagefile import read_png
+    from roughdiffuse.io.images import read_png
 
     rng = np.random.default_rng(0)
     rgb = rng.integers(0, 256, size=(37, 23, 3), dtype=np.uint8)
@@ -146,3 +146,14 @@ def test_read_png_agrees_with_pillow(tmp_path):
     Image.fromarray(grey).save(tmp_path / "b.png")
     pix, bits, _ = read_png(tmp_path / "b.png")
     assert bits == 16 and np.array_equal(pix[..., 0], np.asarray(Image.open(tmp_path / "b.png")))
+
+
+def test_read_png_with_a_bad_header_is_a_value_error_naming_the_file(tmp_path):
+    from roughdiffuse.io.images import read_png
+
+    good = write_png(tmp_path / "g.png", np.zeros((2, 2))).read_bytes()
+    # shorten the IHDR chunk's declared length from 13 to 5 bytes
+    bad = good[:8] + (5).to_bytes(4, "big") + good[12:]
+    (tmp_path / "bad.png").write_bytes(bad)
+    with pytest.raises(ValueError, match="bad.png: corrupt PNG header"):
+        read_png(tmp_path / "bad.png")

@@ -22,8 +22,8 @@ def _valid_fraction(model, wo, n=200_000):
 
 
 @pytest.mark.parametrize("model", all_models(), ids=repr)
-@pytest.mark.parametrize("theta_o", [0.0, 0.7, 1.45])
-def test_pdf_integrates_to_one(model, theta_o):
+@pytest.mark.parametrize("theta_r", [0.0, 0.7, 1.45])
+def test_pdf_integrates_to_one(model, theta_r):
     """Midpoint quadrature over the hemisphere (in cos θ, φ) of pdf(wi, wo): 1, or the
     fraction of valid samples where the sampler rejects some."""
     n = 400
@@ -32,19 +32,19 @@ def test_pdf_integrates_to_one(model, theta_o):
     m, p = np.meshgrid(mu, phi, indexing="ij")
     s = np.sqrt(1 - m**2)
     wi = np.stack([s * np.cos(p), s * np.sin(p), m], axis=-1)
-    wo = _wo(theta_o)
+    wo = _wo(theta_r)
     total = np.sum(model.pdf(wi, wo)) * (1 / n) * (np.pi / n)
     assert total <= 1.0 + 2e-3
     assert total == pytest.approx(_valid_fraction(model, wo), abs=5e-3)
 
 
 @pytest.mark.parametrize("model", all_models(), ids=repr)
-@pytest.mark.parametrize("theta_o", [0.2, 1.3])
-def test_sample_histogram_matches_pdf(model, theta_o):
+@pytest.mark.parametrize("theta_r", [0.2, 1.3])
+def test_sample_histogram_matches_pdf(model, theta_r):
     """Chi-square test of 200 000 samples in 16 x 16 bins of (cos θ, φ) against the pdf."""
     rng = np.random.default_rng(11)
     n, nb = 200_000, 16
-    wo = _wo(theta_o)
+    wo = _wo(theta_r)
     s = model.sample(rng.random((n, 2)), wo)
     assert np.all(np.isfinite(s.wi)) and np.all(s.pdf >= 0)
     np.testing.assert_allclose(s.pdf, model.pdf(s.wi, wo), rtol=1e-9)

@@ -13,7 +13,6 @@ import numbers
 from typing import Any
 
 import array_api_compat
-import array_api_compat.numpy
 import numpy as np
 
 Array = Any
@@ -44,7 +43,9 @@ def namespace(*xs: object) -> Any:
     for x in arrays:  # other array-API objects name their namespace (the fast path's tracer)
         if hasattr(x, "__array_namespace__") and not isinstance(x, np.ndarray | np.generic):
             return x.__array_namespace__()
-    return array_api_compat.numpy
+    from array_api_compat import numpy as compat_numpy  # 0.1 s on first use (numpy.f2py...)
+
+    return compat_numpy
 
 
 def is_jax(xp: Any) -> bool:

@@ -31,9 +31,10 @@ import dataclasses
 import hashlib
 import importlib.util
 import os
+import stat
 import sys
-import tempfile
 import threading
+import types
 from collections.abc import Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -42,16 +43,19 @@ from typing import Any
 import numpy as np
 
 from ._trace import Graph, SymVec, TraceError, scalar_source
+from .io.atomic import write_text
 from .models.base import Model
-from .models.mix import Mix
 
 __all__ = [
     "DEFAULT_CHUNK",
     "TraceError",
+    "brdf",
+    "brdf_cosines",
     "cache_dir",
     "cpu_count",
     "evaluate",
     "evaluate_batches",
+    "private_cache_dir",
 ]
 
 DEFAULT_CHUNK = 1 << 18
@@ -61,10 +65,15 @@ contiguous part per thread instead, like OpenMP's static schedule: each chunk co
 overhead and a GIL hand-over, and on 2^22 rows chunks of 2^16, 2^18, 2^20 and 2^21 rows ran
 at 380, 510, 575 and 590 million rows/s here (two direct halves: 620)."""
 
+ROWS_PER_THREAD = 1 << 15
+"""Fewest rows worth a thread of their own (by default): a hand-over to a pool thread costs
+tens of µs, hundreds on a loaded machine, and 2^15 rows take 50-150 µs on one core."""
+
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 _LOCK = threading.Lock()
 _COMPILED: dict[str, Any] = {}
-_TRACES: dict[Any, tuple[Any, tuple[np.ndarray, ...]]] = {}
+_TRACES: dict[Any, tuple[Any, tuple[np.ndarray, ...], int]] = {}
+_STRUCTURES: set[Any] = set()
 _POOL: ThreadPoolExecutor | None = None
 _POOL_SIZE = 0
 
@@ -86,55 +95,85 @@ def cache_dir() -> Path:
     return Path(base) / "roughdiffuse" / "fastpath"
 
 
+# ------------------------------------------------------------------ entry points
+_ENTRIES: dict[str, tuple[tuple[str, int], ...]] = {
+    "radiance": (("n", 3), ("l", 3), ("v", 3)),
+    "brdf": (("wi", 3), ("wo", 3)),
+    "brdf_cosines": (("mu_i", 1), ("mu_o", 1), ("cos_io", 1)),
+}
+"""The model methods the fast path compiles, with their inputs' names and widths (a direction
+(..., 3) or a cosine (...))."""
+
+
 # ------------------------------------------------------------------ tracing
-def _channel_model(model: Model, c: int) -> Model:
-    """The model of colour channel ``c``: per-channel parameters replaced by their c-th value."""
-    if isinstance(model, Mix):
-        return Mix([(w, _channel_model(m, c)) for w, m in model.components])
-    changes = {}
-    for f in model.channel_fields:
-        a = np.asarray(getattr(model, f))
-        if a.ndim == 1:
-            changes[f] = a[c] if a.shape[0] > 1 else a[0]
-    return dataclasses.replace(model, **changes) if changes else model
-
-
 def _value_key(x: Any) -> Any:
+    """A hashable key of a model's (or a value's) type and every value it holds."""
     if isinstance(x, Model):
-        if isinstance(x, Mix):
-            return ("Mix", tuple((_value_key(w), _value_key(m)) for w, m in x.components))
         fields = tuple((f.name, _value_key(getattr(x, f.name))) for f in dataclasses.fields(x))
-        return (type(x).__qualname__, fields)
+        return (type(x).__module__, type(x).__qualname__, fields)
     if isinstance(x, str | bool | int | float | type(None)):
         return x
+    if isinstance(x, list | tuple):  # a Mix's components
+        return ("seq", tuple(_value_key(v) for v in x))
     a = np.asarray(x)
     return (a.dtype.str, a.shape, a.tobytes())
 
 
-def _source(graph: Graph, outputs: list[Any], pattern: tuple[bool, ...], channels: int) -> str:
+def _structure_key(x: Any) -> Any:
+    """What the generated code depends on besides parameter values: the class, its static
+    fields and the shapes of its parameters (a new σ or albedo reuses the kernel)."""
+    if isinstance(x, Model):
+        fields = []
+        for f in dataclasses.fields(x):
+            value = getattr(x, f.name)
+            if f.name in x.array_fields:
+                fields.append((f.name, _structure_key(value)))
+            else:
+                fields.append((f.name, _value_key(value)))
+        return (type(x).__module__, type(x).__qualname__, tuple(fields))
+    if isinstance(x, list | tuple):
+        return ("seq", tuple(_structure_key(v) for v in x))
+    return None if x is None else np.shape(x)
+
+
+def _source(
+    graph: Graph,
+    outputs: list[Any],
+    inputs: tuple[tuple[str, int], ...],
+    pattern: tuple[bool, ...],
+    channels: int,
+) -> str:
     constants, body = scalar_source(graph, outputs)
     n_out = max(channels, 1)
     params = "".join(f", p{k}" for k in range(len(graph.params)))
     loads = []
-    for name, const in zip("nlv", pattern, strict=True):
-        for k in range(3):
-            idx = f"{k}" if const else f"3 * i + {k}"
+    for (name, width), const in zip(inputs, pattern, strict=True):
+        for k in range(width):
+            idx = f"{k}" if const else (f"{width} * i + {k}" if width > 1 else "i")
             loads.append(f"        {name}{k} = {name}[{idx}]")
     stores = [
         f"        out[{n_out} * i + {c}] = r{c}" if n_out > 1 else "        out[i] = r0"
         for c in range(n_out)
     ]
     # the reference path's validation (non-zero, finite direction vectors), cheaply: the
-    # product of the three squared norms is positive and finite unless one of them is 0,
+    # product of the squared norms is positive and finite unless one of them is 0,
     # infinite or NaN -- or unless the product under/overflows, a false alarm that
     # _check_directions sorts out exactly on the rare chunk where it happens. LLVM reuses the
     # squared norms of the normalisation; the test cost about 6% in cache (2^16 rows, one
-    # thread) and nothing measurable at 2^22 rows (memory-bound), qualitative Oren-Nayar
-    checks = [
-        "        q = (n0 * n0 + n1 * n1 + n2 * n2) * (l0 * l0 + l1 * l1 + l2 * l2)"
-        " * (v0 * v0 + v1 * v1 + v2 * v2)",
-        "        bad |= not ((q > 0) & (q < _INF))",
+    # thread) and nothing measurable at 2^22 rows (memory-bound), qualitative Oren-Nayar.
+    # Cosines (brdf_cosines) are not validated, as on the reference path.
+    norms = [
+        f"({name}0 * {name}0 + {name}1 * {name}1 + {name}2 * {name}2)"
+        for name, width in inputs
+        if width == 3
     ]
+    checks = []
+    if norms:
+        checks = [
+            "        q = " + " * ".join(norms),
+            "        bad |= not ((q > 0) & (q < _INF))",
+        ]
+    names = ", ".join(name for name, _ in inputs)
     lines = [
         "# Generated by roughdiffuse.fastpath from a model's array-API code; do not edit.",
         f"# helpers: roughdiffuse._numba_math {_helpers_digest()}",
@@ -151,8 +190,8 @@ def _source(graph: Graph, outputs: list[Any], pattern: tuple[bool, ...], channel
         "",
         "@numba.njit(nogil=True, fastmath={" + ", ".join(map(repr, sorted(_FASTMATH))) + "},",
         "            error_model='numpy',",
-        "            boundscheck=False, cache=True)",
-        f"def kernel(n, l, v, out{params}):",
+        "            boundscheck=False, cache=_CACHE)",
+        f"def kernel({names}, out{params}):",
         "    tuned_vector_width()",
         "    bad = False",
         f"    for i in range(out.shape[0] // {n_out}):",
@@ -179,56 +218,99 @@ def _helpers_digest() -> str:
 _HELPERS: str | None = None
 
 
+def private_cache_dir() -> Path | None:
+    """:func:`cache_dir`, created with mode 0700 if missing, if it is safe to use: a real
+    directory (not a symbolic link) owned by this user that no one else may write to.
+    Otherwise ``None``: kernels are then compiled in memory, without a disk cache (Numba
+    unpickles its cache index files, so a folder others can write to could run their code).
+    """
+    path = cache_dir()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            path.mkdir(mode=0o700)
+        except FileExistsError:
+            pass
+        st = os.lstat(path)
+    except OSError:
+        return None
+    if not stat.S_ISDIR(st.st_mode) or st.st_mode & 0o022:
+        return None
+    if hasattr(os, "getuid") and st.st_uid != os.getuid():
+        return None
+    if not os.access(path, os.W_OK | os.X_OK):
+        return None
+    return path
+
+
 def _load(source: str) -> Any:
     """Compile (or load from the disk cache) the generated module; return its kernel."""
     digest = hashlib.sha1(source.encode()).hexdigest()[:20]
     fn = _COMPILED.get(digest)
     if fn is not None:
         return fn
-    for directory in (cache_dir(), Path(tempfile.gettempdir()) / "roughdiffuse-fastpath"):
+    name = f"roughdiffuse_fastpath_{digest}"
+    directory = private_cache_dir()
+    path = None
+    if directory is not None:
         try:
-            directory.mkdir(parents=True, exist_ok=True)
             path = directory / f"rdk_{digest}.py"
             if not path.exists() or path.read_text() != source:
-                tmp = directory / f".rdk_{digest}.{os.getpid()}.tmp"
-                tmp.write_text(source)
-                os.replace(tmp, path)
-            break
-        except OSError:
-            continue
-    else:  # pragma: no cover - no writable directory at all
-        raise OSError("no writable cache directory for the fast path (set ROUGHDIFFUSE_CACHE_DIR)")
-    name = f"roughdiffuse_fastpath_{digest}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
+                write_text(path, source)
+        except (OSError, ValueError):  # ValueError: check_output_path found it unwritable
+            path = None
+    if path is not None:
+        spec = importlib.util.spec_from_file_location(name, path)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        module._CACHE = True  # type: ignore[attr-defined]
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    else:  # no safe cache folder: compile in memory, every process anew
+        module = types.ModuleType(name)
+        module._CACHE = False  # type: ignore[attr-defined]
+        sys.modules[name] = module
+        exec(compile(source, f"<{name}>", "exec"), module.__dict__)  # noqa: S102 - our code
     _COMPILED[digest] = module.kernel
     return module.kernel
 
 
-def _kernel_for(
-    model: Model, dtype: np.dtype, pattern: tuple[bool, ...], e0: np.ndarray
+def _trace(
+    model: Model, entry: str, dtype: np.dtype, pattern: tuple[bool, ...], e0: np.ndarray
 ) -> tuple[Any, tuple[np.ndarray, ...], int]:
     channels = max(model.channels, e0.shape[0] if e0.ndim else 0)
-    key = (_value_key(model), dtype.str, pattern, _value_key(e0))
+    graph = Graph(dtype)
+    inputs = _ENTRIES[entry]
+    symbols = [SymVec(graph, name) if w == 3 else graph.input(f"{name}0") for name, w in inputs]
+    outputs = []
+    for c in range(max(channels, 1)):
+        m = model.channel(c) if channels else model
+        if entry == "radiance":
+            e = e0[c] if e0.ndim else e0
+            outputs.append(m.radiance(*symbols, e.astype(dtype)))
+        else:
+            outputs.append(getattr(m, entry)(*symbols))
+    source = _source(graph, outputs, inputs, pattern, channels)
+    return _load(source), tuple(graph.params), channels
+
+
+def _kernel_for(
+    model: Model,
+    dtype: np.dtype,
+    pattern: tuple[bool, ...],
+    e0: np.ndarray,
+    entry: str = "radiance",
+) -> tuple[Any, tuple[np.ndarray, ...], int]:
+    key = (entry, _value_key(model), dtype.str, pattern, _value_key(e0))
     hit = _TRACES.get(key)
     if hit is None:
-        graph = Graph(dtype)
-        n, l, v = (SymVec(graph, name) for name in "nlv")
-        outputs = []
-        for c in range(max(channels, 1)):
-            m = _channel_model(model, c) if channels else model
-            e = e0[c] if e0.ndim else e0
-            outputs.append(m.radiance(n, l, v, e.astype(dtype)))
-        source = _source(graph, outputs, pattern, channels)
-        hit = (_load(source), tuple(graph.params))
+        hit = _trace(model, entry, dtype, pattern, e0)
         with _LOCK:
             if len(_TRACES) > 512:
                 _TRACES.clear()
             _TRACES[key] = hit
-    return hit[0], hit[1], channels
+            _STRUCTURES.add((entry, _structure_key(model), dtype.str, pattern, e0.shape))
+    return hit
 
 
 # ------------------------------------------------------------------ evaluation
@@ -243,14 +325,14 @@ def _pool(threads: int) -> ThreadPoolExecutor:
         return _POOL
 
 
-def _as_numpy(name: str, x: Any) -> np.ndarray:
+def _as_numpy(entry: str, name: str, x: Any, width: int) -> np.ndarray:
     mod = type(x).__module__
     if mod.startswith(("jax", "torch")):
         raise ValueError(
-            f"{name}: the fast path takes NumPy arrays; call model.radiance for JAX or PyTorch"
+            f"{name}: the fast path takes NumPy arrays; call model.{entry} for JAX or PyTorch"
         )
     a = np.asarray(x)
-    if a.ndim < 1 or a.shape[-1] != 3:
+    if width == 3 and (a.ndim < 1 or a.shape[-1] != 3):
         raise ValueError(f"{name} must have shape (..., 3) (got shape {a.shape})")
     if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
         raise ValueError(f"{name} must hold real numbers (got dtype {a.dtype})")
@@ -264,6 +346,133 @@ def _result_dtype(*arrays: np.ndarray) -> np.dtype:
     if any(a.dtype == np.float32 for a in arrays):
         return np.dtype(np.float32)
     return np.dtype(np.float64)
+
+
+@dataclasses.dataclass
+class _Call:
+    """One call, checked and laid out: what :func:`_run` needs besides the kernel."""
+
+    entry: str
+    arrays: list[np.ndarray]
+    flats: list[np.ndarray]
+    pattern: tuple[bool, ...]
+    shape: tuple[int, ...]
+    rows: int
+    dtype: np.dtype
+    e0: np.ndarray
+    key: Any = None
+
+
+def _prepare(
+    entry: str, args: tuple[Any, ...], irradiance: Any, dtype: np.dtype | None = None
+) -> _Call:
+    inputs = _ENTRIES[entry]
+    arrays = [_as_numpy(entry, name, x, w) for (name, w), x in zip(inputs, args, strict=True)]
+    widths = [w for _, w in inputs]
+    try:
+        shape = np.broadcast_shapes(
+            *(a.shape[:-1] if w == 3 else a.shape for a, w in zip(arrays, widths, strict=True))
+        )
+    except ValueError:
+        listed = ", ".join(f"{k} {a.shape}" for (k, _), a in zip(inputs, arrays, strict=True))
+        kind = "direction" if widths[0] == 3 else "cosine"
+        raise ValueError(f"{kind} arrays do not broadcast: {listed}") from None
+    if dtype is None:
+        dtype = _result_dtype(*arrays)
+    e0 = np.asarray(irradiance, dtype=np.float64)
+    if e0.ndim > 1 or not np.all(np.isfinite(e0)):
+        raise ValueError("irradiance must be a finite number or a 1-D array of channel values")
+    rows = int(np.prod(shape, dtype=np.int64))
+    pattern = []
+    flats = []
+    for a, w in zip(arrays, widths, strict=True):
+        if a.size == w:  # one direction (or cosine) for every row
+            pattern.append(True)
+            flats.append(np.ascontiguousarray(a.reshape(w), dtype=dtype))
+            continue
+        full = (*shape, w) if w == 3 else shape
+        if a.shape != full:  # partial broadcast: materialise (rare)
+            a = np.broadcast_to(a, full)
+        pattern.append(False)
+        flats.append(a.reshape(rows, w) if a.flags.c_contiguous else a)
+    return _Call(entry, arrays, flats, tuple(pattern), shape, rows, np.dtype(dtype), e0)
+
+
+def _run(
+    model: Model,
+    call: _Call,
+    out: np.ndarray | None,
+    chunk: int | None,
+    threads: int | None,
+) -> np.ndarray:
+    if chunk is not None and chunk < 1:
+        raise ValueError(f"chunk must be a positive number of rows (got {chunk})")
+    if threads is None:  # every core, but no thread with less than ROWS_PER_THREAD rows
+        threads = max(1, min(cpu_count(), call.rows // ROWS_PER_THREAD))
+    threads = int(threads)
+    if threads < 1:
+        raise ValueError(f"threads must be >= 1 (got {threads})")
+    dtype, rows, shape = call.dtype, call.rows, call.shape
+    kernel, params, channels = _kernel_for(model, dtype, call.pattern, call.e0, call.entry)
+    out_shape = (*shape, channels) if channels else shape
+    if out is None:
+        out = np.empty(out_shape, dtype=dtype)
+    elif out.shape != out_shape or out.dtype != dtype or not out.flags.c_contiguous:
+        raise ValueError(
+            f"out must be a C-contiguous {dtype} array of shape {out_shape} "
+            f"(got {out.dtype} {out.shape})"
+        )
+    flat_out = out.reshape(-1)
+    width = max(channels, 1)
+    widths = [w for _, w in _ENTRIES[call.entry]]
+    flats, pattern = call.flats, call.pattern
+
+    if chunk is None:
+        in_place = all(
+            const or (a.ndim == 2 and a.dtype == dtype and a.flags.c_contiguous)
+            for a, const in zip(flats, pattern, strict=True)
+        )
+        chunk = max(1, -(-rows // threads)) if in_place else DEFAULT_CHUNK
+
+    def rows_of(a: np.ndarray, const: bool, w: int, start: int, stop: int) -> np.ndarray:
+        if const:
+            return a
+        if a.ndim == 2:
+            part = a[start:stop]
+        else:  # not C-contiguous: take the rows through a flat index
+            part = a.reshape(-1, w)[start:stop] if a.flags.c_contiguous else None
+            if part is None:
+                idx = np.unravel_index(np.arange(start, stop), shape)
+                part = a[idx]
+        return np.ascontiguousarray(part, dtype=dtype).reshape(-1)
+
+    def work(start: int) -> int:
+        stop = min(start + chunk, rows)
+        args = [
+            rows_of(a, c, w, start, stop) for a, c, w in zip(flats, pattern, widths, strict=True)
+        ]
+        o = flat_out[start * width : stop * width]
+        return start if kernel(*args, o, *params) else -1
+
+    starts = range(0, rows, chunk)
+    if threads == 1 or len(starts) <= 1:
+        bad = [work(s) for s in starts]
+    elif len(starts) <= threads:
+        # one chunk per thread: the calling thread computes the first itself, a hand-over
+        # less (64 rows on 2 threads: 53 instead of 70 µs a call here)
+        futures = [_pool(threads).submit(work, s) for s in starts[1:]]
+        try:
+            first = work(starts[0])
+        finally:
+            rest = [f.result() for f in futures]
+        bad = [first, *rest]
+    else:
+        bad = list(_pool(threads).map(work, starts))
+    names = [name for name, _ in _ENTRIES[call.entry]]
+    for start in bad:
+        if start >= 0:
+            _check_directions(names, call.arrays, shape, start, min(start + chunk, rows), dtype)
+    return out
 
 
 def evaluate(
@@ -281,6 +490,8 @@ def evaluate(
 
     The same values as ``model.radiance(n, l, v, irradiance)`` (the same code is compiled),
     to float rounding: float32 input is computed in float32, float64 input in float64.
+    ``model.radiance`` itself runs this on large NumPy arrays (see :mod:`roughdiffuse._dispatch`);
+    this is the explicit form, with control of ``out``, ``chunk`` and ``threads``.
 
     Parameters
     ----------
@@ -301,7 +512,8 @@ def evaluate(
         read in place, else :data:`DEFAULT_CHUNK` rows (converted chunk by chunk). With
         ``numpy.memmap`` inputs, give a chunk to bound the pages touched at once.
     threads : int, optional
-        Threads to use (default: every core this process may run on, :func:`cpu_count`).
+        Threads to use (default: every core this process may run on, :func:`cpu_count`, but
+        no more than one per :data:`ROWS_PER_THREAD` rows).
 
     Returns
     -------
@@ -315,6 +527,83 @@ def evaluate(
     >>> round(float(evaluate(rd.Lambert(1.0), z, z, z)[0] * np.pi), 6)  # float32 in, float32 out
     1.0
     """
+    _check_model(model)
+    return _run(model, _prepare("radiance", (n, l, v), irradiance), out, chunk, threads)
+
+
+def brdf(
+    model: Model,
+    wi: Any,
+    wo: Any,
+    *,
+    out: np.ndarray | None = None,
+    chunk: int | None = None,
+    threads: int | None = None,
+) -> np.ndarray:
+    """``model.brdf(wi, wo)``, compiled, on NumPy arrays (as :func:`evaluate` for radiance).
+
+    Parameters
+    ----------
+    model : Model
+        Any roughdiffuse model with scalar (or per-channel) parameters.
+    wi, wo : array_like (..., 3)
+        Directions to the light and the viewer in the local frame (z = normal), normalised
+        here; they broadcast. Zero, NaN or infinite vectors raise ``ValueError``.
+    out, chunk, threads
+        As for :func:`evaluate`.
+
+    Returns
+    -------
+    ndarray (...) or (..., C)
+        The BRDF in 1/sr, in the inputs' float dtype.
+
+    Examples
+    --------
+    >>> import numpy as np, roughdiffuse as rd
+    >>> z = np.array([[0.0, 0.0, 1.0]])
+    >>> float(brdf(rd.Lambert(1.0), z, z)[0] * np.pi)
+    1.0
+    """
+    _check_model(model)
+    return _run(model, _prepare("brdf", (wi, wo), 1.0), out, chunk, threads)
+
+
+def brdf_cosines(
+    model: Model,
+    mu_i: Any,
+    mu_o: Any,
+    cos_io: Any,
+    *,
+    out: np.ndarray | None = None,
+    chunk: int | None = None,
+    threads: int | None = None,
+) -> np.ndarray:
+    """``model.brdf_cosines(mu_i, mu_o, cos_io)``, compiled, on NumPy arrays.
+
+    Parameters
+    ----------
+    model : Model
+        Any roughdiffuse model with scalar (or per-channel) parameters.
+    mu_i, mu_o, cos_io : array_like (...)
+        n·wi, n·wo and wi·wo (not normalised or validated, as on the reference path).
+    out, chunk, threads
+        As for :func:`evaluate`.
+
+    Returns
+    -------
+    ndarray (...) or (..., C)
+
+    Examples
+    --------
+    >>> import numpy as np, roughdiffuse as rd
+    >>> float(brdf_cosines(rd.Lambert(1.0), np.ones(2), np.ones(2), np.ones(2))[0] * np.pi)
+    1.0
+    """
+    _check_model(model)
+    return _run(model, _prepare("brdf_cosines", (mu_i, mu_o, cos_io), 1.0), out, chunk, threads)
+
+
+def _check_model(model: Any) -> None:
     if not isinstance(model, Model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     if not type(model).traceable:
@@ -322,98 +611,47 @@ def evaluate(
             f"{type(model).__name__} is computed by simulation, not a formula: the fast path "
             "compiles formulas only; call model.radiance (NumPy) instead"
         )
-    if chunk is not None and chunk < 1:
-        raise ValueError(f"chunk must be a positive number of rows (got {chunk})")
-    threads = cpu_count() if threads is None else int(threads)
-    if threads < 1:
-        raise ValueError(f"threads must be >= 1 (got {threads})")
-    arrays = [_as_numpy(name, x) for name, x in (("n", n), ("l", l), ("v", v))]
-    try:
-        shape = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
-    except ValueError:
-        listed = ", ".join(f"{k} {a.shape}" for k, a in zip("nlv", arrays, strict=True))
-        raise ValueError(f"direction arrays do not broadcast: {listed}") from None
-    dtype = _result_dtype(*arrays)
-    e0 = np.asarray(irradiance, dtype=np.float64)
-    if e0.ndim > 1 or not np.all(np.isfinite(e0)):
-        raise ValueError("irradiance must be a finite number or a 1-D array of channel values")
-    rows = int(np.prod(shape, dtype=np.int64))
 
-    pattern = []
-    flats = []
-    for a in arrays:
-        if a.size == 3:  # one direction for every row
-            pattern.append(True)
-            flats.append(np.ascontiguousarray(a.reshape(3), dtype=dtype))
-            continue
-        if a.shape[:-1] != shape:  # partial broadcast: materialise (rare)
-            a = np.broadcast_to(a, (*shape, 3))
-        pattern.append(False)
-        flats.append(a.reshape(rows, 3) if a.flags.c_contiguous else a)
-    kernel, params, channels = _kernel_for(model, dtype, tuple(pattern), e0)
-    out_shape = (*shape, channels) if channels else shape
-    if out is None:
-        out = np.empty(out_shape, dtype=dtype)
-    elif out.shape != out_shape or out.dtype != dtype or not out.flags.c_contiguous:
-        raise ValueError(
-            f"out must be a C-contiguous {dtype} array of shape {out_shape} "
-            f"(got {out.dtype} {out.shape})"
-        )
-    flat_out = out.reshape(-1)
-    width = max(channels, 1)
 
-    if chunk is None:
-        in_place = all(
-            const or (a.ndim == 2 and a.dtype == dtype and a.flags.c_contiguous)
-            for a, const in zip(flats, pattern, strict=True)
-        )
-        chunk = max(1, -(-rows // threads)) if in_place else DEFAULT_CHUNK
+# ------------------------------------------------------------------ automatic dispatch
+def kernel_key(model: Model, entry: str, args: tuple[Any, ...], irradiance: Any) -> _Call:
+    """The laid-out call ``model.<entry>(*args)`` (used by :mod:`roughdiffuse._dispatch`), with
+    the reference path's dtype rule (Python numbers do not count)."""
+    dtype = _result_dtype(*(a for a in args if isinstance(a, np.ndarray)))
+    call = _prepare(entry, args, irradiance, dtype)
+    call.key = (entry, _structure_key(model), dtype.str, call.pattern, call.e0.shape)
+    return call
 
-    def rows_of(a: np.ndarray, const: bool, start: int, stop: int) -> np.ndarray:
-        if const:
-            return a
-        if a.ndim == 2:
-            part = a[start:stop]
-        else:  # not C-contiguous: take the rows through a flat index
-            part = a.reshape(-1, 3)[start:stop] if a.flags.c_contiguous else None
-            if part is None:
-                idx = np.unravel_index(np.arange(start, stop), shape)
-                part = a[idx]
-        return np.ascontiguousarray(part, dtype=dtype).reshape(-1)
 
-    def work(start: int) -> int:
-        stop = min(start + chunk, rows)
-        args = [rows_of(a, c, start, stop) for a, c in zip(flats, pattern, strict=True)]
-        o = flat_out[start * width : stop * width]
-        return start if kernel(*args, o, *params) else -1
+def is_loaded(call: _Call) -> bool:
+    """Whether a kernel of this call's structure is loaded in this process."""
+    return call.key in _STRUCTURES
 
-    starts = range(0, rows, chunk)
-    if threads == 1 or len(starts) <= 1:
-        bad = [work(s) for s in starts]
-    elif len(starts) <= threads:
-        # one chunk per thread: the calling thread computes the first itself, a hand-over
-        # less (64 rows on 2 threads: 53 instead of 70 µs a call here)
-        futures = [_pool(threads).submit(work, s) for s in starts[1:]]
-        try:
-            first = work(starts[0])
-        finally:
-            rest = [f.result() for f in futures]
-        bad = [first, *rest]
-    else:
-        bad = list(_pool(threads).map(work, starts))
-    for start in bad:
-        if start >= 0:
-            _check_directions(arrays, shape, start, min(start + chunk, rows), dtype)
-    return out
+
+def build(model: Model, call: _Call) -> None:
+    """Trace and compile (or load) the kernel of a call laid out by :func:`kernel_key`."""
+    _kernel_for(model, call.dtype, call.pattern, call.e0, call.entry)
+
+
+def run_entry(model: Model, call: _Call) -> np.ndarray:
+    """Run a call laid out by :func:`kernel_key` whose kernel is built."""
+    return _run(model, call, None, None, None)
 
 
 def _check_directions(
-    arrays: list[np.ndarray], shape: tuple[int, ...], start: int, stop: int, dtype: np.dtype
+    names: list[str],
+    arrays: list[np.ndarray],
+    shape: tuple[int, ...],
+    start: int,
+    stop: int,
+    dtype: np.dtype,
 ) -> None:
     """Raise ValueError where the reference path does (``frames.unit_components``: a squared
     norm, in the evaluation dtype, that is 0, infinite or NaN) for rows [start, stop), which
     the kernel's quick test flagged."""
-    for name, a in zip("nlv", arrays, strict=True):
+    for name, a in zip(names, arrays, strict=True):
+        if name in ("mu_i", "mu_o", "cos_io"):  # cosines are not validated
+            continue
         part = np.broadcast_to(a, (*shape, 3)).reshape(-1, 3)[start:stop].astype(dtype)
         with np.errstate(over="ignore", under="ignore", invalid="ignore"):
             x, y, z = part[:, 0], part[:, 1], part[:, 2]

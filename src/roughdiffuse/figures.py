@@ -1,4 +1,4 @@
-"""The lecture's figures in one call: :func:`make_figures` writes eight PNGs and index.html.
+"""The lecture's figures in one call: :func:`make_figures` writes ten PNGs and index.html.
 
 Each figure is a function that returns a matplotlib Figure and the caption shown in the
 index; the renders use :func:`roughdiffuse.render.render` and the models' own code.
@@ -18,13 +18,30 @@ from typing import Any
 
 import numpy as np
 
-from .models import EON, Fujii, Lambert, LommelSeeliger, Mix, OrenNayar, TorranceSparrow
+from . import _figure
+from .io.atomic import atomic_write
+from .models import (
+    EON,
+    Burley,
+    BurleyRenormalized,
+    Chan,
+    Fujii,
+    Hammon,
+    Hapke,
+    Lambert,
+    LambertSphere,
+    LommelSeeliger,
+    LunarLambert,
+    Minnaert,
+    Mix,
+    OrenNayar,
+    TorranceSparrow,
+)
 from .plots import (
     ROUGHNESS_SERIES,
     plot_cross_section,
     plot_plane_of_incidence,
     plot_roughness_series,
-    plt,
     show_radiance,
 )
 from .render import (
@@ -35,7 +52,6 @@ from .render import (
     pixel_coordinates,
     render,
 )
-from .render.imagefile import atomic_write
 
 __all__ = ["FIGURES", "Figure", "make_figures"]
 
@@ -66,7 +82,7 @@ def _suptitle(fig: Any, text: str) -> None:
 def _lambert_sphere() -> Any:
     rho = 0.8
     img, mask = render(Lambert(rho), Sphere(), DistantLight(0.0), size=SIZE, samples_per_pixel=SPP)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
+    fig, (a, b) = _figure.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
     show_radiance(a, img, float(img.max()), "Lambert, ρ = 0.8, light behind the viewer")
     xs, _ = pixel_coordinates(Sphere(), None, SIZE)
     plot_cross_section({"rendered": img}, masks={"rendered": mask}, ax=b, x=xs)
@@ -85,19 +101,27 @@ def _lambert_sphere() -> Any:
     return fig
 
 
+LUNAR_HAPKE = Hapke(0.12, b0=1.0, h=0.06, g=-0.25, theta_bar=math.radians(20.0))
+"""Hapke with lunar-like parameters (B0 ≈ 1, h ≈ 0.06, backscattering ξ ≈ −0.25, θ̄ ≈ 20°:
+the range of Helfenstein & Veverka, Icarus 1987, and Hapke 2012, Table 12.1); w is set by the
+moon preset."""
+
+
 def _full_moon() -> Any:
     light = DistantLight(0.0)
     models = {
         "Lambert": Lambert(),
         "Oren–Nayar full, σ = 0.7 rad": OrenNayar(sigma=0.7, variant="full"),
         "Lommel–Seeliger": LommelSeeliger(),
+        "Hapke (lunar parameters)": LUNAR_HAPKE,
+        "Minnaert, k = 0.6": Minnaert(k=0.6),
     }
     moon = Moon()
     results = {
         k: render(m, moon, light, size=SIZE, samples_per_pixel=SPP) for k, m in models.items()
     }
-    fig = plt.figure(figsize=(11, 6.6))
-    grid = fig.add_gridspec(2, 3, height_ratios=[1, 0.9])
+    fig = _figure.figure(figsize=(14, 6.6))
+    grid = fig.add_gridspec(2, len(models), height_ratios=[1, 0.9])
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
         centre = float(img[SIZE // 2, SIZE // 2])
@@ -130,7 +154,7 @@ def _vase() -> Any:
     mask = next(iter(results.values()))[1]
     row = int(np.argmax(mask.sum(axis=1)))  # the widest row: the vase's belly
     vmax = max(float(r[0].max()) for r in results.values())
-    fig = plt.figure(figsize=(11, 4.4))
+    fig = _figure.figure(figsize=(11, 4.4))
     grid = fig.add_gridspec(1, 3, width_ratios=[1, 1, 1.6])
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
@@ -174,7 +198,7 @@ def _view_dependence() -> Any:
             label = f"Oren–Nayar {variant}, σ = {s:g}"
             models[label] = OrenNayar(0.8, s, variant)
             styles[label] = {"color": colours[s], "ls": ls}
-    fig = plt.figure(figsize=(13, 4.2))
+    fig = _figure.figure(figsize=(13, 4.2))
     for i, deg in enumerate((30.0, 60.0)):
         ax = fig.add_subplot(1, 3, i + 1)
         plot_plane_of_incidence(models, math.radians(deg), ax=ax, styles=styles)
@@ -193,7 +217,7 @@ def _view_dependence() -> Any:
 def _blurred_highlights() -> Any:
     sigmas = (0.05, 0.1, 0.2, 0.3, 0.4)
     light = DistantLight(math.radians(30.0), 0.0)
-    fig, axes = plt.subplots(1, len(sigmas), figsize=(2.2 * len(sigmas), 2.9))
+    fig, axes = _figure.subplots(1, len(sigmas), figsize=(2.2 * len(sigmas), 2.9))
     for ax, s in zip(axes, sigmas, strict=True):
         img, mask = render(
             TorranceSparrow(1.5, s), Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP
@@ -223,7 +247,7 @@ def _diffuse_plus_specular() -> Any:
         for k, m in models.items()
     }
     vmax = float(np.percentile(imgs["mix: 1 × ON + 1 × TS"], 99.5))
-    fig = plt.figure(figsize=(12, 4))
+    fig = _figure.figure(figsize=(12, 4))
     grid = fig.add_gridspec(1, 4, width_ratios=[1, 1, 1, 1.5])
     for i, (label, img) in enumerate(imgs.items()):
         ax = fig.add_subplot(grid[0, i])
@@ -261,7 +285,7 @@ def _models_side_by_side() -> Any:
     ref = imgs["qualitative ON"]
     vmax = max(float(v.max()) for v in imgs.values())
     dmax = max(float(np.abs(v - ref).max()) for v in imgs.values()) or 1.0
-    fig, axes = plt.subplots(2, 4, figsize=(11, 6), layout="constrained")
+    fig, axes = _figure.subplots(2, 4, figsize=(11, 6), layout="constrained")
     for i, (label, img) in enumerate(imgs.items()):
         show_radiance(axes[0, i], img, vmax, label)
         ax = axes[1, i]
@@ -286,6 +310,89 @@ def _models_side_by_side() -> Any:
         f"8. The Oren–Nayar family side by side: ρ = 0.8, σ = {sigma} rad, light at "
         "θi = 60°; Fujii/EON r = B/A of Eq. 30",
     )
+    return fig
+
+
+def _production_models() -> Any:
+    models = {
+        "Lambert": Lambert(0.8),
+        "Burley, r = 0.5": Burley(0.8, 0.5),
+        "Frostbite, r = 0.5": BurleyRenormalized(0.8, 0.5),
+        "Hammon, α = 0.25": Hammon(0.8, 0.25),
+        "Chan, α = 0.25": Chan(0.8, 0.25),
+        "EON, r = 0.5": EON(0.8, 0.5),
+        "d'Eon spheres": LambertSphere(0.8, "full"),
+    }
+    light = DistantLight(math.radians(60.0), 0.0)
+    size = SIZE // 2
+    imgs = {
+        k: render(m, Sphere(), light, size=size, samples_per_pixel=SPP)[0]
+        for k, m in models.items()
+    }
+    vmax = max(float(v.max()) for v in imgs.values())
+    fig = _figure.figure(figsize=(14, 7.2))
+    grid = fig.add_gridspec(2, len(models), height_ratios=[1, 1.5])
+    for i, (label, img) in enumerate(imgs.items()):
+        show_radiance(fig.add_subplot(grid[0, i]), img, vmax, label)
+    half = len(models) // 2 + 1
+    styles = {"Lambert": {"color": "k", "ls": "--"}}
+    for j, theta_i in enumerate((30.0, 70.0)):
+        cols = slice(0, half) if j == 0 else slice(half, len(models))
+        ax = fig.add_subplot(grid[1, cols])
+        plot_plane_of_incidence(models, math.radians(theta_i), ax=ax, styles=styles)
+        ax.set_title(f"plane of incidence, θi = {theta_i:g}°", fontsize="medium")
+        ax.legend(fontsize="x-small")
+    _suptitle(
+        fig,
+        "9. What production renderers use: ρ = 0.8, light at θi = 60° (one grey scale); "
+        "Burley 2015 equals Burley 2012",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def furnace_groups() -> dict[str, dict[str, Any]]:
+    """Every model at ρ = 1 for the white-furnace figure, a few roughnesses each."""
+    deg = math.radians
+    return {
+        "Lambert": {"ρ = 1": Lambert(1.0)},
+        "Oren–Nayar (qualitative)": {f"σ = {s}°": OrenNayar(1.0, deg(s)) for s in (0, 20, 40, 60)},
+        "Oren–Nayar (full)": {f"σ = {s}°": OrenNayar(1.0, deg(s), "full") for s in (0, 20, 40, 60)},
+        "Fujii (FON)": {f"r = {r}": Fujii(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "EON": {f"r = {r}": EON(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Torrance–Sparrow (η = 1.5)": {
+            f"σ = {s}°": TorranceSparrow(1.5, deg(s)) for s in (10, 20, 40)
+        },
+        "Lommel–Seeliger": {"w = 1": LommelSeeliger(1.0)},
+        "Lunar-Lambert": {f"L = {x}": LunarLambert(1.0, x) for x in (0.0, 0.5, 1.0)},
+        "Minnaert": {f"k = {k}": Minnaert(1.0, k) for k in (0.5, 1.0, 1.5)},
+        "Burley 2012 (= 2015)": {f"r = {r}": Burley(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Frostbite": {f"r = {r}": BurleyRenormalized(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Hammon": {f"α = {a}": Hammon(1.0, a) for a in (0.0, 0.5, 1.0)},
+        "Chan": {f"α = {a}": Chan(1.0, a) for a in (0.01, 0.25, 1.0)},
+        "d'Eon Lambertian spheres": {
+            "full": LambertSphere(1.0, "full"),
+            "fast": LambertSphere(1.0, "fast"),
+        },
+        "Hapke (w = 1)": {
+            "smooth, isotropic": Hapke(1.0, 0.0, 0.1, 0.0, 0.0),
+            "θ̄ = 20°": Hapke(1.0, 0.0, 0.1, 0.0, deg(20)),
+            "θ̄ = 20°, B0 = 1, h = 0.06": Hapke(1.0, 1.0, 0.06, 0.0, deg(20)),
+        },
+    }
+
+
+def _white_furnace() -> Any:
+    from .energy import plot_albedo
+
+    fig = plot_albedo(furnace_groups(), np.radians(np.arange(0.0, 89.6, 2.5)))
+    for ax in fig.axes:  # Minnaert k < 1 and Lunar-Lambert diverge at grazing: clip
+        ax.set_ylim(0.0, 1.6)
+    fig.suptitle(
+        "10. White furnace, every model at ρ = 1: ∫ f cos θi dωi against θo "
+        "(1 = no energy lost or gained; clipped at 1.6)"
+    )
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.98))
     return fig
 
 
@@ -356,6 +463,27 @@ FIGURES: tuple[Figure, ...] = (
         "model, so that their s/t terms have the same weight). Bottom: differences from the "
         "qualitative model.",
         _models_side_by_side,
+    ),
+    Figure(
+        "9-production-models",
+        "What production renderers use",
+        "Spheres and plane-of-incidence radiance of the diffuse models production renderers "
+        "ship: Burley's Disney diffuse (Filament, MaterialX), Frostbite's renormalised "
+        "version (Falcor), Hammon's GGX diffuse (Unity), Chan's (Unreal), EON (OpenPBR) and "
+        "d'Eon's Lambertian spheres, against Lambert (dashed). Burley 2015 (Mitsuba 3's "
+        "principled) is Burley 2012 rewritten and coincides with it.",
+        _production_models,
+    ),
+    Figure(
+        "10-white-furnace",
+        "White furnace for every model",
+        "Directional albedo at ρ = 1 against the viewing angle: 1 means the model neither "
+        "loses nor creates energy. Lambert and EON are 1; d'Eon's full model stays within "
+        "2 %, its fast variant creates up to 25 % at grazing; Burley (r = 1) and Hammon "
+        "(α = 1) create energy at grazing angles, at r or α = 0 they lose it; Frostbite loses "
+        "up to 30 %; Minnaert with k < 1 and Lunar-Lambert diverge at grazing; Hapke (w = 1) "
+        "with roughness loses 13–18 %. The README lists the numbers.",
+        _white_furnace,
     ),
 )
 
@@ -428,6 +556,5 @@ def make_figures(
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
-        plt.close(fig)
     out.append(_write_index(folder))
     return out

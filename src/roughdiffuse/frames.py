@@ -5,10 +5,10 @@ Convention (fixed here, used everywhere): the local frame has the surface normal
 φ is the azimuth in the xy-plane. Every isotropic model depends on a pair of directions only
 through three numbers, the *local cosines*::
 
-    mu_i = cos θi = n·wi,   mu_o = cos θo = n·wo,   cos_io = wi·wo,
+    mu_i = cos θi = n·wi,   mu_o = cos θr = n·wo,   cos_io = wi·wo,
 
 so kernels take those three arrays (structure of arrays) rather than (..., 3) vectors.
-The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θo cos(φo − φi).
+The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θr cos(φr − φi).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ._array import Array, asarray, concrete, namespace, result_dtype
+from ._array import Array, asarray, concrete, namespace, result_dtype, safe_div, safe_sqrt
 
 __all__ = [
     "angles_to_cosines",
@@ -142,3 +142,13 @@ def angles_to_cosines(
     ti, tr, dp = xp.broadcast_arrays(ti, tr, dp)
     mi, mo = xp.cos(ti), xp.cos(tr)
     return mi, mo, mi * mo + xp.sin(ti) * xp.sin(tr) * xp.cos(dp)
+
+
+def half_vector_cosines(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> tuple[Array, Array]:
+    """(n·h, wi·h) of the half vector h = (wi + wo)/|wi + wo| from the three local cosines.
+
+    |wi + wo| = √(2 (1 + wi·wo)), so wi·h = wo·h = √((1 + wi·wo)/2) (Burley's cos θd) and
+    n·h = (μi + μo)/|wi + wo|; n·h is 0 where wi = −wo (h undefined, both on the horizon).
+    """
+    len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
+    return safe_div(xp, mu_i + mu_o, len_h), 0.5 * len_h

@@ -15,15 +15,12 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-import matplotlib
+import matplotlib.ticker
+import numpy as np
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .models import Model  # noqa: E402
-from .render import DistantLight, OrthographicCamera, Shape, Sphere, render  # noqa: E402
+from ._figure import figure, subplots
+from .models import Model
+from .render import DistantLight, OrthographicCamera, Shape, Sphere, render
 
 __all__ = [
     "cross_section",
@@ -103,7 +100,7 @@ def plot_cross_section(
         World coordinates of the columns (see :func:`cross_section`).
     """
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 3.5))
+        _, ax = subplots(figsize=(5, 3.5))
     for label, img in images.items():
         m = masks.get(label) if masks else None
         xs, v = cross_section(img, row, m, x)
@@ -170,7 +167,7 @@ def plot_plane_of_incidence(
     styles : mapping of label -> keyword arguments of ``ax.plot``, optional
     """
     if ax is None:
-        fig = plt.figure(figsize=(5, 3.5 if not polar else 4))
+        fig = figure(figsize=(5, 3.5 if not polar else 4))
         ax = fig.add_subplot(projection="polar" if polar else None)
     tr = np.linspace(-math.pi / 2, math.pi / 2, n)
     top = 0.0
@@ -266,7 +263,7 @@ def plot_roughness_series(
                 progress()
         images.append(row)
     vmax = max(float(np.max(im)) for row in images for im in row)
-    fig, axes = plt.subplots(
+    fig, axes = subplots(
         len(lights),
         len(sigmas),
         figsize=(2.0 * len(sigmas), 2.1 * len(lights) + 0.4),

@@ -228,17 +228,25 @@ def register_model(cls: M, *, source: str | None = None, replace: bool = False) 
 def _register_builtins() -> None:
     from .models import (
         EON,
+        Burley,
+        Burley2015,
+        BurleyRenormalized,
+        Chan,
         Fujii,
+        Hammon,
+        Hapke,
         Lambert,
+        LambertSphere,
         LommelSeeliger,
         LunarLambert,
+        Minnaert,
         Mix,
         OrenNayar,
         SmithDiffuse,
         TorranceSparrow,
     )
 
-    for cls in (
+    builtins = (
         Lambert,
         OrenNayar,
         Fujii,
@@ -247,8 +255,19 @@ def _register_builtins() -> None:
         Mix,
         LommelSeeliger,
         LunarLambert,
+        # issue 17: what production renderers and planetary photometry use instead
+        Burley,
+        BurleyRenormalized,
+        Burley2015,
+        Hammon,
+        Chan,
+        LambertSphere,
+        Hapke,
+        Minnaert,
+        # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
         SmithDiffuse,
-    ):
+    )
+    for cls in builtins:
         register_model(cls, source="roughdiffuse")
 
 

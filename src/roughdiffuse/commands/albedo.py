@@ -38,8 +38,8 @@ USES_R = ("fujii", "eon")
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "albedo",
-        help="white-furnace plots and tables (albedo vs θo), sampling variance report",
-        description="Plot the directional albedo of each model against the viewing angle θo "
+        help="white-furnace plots and tables (albedo vs θr), sampling variance report",
+        description="Plot the directional albedo of each model against the viewing angle θr "
         "for several roughnesses at ρ = 1 (the white-furnace test), or print the variance of "
         "each model's sample weights against cosine sampling (--variance).",
         epilog=EXAMPLES,
@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         check_output(args.table, (".csv",), args.force)
 
-    from ..render.imagefile import atomic_write
+    from ..io.atomic import atomic_write
 
     th = np.radians(np.arange(0.0, 89.75, 0.5))
     fig = energy.plot_albedo(groups, th)
@@ -159,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         curves = energy.albedo_curves(models, th)
         lo = min(float(a.min()) for a in curves.values())
         hi = max(float(a.max()) for a in curves.values())
-        print(f"{g}: albedo between {lo:.4f} and {hi:.4f} over θo in [0°, 89.5°]")
+        print(f"{g}: albedo between {lo:.4f} and {hi:.4f} over θr in [0°, 89.5°]")
     return 0
 
 

@@ -1,17 +1,12 @@
-"""``roughdiffuse bench``: the benchmark suite of ``bench/run.py`` (needs a source checkout):
-every model's fast path, the renderer, the fit and the V-cavity solver, each against a
-baseline timed in the same run."""
+"""``roughdiffuse bench``: the packaged benchmark suite, :mod:`roughdiffuse.bench` (every
+model's fast path and default call against C and NumPy, the renderer, the fit, the V-cavity
+solver, start-up). It runs only the package's own code: nothing from the current directory."""
 
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import shlex
 import sys
-from pathlib import Path
-from types import ModuleType
-
-from . import UsageError
 
 EXAMPLES = """\
 examples:
@@ -21,50 +16,32 @@ examples:
   roughdiffuse bench --no-render --no-fit --no-simulate   # only the models' fast path
   roughdiffuse bench --sizes 20 --no-render --no-simulate --fit-size 400 --fit-repeat 2
 
-Writes bench/RESULTS.md and bench/results.json (see the README's "Benchmarks" section).
+Writes RESULTS.md and results.json to --output-dir (default: the current directory); from a
+checkout, `python bench/run.py` writes bench/RESULTS.md (see the README's "Benchmarks").
 """
 
 
-def find_run_script() -> Path | None:
-    """bench/run.py of the current directory's checkout, else of this package's checkout."""
-    candidates = [
-        Path.cwd() / "bench" / "run.py",
-        Path(__file__).resolve().parents[3] / "bench" / "run.py",
-    ]
-    return next((p for p in candidates if p.is_file()), None)
-
-
-def _load(path: Path) -> ModuleType:
-    spec = importlib.util.spec_from_file_location("roughdiffuse_bench_run", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
 def register(sub: argparse._SubParsersAction) -> None:
-    script = find_run_script()
-    parents = [_load(script).parser(add_help=False)] if script else []
+    from ..bench.options import parser  # argparse only: no NumPy, no Numba
+
     p = sub.add_parser(
         "bench",
-        parents=parents,
+        parents=[parser(add_help=False)],
         help="benchmarks: models' fast path vs C and NumPy, renderer, fit, V-cavity solver",
-        description="Benchmarks of bench/run.py: every model's fast path against a C "
-        "reference compiled in this run (gcc) and against plain NumPy; the renderer against "
-        "NumPy shading; the fit of (ρ, σ) to an image against scipy.optimize.least_squares; "
-        "the V-cavity solver's NumPy and JAX paths. Needs a source checkout (bench/ is not "
-        "installed with the package).",
+        description="The benchmark suite (roughdiffuse.bench): every model's fast path and "
+        "default call against a C reference compiled in this run (gcc) and against plain "
+        "NumPy; the renderer against NumPy shading; the fit of (ρ, σ) to an image against "
+        "scipy.optimize.least_squares; the V-cavity solver's NumPy and JAX paths; start-up "
+        "times.",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.set_defaults(func=run, bench_script=script)
+    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.bench_script is None:
-        raise UsageError("bench/run.py not found: run from a source checkout of roughdiffuse")
-    module = sys.modules.get("roughdiffuse_bench_run") or _load(args.bench_script)
+    from ..bench.run import run as run_bench
+
     words = sys.argv[2:] if len(sys.argv) > 1 and sys.argv[1] == "bench" else []
     command = " ".join(["roughdiffuse bench", *(shlex.quote(w) for w in words)])
-    return int(module.run(args, command))
+    return int(run_bench(args, command))

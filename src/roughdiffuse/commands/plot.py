@@ -77,8 +77,8 @@ def _models(args: argparse.Namespace, sigma_list: list[float] | None = None) -> 
 
 def run(args: argparse.Namespace) -> int:
     from .. import plots
+    from ..io.atomic import atomic_write
     from ..render import DistantLight, pixel_coordinates, render
-    from ..render.imagefile import atomic_write
     from .render import scene_from_args
 
     if args.kind not in KINDS:
@@ -90,7 +90,8 @@ def run(args: argparse.Namespace) -> int:
         return plot_kind(args, out)
 
     lights, camera = scene_from_args(args)
-    plt = plots.plt
+    from .._figure import figure, subplots
+
     if args.kind in ("plane", "polar"):
         for t in args.theta_i:
             if not 0.0 <= t <= 90.0:
@@ -98,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         models = _models(args)
         polar = args.kind == "polar"
         n = len(args.theta_i)
-        fig = plt.figure(figsize=(5.2 * n, 4.2))
+        fig = figure(figsize=(5.2 * n, 4.2))
         for i, t in enumerate(args.theta_i):
             ax = fig.add_subplot(1, n, i + 1, projection="polar" if polar else None)
             plots.plot_plane_of_incidence(models, math.radians(t), ax=ax, polar=polar)
@@ -118,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
             )
             for k, m in models.items()
         }
-        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        fig, ax = subplots(figsize=(6.5, 4.2))
         x = pixel_coordinates(shape, camera, args.size)[0]
         plots.plot_cross_section(
             {k: v[0] for k, v in results.items()},
@@ -155,6 +156,5 @@ def run(args: argparse.Namespace) -> int:
         fig.suptitle(f"{names[0]}: increasing roughness")
     fig.tight_layout()
     atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=110))
-    plt.close(fig)
     print(f"wrote {out}")
     return 0

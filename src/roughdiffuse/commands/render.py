@@ -185,8 +185,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from ..io.images import write_image
     from ..render import render
-    from ..render.imagefile import write_image
 
     out = check_output(args.output, (".png", ".npy", ".exr"), args.force)
     model = model_from_args(args)

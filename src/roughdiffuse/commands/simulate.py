@@ -16,6 +16,7 @@ examples:
   roughdiffuse simulate --report -o report/
 
 A table run writes finished chunks to FILE.chunks/; run the same command again to resume.
+A finished FILE is kept: the same command returns it at once; other settings need --force.
 Angles in DEGREES.
 """
 
@@ -62,6 +63,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--elements", type=int, default=16, help="radiosity elements per facet K")
     p.add_argument("--table", metavar="FILE", help="compute a ground-truth table into FILE (.npz)")
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="replace a finished --table FILE (or chunks of other settings) by a new run",
+    )
     p.add_argument("--step", type=float, default=10.0, help="table step of θi and θr, degrees")
     p.add_argument("--delta-phi-step", type=float, default=30.0, help="table step of Δφ, degrees")
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
@@ -132,7 +138,14 @@ def run(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             progress=not args.no_progress,
             backend=args.backend,
+            force=args.force,
         )
+        if table.meta.get("reused"):
+            print(
+                f"kept {args.table}: a finished table of these settings, "
+                f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
+            )
+            return 0
         print(
             f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
             f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "

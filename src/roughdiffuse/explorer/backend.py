@@ -58,6 +58,7 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
         "eta": _float(q, "eta", 1.5),
         "weight": _float(q, "weight", 0.0),
         "limb": _float(q, "limb", 0.5),
+        "alpha": _float(q, "alpha", math.sqrt(2.0) * 0.2),
         "distribution": q.get("distribution", "gaussian"),
     }
 
@@ -65,8 +66,8 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
 def _render_vase() -> Any:
     """A function (model, query) -> PNG bytes of the vase, or None without the renderer."""
     try:
+        from ..io.images import linear_to_srgb
         from ..render import DistantLight, SurfaceOfRevolution, render
-        from ..render.imagefile import linear_to_srgb
     except ImportError:
         return None
 

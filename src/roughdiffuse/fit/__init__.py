@@ -10,21 +10,56 @@
 [0.8, 0.3]
 """
 
-from .compare import CANDIDATES, Comparison, compare_models
-from .csv_samples import read_csv, samples_from_table, write_csv
-from .images import image_measurements, read_image, read_normals, shape_normals
-from .least_squares import DEFAULT_BOUNDS, DegenerateDataWarning, FitResult, fit
-from .measurements import Measurements
-from .merl import (
-    MERL_SCALE,
-    MERL_SHAPE,
-    MERLBRDF,
-    directions_from_half_diff,
-    half_diff_from_directions,
-    merl_cell_index,
-    read_merl,
-    write_merl,
-)
+from typing import TYPE_CHECKING
+
+from .._lazy import attach
+
+if TYPE_CHECKING:  # for type checkers; at run time each name is imported on first use
+    from .compare import CANDIDATES, Comparison, compare_models
+    from .csv_samples import read_csv, samples_from_table, write_csv
+    from .images import image_measurements, read_image, read_normals, shape_normals
+    from .least_squares import DEFAULT_BOUNDS, DegenerateDataWarning, FitResult, fit
+    from .measurements import Measurements
+    from .merl import (
+        MERL_SCALE,
+        MERL_SHAPE,
+        MERLBRDF,
+        directions_from_half_diff,
+        half_diff_from_directions,
+        merl_cell_index,
+        read_merl,
+        write_merl,
+    )
+
+_SUBMODULE = {
+    "CANDIDATES": "compare",
+    "Comparison": "compare",
+    "compare_models": "compare",
+    "read_csv": "csv_samples",
+    "samples_from_table": "csv_samples",
+    "write_csv": "csv_samples",
+    "image_measurements": "images",
+    "read_image": "images",
+    "read_normals": "images",
+    "shape_normals": "images",
+    "DEFAULT_BOUNDS": "least_squares",
+    "DegenerateDataWarning": "least_squares",
+    "FitResult": "least_squares",
+    "fit": "least_squares",
+    "Measurements": "measurements",
+    "MERL_SCALE": "merl",
+    "MERL_SHAPE": "merl",
+    "MERLBRDF": "merl",
+    "directions_from_half_diff": "merl",
+    "half_diff_from_directions": "merl",
+    "merl_cell_index": "merl",
+    "read_merl": "merl",
+    "write_merl": "merl",
+}
+"""Where each public name lives: ``import roughdiffuse.fit`` imports none of them (the
+fitting code imports JAX and SciPy), ``roughdiffuse.fit.fit`` imports its module."""
+
+__getattr__, __dir__ = attach(__name__, names=_SUBMODULE)
 
 __all__ = [
     "CANDIDATES",

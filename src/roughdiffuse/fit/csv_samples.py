@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..io.atomic import atomic_open
 from .measurements import Measurements
 
 __all__ = ["read_csv", "samples_from_table", "write_csv"]
@@ -279,7 +280,5 @@ def write_csv(path: str | os.PathLike[str], data: Measurements) -> None:
     cols = ["theta_i_deg", "theta_r_deg", "delta_phi_deg"]
     cols += ["brdf"] if f.ndim == 1 else [f"brdf_{c}" for c in _CHANNELS[: f.shape[1]]]
     table = np.column_stack([np.degrees(ti), np.degrees(tr), np.degrees(dp), f])
-    path = os.fspath(path)
-    tmp = f"{path}.tmp{os.getpid()}"
-    np.savetxt(tmp, table, delimiter=",", header=",".join(cols), comments="", fmt="%.10g")
-    os.replace(tmp, path)
+    with atomic_open(path, "w") as fh:
+        np.savetxt(fh, table, delimiter=",", header=",".join(cols), comments="", fmt="%.10g")

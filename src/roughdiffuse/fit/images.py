@@ -9,7 +9,7 @@ ray intersection the renderer uses, so that an image it rendered can be fitted.
 
 PNG holds display values; the linear radiance is recovered as
 L = decode(v / (2^bits − 1)) / 2^exposure, with decode the sRGB curve (IEC 61966-2-1) or the
-identity. Files written by :func:`roughdiffuse.render.imagefile.write_png` state their
+identity. Files written by :func:`roughdiffuse.io.images.write_png` state their
 encoding and scale in text chunks, which are used when present. Saturated pixels (v at its
 maximum) and partly covered pixels (alpha below its maximum) are masked out.
 """
@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..render.imagefile import read_png, srgb_to_linear
+from ..io.images import read_png, srgb_to_linear
 from .measurements import Measurements
 
 __all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]

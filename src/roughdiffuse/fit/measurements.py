@@ -2,7 +2,7 @@
 
 Every data source (BRDF samples from a table, a MERL file, an image with known normals)
 becomes one :class:`Measurements` object: the three local cosines of each sample
-(μi = cos θi, μo = cos θo, cos_io = wi·wo, see :mod:`roughdiffuse.frames`), the measured
+(μi = cos θi, μo = cos θr, cos_io = wi·wo, see :mod:`roughdiffuse.frames`), the measured
 value, and the factor that turns a BRDF into that value (1 for BRDF samples, E0 cos θi for
 radiance, since L = f_r E0 cos θi). The fitter compares ``model.brdf_cosines(...) * scale``
 with ``value``.
@@ -48,7 +48,7 @@ class Measurements:
     Parameters
     ----------
     mu_i, mu_o, cos_io : array (N,)
-        cos θi, cos θo and wi·wo of each sample (local frame, z = normal); μ in [0, 1].
+        cos θi, cos θr and wi·wo of each sample (local frame, z = normal); μ in [0, 1].
     value : array (N,) or (N, C)
         Measured BRDF (1/sr) or radiance, one column per colour channel.
     scale : array (N,)

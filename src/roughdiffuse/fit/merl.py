@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..io.atomic import atomic_open
 from ..models import Model
 from .measurements import Measurements
 
@@ -259,9 +260,6 @@ def write_merl(path: str | os.PathLike[str], brdf: MERLBRDF) -> None:
     """Write a MERL ``.binary`` file (atomically: temporary file, then rename)."""
     if not isinstance(brdf, MERLBRDF):
         raise ValueError(f"brdf must be a MERLBRDF (got {type(brdf).__name__})")
-    path = os.fspath(path)
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "wb") as fh:
+    with atomic_open(path, "wb") as fh:
         fh.write(np.asarray(MERL_SHAPE, dtype="<i4").tobytes())
         fh.write(np.ascontiguousarray(brdf.raw, dtype="<f8").tobytes())
-    os.replace(tmp, path)

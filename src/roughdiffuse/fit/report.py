@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ..io.atomic import check_output_path, write_text
 from .compare import Comparison
 from .least_squares import FitResult
 from .measurements import Measurements
@@ -170,10 +171,7 @@ def write_report(
     """Write a self-contained HTML report (tables and embedded PNG plot), atomically."""
     if not results:
         raise ValueError("write_report needs at least one fit result")
-    path = os.fspath(path)
-    folder = os.path.dirname(path) or "."
-    if not os.path.isdir(folder):
-        raise ValueError(f"report folder {folder!r} does not exist")
+    path = check_output_path(path, "report")
     fig = plot_fit(data, results)
     png = _fig_png(fig)
     chans = f", {data.channels} channels" if data.channels else ""
@@ -193,7 +191,4 @@ def write_report(
     parts.extend(_result_table(r) for r in results)
     parts.append(f"<h2>Data and model</h2><img alt='fit plots' src='data:image/png;base64,{png}'>")
     parts.append("</body></html>")
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(parts))
-    os.replace(tmp, path)
+    write_text(path, "\n".join(parts))

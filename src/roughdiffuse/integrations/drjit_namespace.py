@@ -1,8 +1,9 @@
 """A small array namespace over Dr.Jit, so the models' kernels run inside Mitsuba 3 as they are.
 
-The models' formulas (``Model._kernel``) and samplers (:mod:`roughdiffuse.models.sampling`)
-are written once against an array namespace ``xp``: ``xp.where``, ``xp.sqrt``, ``xp.atan2``,
-``xp.sin``, ``xp.cos``, ``xp.exp``, ``xp.log``, ``xp.abs``, ``xp.sum`` and Python operators.
+The models' formulas (:meth:`roughdiffuse.models.base.Model.kernel`) and samplers
+(:mod:`roughdiffuse.models.sampling`) are written once against an array namespace ``xp``:
+``xp.where``, ``xp.sqrt``, ``xp.atan2``, ``xp.sin``, ``xp.cos``, ``xp.exp``, ``xp.log``,
+``xp.abs``, ``xp.sum`` and Python operators.
 This module gives that handful of functions for Dr.Jit values (``mi.Float``, ``mi.Color3f``
 in every Mitsuba variant: plain Python floats in ``scalar_rgb``, traced JIT arrays with
 automatic differentiation in ``llvm_ad_rgb``), so a Mitsuba plugin calls the same code as
@@ -66,6 +67,11 @@ class DrArray:
 
     def __getitem__(self, key: Any) -> DrArray:
         return self  # x[..., None] on a per-lane value: nothing to add
+
+    def __array_namespace__(self, api_version: str | None = None) -> Any:
+        """The namespace of this value (so ``roughdiffuse._array.namespace`` finds it and
+        parameter checks, which need a concrete value, let it pass)."""
+        return drjit_namespace
 
     def __repr__(self) -> str:
         return f"DrArray({self.v!r})"

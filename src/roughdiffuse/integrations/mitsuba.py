@@ -1,4 +1,4 @@
-"""roughdiffuse's models as Mitsuba 3 BSDF plugins.
+"""roughdiffuse's models as Mitsuba 3 BSDF plugins: one per registry id.
 
 >>> import mitsuba as mi                                              # doctest: +SKIP
 >>> mi.set_variant("llvm_ad_rgb")                                     # doctest: +SKIP
@@ -7,27 +7,42 @@
 >>> bsdf = mi.load_dict({"type": "roughdiffuse_oren_nayar", "sigma": 0.3,
 ...                      "albedo": {"type": "rgb", "value": [0.8, 0.6, 0.4]}})  # doctest: +SKIP
 
-Plugins (parameters named as in roughdiffuse; σ in radians):
+Every model of :mod:`roughdiffuse.registry` (the package's own, those of other packages'
+entry points and those added by :func:`roughdiffuse.register_model` before :func:`register`
+is called) becomes the plugin ``roughdiffuse_<id with underscores>``: ``roughdiffuse_lambert``,
+``roughdiffuse_oren_nayar``, ``roughdiffuse_oren_nayar_full``, ``roughdiffuse_fujii``,
+``roughdiffuse_eon``, ``roughdiffuse_torrance_sparrow``,
+``roughdiffuse_torrance_sparrow_beckmann``, ``roughdiffuse_mix``,
+``roughdiffuse_lommel_seeliger``, ``roughdiffuse_lunar_lambert``, ...
+``roughdiffuse models`` lists them with their parameters. The plugin's parameters are the
+model's declared ones (:class:`~roughdiffuse.models.declaration.Param`), named as in
+roughdiffuse:
 
-=================================  ==============================================
-``roughdiffuse_lambert``           albedo
-``roughdiffuse_oren_nayar``        albedo, sigma, variant ("qualitative" | "full")
-``roughdiffuse_fujii``             albedo, roughness
-``roughdiffuse_eon``               albedo, roughness
-``roughdiffuse_torrance_sparrow``  eta, distribution ("gaussian" | "beckmann"), sigma
-                                   (Gaussian) or alpha (Beckmann; sigma there: α = √2 σ)
-=================================  ==============================================
+* a parameter with colour channels (``albedo``) is a Mitsuba texture (a float,
+  ``{"type": "rgb", ...}``, a bitmap...);
+* any other number is a float, in the declared unit (angles in radians, as in Python);
+* a categorical parameter is a string. The categorical values an id fixes are its defaults
+  and may be changed, within the same class: ``roughdiffuse_oren_nayar`` with
+  ``"variant": "full"`` is ``roughdiffuse_oren_nayar_full``.
 
-``albedo`` is a texture (a float, ``{"type": "rgb", ...}``, a bitmap...). The formulas are
-not copied here: ``eval`` calls the model's own ``_kernel`` and ``sample``/``pdf`` the
-strategy of :mod:`roughdiffuse.models.sampling`, through the Dr.Jit array namespace of
-:mod:`.drjit_namespace`. Mitsuba's conventions: ``si.wi`` points to the viewer (roughdiffuse's
-``wo``), the ``wo`` argument to the light (roughdiffuse's ``wi``); ``eval`` includes the
-cosine of the light direction; the BSDF is one-sided (0 and pdf 0 below the horizon).
+A parameter the model does not take, or a value out of its range, is a ``ValueError`` naming
+the parameter and its range. Parameters left out take their declared defaults.
 
-Scalar parameters are ``mi.Float`` values listed by ``mi.traverse`` as differentiable; in
-the ``llvm_ad_*``/``cuda_ad_*`` variants they can be changed in place and differentiated.
-In ``scalar_*`` variants they are plain floats: load a new BSDF to change them.
+The formulas are not copied here: the plugin builds the model from its parameters, with
+Dr.Jit values in place of numbers (:mod:`.drjit_namespace`), and calls its own
+``brdf_cosines`` for ``eval`` and its own sampling strategy
+(:meth:`~roughdiffuse.models.base.Model.sampling_strategy`) for ``sample``/``pdf``; a Mix
+samples one component chosen by weight × albedo estimate, as in Python. Mitsuba's
+conventions: ``si.wi`` points to the viewer (roughdiffuse's ``wo``), the ``wo`` argument to
+the light (roughdiffuse's ``wi``); ``eval`` includes the cosine of the light direction; the
+BSDF is one-sided (0 and pdf 0 below the horizon). A model with a glossy lobe (one of its
+components for a Mix) has Mitsuba's ``GlossyReflection`` flag, the others
+``DiffuseReflection``.
+
+Float parameters are ``mi.Float`` values listed by ``mi.traverse`` as differentiable (a
+texture as ``albedo.value`` and so on); in the ``llvm_ad_*``/``cuda_ad_*`` variants they can
+be changed in place and differentiated. In ``scalar_*`` variants they are plain floats: load
+a new BSDF to change them.
 
 The ``llvm`` variants need libLLVM 15 or newer (Debian: ``apt-get install libllvm19``, then
 ``export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``).
@@ -35,140 +50,202 @@ The ``llvm`` variants need libLLVM 15 or newer (Debian: ``apt-get install libllv
 
 from __future__ import annotations
 
-import dataclasses
+from collections.abc import Callable
 from typing import Any
 
-from ..models import EON, Fujii, Lambert, Model, OrenNayar, TorranceSparrow
-from ..models.sampling import strategy_for
+from .. import registry
+from ..models import Model
+from ..models.declaration import Param
 
-__all__ = ["PLUGINS", "register"]
-
-PLUGINS: dict[str, type[Model]] = {
-    "roughdiffuse_lambert": Lambert,
-    "roughdiffuse_oren_nayar": OrenNayar,
-    "roughdiffuse_fujii": Fujii,
-    "roughdiffuse_eon": EON,
-    "roughdiffuse_torrance_sparrow": TorranceSparrow,
-}
-"""Plugin name -> model class."""
-
-_STRING_FIELDS = ("variant", "distribution")
+__all__ = ["plugin_name", "plugins", "register"]
 
 
-def _defaults(cls: type[Model]) -> dict[str, Any]:
-    return {f.name: f.default for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+def plugin_name(model_id: str) -> str:
+    """The Mitsuba plugin name of a registry id.
+
+    >>> plugin_name("oren-nayar-full")
+    'roughdiffuse_oren_nayar_full'
+    """
+    return "roughdiffuse_" + model_id.replace("-", "_")
 
 
-def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
-    """A Mitsuba ``BSDF`` subclass for ``model_cls`` (for the variant set now)."""
+def plugins() -> dict[str, registry.Entry]:
+    """Plugin name -> registry entry, for every model the registry holds now that is a formula
+    (a simulation such as ``SmithDiffuse``, ``traceable = False``, cannot run on Dr.Jit)."""
+    return {plugin_name(e.id): e for e in registry.entries() if e.cls.traceable}
+
+
+def _factory(cls: type[Model]) -> Callable[..., Model]:
+    """What builds the class from its declared parameters (``from_params`` if it has one)."""
+    return getattr(cls, "from_params", cls)
+
+
+def _lobes(model: Model) -> set[str]:
+    """The lobe types of ``model`` (a Mix: those of its components)."""
+    lobes = getattr(model, "lobes", None)
+    return set(lobes) if lobes is not None else {type(model).lobe}
+
+
+_MISSING = object()
+
+
+def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
+    """A Mitsuba ``BSDF`` subclass for the registry ``entry`` (for the variant set now)."""
     from .drjit_namespace import drjit_namespace as xp
     from .drjit_namespace import unwrap, wrap
 
-    defaults = _defaults(model_cls)
-    scalar_fields = [f for f in model_cls.array_fields if f != "albedo"]
-    has_albedo = "albedo" in model_cls.array_fields
-    glossy = model_cls is TorranceSparrow
-    lobe = mi.BSDFFlags.GlossyReflection if glossy else mi.BSDFFlags.DiffuseReflection
+    cls = entry.cls
+    factory = _factory(cls)
+    declared: dict[str, Param] = {p.name: p for p in cls.params}
+    categorical = [p for p in cls.params if p.categorical]
+    textures = [p for p in cls.params if p.channels and not p.categorical]
+    numbers = [p for p in cls.params if not p.channels and not p.categorical]
+    plugin = plugin_name(entry.id)
+
+    def channel_mean(c: Any) -> Any:
+        return (c[0] + c[1] + c[2]) * (1.0 / 3.0)
 
     class RoughdiffuseBSDF(mi.BSDF):
+        # the parameters are attributes named as declared (Mitsuba's traverse/update sets
+        # them by name); the plugin's own attributes start with rd_
         def __init__(self, props: Any) -> None:
             mi.BSDF.__init__(self, props)
-            kwargs: dict[str, Any] = {}
-            for name in scalar_fields:  # a parameter left unset keeps the class's default
-                if name in props:
-                    kwargs[name] = float(props[name])
-            for name in _STRING_FIELDS:
-                if name in defaults:
-                    kwargs[name] = str(props.get(name, defaults[name]))
-            # validates the parameters (ValueError naming the parameter and its range)
-            self.model = model_cls(**kwargs)
-            self.strategy = strategy_for(self.model)
-            # the parameters this instance has (Torrance-Sparrow: sigma or alpha)
-            self.scalar_fields = [n for n in scalar_fields if getattr(self.model, n) is not None]
-            for name in self.scalar_fields:
-                setattr(self, name, mi.Float(float(getattr(self.model, name))))
-            if has_albedo:
-                self.albedo = props.get_texture("albedo", float(defaults["albedo"]))
-            self.m_flags = lobe | mi.BSDFFlags.FrontSide
-            self.m_components = [self.m_flags]
+            for key in props.keys():
+                if key not in declared:
+                    raise ValueError(
+                        f"{plugin} has no parameter {key!r}; its parameters: "
+                        f"{', '.join(declared) or 'none'}"
+                    )
+            choices = {p.name: str(props.get(p.name, entry.fixed.get(p.name, p.default)))
+                       for p in categorical}
+            for p in categorical:
+                p.check(choices[p.name])
+            # validate with the given numbers (a texture: its default, it has no one value)
+            given = {p.name: float(props[p.name]) for p in numbers if p.name in props}
+            constant = {}
+            for p in textures:
+                if p.name in props and isinstance(props[p.name], float | int):
+                    constant[p.name] = float(props[p.name])
+            self.rd_model = factory(**choices, **given, **constant)  # ValueError if out of range
+            self.rd_choices = choices
+            self.rd_numbers: list[str] = []
+            for p in numbers:  # the numbers this instance has (e.g. sigma or alpha)
+                value = getattr(self.rd_model, p.name, _MISSING)
+                if value is _MISSING:  # built by from_params: the declared parameter itself
+                    if not p.applies(choices):
+                        continue
+                    value = given.get(p.name, p.default)
+                if value is None:
+                    continue
+                setattr(self, p.name, mi.Float(float(value)))
+                self.rd_numbers.append(p.name)
+            self.rd_textures = [p.name for p in textures if p.applies(choices)]
+            for name in self.rd_textures:
+                setattr(self, name, props.get_texture(name, float(declared[name].default)))
+            lobes = _lobes(self.rd_model)
+            self.rd_lobe_flags = [
+                flag
+                for name, flag in (
+                    ("diffuse", mi.BSDFFlags.DiffuseReflection),
+                    ("glossy", mi.BSDFFlags.GlossyReflection),
+                )
+                if name in lobes
+            ] or [mi.BSDFFlags.DiffuseReflection]
+            self.rd_lobe = self.rd_lobe_flags[-1]  # sampled type: glossy if there is such a lobe
+            flags = mi.BSDFFlags.FrontSide
+            for flag in self.rd_lobe_flags:
+                flags = flags | flag
+            self.m_flags = flags
+            self.m_components = [flags]
+
+        def _enabled(self, ctx: Any) -> bool:
+            return any(ctx.is_enabled(flag) for flag in self.rd_lobe_flags)
 
         # -------------------------------------------------------------- the model
-        def _params(self, si: Any, active: Any) -> dict[str, Any]:
-            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
-            if has_albedo:
-                p["albedo"] = wrap(self.albedo.eval(si, active))
-            return p
+        def _model(self, si: Any, active: Any, mean: bool = False) -> Model:
+            """The model with this BSDF's Dr.Jit values (textures evaluated at ``si``; their
+            channel mean where ``mean``: sampling needs one number per lane)."""
+            kwargs: dict[str, Any] = dict(self.rd_choices)
+            for name in self.rd_numbers:
+                kwargs[name] = wrap(getattr(self, name))
+            for name in self.rd_textures:
+                value = getattr(self, name).eval(si, active)
+                kwargs[name] = wrap(channel_mean(value) if mean else value)
+            return factory(**kwargs)
 
         def _brdf(self, si: Any, wi: Any, active: Any) -> Any:
             """f(wi = light, wo = si.wi) as a Color3f (roughdiffuse's direction names)."""
             mu_i = dr.clip(wi.z, 0.0, 1.0)
             mu_o = dr.clip(si.wi.z, 0.0, 1.0)
             cos_io = dr.clip(dr.dot(wi, si.wi), -1.0, 1.0)
-            f = self.model._kernel(
-                xp, wrap(mu_i), wrap(mu_o), wrap(cos_io), **self._params(si, active)
-            )
+            f = self._model(si, active).brdf_cosines(wrap(mu_i), wrap(mu_o), wrap(cos_io))
             return mi.Color3f(unwrap(f))
 
-        def _pdf(self, si: Any, wi: Any) -> Any:
-            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
+        def _strategy(self, si: Any, active: Any) -> tuple[Any, dict[str, Any]]:
+            model = self._model(si, active, mean=True)
+            return model.sampling_strategy(), model.parameter_arrays(xp)
+
+        def _pdf(self, si: Any, wi: Any, active: Any) -> Any:
+            strategy, p = self._strategy(si, active)
             d = si.wi
-            pdf = self.strategy.pdf(
+            pdf = strategy.pdf(
                 xp, wrap(wi.x), wrap(wi.y), wrap(wi.z), wrap(d.x), wrap(d.y), wrap(d.z), p
             )
             return unwrap(pdf)
 
         # -------------------------------------------------------------- Mitsuba API
         def sample(self, ctx: Any, si: Any, sample1: Any, sample2: Any, active: Any = True):
-            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
+            strategy, p = self._strategy(si, active)
             d = si.wi
-            x, y, z, pdf = self.strategy.sample(
+            x, y, z, pdf = strategy.sample(
                 xp, wrap(sample2.x), wrap(sample2.y), wrap(d.x), wrap(d.y), wrap(d.z), p
             )
             wi = mi.Vector3f(unwrap(x), unwrap(y), unwrap(z))
             pdf = unwrap(pdf)
             active = active & (d.z > 0) & (wi.z > 0) & (pdf > 0)
-            active = active & ctx.is_enabled(lobe)
+            active = active & self._enabled(ctx)
             bs = dr.zeros(mi.BSDFSample3f)
             bs.wo = wi
             bs.pdf = dr.select(active, pdf, 0.0)
             bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+lobe)
+            bs.sampled_type = mi.UInt32(+self.rd_lobe)
             bs.sampled_component = mi.UInt32(0)
             value = self._brdf(si, wi, active) * (wi.z / dr.select(active, pdf, 1.0))
             return bs, dr.select(active, value, 0.0)
 
         def eval(self, ctx: Any, si: Any, wo: Any, active: Any = True):
-            active = active & (si.wi.z > 0) & (wo.z > 0) & ctx.is_enabled(lobe)
+            active = active & (si.wi.z > 0) & (wo.z > 0) & self._enabled(ctx)
             value = self._brdf(si, wo, active) * dr.clip(wo.z, 0.0, 1.0)
             return dr.select(active, value, 0.0)
 
         def pdf(self, ctx: Any, si: Any, wo: Any, active: Any = True):
-            active = active & (si.wi.z > 0) & (wo.z > 0) & ctx.is_enabled(lobe)
-            return dr.select(active, self._pdf(si, wo), 0.0)
+            active = active & (si.wi.z > 0) & (wo.z > 0) & self._enabled(ctx)
+            return dr.select(active, self._pdf(si, wo, active), 0.0)
 
         def eval_pdf(self, ctx: Any, si: Any, wo: Any, active: Any = True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def traverse(self, callback: Any) -> None:
-            if has_albedo:
-                callback.put("albedo", self.albedo, mi.ParamFlags.Differentiable)
-            for name in self.scalar_fields:
+            for name in self.rd_textures:
+                callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
+            for name in self.rd_numbers:
                 callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
 
         def parameters_changed(self, keys: Any = None) -> None:
             pass
 
         def to_string(self) -> str:
-            return f"Roughdiffuse[{self.model!r}]"
+            return f"Roughdiffuse[{plugin}: {self.rd_model!r}]"
 
-    RoughdiffuseBSDF.__name__ = f"Roughdiffuse{model_cls.__name__}BSDF"
+    RoughdiffuseBSDF.__name__ = f"Roughdiffuse{cls.__name__}BSDF"
     return RoughdiffuseBSDF
 
 
 def register() -> list[str]:
-    """Register every plugin of :data:`PLUGINS` with Mitsuba for the current variant.
+    """Register a plugin for every model of the registry with Mitsuba, for the current variant.
 
-    Call it after ``mi.set_variant(...)`` (and again after switching variants).
+    Call it after ``mi.set_variant(...)``, again after switching variants, and again after
+    :func:`roughdiffuse.register_model` to add a model registered since.
 
     Returns
     -------
@@ -180,7 +257,9 @@ def register() -> list[str]:
 
     if mi.variant() is None:
         raise ValueError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
-    for name, cls in PLUGINS.items():
-        plugin = _make_plugin_class(mi, dr, cls)
+    names = []
+    for name, entry in plugins().items():
+        plugin = _make_plugin_class(mi, dr, entry)
         mi.register_bsdf(name, lambda props, plugin=plugin: plugin(props))
-    return list(PLUGINS)
+        names.append(name)
+    return names

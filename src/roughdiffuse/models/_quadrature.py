@@ -12,19 +12,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from .._array import Array, asarray, clip, result_dtype, safe_sqrt
 from ..frames import unit_components
+from ..quadrature import gauss_legendre
 
 if TYPE_CHECKING:
     from .base import Model
-
-
-def gauss_legendre_01(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre nodes and weights on [0, 1]."""
-    x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
 
 
 def hemisphere_albedo(model: Model, wo: Array, n: int = 48) -> Array:
@@ -34,7 +27,7 @@ def hemisphere_albedo(model: Model, wo: Array, n: int = 48) -> Array:
     _, _, z = unit_components(xp, wo, "wo", dtype)
     mu_o = clip(xp, z, 0.0, 1.0)
     sin_o = safe_sqrt(xp, 1.0 - mu_o * mu_o)
-    t, w = (asarray(xp, a, dtype) for a in gauss_legendre_01(n))
+    t, w = (asarray(xp, a, dtype) for a in gauss_legendre(n))
     # μ nodes: [0, μo] and [μo, 1]
     mo = mu_o[..., None]
     mu = xp.concat([mo * t, mo + (1.0 - mo) * t], axis=-1)

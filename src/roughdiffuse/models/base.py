@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, ClassVar, NamedTuple
 
-import jax
 import numpy as np
 
 from .._array import (
@@ -29,6 +28,8 @@ from .._array import (
     namespace,
     result_dtype,
 )
+from .._dispatch import compiled
+from .._lazy import when_imported
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
 from .sampling import COSINE, Strategy
@@ -66,6 +67,8 @@ _JITTED: dict[str, Any] = {}
 def _jitted(method: str) -> Any:
     fn = _JITTED.get(method)
     if fn is None:
+        import jax
+
         fn = jax.jit(lambda model, *args: getattr(model, method)(*args))
         _JITTED[method] = fn
     return fn
@@ -169,6 +172,23 @@ class Model:
         """The BRDF from the local cosines (mu in [0, 1]); subclasses implement it."""
         raise NotImplementedError
 
+    def kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **params: Any) -> Array:
+        """The model's formula on the local cosines, with the parameters given as arrays.
+
+        For code that supplies its own parameter values in its own array namespace ``xp``
+        (the Mitsuba 3 plugins pass Dr.Jit values and textures). ``mu_i``, ``mu_o`` must lie
+        in [0, 1] and ``cos_io`` in [-1, 1]; no horizon test or validation is made (use
+        :meth:`brdf_cosines` for that). ``params`` are the model's ``array_fields``.
+        Subclasses implement the formula in ``_kernel``.
+        """
+        return self._kernel(xp, mu_i, mu_o, cos_io, **params)
+
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
+        """The numeric parameters as arrays of namespace ``xp``: what :meth:`kernel` and the
+        sampling strategies (:mod:`.sampling`) receive. Subclasses adapt it in ``_params``.
+        """
+        return self._params(xp, dtype)
+
     # ------------------------------------------------------------------ helpers
     def _coerce_channels(self) -> None:
         """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
@@ -211,8 +231,12 @@ class Model:
         """The BRDF from the local cosines n·wi, n·wo and wi·wo (no normalisation done).
 
         This is the entry point of renderers and tables that already hold cosines. Output
-        shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo.
+        shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
+        NumPy inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
+        fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
+        if fast is not None:
+            return fast
         xp = self._xp(mu_i, mu_o, cos_io)
         dtype = result_dtype(xp, mu_i, mu_o, cos_io)
         mu_i, mu_o, cos_io = (asarray(xp, a, dtype) for a in (mu_i, mu_o, cos_io))
@@ -241,8 +265,12 @@ class Model:
         -------
         array (...) or (..., C)
             In the namespace of the inputs (NumPy, JAX, PyTorch); a channel axis is added
-            for an RGB albedo. 0 where either direction is below the horizon.
+            for an RGB albedo. 0 where either direction is below the horizon. Large NumPy
+            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
+        fast = compiled(self, "brdf", wi, wo)
+        if fast is not None:
+            return fast
         xp = self._xp(wi, wo)
         if self._should_jit(xp, wi, wo):
             for name, w in (("wi", wi), ("wo", wo)):
@@ -266,9 +294,13 @@ class Model:
         Returns
         -------
         array (...) or (..., C)
-            Radiance; 0 where the point faces away from the light or the viewer.
+            Radiance; 0 where the point faces away from the light or the viewer. Large NumPy
+            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
         """
         _check_irradiance(irradiance)
+        fast = compiled(self, "radiance", n, l, v, irradiance=irradiance)
+        if fast is not None:
+            return fast
         xp = self._xp(n, l, v, irradiance)
         if self._should_jit(xp, n, l, v, irradiance):
             for name, w in (("n", n), ("l", l), ("v", v)):
@@ -288,7 +320,7 @@ class Model:
     def directional_albedo(self, wo: Array) -> Array:
         """∫ f_r(wi, wo) cos θi dωi over the upper hemisphere.
 
-        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θo and
+        Gauss–Legendre quadrature split at the kinks of the Oren–Nayar family (θi = θr and
         φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
         override this.
         """
@@ -301,7 +333,7 @@ class Model:
 
         The strategy is the class's ``sampling`` (see :mod:`.sampling`): cosine-weighted
         hemisphere by default, EON's clipped LTC for EON and Fujii, facet-normal sampling
-        for Torrance–Sparrow.
+        for Torrance–Sparrow, the mixture of its components' strategies for a Mix.
         """
         from .sampling import sample_model
 
@@ -312,6 +344,40 @@ class Model:
         from .sampling import pdf_model
 
         return pdf_model(self, wi, wo)
+
+    def channel(self, c: int) -> Model:
+        """This model for colour channel ``c`` alone: each channel parameter with one value per
+        channel replaced by its ``c``-th value (a scalar or one-value parameter kept).
+
+        A per-channel evaluator (the fast path) calls this instead of looking inside the
+        model; :class:`~roughdiffuse.models.mix.Mix` passes it on to its components.
+
+        >>> from roughdiffuse import Lambert
+        >>> Lambert([0.9, 0.5, 0.2]).channel(1)
+        Lambert(albedo=0.5)
+        """
+        changes = {}
+        for f in self.channel_fields:
+            value = getattr(self, f)
+            if getattr(value, "ndim", 0) == 1:
+                changes[f] = float(value[c]) if value.shape[0] > 1 else float(value[0])
+        return dataclasses.replace(self, **changes) if changes else self  # type: ignore[type-var]
+
+    def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
+        """A cheap estimate of the directional albedo at view cosine ``mu_o``.
+
+        ``p`` holds the parameters as the sampling strategies receive them (``_params``).
+        :class:`~roughdiffuse.models.mix.Mix` samples component k with probability
+        proportional to w_k times this estimate. Default: the ``albedo`` parameter (the mean
+        of its channels), or 1 for a model without one; Torrance–Sparrow overrides it. It
+        only steers sampling: the estimates change the variance, never the mean.
+        """
+        a = p.get("albedo")
+        if a is None:
+            return 1.0 + 0.0 * mu_o
+        if self.channels:
+            a = xp.sum(a, axis=-1) / self.channels
+        return a + 0.0 * mu_o
 
     def _closed_form_albedo(self, wo: Array, albedo_of_mu: Any) -> Array:
         """Directional albedo from a closed form ``albedo_of_mu(xp, mu_o, **params)``.
@@ -342,6 +408,7 @@ def _check_irradiance(value: Any) -> None:
 def register_pytree(cls: type) -> type:
     """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static.
 
+    Registered when JAX is imported (now, if it is), so defining a model does not import JAX.
     ``jax.tree_util.register_dataclass`` is not used: in JAX 0.10 its tree definitions of two
     classes with the same field names compare equal (Lambert and LommelSeeliger, say), so a
     jitted function could reuse one model's compiled code for the other. Unflattening skips
@@ -360,5 +427,5 @@ def register_pytree(cls: type) -> type:
             object.__setattr__(obj, name, value)
         return obj
 
-    jax.tree_util.register_pytree_node(cls, flatten, unflatten)
+    when_imported("jax", lambda jax: jax.tree_util.register_pytree_node(cls, flatten, unflatten))
     return cls

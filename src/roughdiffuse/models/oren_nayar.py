@@ -66,9 +66,9 @@ def _full(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array, albedo
     sin_i = safe_sqrt(xp, 1.0 - mu_i * mu_i)
     sin_o = safe_sqrt(xp, 1.0 - mu_o * mu_o)
     theta_i = xp.atan2(sin_i, mu_i)
-    theta_o = xp.atan2(sin_o, mu_o)
-    alpha = maximum(xp, theta_i, theta_o)
-    beta = minimum(xp, theta_i, theta_o)
+    theta_r = xp.atan2(sin_o, mu_o)
+    alpha = maximum(xp, theta_i, theta_r)
+    beta = minimum(xp, theta_i, theta_r)
     sin_alpha = maximum(xp, sin_i, sin_o)
     tan_beta = minimum(xp, sin_i, sin_o) / maximum(xp, maximum(xp, mu_i, mu_o), TAN_FLOOR)
     # c = cos(φr − φi); undefined (and irrelevant: β = 0 there) when either θ is 0
@@ -148,8 +148,8 @@ class OrenNayar(Model):
         "oren-nayar-full": {"variant": "full"},
     }
     labels: ClassVar[dict[str, str]] = {
-        "oren-nayar": "Oren–Nayar (qualitative)",
-        "oren-nayar-full": "Oren–Nayar (full, with interreflection)",
+        "oren-nayar": "Oren–Nayar qualitative",
+        "oren-nayar-full": "Oren–Nayar full",
     }
     reference: ClassVar[str] = (
         "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994"

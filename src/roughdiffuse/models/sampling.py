@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from .._array import Array, asarray, concrete, result_dtype, safe_div, safe_sqrt
+from ..deprecation import renamed_parameter
 from ..frames import unit_components
 from .microfacet import normal_pdf, normal_sample
 
@@ -107,7 +108,7 @@ def _ltc_terms(xp: Any, mu: Array, r: Array) -> tuple[Array, Array, Array, Array
 
 
 def _ltc_basis(xp: Any, wox: Array, woy: Array) -> tuple[Array, Array]:
-    """Unit X axis (cos φo, sin φo) of the LTC frame; (1, 0) at normal incidence."""
+    """Unit X axis (cos φr, sin φr) of the LTC frame; (1, 0) at normal incidence."""
     len2 = wox * wox + woy * woy
     inv = safe_div(xp, 1.0, safe_sqrt(xp, len2))
     has = len2 > 0
@@ -281,17 +282,18 @@ def pdf_model(model: Model, wi: Array, wo: Array, strategy: Strategy | None = No
     return _where(xp, (wiz > 0) & (woz > 0), pdf, 0.0 * pdf)
 
 
+@renamed_parameter("theta_o", "theta_r", since="0.2")
 def weight_variance(
-    model: Model, theta_o: float, n: int = 200_000, strategy: Strategy | None = None, seed: int = 0
+    model: Model, theta_r: float, n: int = 200_000, strategy: Strategy | None = None, seed: int = 0
 ) -> tuple[float, float]:
-    """Mean and variance of the sample weight f cos θi / pdf for a view at ``theta_o``.
+    """Mean and variance of the sample weight f cos θi / pdf for a view at ``theta_r`` (rad).
 
     The mean is the directional albedo (for every unbiased strategy); the variance measures
     the strategy (lower is better; 0 for a perfect sampler). Colour models use channel 0.
     """
     rng = np.random.default_rng(seed)
     u = rng.random((n, 2))
-    wo = np.array([math.sin(theta_o), 0.0, math.cos(theta_o)])
+    wo = np.array([math.sin(theta_r), 0.0, math.cos(theta_r)])
     w = np.asarray(sample_model(model, u, wo, strategy).weight, dtype=np.float64)
     if w.ndim > 1:
         w = w[..., 0]

@@ -34,7 +34,7 @@ from typing import Any, ClassVar, Literal
 
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from ..frames import unit_components
-from ._quadrature import gauss_legendre_01
+from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
 from .microfacet import (
@@ -100,6 +100,7 @@ class TorranceSparrow(Model):
             max=ETA_MAX,
             min_open=True,
             default=1.5,
+            fit_range=(1.0, 3.0),
         ),
         Param(
             "sigma",
@@ -110,6 +111,7 @@ class TorranceSparrow(Model):
             default=0.2,
             when={"distribution": "gaussian"},
             example=math.radians(20.0),
+            fit_range=(0.02, SIGMA_MAX),
         ),
         Param(
             "distribution",
@@ -124,6 +126,7 @@ class TorranceSparrow(Model):
             max=_SQRT2 * SIGMA_MAX,
             default=_SQRT2 * 0.2,
             when={"distribution": "beckmann"},
+            fit_range=(_SQRT2 * 0.02, _SQRT2 * SIGMA_MAX),
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {
@@ -131,8 +134,8 @@ class TorranceSparrow(Model):
         "torrance-sparrow-beckmann": {"distribution": "beckmann"},
     }
     labels: ClassVar[dict[str, str]] = {
-        "torrance-sparrow": "Torrance–Sparrow (specular)",
-        "torrance-sparrow-beckmann": "Torrance–Sparrow (specular, Beckmann)",
+        "torrance-sparrow": "Torrance–Sparrow",
+        "torrance-sparrow-beckmann": "Torrance–Sparrow (Beckmann)",
     }
     lobe: ClassVar[str] = "glossy"
     sampling: ClassVar[Strategy] = MICROFACET_GAUSSIAN
@@ -182,6 +185,12 @@ class TorranceSparrow(Model):
         f = fresnel_dielectric(xp, cos_d, eta)
         return f * d * v_groove_masking(xp, mu_i, mu_o, cos_h, cos_d) / 4.0
 
+    def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
+        """F(μo, η), the albedo of the smooth surface (σ → 0), for choosing this lobe in a
+        :class:`~roughdiffuse.models.mix.Mix` (Mitsuba 3's ``roughplastic`` weights its
+        specular lobe by the Fresnel reflectance at the incident angle in the same way)."""
+        return fresnel_dielectric(xp, mu_o, p["eta"]) + 0.0 * mu_o
+
     def directional_albedo(self, wo: Array, n: int = 96) -> Array:
         """∫ f cos θi dωi, integrated over the half vector h where the lobe lives.
 
@@ -200,7 +209,7 @@ class TorranceSparrow(Model):
             theta_max = minimum(xp, 10.0 * width, math.pi / 2)
         else:
             theta_max = xp.atan(10.0 * width)
-        t, w = (asarray(xp, a, dtype) for a in gauss_legendre_01(n))
+        t, w = (asarray(xp, a, dtype) for a in gauss_legendre(n))
         th = theta_max * t[:, None]
         ph = math.pi * t[None, :]
         cos_oh = sin_o * xp.sin(th) * xp.cos(ph) + mu_o * xp.cos(th)

@@ -57,21 +57,6 @@ def _check_spp(spp: int) -> int:
     return k
 
 
-def _arrays_as_leaves(model: Model) -> Model:
-    """Turn list/tuple parameters (an RGB albedo given as a list) into NumPy arrays, so that
-    each is one pytree leaf under ``jax.jit`` rather than a list of scalar tracers."""
-    if not dataclasses.is_dataclass(model):
-        return model
-    changes: dict[str, Any] = {}
-    for name in model.array_fields:
-        value = getattr(model, name)
-        if name == "components":  # Mix: (weight, model) pairs
-            changes[name] = [(w, _arrays_as_leaves(m)) for w, m in value]
-        elif isinstance(value, list | tuple):
-            changes[name] = np.asarray(value, dtype=np.float64)
-    return dataclasses.replace(model, **changes) if changes else model
-
-
 def _with_shape_albedo(model: Model, shape: Shape) -> Model:
     albedo = getattr(shape, "albedo", None)
     if albedo is None:
@@ -231,7 +216,7 @@ def render(
     camera = OrthographicCamera() if camera is None else camera
     if not isinstance(camera, OrthographicCamera):
         raise ValueError(f"camera must be an OrthographicCamera (got {type(camera).__name__})")
-    model = _arrays_as_leaves(_with_shape_albedo(model, shape))
+    model = _with_shape_albedo(model, shape)
     e0 = [np.asarray(x.irradiance, dtype=np.float32) for x in lights]
     channels = {int(x.size) for x in e0 if x.ndim} | ({model.channels} if model.channels else set())
     if len(channels) > 1:

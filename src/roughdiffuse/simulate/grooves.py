@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from ..io.atomic import atomic_open
+
 __all__ = ["render_grooves", "write_groove_ply"]
 
 HALF_GROOVES = 150
@@ -39,7 +41,7 @@ def write_groove_ply(path: str | os.PathLike, theta_a: float, half_grooves: int 
             # counter-clockwise seen from above the facet: the normal points out of the groove
             faces += [(n, n + 1, n + 2), (n, n + 2, n + 3)]
     path = Path(path)
-    with open(path, "w") as fh:
+    with atomic_open(path, "w") as fh:
         fh.write("ply\nformat ascii 1.0\n")
         fh.write(f"element vertex {len(verts)}\n")
         fh.write("property float x\nproperty float y\nproperty float z\n")

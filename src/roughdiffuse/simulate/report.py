@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.atomic import atomic_write, write_text
 from ..models import EON, Fujii, Lambert, OrenNayar
 from .surface import Settings
 from .table import compute_table, load_table
@@ -41,6 +42,13 @@ ALBEDO = 0.9
 
 def _cosines(ti, tr, dp):
     return np.cos(ti), np.cos(tr), np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
+
+
+def _label(model_id: str, suffix: str = "") -> str:
+    """The registry's label of a model (:mod:`roughdiffuse.registry`), plus ``suffix``."""
+    from .. import registry
+
+    return registry.get(model_id).label + suffix
 
 
 def model_values(name: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
@@ -104,10 +112,7 @@ def write_report(
     The tables are computed by :func:`compute_table` (``workers`` processes, or the Dask
     ``scheduler`` at that address) and reused by later runs with the same grid.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
 
     out = Path(out)
     (out / "tables").mkdir(parents=True, exist_ok=True)
@@ -135,6 +140,7 @@ def write_report(
             workers=workers,
             scheduler=scheduler,
             progress=progress,
+            force=True,  # a table of this report's other grid (checked above) is replaced
         )
 
     one = {m: table(m, 1) for m in ("angle", "solid-angle")}
@@ -197,14 +203,14 @@ def write_report(
     inf = table(better, "all")
     truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
     comparisons = [
-        ("Lambert", "lambert", "all bounces"),
-        ("Oren–Nayar qualitative", "on-qualitative", "1 bounce"),
-        ("Oren–Nayar qualitative", "on-qualitative", "all bounces"),
+        (_label("lambert"), "lambert", "all bounces"),
+        (_label("oren-nayar"), "on-qualitative", "1 bounce"),
+        (_label("oren-nayar"), "on-qualitative", "all bounces"),
         ("Oren–Nayar L1", "on-L1", "1 bounce"),
-        ("Oren–Nayar full (L1 + L2)", "on-full", "2 bounces"),
-        ("Oren–Nayar full (L1 + L2)", "on-full", "all bounces"),
-        ("Fujii (FON, best r)", "fujii", "1 bounce"),
-        ("EON (best r)", "eon", "all bounces"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "2 bounces"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "all bounces"),
+        (_label("fujii", ", best r"), "fujii", "1 bounce"),
+        (_label("eon", ", best r"), "eon", "all bounces"),
     ]
     lines += [
         f"## Model errors (measure `{better}`)",
@@ -227,7 +233,7 @@ def write_report(
     lines += _convergence_lines(quick)
     lines += _second_truth_lines(out, quick, progress)
     # figures: plane of incidence and error maps
-    figs = _plots(plt, out, better, sigmas, quick, progress, workers)
+    figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
     lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
     lines += [
         "",
@@ -235,7 +241,7 @@ def write_report(
         f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
         "",
     ]
-    (out / "index.md").write_text("\n".join(lines), encoding="utf-8")
+    write_text(out / "index.md", "\n".join(lines))
     return out / "index.md"
 
 
@@ -282,7 +288,7 @@ def _convergence_lines(quick: bool) -> list[str]:
     return lines
 
 
-def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, workers: int):
+def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: bool, workers: int):
     from .surface import brdf
 
     figs = []
@@ -293,7 +299,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
     dps = np.where(x < 0, math.pi, 0.0)
     ti = np.full_like(x, theta_i)
     show = sigmas if quick else (0.1, 0.3, 0.7)
-    fig, axes = plt.subplots(1, len(show), figsize=(4.2 * len(show), 3.6), squeeze=False)
+    fig, axes = subplots(1, len(show), figsize=(4.2 * len(show), 3.6), squeeze=False)
     for ax, s in zip(axes[0], show, strict=True):
         st = Settings(measure=measure)
         truth1 = brdf(ti, xs, dps, s, ALBEDO, 1, st)
@@ -312,8 +318,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
         ax.set_ylabel("π f")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "plane_of_incidence.png", dpi=110)
-    plt.close(fig)
+    atomic_write(out / "plane_of_incidence.png", lambda tmp: fig.savefig(tmp, dpi=110))
     figs.append(("Plane of incidence", "plane_of_incidence.png"))
     # error maps over θi × θr at Δφ = 0, σ = 0.3, against all bounces
     ang = np.radians(np.arange(0.0, 86.0, 20.0 if quick else 5.0))
@@ -321,7 +326,7 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
     s = 0.3
     truth = brdf(a, b, 0.0, s, ALBEDO, "all", Settings(measure=measure))
     names = ("on-full", "on-qualitative", "lambert")
-    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
+    fig, axes = subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
     for ax, name in zip(axes[0], names, strict=True):
         e = _errors(model_values(name, a, b, 0.0, s, ALBEDO), truth)
         lim = max(0.05, float(np.abs(e).max()))
@@ -333,31 +338,30 @@ def _plots(plt, out: Path, measure: str, sigmas, quick: bool, progress: bool, wo
         ax.set_ylabel("θr (°)")
         fig.colorbar(im, ax=ax, label="relative error")
     fig.tight_layout()
-    fig.savefig(out / "error_maps.png", dpi=110)
-    plt.close(fig)
+    atomic_write(out / "error_maps.png", lambda tmp: fig.savefig(tmp, dpi=110))
     figs.append(("Error maps", "error_maps.png"))
     try:
         import mitsuba as mi
     except ImportError:  # optional: the finite-pixel figure needs Mitsuba 3
         return figs
-    _pixels_figure(plt, mi, out, quick)
+    _pixels_figure(subplots, mi, out, quick)
     figs.append(("Finite pixels: a rendered V-groove surface averaged to pixels", "pixels.png"))
     return figs
 
 
-def _pixels_figure(plt, mi, out: Path, quick: bool) -> None:
+def _pixels_figure(subplots, mi, out: Path, quick: bool) -> None:
     """Render a V-groove surface with visible facets, average it to pixels, and compare the
     averaged brightness over view angles with the solver (the lecture's finite-pixel point)."""
     previous = mi.variant()
     mi.set_variant("scalar_rgb")
     try:
-        _pixels_render(plt, mi, out, quick)
+        _pixels_render(subplots, mi, out, quick)
     finally:
         if previous is not None:  # leave Mitsuba as the caller had it
             mi.set_variant(previous)
 
 
-def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
+def _pixels_render(subplots, mi, out: Path, quick: bool) -> None:
     import tempfile
 
     from .cavity import cavity_radiance
@@ -382,7 +386,7 @@ def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
     curve_t = np.radians(np.linspace(-85.0, 85.0, 171))
     curve = cavity_radiance(theta_a, 0.0, wi, np.stack([view(t) for t in curve_t]), rho, "all")
     coarse = fine.reshape(4, 64, 4, 64).mean(axis=(1, 3))  # 4 x 4 pixels, one period each
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), gridspec_kw={"width_ratios": [1, 1, 1.6]})
+    fig, axes = subplots(1, 3, figsize=(13, 3.8), gridspec_kw={"width_ratios": [1, 1, 1.6]})
     vmax = float(fine.max())
     axes[0].imshow(fine, cmap="gray", vmin=0, vmax=vmax)
     axes[0].set_title("rendered, facets visible (θr = 20°)")
@@ -405,5 +409,4 @@ def _pixels_render(plt, mi, out: Path, quick: bool) -> None:
     axes[2].set_title(f"V-grooves θa = {theta_a} rad, ρ = {rho}, across the plane of incidence")
     axes[2].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "pixels.png", dpi=110)
-    plt.close(fig)
+    atomic_write(out / "pixels.png", lambda tmp: fig.savefig(tmp, dpi=110))

@@ -50,6 +50,7 @@ from .._array import (
     namespace,
 )
 from .._validate import check_range
+from ..quadrature import gauss_legendre
 from .cavity import (
     Bounces,
     _const,
@@ -131,14 +132,9 @@ def slope_weight(theta_a: Array, sigma: float, measure: Measure) -> Array:
     return w * xp.sin(theta_a) if measure == "solid-angle" else w
 
 
-def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
-    x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
-
-
 def _pieces(xp: Any, edges: Array, n: int) -> tuple[Array, Array]:
     """Gauss–Legendre nodes and weights on each interval of sorted ``edges`` (..., E)."""
-    t, w = (_const(xp, a) for a in _gauss(n))
+    t, w = (_const(xp, a) for a in gauss_legendre(n))
     a, b = edges[..., :-1, None], edges[..., 1:, None]
     nodes = a + (b - a) * t
     weights = (b - a) * w
@@ -219,7 +215,7 @@ def _slope_nodes(sigma: float, albedo: float, bounces: Bounces, s: Settings):
     the identity, for N <= 2 bounces). Cached: every chunk of a table uses the same ones.
     """
     theta_max = min(SIGMA_MAX, 10.0 * sigma)
-    t, w = _gauss(s.n_theta_inter)
+    t, w = gauss_legendre(s.n_theta_inter)
     nodes, weights = theta_max * t, theta_max * w * slope_weight(theta_max * t, sigma, s.measure)
     weights = weights / weights.sum()
     groups: dict[int, list[tuple[float, float]]] = {}

@@ -1,32 +1,55 @@
 """Ground-truth tables: the V-cavity BRDF on a grid (θi, θr, Δφ, σ), in one ``.npz`` file.
 
 Long tables are computed in chunks (one σ and a block of θi rows each). Every finished chunk
-is written atomically (temporary file + ``os.replace``) into ``FILE.chunks/``, next to a
-``manifest.json`` holding every parameter and solver setting: an interrupted run resumes
+is written whole or not at all (:mod:`roughdiffuse.io.atomic`) into ``FILE.chunks/``, next to
+a ``manifest.json`` holding every parameter and solver setting: an interrupted run resumes
 where it stopped (no finished chunk recomputed, no half-written chunk kept), and a run with
 different settings refuses to reuse the chunks. Chunks run in this process (``workers=1``),
 on a local Dask cluster (``workers=N``), or on a Dask distributed cluster (``scheduler``).
 When all chunks are done the table is assembled into ``FILE`` and the chunk folder removed.
+
+Nothing is lost or adopted by mistake:
+
+- a finished ``FILE`` is kept: a run with the same grid and settings returns it without
+  computing anything, one with others is refused unless ``force=True`` (``--force``);
+- each chunk records the digest of the table's settings and grid, its σ index and θi rows,
+  and a SHA-256 checksum of its values; a chunk that cannot be read (a flipped bit), belongs
+  to another table or another slice, has the wrong shape, fails its checksum or holds NaN is
+  recomputed (with a warning naming it), never used;
+- one run at a time: a run holds an exclusive lock on ``FILE.lock`` (which names its process),
+  and a second run on the same table is refused with :class:`TableBusyError`.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
 import shutil
-import tempfile
+import socket
+import warnings
 import zipfile
+import zlib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..io.atomic import atomic_open, check_output_path, write_text
 from .cavity import Bounces, check_bounces
 from .surface import Settings, brdf
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "GroundTruth", "compute_table", "load_table"]
+__all__ = [
+    "FORMAT",
+    "FORMAT_VERSION",
+    "GroundTruth",
+    "TableBusyError",
+    "compute_table",
+    "load_table",
+    "read_chunk",
+]
 
 FORMAT = "roughdiffuse.GroundTruth"
 FORMAT_VERSION = 1
@@ -73,7 +96,7 @@ class GroundTruth:
         """Write the table to ``path`` (``.npz``) atomically; returns the path."""
         path = Path(path)
         meta = {
-            **self.meta,
+            **{k: v for k, v in self.meta.items() if k != "reused"},
             "format": FORMAT,
             "format_version": FORMAT_VERSION,
             "package_version": _package_version(),
@@ -82,35 +105,23 @@ class GroundTruth:
             "settings": asdict(self.settings),
             "units": "f_r in 1/sr; angles in radians",
         }
-        _atomic_savez(
-            path,
-            theta_i=self.theta_i,
-            theta_r=self.theta_r,
-            delta_phi=self.delta_phi,
-            sigma=self.sigma,
-            values=self.values,
-            k_difference=self.k_difference,
-            meta=np.array(json.dumps(meta)),
-        )
+        arrays = {
+            "theta_i": self.theta_i,
+            "theta_r": self.theta_r,
+            "delta_phi": self.delta_phi,
+            "sigma": self.sigma,
+            "values": self.values,
+            "k_difference": self.k_difference,
+            "meta": np.array(json.dumps(meta)),
+        }
+        with atomic_open(path, "wb") as fh:
+            np.savez(fh, **arrays)
         return path
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> GroundTruth:
         """Read a table written by :meth:`save` (ValueError if it is not one, or corrupt)."""
         return load_table(path)
-
-
-def _atomic_savez(path: Path, **arrays: np.ndarray) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def load_table(path: str | os.PathLike) -> GroundTruth:
@@ -182,6 +193,10 @@ def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
     return a
 
 
+class TableBusyError(ValueError):
+    """Another run holds the lock of the table (a ``ValueError``: the CLI prints one line)."""
+
+
 def compute_table(
     path: str | os.PathLike,
     theta_i: Any,
@@ -197,13 +212,15 @@ def compute_table(
     scheduler: str | None = None,
     progress: bool = True,
     backend: str = "auto",
+    force: bool = False,
 ) -> GroundTruth:
     """Compute a :class:`GroundTruth` table into ``path``, resumably (module docstring).
 
     Parameters
     ----------
     path : path
-        The ``.npz`` file to write; chunks go to ``path.chunks/`` until it is done.
+        The ``.npz`` file to write; chunks go to ``path.chunks/`` until it is done. Its
+        folder must exist.
     theta_i, theta_r : array_like
         Angles in [0, π/2] radians.
     delta_phi : array_like
@@ -227,6 +244,20 @@ def compute_table(
         per process: several workers). "auto": JAX in this process (``workers=1``, no
         scheduler), else NumPy (bench/RESULTS.md: on 2 cores two NumPy workers beat one JAX
         process). Both give the same values to 1e-9 relative, so a resumed run may switch.
+    force : bool
+        Recompute and replace a finished table at ``path`` (and discard chunks of other
+        settings in ``path.chunks/``). Without it a finished table with the same grid and
+        settings is returned as it is (``meta["reused"]`` is True), and one with others is
+        refused.
+
+    Raises
+    ------
+    ValueError
+        Bad parameters; ``path`` unusable (a folder, no such folder); ``path`` holding a
+        finished table of other settings, or ``path.chunks/`` holding chunks of other
+        settings, without ``force``.
+    TableBusyError
+        Another run is computing the same table (its lock file names its process id).
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS} (got {backend!r})")
@@ -246,98 +277,266 @@ def compute_table(
         "delta_phi": _grid("delta_phi", delta_phi, -math.inf, None),
         "sigma": _grid("sigma", sigma, 0.0, math.pi / 2),
     }
-    path = Path(path)
+    path = check_output_path(path, "table")
     chunk_dir = path.with_name(path.name + ".chunks")
-    manifest = {
+    if chunk_dir.exists() and not chunk_dir.is_dir():
+        raise ValueError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
+    identity = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
-        "package_version": _package_version(),
         "albedo": float(albedo),
         "bounces": bounces,
         "settings": asdict(settings),
         "rows_per_chunk": rows_per_chunk,
         **{k: v.tolist() for k, v in axes.items()},
     }
-    _prepare_chunk_dir(chunk_dir, manifest)
-    specs = []
-    for s_idx, s in enumerate(axes["sigma"]):
-        for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
-            rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
-            specs.append(
-                {
-                    "name": f"s{s_idx:03d}_r{r0:04d}.npz",
-                    "sigma_index": s_idx,
-                    "row": r0,
-                    "sigma": float(s),
-                    "theta_i": rows,
-                    "theta_r": axes["theta_r"],
-                    "delta_phi": axes["delta_phi"],
-                    "albedo": float(albedo),
-                    "bounces": bounces,
-                    "settings": asdict(settings),
-                    "backend": backend,
-                }
-            )
-    todo = [s for s in specs if not _chunk_ok(chunk_dir / s["name"])]
-    _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
-    shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
-    values = np.empty(shape)
-    kdiff = np.empty(shape)
-    for s in specs:
-        with np.load(chunk_dir / s["name"]) as z:
-            rows = slice(s["row"], s["row"] + len(s["theta_i"]))
-            values[rows, :, :, s["sigma_index"]] = z["values"]
-            kdiff[rows, :, :, s["sigma_index"]] = z["k_difference"]
-    table = GroundTruth(
-        axes["theta_i"],
-        axes["theta_r"],
-        axes["delta_phi"],
-        axes["sigma"],
-        values,
-        kdiff,
-        float(albedo),
-        bounces,
-        settings,
-    )
-    table.save(path)
-    shutil.rmtree(chunk_dir, ignore_errors=True)
+    key = _digest(json.dumps(identity, sort_keys=True).encode())
+    manifest = {**identity, "package_version": _package_version(), "key": key}
+    with _TableLock(path):
+        if path.exists():
+            kept = _finished_table(path, axes, float(albedo), bounces, settings, force)
+            if kept is not None:
+                return kept
+        _prepare_chunk_dir(chunk_dir, manifest, force)
+        specs = []
+        for s_idx, s in enumerate(axes["sigma"]):
+            for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
+                rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
+                specs.append(
+                    {
+                        "name": f"s{s_idx:03d}_r{r0:04d}.npz",
+                        "key": key,
+                        "sigma_index": s_idx,
+                        "row": r0,
+                        "sigma": float(s),
+                        "theta_i": rows,
+                        "theta_r": axes["theta_r"],
+                        "delta_phi": axes["delta_phi"],
+                        "albedo": float(albedo),
+                        "bounces": bounces,
+                        "settings": asdict(settings),
+                        "backend": backend,
+                    }
+                )
+        todo = []
+        for spec in specs:
+            p = chunk_dir / spec["name"]
+            if not p.exists():
+                todo.append(spec)
+                continue
+            try:
+                read_chunk(p, spec)
+            except ValueError as exc:
+                warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=2)
+                p.unlink(missing_ok=True)
+                todo.append(spec)
+        _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
+        shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
+        values = np.empty(shape)
+        kdiff = np.empty(shape)
+        for spec in specs:
+            v, d = read_chunk(chunk_dir / spec["name"], spec)  # checked again: never adopted
+            rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
+            values[rows, :, :, spec["sigma_index"]] = v
+            kdiff[rows, :, :, spec["sigma_index"]] = d
+        table = GroundTruth(
+            axes["theta_i"],
+            axes["theta_r"],
+            axes["delta_phi"],
+            axes["sigma"],
+            values,
+            kdiff,
+            float(albedo),
+            bounces,
+            settings,
+        )
+        table.save(path)
+        shutil.rmtree(chunk_dir, ignore_errors=True)
     return table
 
 
-def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any]) -> None:
+def _digest(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _finished_table(
+    path: Path,
+    axes: dict[str, np.ndarray],
+    albedo: float,
+    bounces: Bounces,
+    settings: Settings,
+    force: bool,
+) -> GroundTruth | None:
+    """The finished table at ``path`` if it has these settings; None if it is to be replaced."""
+    try:
+        old = load_table(path)
+    except ValueError as exc:
+        if force:
+            return None
+        raise ValueError(
+            f"table {str(path)!r} exists and is not a readable table ({exc}); "
+            "use --force (force=True) to replace it"
+        ) from None
+    differ = [
+        name
+        for name, same in (
+            ("albedo", old.albedo == albedo),
+            ("bounces", old.bounces == bounces),
+            ("settings", old.settings == settings),
+            *((k, np.array_equal(getattr(old, k), v)) for k, v in axes.items()),
+        )
+        if not same
+    ]
+    if force:
+        return None
+    if differ:
+        raise ValueError(
+            f"table {str(path)!r} already holds a finished table with another "
+            f"{', '.join(differ)}; use --force (force=True) to replace it"
+        )
+    old.meta["reused"] = True
+    return old
+
+
+def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any], force: bool) -> None:
     mpath = chunk_dir / "manifest.json"
     if mpath.exists():
         try:
             old = json.loads(mpath.read_text())
-        except (OSError, json.JSONDecodeError):
+        except (OSError, json.JSONDecodeError, UnicodeDecodeError):
             old = None
-        if old != json.loads(json.dumps(manifest)):
+        if isinstance(old, dict) and old.get("key") == manifest["key"]:
+            return
+        if not force:
             raise ValueError(
                 f"{chunk_dir} holds chunks computed with other settings or grids; refusing to "
-                "mix them (delete that folder to start again)"
+                "mix them (use --force (force=True) to discard them, or delete that folder)"
             )
-        return
-    chunk_dir.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=chunk_dir, suffix=".tmp")
-    with os.fdopen(fd, "w") as fh:
-        json.dump(manifest, fh, indent=1)
-    os.replace(tmp, mpath)
+        shutil.rmtree(chunk_dir)
+    chunk_dir.mkdir(exist_ok=True)
+    # Chunks found without a manifest (e.g. left by a crashed run) are each checked against
+    # their own identity record before use, so writing the manifest now adopts none of them.
+    write_text(mpath, json.dumps(manifest, indent=1))
 
 
-def _chunk_ok(p: Path) -> bool:
-    if not p.exists():
-        return False
+def _chunk_checksum(values: np.ndarray, kdiff: np.ndarray) -> str:
+    return _digest(
+        np.ascontiguousarray(values, "<f8").tobytes() + np.ascontiguousarray(kdiff, "<f8").tobytes()
+    )
+
+
+def _chunk_identity(spec: dict[str, Any]) -> dict[str, Any]:
+    return {
+        "key": spec["key"],
+        "sigma_index": spec["sigma_index"],
+        "sigma": spec["sigma"],
+        "row": spec["row"],
+        "rows": len(spec["theta_i"]),
+    }
+
+
+def read_chunk(path: Path, spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    """The values and K differences of a finished chunk, checked against ``spec``.
+
+    A chunk records its identity (the digest of the table's settings and grid, its σ index
+    and its θi rows) and a SHA-256 checksum of its values.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, if it cannot be read (a flipped bit: bad CRC), records another
+        table or another slice of the grid, has the wrong shape, fails its checksum, or
+        holds non-finite values.
+    """
     try:
-        with np.load(p) as z:
-            return "values" in z.files and "k_difference" in z.files
-    except (OSError, ValueError, zipfile.BadZipFile):
-        p.unlink(missing_ok=True)  # a corrupt chunk is recomputed
-        return False
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            values = np.asarray(z["values"], dtype=np.float64)
+            kdiff = np.asarray(z["k_difference"], dtype=np.float64)
+    except KeyError as exc:
+        raise ValueError(f"chunk {path}: no {exc} record (not written by this version)") from None
+    except (
+        OSError,
+        ValueError,
+        EOFError,
+        zipfile.BadZipFile,
+        zlib.error,
+        json.JSONDecodeError,
+    ) as exc:
+        raise ValueError(f"chunk {path} is unreadable ({exc})") from None
+    want = _chunk_identity(spec)
+    got = {k: meta.get(k) for k in want} if isinstance(meta, dict) else {}
+    if got.get("key") != want["key"]:
+        raise ValueError(f"chunk {path} belongs to a table with other settings or grid")
+    if got != want:
+        raise ValueError(
+            f"chunk {path} holds another slice of the grid "
+            f"(σ index {got.get('sigma_index')}, rows from {got.get('row')})"
+        )
+    shape = (len(spec["theta_i"]), len(spec["theta_r"]), len(spec["delta_phi"]))
+    if values.shape != shape or kdiff.shape != shape:
+        raise ValueError(f"chunk {path} has shape {values.shape}, expected {shape}")
+    if meta.get("sha256") != _chunk_checksum(values, kdiff):
+        raise ValueError(f"chunk {path} fails its checksum")
+    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(kdiff))):
+        raise ValueError(f"chunk {path} holds non-finite values")
+    return values, kdiff
 
 
 def _write_chunk(chunk_dir: Path, spec: dict[str, Any], result) -> None:
-    values, kdiff = result
-    _atomic_savez(chunk_dir / spec["name"], values=values, k_difference=kdiff)
+    values, kdiff = (np.asarray(a, dtype=np.float64) for a in result)
+    meta = {**_chunk_identity(spec), "sha256": _chunk_checksum(values, kdiff)}
+    with atomic_open(chunk_dir / spec["name"], "wb") as fh:
+        np.savez(fh, values=values, k_difference=kdiff, meta=np.array(json.dumps(meta)))
+
+
+class _TableLock:
+    """An exclusive ``fcntl.flock`` on ``FILE.lock`` for the duration of a run.
+
+    The lock file records the process id and host of its holder, which a refused run names.
+    The kernel releases the lock when its holder dies, however it dies, so a lock file left
+    by a killed run does not block the next one.
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = path.with_name(path.name + ".lock")
+        self.fd: int | None = None
+
+    def __enter__(self) -> _TableLock:
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - not POSIX: no lock
+            return self
+        while True:
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.read(fd, 200).decode("utf-8", "replace").strip() or "unknown"
+                os.close(fd)
+                raise TableBusyError(
+                    f"table {str(self.path)[: -len('.lock')]!r} is being computed by another "
+                    f"run (process {holder}, lock file {self.path}); wait for it to finish"
+                ) from None
+            # The holder before us may have removed the file after we opened it: lock the
+            # file that is at the path now.
+            try:
+                same = os.fstat(fd).st_ino == os.stat(self.path).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                break
+            os.close(fd)
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()} on {socket.gethostname()}\n".encode())
+        self.fd = fd
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.fd is not None:
+            self.path.unlink(missing_ok=True)
+            os.close(self.fd)
+            self.fd = None
 
 
 def _run_chunks(todo, chunk_dir: Path, workers: int, scheduler, progress: bool, total: int) -> None:

@@ -1,10 +1,11 @@
 """Time fitting (ρ, σ) to a one-megapixel image (the issue's target: under 2 seconds), against
 a plain SciPy baseline timed in the same run.
 
-``bench/run.py`` runs :func:`bench_fit` and puts its rows in ``bench/RESULTS.md``; on its own::
+``roughdiffuse bench`` (:mod:`roughdiffuse.bench.run`) runs :func:`bench_fit` and puts its rows
+in ``RESULTS.md``; on its own::
 
-    python bench/fit_bench.py                   # 3 cases, 5 warm runs each; prints the table
-    python bench/fit_bench.py --size 200 --repeat 1 --json /tmp/fit.json
+    python -m roughdiffuse.bench.fit_bench      # 3 cases, 5 warm runs each; prints the table
+    python -m roughdiffuse.bench.fit_bench --size 200 --repeat 1 --json /tmp/fit.json
 
 The image: a sphere seen along −z under a light at 30°, 1200 × 1200 pixels, normals from the
 exact formula n = (x, y, √(1 − x² − y²)), radiance from the model's own ``radiance`` with 1%
@@ -35,9 +36,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from timing import interleaved, summary, timed, write_atomic  # noqa: E402
+from .timing import interleaved, summary, timed, write_atomic
 
 TARGET_S = 2.0
 SIZE = 1200

@@ -1,11 +1,11 @@
 """Speed of the V-cavity solver (roughdiffuse.simulate): cavities per second, table times.
 
-``bench/run.py`` runs this file in a subprocess (BLAS must be single-threaded, see below) and
-puts its rows in ``bench/RESULTS.md``; on its own::
+``roughdiffuse bench`` (:mod:`roughdiffuse.bench.run`) runs this module in a subprocess (BLAS
+must be single-threaded, see below) and puts its rows in ``RESULTS.md``; on its own::
 
-    python bench/simulate_bench.py                          # prints the table
-    python bench/simulate_bench.py --cavities 2000 --geometries 2 --json /tmp/sim.json
-    python bench/simulate_bench.py --cases "closed form,bounces=1"   # only those cases
+    python -m roughdiffuse.bench.simulate_bench                    # prints the table
+    python -m roughdiffuse.bench.simulate_bench --cavities 2000 --geometries 2 --json /tmp/s.json
+    python -m roughdiffuse.bench.simulate_bench --cases "closed form,bounces=1"  # those cases
 
 Measured, each with the NumPy solver path (the baseline) and, next to it, the same call with
 ``jax.numpy`` arrays (the solver's JAX path, jitted; timed after a warm-up call, float64),
@@ -28,15 +28,16 @@ available" with the reason. BLAS runs single-threaded here (set before NumPy is 
 solver's matrices are small (2K ≤ 256), and two BLAS threads per process on 2 shared cores ran
 it 3× slower. Run as a script, this file sets ``OPENBLAS_NUM_THREADS=1`` and
 ``OMP_NUM_THREADS=1`` (unless set); imported, it changes nothing, so call :func:`bench_simulate`
-in a process started with them (as ``bench/run.py`` does). Dask workers (``--workers``) get one
-BLAS thread each by default; for a single process, set ``OPENBLAS_NUM_THREADS=1`` yourself.
+in a process started with them (as :mod:`roughdiffuse.bench.run` does). Dask workers
+(``--workers``) get one BLAS thread each by default; for a single process, set
+``OPENBLAS_NUM_THREADS=1`` yourself.
 """
 
 from __future__ import annotations
 
 import os
 
-if __name__ == "__main__":  # before NumPy is imported; bench/run.py sets them for its subprocess
+if __name__ == "__main__":  # before NumPy is imported; run.py sets them for its subprocess
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
 
@@ -50,9 +51,7 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from timing import block, interleaved, rate_summary, rel_error  # noqa: E402
+from .timing import block, interleaved, rate_summary, rel_error  # noqa: E402
 
 TABLE_SIZE = 90 * 90 * 180
 CORES = 2

@@ -9,7 +9,6 @@ variants measured in one run are what the reports quote.
 
 from __future__ import annotations
 
-import os
 import statistics
 import time
 from collections.abc import Callable, Collection, Iterable, Mapping
@@ -114,11 +113,10 @@ def timed(fn: Callable[[], Any]) -> tuple[Any, float]:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename (no half-written file)."""
-    path = Path(path)
-    tmp = path.with_name(path.name + f".{os.getpid()}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    """Write ``text`` to ``path`` whole or not at all (:func:`roughdiffuse.io.write_text`)."""
+    from roughdiffuse.io import write_text
+
+    write_text(path, text)
 
 
 def rel_error(a: Any, ref: Any) -> float:

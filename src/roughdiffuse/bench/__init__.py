@@ -1,0 +1,8 @@
+"""The benchmark suite: every model's fast path and default call against C and NumPy, the
+renderer, the fit, the V-cavity solver and start-up times, each against a baseline timed in
+the same run.
+
+Run it as ``roughdiffuse bench``, ``python -m roughdiffuse.bench`` or, from a checkout,
+``python bench/run.py`` (which writes ``bench/RESULTS.md``). See :mod:`.run` for the parts and
+options; the C reference, ``c/kernels.c``, ships with the package.
+"""
