@@ -32,6 +32,7 @@ from .models import (
     Mix,
     Model,
     OrenNayar,
+    SmithDiffuse,
     TorranceSparrow,
     oren_nayar,
 )
@@ -89,6 +90,7 @@ __all__ = [
     "Model",
     "OrenNayar",
     "Param",
+    "SmithDiffuse",
     "TorranceSparrow",
     "__version__",
     "fastpath_enabled",

@@ -242,6 +242,7 @@ def _register_builtins() -> None:
         Minnaert,
         Mix,
         OrenNayar,
+        SmithDiffuse,
         TorranceSparrow,
     )
 
@@ -263,6 +264,8 @@ def _register_builtins() -> None:
         LambertSphere,
         Hapke,
         Minnaert,
+        # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
+        SmithDiffuse,
     )
     for cls in builtins:
         register_model(cls, source="roughdiffuse")

@@ -14,6 +14,7 @@ from .lunar import LommelSeeliger, LunarLambert
 from .minnaert import Minnaert
 from .mix import Mix
 from .oren_nayar import OrenNayar, oren_nayar
+from .smith_diffuse import SmithDiffuse
 from .torrance_sparrow import TorranceSparrow, fresnel_dielectric, slope_distribution
 
 __all__ = [
@@ -36,6 +37,7 @@ __all__ = [
     "Model",
     "OrenNayar",
     "Param",
+    "SmithDiffuse",
     "TorranceSparrow",
     "fon_albedo",
     "fon_average_albedo",
