@@ -13,6 +13,7 @@ COMMANDS: list[str] = [
     "fit",
     "albedo",
     "simulate",
+    "stereo",
     "bench",
 ]
 
