@@ -1,6 +1,7 @@
 """Reflectance models: one module per family, one interface (see :mod:`.base`)."""
 
-from .base import MODEL_CLASSES, BSDFSample, Model
+from .base import MODEL_CLASSES, BSDFSample, Model, register_pytree
+from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
 from .lambert import Lambert
@@ -20,10 +21,12 @@ __all__ = [
     "Mix",
     "Model",
     "OrenNayar",
+    "Param",
     "TorranceSparrow",
     "fon_albedo",
     "fon_average_albedo",
     "fresnel_dielectric",
     "oren_nayar",
+    "register_pytree",
     "slope_distribution",
 ]
