@@ -246,23 +246,24 @@ def _make_steps(
         theta, n0 = theta.T, n0.T
         r, cols, jg = jacobian(theta, g, n0, l, e, obs, w)
         a = normal_matrix(cols)
-        a = [[a[i][j] * (1.0 + 1e-9 if i == j else 1.0) for j in range(nu)] for i in range(nu)]
-        gu = [jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)]
+        # A⁻¹ by one batched inverse (called once per outer iteration, so the size of the
+        # compiled program matters more here than the speed of a LAPACK call per pixel)
+        a_mat = jnp.stack([jnp.stack(row, axis=-1) for row in a], axis=-2)  # (P, nu, nu)
+        a_mat = a_mat * (1.0 + 1e-9 * jnp.eye(nu, dtype=a_mat.dtype))
+        a_inv = jnp.linalg.inv(a_mat)
+        gu = jnp.stack([jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)], axis=-1)
         cost = jnp.sum(r * r, axis=(0, 1))
-        unit = [[jnp.full_like(cost, float(i == k)) for k in range(nu)] for i in range(nu)]
-        a_inv_diag = jnp.stack([_cholesky_solve(jnp, a, unit[i])[i] for i in range(nu)])
+        a_inv_diag = jnp.diagonal(a_inv, axis1=-2, axis2=-1)
         if jg is None:
             zero = jnp.zeros_like(cost)
-            return zero, zero, cost, a_inv_diag.T
-        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
-        a_inv_b = _cholesky_solve(jnp, a, b)
-        bab = sum(b[i] * a_inv_b[i] for i in range(nu))
-        bag = sum(gu[i] * a_inv_b[i] for i in range(nu))
+            return zero, zero, cost, a_inv_diag
+        b = jnp.stack([jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)], axis=-1)
+        a_inv_b = jnp.einsum("pij,pj->pi", a_inv, b)
         return (
-            jnp.sum(jg * jg, axis=(0, 1)) - bab,
-            jnp.sum(jg * r, axis=(0, 1)) - bag,
+            jnp.sum(jg * jg, axis=(0, 1)) - jnp.sum(b * a_inv_b, axis=-1),
+            jnp.sum(jg * r, axis=(0, 1)) - jnp.sum(gu * a_inv_b, axis=-1),
             cost,
-            a_inv_diag.T,
+            a_inv_diag,
         )
 
     def cost(theta, g, n0, l, e, obs, w):  # noqa: ANN001, ANN202
