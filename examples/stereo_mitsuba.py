@@ -53,7 +53,7 @@ def main() -> None:
             e_rough = np.nanmean(stereo.angular_error(res.normals, truth))
             print(
                 f"| {shape} | {sigma} | {int(data.mask.sum())} | {e_lam:.2f}° | "
-                f"{e_rough:.2f}° | {res.roughness:.4f} ± {res.roughness_se:.4f} |",
+                f"{e_rough:.2f}° | {res.roughness:.4f} ± {res.roughness_se:.1g} |",
                 flush=True,
             )
 
