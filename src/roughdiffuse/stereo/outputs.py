@@ -71,6 +71,11 @@ def _png_of(image: np.ndarray, kind: str) -> np.ndarray:
     if kind == "normals":
         return np.where(valid[..., None], 0.5 * (np.nan_to_num(image) + 1.0), 0.0)
     v = np.nan_to_num(image)
+    if kind == "albedo":  # albedo is in [0, 1] already: shown as it is
+        return np.clip(v, 0.0, 1.0)
+    if kind == "depth":  # nearest white, farthest black
+        lo = np.min(v[valid]) if valid.any() else 0.0
+        v = np.where(valid, v - lo, 0.0)
     top = np.percentile(v[valid], 99) if valid.any() else 1.0
     return np.clip(v / (top if top > 0 else 1.0), 0.0, 1.0)
 
@@ -121,6 +126,7 @@ def write_outputs(
         lin = _png_of(image, key)
         write_png(out / f"{key}.png", lin, exposure=0.0, mask=m.astype(np.float64))
         shown[key] = (out / f"{key}.png").read_bytes()
+    shown["depth"] = _encode_png(_png_of(depth, "depth"), m & np.isfinite(depth))
     shown["lambertian normals"] = _encode_png(_png_of(lmaps["normals"], "normals"), m)
     shown["lambertian residual"] = _encode_png(_png_of(lmaps["residual"], "residual"), m)
     rough_val = rough.roughness
