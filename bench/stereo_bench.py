@@ -24,6 +24,7 @@ import numpy as np
 
 import roughdiffuse as rd
 from roughdiffuse import stereo
+from roughdiffuse.io.atomic import write_text
 from roughdiffuse.render import Sphere
 
 HERE = Path(__file__).resolve().parent
@@ -112,9 +113,7 @@ def main() -> None:
         if pattern.search(old)
         else old.rstrip("\n") + "\n\n" + text
     )
-    tmp = path.with_suffix(".md.tmp")
-    tmp.write_text(new, encoding="utf-8")
-    os.replace(tmp, path)
+    write_text(path, new)
 
 
 if __name__ == "__main__":

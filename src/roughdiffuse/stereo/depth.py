@@ -137,7 +137,7 @@ def write_ply(path: str | os.PathLike[str], depth: np.ndarray) -> None:
     """Write a depth map as a binary PLY mesh: a vertex per object pixel (x, y, z in pixel
     units, x right, y up), two triangles per 2 × 2 block of object pixels. Written whole or
     not at all."""
-    from ..render.imagefile import atomic_write
+    from ..io.atomic import write_bytes
 
     z = np.asarray(depth, dtype=np.float64)
     m = np.isfinite(z)
@@ -162,10 +162,4 @@ def write_ply(path: str | os.PathLike[str], depth: np.ndarray) -> None:
     face_rec["n"] = 3
     face_rec["v"] = faces
 
-    def write(tmp: Any) -> None:
-        with open(tmp, "wb") as f:
-            f.write(header)
-            f.write(verts.tobytes())
-            f.write(face_rec.tobytes())
-
-    atomic_write(path, write)
+    write_bytes(path, header + verts.tobytes() + face_rec.tobytes())

@@ -1,7 +1,7 @@
 """Writing a photometric-stereo result: arrays, images, a mesh, parameters and a report.
 
 Every file is written whole or not at all (the image writers of
-:mod:`roughdiffuse.render.imagefile`). The folder holds:
+:mod:`roughdiffuse.io`). The folder holds:
 
 ``normals.npy``      (H, W, 3) unit normals, camera frame, NaN outside the mask
 ``albedo.npy``       (H, W) or (H, W, 3), NaN outside the mask
@@ -83,7 +83,7 @@ def _png_of(image: np.ndarray, kind: str) -> np.ndarray:
 def _encode_png(linear: np.ndarray, mask: np.ndarray) -> bytes:
     import tempfile
 
-    from ..render.imagefile import write_png
+    from ..io.images import write_png
 
     with tempfile.TemporaryDirectory() as d:
         p = Path(d) / "x.png"
@@ -103,7 +103,8 @@ def write_outputs(
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Write every output file into ``folder`` (which must exist); return the parameters."""
-    from ..render.imagefile import atomic_write, write_exr, write_npy, write_png
+    from ..io.atomic import write_text
+    from ..io.images import write_exr, write_npy, write_png
     from .depth import write_ply
     from .synthetic import angular_error
 
@@ -162,9 +163,9 @@ def write_outputs(
         params["lambertian"]["angular_error_deg"] = _stats(angular_error(lambert.normals, t))
     params.update(extra or {})
     text = json.dumps(params, indent=2, allow_nan=True)
-    atomic_write(out / "params.json", lambda tmp: tmp.write_text(text + "\n"))
+    write_text(out / "params.json", text + "\n")
     page = _report_html(params, shown)
-    atomic_write(out / "report.html", lambda tmp: tmp.write_text(page, encoding="utf-8"))
+    write_text(out / "report.html", page)
     return params
 
 
