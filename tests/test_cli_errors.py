@@ -318,3 +318,12 @@ def test_console_script_prints_no_traceback(tmp_path):
     assert out.returncode == 2
     assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
     assert "is not a folder" in out.stderr
+
+
+@pytest.mark.parametrize(
+    ("opts", "name"),
+    [(["--spp", "3"], "--spp"), (["--size", "0"], "--size"), (["--size", "9000x8"], "--size")],
+)
+def test_render_names_its_size_options(capsys, tmp_path, opts, name):
+    one_line_error(capsys, ["render", *opts, "-o", str(tmp_path / "x.png")], name)
+    assert not (tmp_path / "x.png").exists()

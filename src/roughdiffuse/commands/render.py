@@ -121,10 +121,14 @@ def check_output(path: str, suffixes: tuple[str, ...], force: bool) -> Path:
 
 def check_render_memory(args: argparse.Namespace, channels: int = 1, images: int = 1) -> None:
     """Refuse a --size/--spp whose rays cannot fit in memory (:data:`BYTES_PER_SAMPLE`)."""
+    from ..render.renderer import MAX_SIZE
+
     size = args.size
     h, w = (size, size) if isinstance(size, int) else size
-    if h < 1 or w < 1 or args.spp < 1:
-        return  # the renderer names the bad value
+    if not (1 <= h <= MAX_SIZE and 1 <= w <= MAX_SIZE):
+        raise UsageError(f"--size must be N or WxH with sides in [1, {MAX_SIZE}] (got {w}x{h})")
+    if not (1 <= args.spp <= 256 and math.isqrt(args.spp) ** 2 == args.spp):
+        raise UsageError(f"--spp must be a square number in [1, 256]: 1, 4, 9, … (got {args.spp})")
     per_sample = BYTES_PER_SAMPLE + 4 * channels
     fits_in_memory(
         float(h) * w * args.spp * per_sample * images,
