@@ -327,3 +327,24 @@ def test_console_script_prints_no_traceback(tmp_path):
 def test_render_names_its_size_options(capsys, tmp_path, opts, name):
     one_line_error(capsys, ["render", *opts, "-o", str(tmp_path / "x.png")], name)
     assert not (tmp_path / "x.png").exists()
+
+
+def test_output_into_a_closed_pipe_stops_quietly():
+    """`roughdiffuse models | head -1`: no error message, the status of SIGPIPE (128 + 13)."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader is gone before anything is written
+    try:
+        out = subprocess.run(
+            [sys.executable, "-m", "roughdiffuse", "models"],
+            stdout=write_end,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+        )
+    finally:
+        os.close(write_end)
+    assert out.returncode == 141 and out.stderr == ""

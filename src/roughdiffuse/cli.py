@@ -141,6 +141,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError as exc:
+        if exc.filename is not None:
+            return report_error(exc, prog, debug)
+        # whoever read the output went away (`roughdiffuse models | head -1`): stop quietly,
+        # with the status of a process killed by SIGPIPE, and no flush error at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + 13
     except Exception as exc:  # noqa: BLE001 - sorted into user errors and bugs
         return report_error(exc, prog, debug)
 
