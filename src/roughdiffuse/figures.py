@@ -53,7 +53,7 @@ from .render import (
     render,
 )
 
-__all__ = ["FIGURES", "Figure", "make_figures"]
+__all__ = ["FIGURES", "Figure", "figure_matches", "make_figures"]
 
 SIZE = 200
 """Pixels across a rendered object in the figures."""
@@ -511,6 +511,14 @@ def _write_index(folder: Path) -> Path:
     return atomic_write(folder / "index.html", lambda tmp: tmp.write_text(page, "utf-8"))
 
 
+def figure_matches(name: str, key: str) -> bool:
+    """Whether ``--only`` ``key`` names the figure ``name``: a number is the figure's number
+    (``1`` is ``1-lambert-sphere``, not ``10-…``), other text a prefix of the name."""
+    if key.isdigit():
+        return name.split("-", 1)[0] == key
+    return name.startswith(key)
+
+
 def make_figures(
     folder: str | os.PathLike[str] = "figures",
     force: bool = False,
@@ -542,7 +550,7 @@ def make_figures(
     if not folder.parent.is_dir():
         raise ValueError(f"parent folder {str(folder.parent)!r} does not exist")
     folder.mkdir(exist_ok=True)
-    chosen = [f for f in FIGURES if not only or any(f.name.startswith(o) for o in only)]
+    chosen = [f for f in FIGURES if not only or any(figure_matches(f.name, o) for o in only)]
     if only and not chosen:
         raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
     out = []
