@@ -89,3 +89,13 @@ def test_heightfield_close_to_smith(mitsuba):
     for b, (f, se) in got.items():
         ref, ref_se = smith.brdf(ti, tr, dp, alpha, rho, b, samples=20_000, return_stderr=True)
         assert abs(f - ref) < Z * math.hypot(se, float(ref_se)) + 0.015 * ref, (b, f, se, ref)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [(dict(n=4), "n must"), (dict(tiles=2), "tiles"), (dict(realisations=1), "realisations"),
+     (dict(cells_per_length=0.5), "cells_per_length")],
+)
+def test_bad_settings(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        hf.HeightfieldSettings(**kwargs)

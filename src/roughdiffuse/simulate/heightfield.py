@@ -172,6 +172,15 @@ class HeightfieldSettings:
     spp: int = 16
     realisations: int = 4
 
+    def __post_init__(self) -> None:
+        for name, lo in (("n", 8), ("tiles", 1), ("res", 1), ("spp", 1), ("realisations", 2)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
+                raise ValueError(f"{name} must be an integer >= {lo} (got {v!r})")
+        if self.tiles % 2 == 0:
+            raise ValueError(f"tiles must be odd (got {self.tiles})")
+        check_range("cells_per_length", self.cells_per_length, 1.0, 64.0)
+
 
 def _rotation_frame(theta_i, theta_r, delta_phi):
     """ωi, ωo with ωo in the x–z plane (the camera's frame; the surface is isotropic)."""
