@@ -268,8 +268,8 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
         ax.set_xticks([])
         ax.set_yticks([])
     fig.suptitle(
-        f"Gaussian heightfield, α = {alpha}, 16 ℓ × 16 ℓ, ρ = {ALBEDO}; light at θi = 70° "
-        "(azimuth along the image's horizontal axis), viewed from above"
+        f"Gaussian heightfield, α = {alpha}, 16 ℓ × 16 ℓ, ρ = {ALBEDO}, viewed from above;\n"
+        "light at θi = 70°, its azimuth along the image's horizontal axis"
     )
     fig.tight_layout()
     fig.savefig(out / "heightfield.png", dpi=100)
