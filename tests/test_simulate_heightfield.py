@@ -58,7 +58,7 @@ def test_ply_written_whole(tmp_path):
     path = hf.write_ply(tmp_path / "t.ply", verts, np.array([[0, 1, 2]]))
     data = path.read_bytes()
     assert data.startswith(b"ply\n") and len(data.split(b"end_header\n")[1]) == 36 + 13
-    assert not list(tmp_path.glob("*.part"))
+    assert [p.name for p in tmp_path.iterdir()] == ["t.ply"]  # no temporary left
 
 
 @pytest.fixture(scope="module")
