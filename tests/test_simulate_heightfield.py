@@ -58,7 +58,7 @@ def test_ply_written_whole(tmp_path):
     path = hf.write_ply(tmp_path / "t.ply", verts, np.array([[0, 1, 2]]))
     data = path.read_bytes()
     assert data.startswith(b"ply\n") and len(data.split(b"end_header\n")[1]) == 36 + 13
-    assert not list(tmp_path.glob("*.part"))
+    assert [p.name for p in tmp_path.iterdir()] == ["t.ply"]  # no temporary left
 
 
 @pytest.fixture(scope="module")
@@ -89,3 +89,13 @@ def test_heightfield_close_to_smith(mitsuba):
     for b, (f, se) in got.items():
         ref, ref_se = smith.brdf(ti, tr, dp, alpha, rho, b, samples=20_000, return_stderr=True)
         assert abs(f - ref) < Z * math.hypot(se, float(ref_se)) + 0.015 * ref, (b, f, se, ref)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [(dict(n=4), "n must"), (dict(tiles=2), "tiles"), (dict(realisations=1), "realisations"),
+     (dict(cells_per_length=0.5), "cells_per_length")],
+)
+def test_bad_settings(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        hf.HeightfieldSettings(**kwargs)

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import check_range
+from ..io import write_bytes
 from .cavity import Bounces, check_bounces
 
 __all__ = [
@@ -126,8 +127,8 @@ def heightfield_mesh(h: np.ndarray, spacing: float, tiles: int = 3):
 
 
 def write_ply(path: str | os.PathLike, verts: np.ndarray, faces: np.ndarray) -> Path:
-    """Write a binary little-endian PLY (float32 positions, int32 triangles), whole or not."""
-    path = Path(path)
+    """Write a binary little-endian PLY (float32 positions, int32 triangles), whole or not
+    (:func:`roughdiffuse.io.write_bytes`)."""
     header = (
         "ply\nformat binary_little_endian 1.0\n"
         f"element vertex {len(verts)}\n"
@@ -137,13 +138,9 @@ def write_ply(path: str | os.PathLike, verts: np.ndarray, faces: np.ndarray) -> 
     face_rec = np.empty(len(faces), dtype=[("n", "u1"), ("v", "<i4", (3,))])
     face_rec["n"] = 3
     face_rec["v"] = faces
-    tmp = path.with_name(path.name + ".part")
-    with open(tmp, "wb") as fh:
-        fh.write(header)
-        fh.write(np.ascontiguousarray(verts, dtype="<f4").tobytes())
-        fh.write(face_rec.tobytes())
-    os.replace(tmp, path)
-    return path
+    return write_bytes(
+        path, header + np.ascontiguousarray(verts, dtype="<f4").tobytes() + face_rec.tobytes()
+    )
 
 
 @dataclass(frozen=True)
@@ -171,6 +168,15 @@ class HeightfieldSettings:
     res: int = 128
     spp: int = 16
     realisations: int = 4
+
+    def __post_init__(self) -> None:
+        for name, lo in (("n", 8), ("tiles", 1), ("res", 1), ("spp", 1), ("realisations", 2)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
+                raise ValueError(f"{name} must be an integer >= {lo} (got {v!r})")
+        if self.tiles % 2 == 0:
+            raise ValueError(f"tiles must be odd (got {self.tiles})")
+        check_range("cells_per_length", self.cells_per_length, 1.0, 64.0)
 
 
 def _rotation_frame(theta_i, theta_r, delta_phi):
@@ -330,10 +336,8 @@ def heightfield_brdf(
 
 
 def _save_png(path: Path, img: np.ndarray) -> None:
-    """An 8-bit grey PNG of ``img`` scaled to its 99.5th percentile (for looking at)."""
-    from PIL import Image
+    """An sRGB PNG of the linear image (:func:`roughdiffuse.io.images.write_png`, atomic)."""
+    from ..io.images import write_png
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    top = float(np.percentile(img, 99.5)) or 1.0
-    v = np.clip(img / top, 0.0, 1.0) ** (1 / 2.2)
-    Image.fromarray((255 * v + 0.5).astype(np.uint8)).save(path)
+    write_png(path, img)

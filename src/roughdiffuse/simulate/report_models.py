@@ -94,11 +94,13 @@ def _rms_and_max(entry, param, value, rho, cosines, truth):
     return float(np.sqrt(np.mean(e * e))), float(np.max(np.abs(e)))
 
 
-def _best(entry, param, rho, cosines, truth):
+def _best(entry, param, rho, cosines, truth, quick=False):
     lo, hi = float(param.min), float(param.max)
-    xs = np.linspace(lo, hi, 41)
+    xs = np.linspace(lo, hi, 11 if quick else 41)
     rms = [_rms_and_max(entry, param, x, rho, cosines, truth)[0] for x in xs]
     k = int(np.argmin(rms))
+    if quick:  # the scan only
+        return float(xs[k]), *_rms_and_max(entry, param, xs[k], rho, cosines, truth)
     a, b = xs[max(k - 1, 0)], xs[min(k + 1, len(xs) - 1)]
     res = optimize.minimize_scalar(
         lambda x: _rms_and_max(entry, param, x, rho, cosines, truth)[0],
@@ -158,7 +160,7 @@ def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
                         rms, mx = _rms_and_max(entry, None, None, rho, cosines, values)
                         cells.append(f"{rms:.3f} (max {mx:.2f})")
                     else:
-                        x, rms, mx = _best(entry, param, rho, cosines, values)
+                        x, rms, mx = _best(entry, param, rho, cosines, values, quick)
                         cells.append(f"{rms:.3f} (max {mx:.2f}) [{x:.2f}]")
                     rms_all.append(rms)
                     pname = PUBLISHED.get((entry.id, truth))

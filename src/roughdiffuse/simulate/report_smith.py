@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 from scipy import integrate, optimize
 
+from ..io import atomic_write
 from . import smith
 from .surface import SIGMA_MAX, Settings
 from .surface import brdf as cavity_brdf
@@ -268,9 +269,9 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
         ax.set_xticks([])
         ax.set_yticks([])
     fig.suptitle(
-        f"Gaussian heightfield, α = {alpha}, 16 ℓ × 16 ℓ, ρ = {ALBEDO}; light at θi = 70° "
-        "(azimuth along the image's horizontal axis), viewed from above"
+        f"Gaussian heightfield, α = {alpha}, 16 ℓ × 16 ℓ, ρ = {ALBEDO}, viewed from above;\n"
+        "light at θi = 70°, its azimuth along the image's horizontal axis"
     )
     fig.tight_layout()
-    fig.savefig(out / "heightfield.png", dpi=100)
+    atomic_write(out / "heightfield.png", lambda tmp: fig.savefig(tmp, dpi=100, format="png"))
     plt.close(fig)
