@@ -60,12 +60,16 @@ from .cavity import (
     elements_for_slope,
     extrapolated,
     radiosity_operator,
+    response_table,
     slope_function,
+    tabulated_interreflected,
 )
 
 __all__ = [
     "MEASURES",
+    "METHODS",
     "Measure",
+    "Method",
     "Settings",
     "brdf",
     "quadrature_convergence",
@@ -74,6 +78,8 @@ __all__ = [
 
 Measure = Literal["angle", "solid-angle"]
 MEASURES: tuple[str, ...] = ("angle", "solid-angle")
+Method = Literal["tabulated", "reference"]
+METHODS: tuple[str, ...] = ("tabulated", "reference")
 
 THETA_GRAZING = math.pi / 2 - 1e-7
 """θi and θr are clamped to this: f at exactly 90° is the (finite) limit, not 0/0."""
@@ -98,6 +104,15 @@ class Settings:
     n_theta, n_phi, n_theta_inter : int
         Gauss–Legendre points per θa piece (one bounce), per φa piece, and on [0, θmax] for
         the interreflected part.
+    method : {"tabulated", "reference"}
+        How each cavity's interreflected part is evaluated. "reference": the element
+        radiosity solved per cavity (segment factors by crossed strings, the operator
+        product, the seen weights: :class:`~roughdiffuse.simulate.cavity.InterreflectionSolver`).
+        "tabulated" (default): the same element solution, tabulated once per slope node as
+        a function of the lit and visible fractions
+        (:class:`~roughdiffuse.simulate.cavity.ResponseTable`: exact in the visible fraction,
+        cubic in the lit one); it agrees with "reference" to about 1e-7 of f
+        (tests/test_simulate_surface.py, bench/RESULTS.md) and is some 20× faster.
     """
 
     measure: Measure = "solid-angle"
@@ -106,10 +121,13 @@ class Settings:
     n_theta: int = 16
     n_phi: int = 16
     n_theta_inter: int = 32
+    method: Method = "tabulated"
 
     def __post_init__(self) -> None:
         if self.measure not in MEASURES:
             raise ValueError(f"measure must be one of {MEASURES} (got {self.measure!r})")
+        if self.method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS} (got {self.method!r})")
         check_elements(self.elements)
         for name in ("n_theta", "n_phi", "n_theta_inter"):
             val = getattr(self, name)
@@ -209,14 +227,16 @@ def _single_bounce(xp: Any, ti, tr, dphi, sigma, albedo, s: Settings) -> Array:
     return xp.sum(inner * wth, axis=-1) / norm / xp.cos(ti)
 
 
-@functools.lru_cache(maxsize=16)
+@functools.lru_cache(maxsize=4)
 def _slope_nodes(sigma: float, albedo: float, bounces: Bounces, s: Settings):
     """θa nodes of the interreflected part, grouped by element count, with their operators.
 
     Returns ``[(edges, nodes, weights, operators), ...]``, one entry per element count
     (:func:`elements_for_slope`): the element edges of each level (K and 2K), the nodes and
-    normalised weights of the group, and per node and level the radiosity operator (None,
-    the identity, for N <= 2 bounces). Cached: every chunk of a table uses the same ones.
+    normalised weights of the group, and per node either (method "reference") per level the
+    radiosity operator (None, the identity, for N <= 2 bounces) or (method "tabulated") its
+    :class:`~roughdiffuse.simulate.cavity.ResponseTable`. Cached: every chunk of a table
+    uses the same ones (a few tens of MB for the tables of one σ).
     """
     theta_max = min(SIGMA_MAX, 10.0 * sigma)
     t, w = _gauss(s.n_theta_inter)
@@ -228,21 +248,75 @@ def _slope_nodes(sigma: float, albedo: float, bounces: Bounces, s: Settings):
     out = []
     for k, members in groups.items():
         edges = [element_edges(n) for n in ((k, 2 * k) if s.extrapolate else (k,))]
-        ops = [[radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members]
+        if s.method == "tabulated":
+            ops = [
+                response_table(ta, albedo, bounces, s.elements, s.extrapolate)
+                for ta, _ in members
+            ]
+        else:
+            ops = [
+                [radiosity_operator(ta, albedo, bounces, e) for e in edges] for ta, _ in members
+            ]
         out.append((edges, [m[0] for m in members], [m[1] for m in members], ops))
     return out
 
 
-def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
+def _table_arrays(tables, xp: Any):
+    """Cell counts and per-node arrays of a group's response tables (stacked for JAX)."""
+    first = tables[0]
+    names = ("opposite", "same", "opposite_difference", "same_difference")
+    if is_jax(xp) and len(tables) > 1:
+        arrays = tuple(
+            None
+            if getattr(first, n) is None
+            else _const(xp, np.stack([getattr(t, n) for t in tables]))
+            for n in names
+        )
+    else:
+        arrays = [tuple(getattr(t, n) for n in names) for t in tables]
+    return first.cells, first.nodes, arrays
+
+
+def _interreflected(
+    xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings, difference: bool = True
+):
     """Bounces 2..N of the surface BRDF and the change from K to 2K elements.
 
     Within a group of :func:`_slope_nodes` every node runs the same code with its own slope,
-    weight and radiosity operators: a Python loop, or under JAX one ``lax.scan`` (compiled
-    once per group, not per node).
+    weight and radiosity operators (or response table): a Python loop, or under JAX one
+    ``lax.scan`` (compiled once per group, not per node). Without ``difference`` the
+    tabulated method skips the K-to-2K change (returned as zeros).
     """
     l, v = _directions(xp, ti[:, None], tr[:, None], dphi[:, None])
     out = diff = xp.zeros_like(ti)
     for edges, nodes, weights, ops in _slope_nodes(sigma, albedo, bounces, s):
+        if s.method == "tabulated":
+            cells, count, arrays = _table_arrays(ops, xp)
+
+            def term(ta, wa, arrays, cells=cells, count=count):
+                ph, wph = _pieces(xp, _phi_edges(xp, ta, ti, tr, dphi), s.n_phi)
+                facets = _Facets(ta, xp.cos(ph), xp.sin(ph), l, v, albedo, xp, single=False)
+                arrays = tuple(_const(xp, a) if isinstance(a, np.ndarray) else a for a in arrays)
+                val, dk = tabulated_interreflected(facets, (cells, count, arrays), difference)
+                f = wa / math.pi * xp.sum(val * wph, axis=-1)
+                if dk is None:
+                    return f, xp.zeros_like(f)
+                return f, wa / math.pi * xp.sum(dk * wph, axis=-1)
+
+            if is_jax(xp) and len(nodes) > 1:
+                import jax
+
+                def body(carry, x, term=term):
+                    f, d = term(x[0], x[1], x[2])
+                    return (carry[0] + f, carry[1] + d), None
+
+                xs = (_const(xp, nodes), _const(xp, weights), arrays)
+                (out, diff), _ = jax.lax.scan(body, (out, diff), xs)
+            else:
+                for ta, wa, arr in zip(nodes, weights, arrays, strict=True):
+                    f, d = term(ta, wa, arr)
+                    out, diff = out + f, diff + d
+            continue
 
         def term(ta, wa, ops, edges=edges):
             ops = list(ops) or [None] * len(edges)  # () from lax.scan when there are none
@@ -276,24 +350,26 @@ def _interreflected(xp: Any, ti, tr, dphi, sigma, albedo, bounces, s: Settings):
     return out / xp.cos(ti), diff / xp.cos(ti)
 
 
-def _evaluate(xp: Any, ti, tr, dp, sigma, albedo, bounces, s: Settings):
+def _evaluate(xp: Any, ti, tr, dp, sigma, albedo, bounces, s: Settings, difference=True):
     """f and its K-to-2K change for flat float64 arrays of (clamped) geometries."""
     if sigma == 0.0:
         return xp.zeros_like(ti) + albedo / math.pi, xp.zeros_like(ti)
     f = _single_bounce(xp, ti, tr, dp, sigma, albedo, s)
     if bounces == 1 or albedo == 0:
         return f, xp.zeros_like(ti)
-    inter, dk = _interreflected(xp, ti, tr, dp, sigma, albedo, bounces, s)
+    inter, dk = _interreflected(xp, ti, tr, dp, sigma, albedo, bounces, s, difference)
     return f + inter, -dk
 
 
 @functools.lru_cache(maxsize=32)
-def _jitted(sigma: float, albedo: float, bounces: Bounces, s: Settings):
+def _jitted(sigma: float, albedo: float, bounces: Bounces, s: Settings, difference: bool):
     """:func:`_evaluate` on JAX arrays of one chunk, compiled once per parameter set."""
     import jax
     import jax.numpy as jnp
 
-    return jax.jit(lambda ti, tr, dp: _evaluate(jnp, ti, tr, dp, sigma, albedo, bounces, s))
+    return jax.jit(
+        lambda ti, tr, dp: _evaluate(jnp, ti, tr, dp, sigma, albedo, bounces, s, difference)
+    )
 
 
 def _validate(sigma, albedo, bounces, settings) -> tuple[float, float, Bounces, Settings]:
@@ -401,9 +477,9 @@ def brdf(
             if compiled:
                 if n < chunk:  # pad with a benign geometry (θi = θr = 0)
                     part = [xp.concat([x, xp.zeros(chunk - n, dtype=x.dtype)]) for x in part]
-                f, d = _jitted(sigma, albedo, bounces, s)(*part)
+                f, d = _jitted(sigma, albedo, bounces, s, return_difference)(*part)
             else:
-                f, d = _evaluate(xp, *part, sigma, albedo, bounces, s)
+                f, d = _evaluate(xp, *part, sigma, albedo, bounces, s, return_difference)
             out.append(f[:n])
             diff.append(d[:n])
         if rows == 0:
