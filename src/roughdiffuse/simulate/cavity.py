@@ -206,18 +206,23 @@ def segment_factors(theta_a: float | Array, edges: np.ndarray, g: Array, xp: Any
     return 0.5 * xp.abs(d0[1:] + dg[..., :-1] - d0[:-1] - dg[..., 1:])
 
 
-def _facet_terms(xp: Any, cos_a: Array, mu_f: Array, mu_n: Array) -> Array:
-    """Lit (or visible) fraction g = min(1, 2 cos θa μ / μ_f) where μ_f > 0, else 0."""
-    pos = mu_f > 0
-    g = xp.where(pos, 2.0 * cos_a * mu_n / xp.where(pos, mu_f, 1.0), 0.0)
-    return clip(xp, g, 0.0, 1.0)
+def _facet_terms(xp: Any, scale: Array, mu_f: Array) -> Array:
+    """Lit (or visible) fraction g = min(1, 2 cos θa μ / μ_f) where μ_f > 0, else 0.
+
+    ``scale`` is 2 cos θa μ (> 0: μ is floored at :data:`COS_FLOOR`). A negative ratio (μ_f < 0)
+    clips to 0; μ_f = 0 gives +inf, clipped to 1, where the facet's exitance or projected
+    length max(μ_f, 0) is 0, so the value never counts.
+    """
+    return clip(xp, scale / mu_f, 0.0, 1.0)
 
 
 class _Facets:
     """Per-facet quantities of cavities lit from l and seen from v (no bounce yet).
 
     ``theta_a`` is a float or an array, ``cos_phi``, ``sin_phi`` and the components of ``l``
-    and ``v`` arrays of one namespace (NumPy, JAX or PyTorch), broadcast together.
+    and ``v`` arrays of one namespace (NumPy, JAX or PyTorch), broadcast together. Factors
+    that do not depend on φa (functions of θa, l_z, v_z) are formed before they meet the
+    φa arrays, so that each full-size operation is one pass.
     """
 
     def __init__(
@@ -225,28 +230,37 @@ class _Facets:
     ) -> None:
         xp = xp or namespace(cos_phi, *l, *v)
         self.xp = xp
+        with np.errstate(divide="ignore"):  # μ_f = 0 in _facet_terms (NumPy warns, no harm)
+            self._build(theta_a, cos_phi, sin_phi, l, v, albedo, single)
+
+    def _build(self, theta_a, cos_phi, sin_phi, l, v, albedo, single) -> None:
+        xp = self.xp
         sa, ca = slope_function(xp, "sin", theta_a), slope_function(xp, "cos", theta_a)
         lx, ly, lz = l
         vx, vy, vz = v
         lz = maximum(xp, lz, COS_FLOOR)
         vz = maximum(xp, vz, COS_FLOOR)
-        la = lx * cos_phi + ly * sin_phi  # components along a (the cross-section's x axis)
-        va = vx * cos_phi + vy * sin_phi
+        # components along a (the cross-section's x axis), times sin θa
+        sla = (sa * lx) * cos_phi + (sa * ly) * sin_phi
+        sva = (sa * vx) * cos_phi + (sa * vy) * sin_phi
+        cl, cv = ca * lz, ca * vz
+        scale_l, scale_v = 2.0 * cl, 2.0 * cv
+        inv_vz = 1.0 / vz
         self.facet_len = 0.5 / ca
+        weight = (albedo / math.pi) * self.facet_len * inv_vz
         self.single = 0.0
         self.terms = []
         for sign in (1.0, -1.0):
-            mu_l = sign * sa * la + ca * lz
-            mu_v = sign * sa * va + ca * vz
-            g_l = _facet_terms(xp, ca, mu_l, lz)
-            g_v = _facet_terms(xp, ca, mu_v, vz)
-            b1 = albedo * maximum(xp, mu_l, 0.0)  # exitance of the lit segment, per E0
-            view = maximum(xp, mu_v, 0.0) / vz  # (n_f·v)/(n·v): projected length per length
+            mu_l = cl + sla if sign > 0 else cl - sla
+            mu_v = cv + sva if sign > 0 else cv - sva
+            g_l = _facet_terms(xp, scale_l, mu_l)
+            g_v = _facet_terms(xp, scale_v, mu_v)
+            pos_l = maximum(xp, mu_l, 0.0)
+            pos_v = maximum(xp, mu_v, 0.0)
             if single:
-                self.single = self.single + b1 / math.pi * minimum(xp, g_l, g_v) * (
-                    self.facet_len * view
-                )
-            self.terms.append((g_l, g_v, b1, view))
+                self.single = self.single + weight * (pos_l * pos_v) * minimum(xp, g_l, g_v)
+            # exitance of the lit segment per E0; (n_f·v)/(n·v), projected length per length
+            self.terms.append((g_l, g_v, albedo * pos_l, pos_v * inv_vz))
 
 
 def _interreflected(

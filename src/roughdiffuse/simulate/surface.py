@@ -149,9 +149,13 @@ def slope_weight(theta_a: Array, sigma: float, measure: Measure) -> Array:
     return w * xp.sin(theta_a) if measure == "solid-angle" else w
 
 
+@functools.lru_cache(maxsize=64)
 def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [0, 1] (cached: NumPy computes them by iteration)."""
     x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    x.flags.writeable = w.flags.writeable = False
+    return x, w
 
 
 def _pieces(xp: Any, edges: Array, n: int) -> tuple[Array, Array]:
