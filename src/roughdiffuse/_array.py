@@ -52,6 +52,11 @@ def is_jax(xp: Any) -> bool:
     return array_api_compat.is_jax_namespace(xp)
 
 
+def is_numpy(xp: Any) -> bool:
+    """True when ``xp`` is NumPy's namespace (as :func:`namespace` returns it)."""
+    return xp is array_api_compat.numpy or xp is np
+
+
 def is_tracer(x: object) -> bool:
     """True for a JAX tracer (inside ``jit``, ``grad``, ``vmap``)."""
     if not array_api_compat.is_jax_array(x):

@@ -226,22 +226,37 @@ class _Facets:
     """
 
     def __init__(
-        self, theta_a, cos_phi, sin_phi, l, v, albedo: float, xp: Any = None, single: bool = True
+        self,
+        theta_a,
+        cos_phi,
+        sin_phi,
+        l,
+        v,
+        albedo: float,
+        xp: Any = None,
+        single: bool = True,
+        terms: bool = True,
+        clamp: bool = True,
     ) -> None:
+        """``single``: form the one-bounce radiance :attr:`single`; ``terms``: the per-facet
+        (g_l, g_v, exitance, projected length) of :attr:`terms`, the last two clamped at 0
+        (``clamp``) or not (for a caller that multiplies them by a g that is 0 there)."""
         xp = xp or namespace(cos_phi, *l, *v)
         self.xp = xp
         with np.errstate(divide="ignore"):  # μ_f = 0 in _facet_terms (NumPy warns, no harm)
-            self._build(theta_a, cos_phi, sin_phi, l, v, albedo, single)
+            self._build(theta_a, cos_phi, sin_phi, l, v, albedo, single, terms, clamp)
 
-    def _build(self, theta_a, cos_phi, sin_phi, l, v, albedo, single) -> None:
+    def _build(self, theta_a, cos_phi, sin_phi, l, v, albedo, single, terms, clamp) -> None:
         xp = self.xp
         sa, ca = slope_function(xp, "sin", theta_a), slope_function(xp, "cos", theta_a)
         lx, ly, lz = l
         vx, vy, vz = v
         lz = maximum(xp, lz, COS_FLOOR)
         vz = maximum(xp, vz, COS_FLOOR)
-        # components along a (the cross-section's x axis), times sin θa
-        sla = (sa * lx) * cos_phi + (sa * ly) * sin_phi
+        # components along a (the cross-section's x axis), times sin θa (l_y = 0 skipped)
+        sla = (sa * lx) * cos_phi
+        if not (isinstance(ly, numbers.Real) and ly == 0):
+            sla = sla + (sa * ly) * sin_phi
         sva = (sa * vx) * cos_phi + (sa * vy) * sin_phi
         cl, cv = ca * lz, ca * vz
         scale_l, scale_v = 2.0 * cl, 2.0 * cv
@@ -255,12 +270,13 @@ class _Facets:
             mu_v = cv + sva if sign > 0 else cv - sva
             g_l = _facet_terms(xp, scale_l, mu_l)
             g_v = _facet_terms(xp, scale_v, mu_v)
-            pos_l = maximum(xp, mu_l, 0.0)
-            pos_v = maximum(xp, mu_v, 0.0)
-            if single:
-                self.single = self.single + weight * (pos_l * pos_v) * minimum(xp, g_l, g_v)
-            # exitance of the lit segment per E0; (n_f·v)/(n·v), projected length per length
-            self.terms.append((g_l, g_v, albedo * pos_l, pos_v * inv_vz))
+            if single:  # μ_l μ_v min(g_l, g_v): where a μ < 0 its g is 0, no clamp needed
+                self.single = self.single + weight * (mu_l * mu_v) * minimum(xp, g_l, g_v)
+            if terms:
+                if clamp:
+                    mu_l, mu_v = maximum(xp, mu_l, 0.0), maximum(xp, mu_v, 0.0)
+                # exitance of the lit segment per E0; (n_f·v)/(n·v), projected length per length
+                self.terms.append((g_l, g_v, albedo * mu_l, mu_v * inv_vz))
 
 
 def _interreflected(
@@ -434,7 +450,7 @@ def cavity_radiance(
 
 def _single(xp: Any, th, ph, l, v, albedo: float) -> Array:
     """One bounce (closed form), 0 where l or v is below the horizon."""
-    out = _Facets(th, xp.cos(ph), xp.sin(ph), l, v, albedo, xp).single
+    out = _Facets(th, xp.cos(ph), xp.sin(ph), l, v, albedo, xp, terms=False).single
     return xp.where((l[2] >= 0) & (v[2] >= 0), out, 0.0)
 
 
@@ -655,7 +671,9 @@ def tabulated_interreflected(
     iv_m, _ = _table_index(xp, gv_m, cells)
     il_p, tau_p = _table_index(xp, gl_p, nodes)
     il_m, tau_m = _table_index(xp, gl_m, nodes)
-    lit_p, lit_m = b1_p * gl_p, b1_m * gl_m  # the tables hold T / g_l
+    # the tables hold T / g_l; b1 g_l is 0 where the facet faces away (g_l = 0) and T is 0
+    # at g_v = 0, so the facets' terms may come unclamped (_Facets(clamp=False))
+    lit_p, lit_m = b1_p * gl_p, b1_m * gl_m
     pairs = (  # (seen facet's weight × lit exitance × g_l, table, g_v cell, g_v, g_l cell, τ)
         (view_p * lit_m, 0, iv_p, gv_p, il_m, tau_m),
         (view_p * lit_p, 1, iv_p, gv_p, il_p, tau_p),

@@ -45,12 +45,15 @@ from .._array import (
     concrete,
     double_precision,
     is_jax,
+    is_numpy,
     is_tracer,
+    maximum,
     minimum,
     namespace,
 )
 from .._validate import check_range
 from .cavity import (
+    COS_FLOOR,
     Bounces,
     _const,
     _Facets,
@@ -168,6 +171,47 @@ def _pieces(xp: Any, edges: Array, n: int) -> tuple[Array, Array]:
     return xp.reshape(nodes, shape), xp.reshape(weights, shape)
 
 
+def _phi_quadrature(xp: Any, edges: Array, n: int):
+    """φa nodes and weights on the pieces of ``edges`` (..., E), without the empty pieces.
+
+    Returns ``(rows, nodes, weights)``. NumPy: only the pieces of nonzero width (about half
+    of them, the kinks that do not exist sit at π), as ``(V, n)`` arrays, and ``rows`` (V,)
+    the flat index of each piece's leading position (sum with :func:`_sum_rows`). Other
+    namespaces (fixed shapes under ``jax.jit``): every piece, ``rows`` None, arrays
+    ``(..., (E − 1) n)``.
+    """
+    if not is_numpy(xp):
+        ph, wph = _pieces(xp, edges, n)
+        return None, ph, wph
+    e = np.asarray(edges)
+    e = e.reshape(-1, e.shape[-1])
+    width = e[:, 1:] - e[:, :-1]
+    rows, piece = np.nonzero(width > 0)
+    t, w = _gauss(n)
+    h = width[rows, piece][:, None]
+    return rows, e[rows, piece][:, None] + h * t, h * w
+
+
+def _take_rows(xp: Any, rows, a: Array, shape: tuple[int, ...]) -> Array:
+    """``a`` broadcast to ``shape``, at the pieces' ``rows`` (a column), or as is (dense)."""
+    if rows is None:
+        return a[..., None]
+    return np.reshape(np.broadcast_to(a, shape), (-1,))[rows][:, None]
+
+
+def _direction_rows(xp: Any, rows, w, shape: tuple[int, ...]):
+    """Components (..., 1) of a direction at the pieces' rows (a Python float stays)."""
+    return [c if isinstance(c, float) else _take_rows(xp, rows, c[..., 0], shape) for c in w]
+
+
+def _sum_rows(xp: Any, rows, values: Array, shape: tuple[int, ...]) -> Array:
+    """Sum over the φa nodes back to ``shape`` (see :func:`_phi_quadrature`)."""
+    if rows is None:
+        return xp.sum(values, axis=-1)
+    size = math.prod(shape)
+    return np.bincount(rows, weights=np.sum(values, axis=-1), minlength=size).reshape(shape)
+
+
 def _solve_kinks(xp: Any, a: Array, b: Array, c: Array) -> list[Array]:
     """Both roots φ of a cos φ + b sin φ = c (NaN where none)."""
     r = xp.sqrt(a * a + b * b)
@@ -209,7 +253,7 @@ def _phi_edges(xp: Any, theta_a, ti, tr, dphi) -> Array:
 
 
 def _directions(xp: Any, ti, tr, dphi):
-    l = (xp.sin(ti), xp.zeros_like(ti), xp.cos(ti))
+    l = (xp.sin(ti), 0.0, xp.cos(ti))  # l_y = 0: _Facets skips its terms
     v = (xp.sin(tr) * xp.cos(dphi), xp.sin(tr) * xp.sin(dphi), xp.cos(tr))
     return l, v
 
@@ -224,11 +268,26 @@ def _single_bounce(xp: Any, ti, tr, dphi, sigma, albedo, s: Settings) -> Array:
     wth = wth * slope_weight(th, sigma, s.measure)
     norm = xp.sum(wth, axis=-1)
     ti_, tr_, dp_ = (a[:, None] for a in (ti, tr, dphi))
-    ph, wph = _pieces(xp, _phi_edges(xp, th, ti_, tr_, dp_), s.n_phi)  # (M, 3n, 11 n_phi)
-    l, v = _directions(xp, ti_[..., None], tr_[..., None], dp_[..., None])
-    facets = _Facets(th[..., None], xp.cos(ph), xp.sin(ph), l, v, albedo, xp)
-    inner = xp.sum(facets.single * wph, axis=-1) / math.pi
-    return xp.sum(inner * wth, axis=-1) / norm / xp.cos(ti)
+    # first piece, θa < π/2 − max(θi, θr): both facets lit and seen whole (g = 1) for every
+    # φa, so L1 = ρ ℓ/(π cos θr) Σ± (n±·l)(n±·v), whose mean over φa is closed form:
+    # ρ (2 cos²θa cos θi cos θr + sin²θa sin θi sin θr cos Δφ) / (2π cos θa cos θr)
+    n = s.n_theta
+    t1 = th[:, :n]
+    ca, sa = xp.cos(t1), xp.sin(t1)
+    ci, si = xp.cos(ti_), xp.sin(ti_)
+    cr = maximum(xp, xp.cos(tr_), COS_FLOOR)
+    sr_cd = xp.sin(tr_) * xp.cos(dp_)
+    first = albedo * (2.0 * ca * ca * ci * cr + sa * sa * si * sr_cd) / (2.0 * math.pi * ca * cr)
+    # the other pieces: the φa rule split at the kinks
+    rest = th[:, n:]
+    rows, ph, wph = _phi_quadrature(xp, _phi_edges(xp, rest, ti_, tr_, dp_), s.n_phi)
+    shape = tuple(rest.shape)
+    ti_, tr_, dp_, th_ = (_take_rows(xp, rows, a, shape) for a in (ti_, tr_, dp_, rest))
+    l, v = _directions(xp, ti_, tr_, dp_)
+    facets = _Facets(th_, xp.cos(ph), xp.sin(ph), l, v, albedo, xp, terms=False)
+    inner = _sum_rows(xp, rows, facets.single * wph, shape) / math.pi
+    total = xp.sum(first * wth[:, :n], axis=-1) + xp.sum(inner * wth[:, n:], axis=-1)
+    return total / norm / xp.cos(ti)
 
 
 @functools.lru_cache(maxsize=4)
@@ -298,14 +357,18 @@ def _interreflected(
             cells, count, arrays = _table_arrays(ops, xp)
 
             def term(ta, wa, arrays, cells=cells, count=count):
-                ph, wph = _pieces(xp, _phi_edges(xp, ta, ti, tr, dphi), s.n_phi)
-                facets = _Facets(ta, xp.cos(ph), xp.sin(ph), l, v, albedo, xp, single=False)
+                rows, ph, wph = _phi_quadrature(xp, _phi_edges(xp, ta, ti, tr, dphi), s.n_phi)
+                shape = tuple(ti.shape)
+                lr, vr = (_direction_rows(xp, rows, w, shape) for w in (l, v))
+                facets = _Facets(
+                    ta, xp.cos(ph), xp.sin(ph), lr, vr, albedo, xp, single=False, clamp=False
+                )
                 arrays = tuple(_const(xp, a) if isinstance(a, np.ndarray) else a for a in arrays)
                 val, dk = tabulated_interreflected(facets, (cells, count, arrays), difference)
-                f = wa / math.pi * xp.sum(val * wph, axis=-1)
+                f = wa / math.pi * _sum_rows(xp, rows, val * wph, shape)
                 if dk is None:
                     return f, xp.zeros_like(f)
-                return f, wa / math.pi * xp.sum(dk * wph, axis=-1)
+                return f, wa / math.pi * _sum_rows(xp, rows, dk * wph, shape)
 
             if is_jax(xp) and len(nodes) > 1:
                 import jax
