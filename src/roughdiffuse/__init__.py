@@ -26,6 +26,8 @@ from .models import (
     TorranceSparrow,
     oren_nayar,
 )
+from .models.declaration import Param
+from .registry import register_model
 
 try:
     __version__ = version("roughdiffuse")
@@ -42,9 +44,11 @@ __all__ = [
     "Mix",
     "Model",
     "OrenNayar",
+    "Param",
     "TorranceSparrow",
     "__version__",
     "oren_nayar",
+    "register_model",
     "roughness",
     "spherical_to_vector",
     "vector_to_spherical",

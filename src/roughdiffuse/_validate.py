@@ -41,7 +41,7 @@ def check_range(
     value : scalar or array
         Value to check; skipped when it has no concrete value (JAX tracer).
     lo, hi : float
-        Interval ends; ``hi`` is always included, ``lo`` unless ``lo_open``.
+        Interval ends; ``hi`` is included unless infinite, ``lo`` unless ``lo_open``.
     unit : str
         Unit named in the message (e.g. ``"radians"``).
     scalar : bool
@@ -52,7 +52,8 @@ def check_range(
     arr = concrete(value)
     if arr is None:
         return
-    interval = f"{'(' if lo_open else '['}{_fmt(lo)}, {_fmt(hi)}]"
+    right = "∞)" if hi == math.inf else f"{_fmt(hi)}]"  # ∞ is never a value: open
+    interval = f"{'(' if lo_open else '['}{_fmt(lo)}, {right}"
     where = f" {unit}" if unit else ""
     if arr.dtype.kind not in "biuf":
         raise ValueError(f"{name} must be a real number in {interval}{where} (got {value!r})")

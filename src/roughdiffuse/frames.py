@@ -56,6 +56,13 @@ def vector_to_spherical(w: Array) -> tuple[Array, Array]:
     return xp.atan2(xp.sqrt(x * x + y * y), z), xp.atan2(y, x)
 
 
+def _check_real(name: str, w: Any) -> None:
+    """Refuse booleans, strings and objects as direction components (NumPy would cast them)."""
+    np_dtype = np.asarray(w).dtype if isinstance(w, list | tuple) else getattr(w, "dtype", None)
+    if getattr(np_dtype, "kind", "f") not in "iuf":
+        raise ValueError(f"{name} must hold real numbers (got dtype {np_dtype})")
+
+
 def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Array, Array, Array]:
     """Split direction(s) ``w`` (shape (..., 3)) into normalised x, y, z components.
 
@@ -64,6 +71,7 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
     ValueError
         If the last axis is not 3, or a vector is zero-length or not finite.
     """
+    _check_real(name, w)
     if dtype is None:
         dtype = result_dtype(xp, w)
     w = asarray(xp, w, dtype)
@@ -92,6 +100,8 @@ def _check_broadcast(names: tuple[str, ...], *arrays: Array) -> None:
 
 def local_cosines(xp: Any, wi: Array, wo: Array, dtype: Any = None) -> tuple[Array, Array, Array]:
     """(mu_i, mu_o, cos_io) for local-frame directions ``wi`` and ``wo`` (normalised here)."""
+    _check_real("wi", wi)
+    _check_real("wo", wo)
     wi = asarray(xp, wi) if not hasattr(wi, "shape") else wi
     wo = asarray(xp, wo) if not hasattr(wo, "shape") else wo
     _check_broadcast(("wi", "wo"), wi, wo)
@@ -106,6 +116,8 @@ def world_cosines(
     xp: Any, n: Array, l: Array, v: Array, dtype: Any = None
 ) -> tuple[Array, Array, Array]:
     """(n·l, n·v, l·v) for world-space normal, light and view directions (normalised here)."""
+    for name, w in (("n", n), ("l", l), ("v", v)):
+        _check_real(name, w)
     n, l, v = (asarray(xp, a) if not hasattr(a, "shape") else a for a in (n, l, v))
     _check_broadcast(("n", "l", "v"), n, l, v)
     if dtype is None:

@@ -14,7 +14,8 @@ Plugins (parameters named as in roughdiffuse; σ in radians):
 ``roughdiffuse_oren_nayar``        albedo, sigma, variant ("qualitative" | "full")
 ``roughdiffuse_fujii``             albedo, roughness
 ``roughdiffuse_eon``               albedo, roughness
-``roughdiffuse_torrance_sparrow``  eta, sigma, distribution ("gaussian" | "beckmann")
+``roughdiffuse_torrance_sparrow``  eta, distribution ("gaussian" | "beckmann"), sigma
+                                   (Gaussian) or alpha (Beckmann; sigma there: α = √2 σ)
 =================================  ==============================================
 
 ``albedo`` is a texture (a float, ``{"type": "rgb", ...}``, a bitmap...). The formulas are
@@ -73,16 +74,19 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
         def __init__(self, props: Any) -> None:
             mi.BSDF.__init__(self, props)
             kwargs: dict[str, Any] = {}
-            for name in scalar_fields:
-                kwargs[name] = float(props.get(name, defaults[name]))
+            for name in scalar_fields:  # a parameter left unset keeps the class's default
+                if name in props:
+                    kwargs[name] = float(props[name])
             for name in _STRING_FIELDS:
                 if name in defaults:
                     kwargs[name] = str(props.get(name, defaults[name]))
             # validates the parameters (ValueError naming the parameter and its range)
             self.model = model_cls(**kwargs)
             self.strategy = strategy_for(self.model)
-            for name in scalar_fields:
-                setattr(self, name, mi.Float(kwargs[name]))
+            # the parameters this instance has (Torrance-Sparrow: sigma or alpha)
+            self.scalar_fields = [n for n in scalar_fields if getattr(self.model, n) is not None]
+            for name in self.scalar_fields:
+                setattr(self, name, mi.Float(float(getattr(self.model, name))))
             if has_albedo:
                 self.albedo = props.get_texture("albedo", float(defaults["albedo"]))
             self.m_flags = lobe | mi.BSDFFlags.FrontSide
@@ -90,7 +94,7 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
 
         # -------------------------------------------------------------- the model
         def _params(self, si: Any, active: Any) -> dict[str, Any]:
-            p = {name: wrap(getattr(self, name)) for name in scalar_fields}
+            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
             if has_albedo:
                 p["albedo"] = wrap(self.albedo.eval(si, active))
             return p
@@ -106,7 +110,7 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
             return mi.Color3f(unwrap(f))
 
         def _pdf(self, si: Any, wi: Any) -> Any:
-            p = {name: wrap(getattr(self, name)) for name in scalar_fields}
+            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
             d = si.wi
             pdf = self.strategy.pdf(
                 xp, wrap(wi.x), wrap(wi.y), wrap(wi.z), wrap(d.x), wrap(d.y), wrap(d.z), p
@@ -115,7 +119,7 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
 
         # -------------------------------------------------------------- Mitsuba API
         def sample(self, ctx: Any, si: Any, sample1: Any, sample2: Any, active: Any = True):
-            p = {name: wrap(getattr(self, name)) for name in scalar_fields}
+            p = {name: wrap(getattr(self, name)) for name in self.scalar_fields}
             d = si.wi
             x, y, z, pdf = self.strategy.sample(
                 xp, wrap(sample2.x), wrap(sample2.y), wrap(d.x), wrap(d.y), wrap(d.z), p
@@ -148,7 +152,7 @@ def _make_plugin_class(mi: Any, dr: Any, model_cls: type[Model]) -> type:
         def traverse(self, callback: Any) -> None:
             if has_albedo:
                 callback.put("albedo", self.albedo, mi.ParamFlags.Differentiable)
-            for name in scalar_fields:
+            for name in self.scalar_fields:
                 callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
 
         def parameters_changed(self, keys: Any = None) -> None:

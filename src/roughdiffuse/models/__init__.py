@@ -1,6 +1,7 @@
 """Reflectance models: one module per family, one interface (see :mod:`.base`)."""
 
 from .base import MODEL_CLASSES, BSDFSample, Model
+from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
 from .lambert import Lambert
@@ -20,6 +21,7 @@ __all__ = [
     "Mix",
     "Model",
     "OrenNayar",
+    "Param",
     "TorranceSparrow",
     "fon_albedo",
     "fon_average_albedo",

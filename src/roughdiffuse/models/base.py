@@ -30,8 +30,13 @@ from .._array import (
     result_dtype,
 )
 from ..frames import local_cosines, unit_components, world_cosines
+from .declaration import Param
+from .sampling import COSINE, Strategy
 
 __all__ = ["BSDFSample", "Model", "MODEL_CLASSES"]
+
+LOBES: tuple[str, ...] = ("diffuse", "glossy")
+"""The lobe types a model may declare (Mitsuba 3's DiffuseReflection, GlossyReflection)."""
 
 MODEL_CLASSES: dict[str, type[Model]] = {}
 """Every concrete model class by name (filled as classes are defined)."""
@@ -69,24 +74,91 @@ def _jitted(method: str) -> Any:
 class Model:
     """Base class of the reflectance models. Subclasses are frozen dataclasses.
 
+    A model declares itself once, in class attributes; validation, the pytree leaves, the
+    command line, fits, ``roughdiffuse models`` and the explorer derive from them (see
+    :mod:`roughdiffuse.registry` and the README's "Adding a model").
+
     Class attributes
     ----------------
+    params : tuple of Param
+        The parameters (:class:`~roughdiffuse.models.declaration.Param`): name, meaning,
+        unit, range, default, colour channels, choices. The constructor checks each value
+        against its declaration.
+    ids : dict
+        Public kebab-case id(s) -> the categorical values each fixes, e.g.
+        ``{"oren-nayar": {"variant": "qualitative"}, "oren-nayar-full": {"variant": "full"}}``.
+    labels : dict
+        Id -> human-readable label (plots, reports, the explorer's menus); defaults to the id.
+    lobe : {"diffuse", "glossy"}
+        The lobe type.
+    sampling : Strategy
+        The importance-sampling strategy (:mod:`.sampling`): ``COSINE``, ``CLTC``, ...
+    reference : str
+        The source paper.
+    glsl : bool
+        Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
     array_fields : tuple of str
-        Numeric parameters (JAX pytree leaves, differentiable). Other fields are static.
+        Numeric parameters (JAX pytree leaves, differentiable); derived from ``params``.
+        Other fields are static.
     channel_fields : tuple of str
-        Parameters that may carry a trailing colour-channel axis (albedo).
-    sampling : str
-        Name of the importance-sampling strategy (:mod:`.sampling`): "cosine", "cltc" or
-        "microfacet".
+        Parameters that may carry a trailing colour-channel axis; derived from ``params``.
     """
 
+    params: ClassVar[tuple[Param, ...]] = ()
+    ids: ClassVar[dict[str, dict[str, Any]]] = {}
+    labels: ClassVar[dict[str, str]] = {}
+    lobe: ClassVar[str] = "diffuse"
+    sampling: ClassVar[Strategy] = COSINE
+    reference: ClassVar[str] = ""
+    glsl: ClassVar[bool] = False
     array_fields: ClassVar[tuple[str, ...]] = ()
     channel_fields: ClassVar[tuple[str, ...]] = ()
-    sampling: ClassVar[str] = "cosine"
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         MODEL_CLASSES[cls.__name__] = cls
+        if "params" in cls.__dict__:
+            if "array_fields" not in cls.__dict__:
+                cls.array_fields = tuple(p.name for p in cls.params if not p.categorical)
+            if "channel_fields" not in cls.__dict__:
+                cls.channel_fields = tuple(p.name for p in cls.params if p.channels)
+        if not isinstance(cls.sampling, Strategy):
+            raise TypeError(f"{cls.__name__}.sampling must be a Strategy (got {cls.sampling!r})")
+        if cls.lobe not in LOBES:
+            raise TypeError(f"{cls.__name__}.lobe must be one of {LOBES} (got {cls.lobe!r})")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    def _validate(self) -> None:
+        """Check every declared parameter (``ValueError`` naming it, its unit and its range).
+
+        Categorical parameters first; a parameter whose ``when`` does not hold must be
+        ``None``; lists of channel values become float64 arrays (one pytree leaf).
+        """
+        fields = {f.name for f in dataclasses.fields(self)}  # type: ignore[arg-type]
+        declared = [p for p in self.params if p.name in fields]
+        if not declared:
+            self._coerce_channels()
+            return
+        for p in declared:
+            if p.categorical:
+                p.check(getattr(self, p.name))
+        choices = {p.name: getattr(self, p.name) for p in declared if p.categorical}
+        for p in declared:
+            if p.categorical:
+                continue
+            value = getattr(self, p.name)
+            if not p.applies(choices):
+                if value is not None:
+                    cond = ", ".join(f"{k}={v!r}" for k, v in (p.when or {}).items())
+                    raise ValueError(f"{p.name} applies only with {cond} (got {p.name}={value!r})")
+                continue
+            object.__setattr__(self, p.name, p.check(value))
+
+    def sampling_strategy(self) -> Strategy:
+        """The importance-sampling strategy of this instance (the class's ``sampling``)."""
+        return type(self).sampling
 
     # ------------------------------------------------------------------ formula
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **p: Array) -> Array:
@@ -102,13 +174,18 @@ class Model:
                 object.__setattr__(self, f, np.asarray(value, dtype=np.float64))
 
     def _param_values(self) -> list[Any]:
-        return [getattr(self, f) for f in self.array_fields]
+        return [getattr(self, f) for f in self.array_fields if getattr(self, f) is not None]
 
     def _xp(self, *arrays: Any) -> Any:
         return namespace(*arrays, *self._param_values())
 
     def _params(self, xp: Any, dtype: Any) -> dict[str, Array]:
-        return {f: asarray(xp, getattr(self, f), dtype) for f in self.array_fields}
+        """The numeric parameters as arrays (those unset, ``None``, for this instance left out)."""
+        return {
+            f: asarray(xp, getattr(self, f), dtype)
+            for f in self.array_fields
+            if getattr(self, f) is not None
+        }
 
     @property
     def channels(self) -> int:
@@ -180,13 +257,14 @@ class Model:
         n, l, v : array (..., 3)
             Surface normal, direction to the light, direction to the viewer (any frame).
         irradiance : float or array (C,)
-            E0, the irradiance on a plane facing the source (per channel if an array).
+            E0 ≥ 0, the irradiance on a plane facing the source (per channel if an array).
 
         Returns
         -------
         array (...) or (..., C)
             Radiance; 0 where the point faces away from the light or the viewer.
         """
+        _check_irradiance(irradiance)
         xp = self._xp(n, l, v, irradiance)
         if self._should_jit(xp, n, l, v, irradiance):
             for name, w in (("n", n), ("l", l), ("v", v)):
@@ -244,6 +322,17 @@ class Model:
             z = z[..., None]
         val = albedo_of_mu(xp, clip(xp, z, 0.0, 1.0), **self._params(xp, dtype))
         return xp.where(z >= 0, val, 0.0 * val)
+
+
+_IRRADIANCE = Param("irradiance", "irradiance E0", min=0.0, default=1.0, channels=True)
+
+
+def _check_irradiance(value: Any) -> None:
+    """E0 must be finite and non-negative (a negative E0 would give negative radiance)."""
+    if getattr(value, "ndim", 0) > 1:  # per-point E0: check all values as one channel list
+        _IRRADIANCE.check(value.reshape(-1))
+    else:
+        _IRRADIANCE.check(value)
 
 
 def register_pytree(cls: type) -> type:

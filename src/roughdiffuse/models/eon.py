@@ -19,9 +19,10 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, safe_div
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
+from .sampling import CLTC, Strategy
 
 __all__ = ["EON"]
 
@@ -53,17 +54,36 @@ class EON(Model):
     1.0
     """
 
-    albedo: Any = 1.0
-    roughness: Any = 0.0
+    albedo: float | Array = 1.0
+    roughness: float | Array = 0.0
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "roughness")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-    sampling: ClassVar[str] = "cltc"
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("roughness", self.roughness, 0.0, 1.0)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "single-scattering albedo ρ",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param(
+            "roughness",
+            "Fujii's roughness r (not an angle)",
+            min=0.0,
+            max=1.0,
+            default=0.0,
+            example=0.5,
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"eon": {}}
+    labels: ClassVar[dict[str, str]] = {"eon": "EON (energy-preserving)"}
+    sampling: ClassVar[Strategy] = CLTC
+    reference: ClassVar[str] = (
+        "J. Portsmouth, P. Kutz, S. Hill, EON: A practical energy-preserving rough diffuse BRDF, "
+        "JCGT 2025"
+    )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

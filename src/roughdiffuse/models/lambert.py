@@ -10,8 +10,8 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 
 
 @register_pytree
@@ -31,14 +31,15 @@ class Lambert(Model):
     0.15915494309189535
     """
 
-    albedo: Any = 1.0
+    albedo: float | Array = 1.0
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param("albedo", "albedo ρ", min=0.0, max=1.0, default=1.0, channels=True, example=0.8),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert": {}}
+    labels: ClassVar[dict[str, str]] = {"lambert": "Lambert"}
+    reference: ClassVar[str] = "J. H. Lambert, Photometria (1760)"
+    glsl: ClassVar[bool] = True
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         return albedo / math.pi + 0.0 * mu_i

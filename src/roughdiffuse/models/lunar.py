@@ -25,8 +25,8 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum, safe_div
-from .._validate import check_range
 from .base import Model, register_pytree
+from .declaration import Param
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
 
@@ -44,14 +44,25 @@ class LommelSeeliger(Model):
         Single-scattering albedo w in [0, 1].
     """
 
-    albedo: Any = 1.0
+    albedo: float | Array = 1.0
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "single-scattering albedo w",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"lommel-seeliger": {}}
+    labels: ClassVar[dict[str, str]] = {"lommel-seeliger": "Lommel–Seeliger (lunar)"}
+    reference: ClassVar[str] = (
+        "B. Hapke, Theory of Reflectance and Emittance Spectroscopy, 2nd ed. (2012), Eq. 9.13"
+    )
+    glsl: ClassVar[bool] = True
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         return albedo / (4.0 * math.pi * maximum(xp, mu_i + mu_o, _SUM_FLOOR))
@@ -79,18 +90,38 @@ class LunarLambert(Model):
         ρ in [0, 1]; L = 0 is Lambert with this albedo.
     limb_darkening : float
         L in [0, 1], the weight of the Lommel–Seeliger term (0.5–1 for the moon near full).
+        Default 0.5: half Lambert, half Lommel–Seeliger (L = 1 is the ``lommel-seeliger``
+        model up to its normalisation).
     """
 
-    albedo: Any = 1.0
-    limb_darkening: Any = 1.0
+    albedo: float | Array = 1.0
+    limb_darkening: float | Array = 0.5
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "limb_darkening")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("limb_darkening", self.limb_darkening, 0.0, 1.0)
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "albedo ρ (L = 0: Lambert)",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param(
+            "limb_darkening",
+            "L, weight of the Lommel–Seeliger term",
+            min=0.0,
+            max=1.0,
+            default=0.5,
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {"lunar-lambert": {}}
+    labels: ClassVar[dict[str, str]] = {"lunar-lambert": "Lunar-Lambert (McEwen)"}
+    reference: ClassVar[str] = (
+        "A. S. McEwen, Photometric functions for photoclinometry and other applications, "
+        "Icarus 92 (1991)"
+    )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array

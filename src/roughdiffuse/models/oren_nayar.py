@@ -36,6 +36,7 @@ from .._array import Array, clip, maximum, minimum, namespace, result_dtype, saf
 from .._validate import check_range
 from ..frames import angles_to_cosines
 from .base import Model, register_pytree
+from .declaration import Param
 
 __all__ = ["OrenNayar", "oren_nayar", "SIGMA_MAX"]
 
@@ -112,19 +113,48 @@ class OrenNayar(Model):
     0.892857
     """
 
-    albedo: Any = 1.0
-    sigma: Any = 0.0
+    albedo: float | Array = 1.0
+    sigma: float | Array = 0.0
     variant: Variant = "qualitative"
 
-    array_fields: ClassVar[tuple[str, ...]] = ("albedo", "sigma")
-    channel_fields: ClassVar[tuple[str, ...]] = ("albedo",)
-
-    def __post_init__(self) -> None:
-        self._coerce_channels()
-        check_range("albedo", self.albedo, 0.0, 1.0, channels=True)
-        check_range("sigma", self.sigma, 0.0, SIGMA_MAX, unit="radians")
-        if self.variant not in ("qualitative", "full"):
-            raise ValueError(f"variant must be 'qualitative' or 'full' (got {self.variant!r})")
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "albedo",
+            "facet albedo ρ",
+            min=0.0,
+            max=1.0,
+            default=1.0,
+            channels=True,
+            example=0.8,
+        ),
+        Param(
+            "sigma",
+            "roughness σ, standard deviation of the facet slope angle",
+            unit="radians",
+            min=0.0,
+            max=SIGMA_MAX,
+            default=0.0,
+            example=math.radians(20.0),
+        ),
+        Param(
+            "variant",
+            "qualitative model (Eq. 30) or full model with interreflection (Eq. 27-31)",
+            choices=("qualitative", "full"),
+            default="qualitative",
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {
+        "oren-nayar": {"variant": "qualitative"},
+        "oren-nayar-full": {"variant": "full"},
+    }
+    labels: ClassVar[dict[str, str]] = {
+        "oren-nayar": "Oren–Nayar (qualitative)",
+        "oren-nayar-full": "Oren–Nayar (full, with interreflection)",
+    }
+    reference: ClassVar[str] = (
+        "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994"
+    )
+    glsl: ClassVar[bool] = True
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, sigma: Array

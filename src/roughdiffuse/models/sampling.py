@@ -9,7 +9,10 @@ inside Mitsuba 3:
   light) from two uniform numbers, and its density per solid angle;
 * ``pdf(xp, wix, wiy, wiz, wox, woy, woz, p) -> pdf``.
 
-``p`` holds the model's parameters by name (``roughness``, ``sigma``). Strategies:
+``p`` holds the model's parameters by name (``roughness``, ``sigma``, ``alpha``). A model
+class names its strategy as an object in its ``sampling`` class attribute (a model whose
+strategy depends on a categorical parameter overrides ``Model.sampling_strategy``).
+Strategies:
 
 ``cosine``
     pdf = cos θi / π (Malley's method; pbrt-v4 ``SampleCosineHemisphere``). Lambert,
@@ -22,10 +25,10 @@ inside Mitsuba 3:
 ``microfacet``
     Torrance–Sparrow: sample a facet normal h from D(h) (n·h), reflect wo about it
     (wi = 2 (wo·h) h − wo, pdf = p_h / (4 wo·h); Walter et al. 2007, Eq. 14 and 17).
-    Beckmann: tan²θh = −m² ln(1 − u1), exactly. Gaussian in the slope angle (no closed-form
+    Beckmann: tan²θh = −α² ln(1 − u1), exactly. Gaussian in the slope angle (no closed-form
     inverse): the inverse CDF by Newton's method on a 32-point quadrature of the CDF,
-    converged to 1e-9 (see :func:`_gaussian_angle`). Both return D(h) n·h as the density
-    of h, with the model's own D (``slope_distribution``).
+    converged to 1e-9. Both return D(h) n·h as the density of h, with the model's own D;
+    the distribution's code lives in :mod:`.microfacet`.
 
 Directions below the horizon have pdf 0; a sample with pdf 0 gets weight 0.
 """
@@ -34,17 +37,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._array import Array, asarray, concrete, maximum, minimum, result_dtype, safe_div, safe_sqrt
+from .._array import Array, asarray, concrete, result_dtype, safe_div, safe_sqrt
 from ..frames import unit_components
-from .base import BSDFSample, Model
+from .microfacet import normal_pdf, normal_sample
+
+if TYPE_CHECKING:
+    from .base import BSDFSample, Model
 
 __all__ = [
     "CLTC",
     "COSINE",
+    "MICROFACET_BECKMANN",
+    "MICROFACET_GAUSSIAN",
     "Strategy",
     "microfacet",
     "pdf_model",
@@ -180,75 +188,6 @@ CLTC = Strategy("cltc", _eon_sample, _eon_pdf)
 
 
 # ---------------------------------------------------------------------------- microfacet
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
-_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
-_NEWTON_STEPS = 5
-
-
-def _gaussian_angle(xp: Any, u1: Array, s: Array) -> Array:
-    """t = θh/σ with density ∝ exp(−t²/2) sin(2σt)/(2σ) on [0, T], T = min(π/(2σ), 12).
-
-    That is D(h) n·h sin θh dθh for the Gaussian-in-angle D (the truncation at 12σ is the
-    model's own, see ``_gaussian_norm`` in :mod:`.torrance_sparrow`). No closed-form inverse
-    exists: start from the inverse of the small-angle density t exp(−t²/2) and take Newton
-    steps on √F(t) = √(u Z) (on √(Z − F) = √((1 − u) Z) for u > ½), F the CDF by 32-point
-    Gauss–Legendre and Z = F(T); the square roots make both ends, where the density
-    vanishes, converge quadratically: 5 steps reach |F(t) − u Z| < 1e-9 Z for every σ.
-    """
-    dtype = getattr(u1, "dtype", None)
-    x = asarray(xp, _GL_X, dtype)
-    w = asarray(xp, _GL_W, dtype)
-    big_t = minimum(xp, math.pi / (2.0 * s), 12.0)
-
-    def density(t: Array) -> Array:
-        return xp.exp(-0.5 * t * t) * xp.sin(2.0 * s * t) / (2.0 * s)
-
-    def cdf(t: Array) -> Array:
-        return t * xp.sum(density(t[..., None] * x) * w, axis=-1)
-
-    z = cdf(big_t)
-    t = safe_sqrt(xp, -2.0 * xp.log(1.0 - u1 * (1.0 - xp.exp(-0.5 * big_t * big_t))))
-    low = u1 < 0.5
-    for _ in range(_NEWTON_STEPS):
-        g = density(t)
-        f = cdf(t)
-        a = safe_sqrt(xp, f)
-        b = safe_sqrt(xp, z - f)
-        step_low = safe_div(xp, 2.0 * a * (a - safe_sqrt(xp, u1 * z)), g)
-        step_high = safe_div(xp, 2.0 * b * (safe_sqrt(xp, (1.0 - u1) * z) - b), g)
-        t = _clip_to(xp, t - _where(xp, low, step_low, step_high), big_t)
-    return t
-
-
-def _clip_to(xp: Any, t: Array, hi: Array) -> Array:
-    """t clipped to [0, hi] (``hi`` may be an array)."""
-    t = _where(xp, t < 0, 0.0 * t, t)
-    return _where(xp, t > hi, hi + 0.0 * t, t)
-
-
-def _normal_sample(xp: Any, u1: Array, sigma: Array, distribution: str) -> tuple[Array, Array]:
-    """(cos θh, sin θh) of a facet normal drawn with density D(h) n·h (see module doc)."""
-    from .torrance_sparrow import SIGMA_FLOOR
-
-    pos = sigma > 0
-    s = _where(xp, pos, maximum(xp, sigma, SIGMA_FLOOR), 1.0 + 0.0 * sigma)
-    if distribution == "beckmann":
-        tan2 = -2.0 * s * s * xp.log(1.0 - u1)  # m² = 2σ²
-        cos_h = 1.0 / xp.sqrt(1.0 + tan2)
-    else:
-        cos_h = xp.cos(s * _gaussian_angle(xp, u1, s))
-    cos_h = _where(xp, pos, cos_h, 1.0 + 0.0 * cos_h)
-    return cos_h, safe_sqrt(xp, 1.0 - cos_h * cos_h)
-
-
-def _normal_pdf(xp: Any, cos_h: Array, sigma: Array, distribution: str) -> Array:
-    """D(h) n·h, the density per solid angle of :func:`_normal_sample`'s h (0 for σ = 0)."""
-    from .torrance_sparrow import slope_distribution
-
-    p_h = slope_distribution(xp, cos_h, sigma, distribution) * cos_h
-    return _where(xp, (sigma > 0) & (cos_h > 0), p_h, 0.0 * p_h)
-
-
 def microfacet(distribution: str) -> Strategy:
     """The Torrance–Sparrow strategy for facet distribution ``"gaussian"`` or ``"beckmann"``.
 
@@ -259,18 +198,21 @@ def microfacet(distribution: str) -> Strategy:
     views and large σ. (Folding such samples back above the horizon would normalise it, but
     puts an integrable 1/(wo·h) spike at the mirror of −wo, which quadrature-based
     tests, Mitsuba's chi-square test among them, cannot integrate.)
+
+    The width parameter is read from ``p["sigma"]`` (Gaussian) or ``p["alpha"]`` (Beckmann).
     """
+    width = "sigma" if distribution == "gaussian" else "alpha"
 
     def pdf(xp: Any, wix, wiy, wiz, wox, woy, woz, p: dict) -> Array:
         hx, hy, hz = wix + wox, wiy + woy, wiz + woz
         inv = safe_div(xp, 1.0, safe_sqrt(xp, hx * hx + hy * hy + hz * hz))
         cos_h = hz * inv
         dot = (wox * hx + woy * hy + woz * hz) * inv
-        val = safe_div(xp, _normal_pdf(xp, cos_h, p["sigma"], distribution), 4.0 * dot)
+        val = safe_div(xp, normal_pdf(xp, cos_h, p[width], distribution), 4.0 * dot)
         return _where(xp, (wiz > 0) & (dot > 0) & (cos_h > 0), val, 0.0 * val)
 
     def sample(xp: Any, u1, u2, wox, woy, woz, p: dict):
-        cos_h, sin_h = _normal_sample(xp, u1, p["sigma"], distribution)
+        cos_h, sin_h = normal_sample(xp, u1, p[width], distribution)
         phi = (2.0 * math.pi) * u2
         hx, hy, hz = sin_h * xp.cos(phi), sin_h * xp.sin(phi), cos_h
         dot = wox * hx + woy * hy + woz * hz
@@ -280,16 +222,13 @@ def microfacet(distribution: str) -> Strategy:
     return Strategy(f"microfacet-{distribution}", sample, pdf)
 
 
-_MICROFACET = {name: microfacet(name) for name in ("gaussian", "beckmann")}
+MICROFACET_GAUSSIAN = microfacet("gaussian")
+MICROFACET_BECKMANN = microfacet("beckmann")
 
 
 def strategy_for(model: Model) -> Strategy:
-    """The best strategy this module has for ``model`` (cosine by default)."""
-    if model.sampling == "cltc":
-        return CLTC
-    if model.sampling == "microfacet":
-        return _MICROFACET[model.distribution]  # type: ignore[attr-defined]
-    return COSINE
+    """The strategy ``model`` declares (``model.sampling_strategy()``; cosine by default)."""
+    return model.sampling_strategy()
 
 
 # ---------------------------------------------------------------------------- model API
@@ -309,6 +248,8 @@ def sample_model(model: Model, u: Array, wo: Array, strategy: Strategy | None = 
     Returns wi, its pdf and the weight f cos θi / pdf (0 where pdf = 0 or wo is below
     the horizon).
     """
+    from .base import BSDFSample
+
     strategy = strategy or strategy_for(model)
     xp = model._xp(u, wo)
     dtype = result_dtype(xp, u, wo)

@@ -9,16 +9,21 @@ h the half vector, θ'i the angle between wi and h (wi·h = √((1 + wi·wo)/2))
 
 * G, the V-groove shadowing and masking of the 1967 paper:
   G = min(1, 2 (n·h)(n·wo)/(wo·h), 2 (n·h)(n·wi)/(wo·h)).
-* D, the facet distribution, normalised so that ∫ D(h) (n·h) dωh = 1:
-  ``"gaussian"``: Gaussian in the slope angle θh with standard deviation σ, as in the lecture
-  (ρ_α(α) ∝ exp(−α²/2σ²)), normalised by quadrature over θh in [0, π/2];
-  ``"beckmann"``: Gaussian in the slope tan θh, D = exp(−tan²θh/m²)/(π m² cos⁴θh) with
-  m = √2 σ, so that σ is the standard deviation of each slope component (Beckmann and
-  Spizzichino 1963; the same σ = m/√2 as Mitsuba 0.6, see :mod:`roughdiffuse.roughness`).
+* D, the facet distribution, normalised so that ∫ D(h) (n·h) dωh = 1, each with its own
+  width parameter (see :mod:`.microfacet`):
+  ``"gaussian"`` (id ``torrance-sparrow``): Gaussian in the slope angle θh with standard
+  deviation σ (radians), as in the lecture (ρ_α(α) ∝ exp(−α²/2σ²));
+  ``"beckmann"`` (id ``torrance-sparrow-beckmann``): Gaussian in the slope tan θh,
+  D = exp(−tan²θh/α²)/(π α² cos⁴θh), α the RMS slope (Beckmann and Spizzichino 1963;
+  pbrt-v4's and Mitsuba 3's ``alpha``).
 * F, the unpolarised Fresnel reflectance of a dielectric of relative index η (total
   internal reflection, F = 1, for η < 1).
 
-σ = 0 is a perfect mirror, a Dirac delta the BRDF cannot hold as a value: f is 0 there.
+Zero width is a perfect mirror, a Dirac delta the BRDF cannot hold as a value: f is 0 there.
+
+Earlier versions took σ for Beckmann too, as the standard deviation of each slope component
+(α = √2 σ). ``TorranceSparrow(eta, sigma, "beckmann")`` without ``alpha`` still means that
+(α = √2 σ is set and σ left unset), so old code gives the same values.
 """
 
 from __future__ import annotations
@@ -27,77 +32,29 @@ import math
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
-import numpy as np
-
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
-from .._validate import check_range
 from ..frames import unit_components
 from ._quadrature import gauss_legendre_01
 from .base import Model, register_pytree
+from .declaration import Param
+from .microfacet import (
+    SIGMA_FLOOR,
+    fresnel_dielectric,
+    slope_distribution,
+    v_groove_masking,
+)
 from .oren_nayar import SIGMA_MAX
+from .sampling import MICROFACET_BECKMANN, MICROFACET_GAUSSIAN, Strategy
 
-__all__ = ["TorranceSparrow", "fresnel_dielectric", "slope_distribution"]
+__all__ = ["TorranceSparrow", "fresnel_dielectric", "slope_distribution", "SIGMA_FLOOR"]
 
 Distribution = Literal["gaussian", "beckmann"]
 
-_COS_FLOOR = 1e-6
-SIGMA_FLOOR = 1e-4
-"""Smallest σ the facet distribution resolves: a smaller positive σ is evaluated as 1e-4 rad
-(peak D = 1.6e7 /sr), so that D stays finite in float32 as σ -> 0 (σ = 0 itself gives 0)."""
-_GL_T, _GL_W = np.polynomial.legendre.leggauss(96)
-_GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
+ETA_MAX = 1e3
+"""Largest accepted η: real dielectrics lie in about [1, 4]; beyond 1e3 η² would leave the
+float range of the formula's intermediate terms long before anything physical."""
 
-
-def fresnel_dielectric(xp: Any, cos_t: Array, eta: Array) -> Array:
-    """Unpolarised Fresnel reflectance for cos θ = ``cos_t`` and relative index η.
-
-    F = ½ ((g − c)/(g + c))² [1 + ((c (g + c) − 1)/(c (g − c) + 1))²], g² = η² − 1 + c²
-    (Cook and Torrance 1982, Eq. in Appendix); F = 1 where g² ≤ 0 (total internal reflection).
-    """
-    c = cos_t
-    g2 = eta * eta - 1.0 + c * c
-    g = safe_sqrt(xp, g2)
-    a = safe_div(xp, g - c, g + c, 1.0)
-    b = safe_div(xp, c * (g + c) - 1.0, c * (g - c) + 1.0, 1.0)
-    return xp.where(g2 > 0, 0.5 * a * a * (1.0 + b * b), 1.0 + 0.0 * c)
-
-
-def _gaussian_norm(xp: Any, sigma: Array, dtype: Any) -> Array:
-    """1 / (2π ∫_0^{π/2} exp(−θ²/2σ²) cos θ sin θ dθ), times σ² (finite as σ → 0).
-
-    With θ = σ t the integral is σ² J(σ), J = ∫_0^T exp(−t²/2) sin(2σt)/(2σ) dt,
-    T = min(π/(2σ), 12); J → 1 as σ → 0. 96-point Gauss–Legendre (error below 1e-12).
-    """
-    t_nodes = asarray(xp, _GL_T, dtype)
-    w = asarray(xp, _GL_W, dtype)
-    pos = sigma > 0
-    s = xp.where(pos, sigma, 1.0)
-    big_t = minimum(xp, math.pi / (2.0 * s), 12.0)
-    t = big_t * t_nodes
-    integrand = xp.exp(-0.5 * t * t) * xp.where(pos, xp.sin(2.0 * s * t) / (2.0 * s), t)
-    j = big_t * xp.sum(integrand * w, axis=-1)
-    return 1.0 / (2.0 * math.pi * j)
-
-
-def slope_distribution(
-    xp: Any, cos_h: Array, sigma: Array, distribution: Distribution = "gaussian"
-) -> Array:
-    """D(h) for n·h = ``cos_h``, normalised so that ∫ D (n·h) dωh = 1; 0 for σ = 0."""
-    dtype = cos_h.dtype
-    pos = sigma > 0
-    s = xp.where(pos, maximum(xp, sigma, SIGMA_FLOOR), 1.0)
-    sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
-    if distribution == "gaussian":
-        theta = xp.atan2(sin_h, cos_h)
-        norm = _gaussian_norm(xp, s[..., None] if s.ndim else s, dtype)
-        d = xp.exp(-theta * theta / (2.0 * s * s)) * norm / (s * s)
-    else:
-        m2 = 2.0 * s * s
-        c = maximum(xp, cos_h, _COS_FLOOR)
-        tan2 = sin_h * sin_h / (c * c)
-        d = xp.exp(-tan2 / m2) / (math.pi * m2 * c**4)
-        d = xp.where(cos_h > _COS_FLOOR, d, 0.0 * d)
-    return xp.where(pos, d, 0.0 * d)
+_SQRT2 = math.sqrt(2.0)
 
 
 @register_pytree
@@ -108,60 +65,128 @@ class TorranceSparrow(Model):
     Parameters
     ----------
     eta : float
-        Relative refractive index η > 0 of the facets (1.5 for glass-like coatings).
-    sigma : float
-        Roughness σ in [0, π/2] radians (slope-angle std for ``"gaussian"``, slope std per
-        component for ``"beckmann"``).
+        Relative refractive index η in (0, 1000] of the facets (1.5 for glass-like coatings).
+    sigma : float or None
+        Gaussian distribution: σ in [0, π/2] radians, the standard deviation of the facet
+        slope angle. ``None`` (unset) for Beckmann.
     distribution : {"gaussian", "beckmann"}
         Facet distribution D.
+    alpha : float or None
+        Beckmann distribution: the RMS slope α in [0, π/√2] (default √2 · 0.2). ``None``
+        (unset) for the Gaussian. Given as ``sigma`` instead (the meaning before), α = √2 σ.
 
     Examples
     --------
+    Normal incidence and view on a Beckmann surface: F = ((η − 1)/(η + 1))², G = 1,
+    D(n) = 1/(π α²), so f = F/(4 π α²).
+
     >>> import numpy as np
-    >>> m = TorranceSparrow(eta=1.5, sigma=0.2)
     >>> w = np.array([0.0, 0.0, 1.0])
-    >>> float(m.brdf(w, w)) > 0
+    >>> m = TorranceSparrow(eta=1.5, alpha=0.5, distribution="beckmann")
+    >>> round(float(m.brdf(w, w)), 12) == round(0.04 / (4 * np.pi * 0.25), 12)
     True
     """
 
-    eta: Any = 1.5
-    sigma: Any = 0.2
+    eta: float | Array = 1.5
+    sigma: float | Array | None = 0.2
     distribution: Distribution = "gaussian"
+    alpha: float | Array | None = None
 
-    array_fields: ClassVar[tuple[str, ...]] = ("eta", "sigma")
-    sampling: ClassVar[str] = "microfacet"
+    params: ClassVar[tuple[Param, ...]] = (
+        Param(
+            "eta",
+            "relative refractive index η of the facets",
+            min=0.0,
+            max=ETA_MAX,
+            min_open=True,
+            default=1.5,
+        ),
+        Param(
+            "sigma",
+            "σ, standard deviation of the facet slope angle (Gaussian distribution)",
+            unit="radians",
+            min=0.0,
+            max=SIGMA_MAX,
+            default=0.2,
+            when={"distribution": "gaussian"},
+            example=math.radians(20.0),
+        ),
+        Param(
+            "distribution",
+            "facet distribution: Gaussian in the slope angle, or Beckmann",
+            choices=("gaussian", "beckmann"),
+            default="gaussian",
+        ),
+        Param(
+            "alpha",
+            "α, RMS facet slope (Beckmann distribution; α = √2 σ at small slopes)",
+            min=0.0,
+            max=_SQRT2 * SIGMA_MAX,
+            default=_SQRT2 * 0.2,
+            when={"distribution": "beckmann"},
+        ),
+    )
+    ids: ClassVar[dict[str, dict[str, Any]]] = {
+        "torrance-sparrow": {"distribution": "gaussian"},
+        "torrance-sparrow-beckmann": {"distribution": "beckmann"},
+    }
+    labels: ClassVar[dict[str, str]] = {
+        "torrance-sparrow": "Torrance–Sparrow (specular)",
+        "torrance-sparrow-beckmann": "Torrance–Sparrow (specular, Beckmann)",
+    }
+    lobe: ClassVar[str] = "glossy"
+    sampling: ClassVar[Strategy] = MICROFACET_GAUSSIAN
+    reference: ClassVar[str] = (
+        "K. E. Torrance, E. M. Sparrow, Theory for off-specular reflection from roughened "
+        "surfaces, JOSA 57 (1967)"
+    )
+    glsl: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
-        check_range("eta", self.eta, 0.0, math.inf, lo_open=True)
-        check_range("sigma", self.sigma, 0.0, SIGMA_MAX, unit="radians")
-        if self.distribution not in ("gaussian", "beckmann"):
-            raise ValueError(
-                f"distribution must be 'gaussian' or 'beckmann' (got {self.distribution!r})"
-            )
+        if self.distribution == "beckmann" and self.alpha is None and self.sigma is not None:
+            # the meaning before α had its own name: σ per slope component, α = √2 σ
+            sigma = Param("sigma", "", unit="radians", min=0.0, max=SIGMA_MAX).check(self.sigma)
+            object.__setattr__(self, "alpha", _SQRT2 * sigma)
+            object.__setattr__(self, "sigma", None)
+        elif self.distribution == "beckmann" and self.alpha is not None:
+            if self.sigma is not None and self.sigma != 0.2:
+                raise ValueError("give alpha for the Beckmann distribution, not sigma as well")
+            object.__setattr__(self, "sigma", None)
+        super().__post_init__()
+
+    def sampling_strategy(self) -> Strategy:
+        """Facet-normal sampling of this instance's distribution (:mod:`.sampling`)."""
+        return MICROFACET_BECKMANN if self.distribution == "beckmann" else MICROFACET_GAUSSIAN
+
+    @property
+    def width(self) -> Any:
+        """The distribution's width parameter: σ (Gaussian) or α (Beckmann)."""
+        return self.alpha if self.distribution == "beckmann" else self.sigma
 
     def _kernel(
-        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, sigma: Array
+        self,
+        xp: Any,
+        mu_i: Array,
+        mu_o: Array,
+        cos_io: Array,
+        eta: Array,
+        sigma: Array | None = None,
+        alpha: Array | None = None,
     ) -> Array:
         # |wi + wo| = sqrt(2 (1 + cos_io)); n·h and wi·h = wo·h from the cosines alone
         len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
         cos_h = safe_div(xp, mu_i + mu_o, len_h)
         cos_d = 0.5 * len_h  # wi·h = √((1 + cos_io)/2)
-        d = slope_distribution(xp, cos_h, sigma, self.distribution)
+        width = alpha if self.distribution == "beckmann" else sigma
+        d = slope_distribution(xp, cos_h, width, self.distribution)
         f = fresnel_dielectric(xp, cos_d, eta)
-        mi = maximum(xp, mu_i, _COS_FLOOR)
-        mo = maximum(xp, mu_o, _COS_FLOOR)
-        cd = maximum(xp, cos_d, _COS_FLOOR)
-        # G / (μi μo) = min(1/(μi μo), 2 n·h/(wo·h μi), 2 n·h/(wo·h μo))
-        g_over = minimum(
-            xp, 1.0 / (mi * mo), minimum(xp, 2.0 * cos_h / (cd * mi), 2.0 * cos_h / (cd * mo))
-        )
-        return f * d * g_over / 4.0
+        return f * d * v_groove_masking(xp, mu_i, mu_o, cos_h, cos_d) / 4.0
 
     def directional_albedo(self, wo: Array, n: int = 96) -> Array:
         """∫ f cos θi dωi, integrated over the half vector h where the lobe lives.
 
         With wi = 2 (wo·h) h − wo and dωi = 4 (wo·h) dωh, Gauss–Legendre in θh over
-        [0, θmax] (θmax = min(π/2, 10σ) for the Gaussian, atan(10·√2 σ) for Beckmann: D is
+        [0, θmax] (θmax = min(π/2, 10σ) for the Gaussian, atan(10 α) for Beckmann: D is
         below e^-50 of its peak beyond) and in φh over [0, π], doubled. The horizon cut
         (cos θi > 0) is not resolved by the rule: about 1e-4 near grazing, 1e-6 elsewhere.
         """
@@ -170,11 +195,11 @@ class TorranceSparrow(Model):
         _, _, z = unit_components(xp, wo, "wo", dtype)
         mu_o = clip(xp, z, 0.0, 1.0)[..., None, None]
         sin_o = safe_sqrt(xp, 1.0 - mu_o * mu_o)
-        sigma = asarray(xp, self.sigma, dtype)
+        width = asarray(xp, self.width, dtype)
         if self.distribution == "gaussian":
-            theta_max = minimum(xp, 10.0 * sigma, math.pi / 2)
+            theta_max = minimum(xp, 10.0 * width, math.pi / 2)
         else:
-            theta_max = xp.atan(10.0 * math.sqrt(2.0) * sigma)
+            theta_max = xp.atan(10.0 * width)
         t, w = (asarray(xp, a, dtype) for a in gauss_legendre_01(n))
         th = theta_max * t[:, None]
         ph = math.pi * t[None, :]
