@@ -24,6 +24,7 @@ from .models import (
     Model,
     OrenNayar,
     TorranceSparrow,
+    VCavity,
     oren_nayar,
 )
 from .models.declaration import Param
@@ -46,6 +47,7 @@ __all__ = [
     "OrenNayar",
     "Param",
     "TorranceSparrow",
+    "VCavity",
     "__version__",
     "oren_nayar",
     "register_model",

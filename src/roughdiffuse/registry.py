@@ -235,9 +235,20 @@ def _register_builtins() -> None:
         Mix,
         OrenNayar,
         TorranceSparrow,
+        VCavity,
     )
 
-    for cls in (Lambert, OrenNayar, Fujii, EON, TorranceSparrow, Mix, LommelSeeliger, LunarLambert):
+    for cls in (
+        Lambert,
+        OrenNayar,
+        Fujii,
+        EON,
+        TorranceSparrow,
+        Mix,
+        LommelSeeliger,
+        LunarLambert,
+        VCavity,
+    ):
         register_model(cls, source="roughdiffuse")
 
 

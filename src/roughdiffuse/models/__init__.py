@@ -9,6 +9,7 @@ from .lunar import LommelSeeliger, LunarLambert
 from .mix import Mix
 from .oren_nayar import OrenNayar, oren_nayar
 from .torrance_sparrow import TorranceSparrow, fresnel_dielectric, slope_distribution
+from .vcavity import VCavity
 
 __all__ = [
     "EON",
@@ -23,6 +24,7 @@ __all__ = [
     "OrenNayar",
     "Param",
     "TorranceSparrow",
+    "VCavity",
     "fon_albedo",
     "fon_average_albedo",
     "fresnel_dielectric",
