@@ -211,6 +211,7 @@ class VCavity(Model):
         if rho == 0.0 or sig == 0.0:
             return zero + rho / math.pi
         table = vcavity_table(sig, rho, self.bounces, self.measure)
+        mu_i, mu_o, cos_io = xp.broadcast_arrays(mu_i, mu_o, cos_io)
         n, m = TABLE_THETA, TABLE_PHI
         si = xp.sqrt(clip(xp, 1.0 - mu_i * mu_i, 0.0, 1.0))
         so = xp.sqrt(clip(xp, 1.0 - mu_o * mu_o, 0.0, 1.0))
