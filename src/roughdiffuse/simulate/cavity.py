@@ -19,6 +19,11 @@ Cross-section (x along a = (cos φa, sin φa, 0), y = z, width w = 1): facet "+"
   view factors from Hottel's crossed-strings rule (Modest, *Radiative Heat Transfer*, §4.8).
   The direct term stays exact (closed form above); only the interreflected radiosity is
   piecewise constant on the elements.
+* Tabulated interreflection: the element solution depends on a cavity's geometry only
+  through, per facet, the lit and visible fractions (times the lit exitance and the
+  projected visible length), so per slope it is tabulated once as a function of (g_v, g_l)
+  (:class:`ResponseTable`, :func:`tabulated_interreflected`); the surface solver uses it by
+  default, :class:`InterreflectionSolver` is the per-cavity reference.
 
 Radiances here are per unit irradiance E0 on a plane facing the source.
 """
