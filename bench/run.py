@@ -69,34 +69,26 @@ TARGET_NUMPY = 10.0
 def bench_models() -> list[tuple[str, Any, str, tuple[float, ...]]]:
     """(label, model, C function, C parameters) for every benchmarked model."""
     import roughdiffuse as rd
-    from roughdiffuse.models import torrance_sparrow as ts
+    from roughdiffuse import registry
+    from roughdiffuse.models import microfacet
 
     sigma_ts = 0.3
-    s = max(sigma_ts, getattr(ts, "SIGMA_FLOOR", 0.0))
-    norm = float(ts._gaussian_norm(np, np.float64(s), np.float64))
-    return [
-        ("Lambert", rd.Lambert(0.8), "rd_lambert", (0.8,)),
+    s = max(sigma_ts, microfacet.SIGMA_FLOOR)
+    norm = float(microfacet.gaussian_norm(np, np.float64(s), np.float64))
+    cases = [  # (registry id, model, C function, C parameters); labels from the registry
+        ("lambert", rd.Lambert(0.8), "rd_lambert", (0.8,)),
+        ("oren-nayar", rd.OrenNayar(0.8, 0.3), "rd_oren_nayar_qualitative", (0.8, 0.3)),
+        ("oren-nayar-full", rd.OrenNayar(0.8, 0.3, "full"), "rd_oren_nayar_full", (0.8, 0.3)),
+        ("fujii", rd.Fujii(0.8, 0.5), "rd_fujii", (0.8, 0.5)),
+        ("eon", rd.EON(0.8, 0.5), "rd_eon", (0.8, 0.5)),
         (
-            "Oren–Nayar qualitative",
-            rd.OrenNayar(0.8, 0.3),
-            "rd_oren_nayar_qualitative",
-            (0.8, 0.3),
-        ),
-        (
-            "Oren–Nayar full",
-            rd.OrenNayar(0.8, 0.3, "full"),
-            "rd_oren_nayar_full",
-            (0.8, 0.3),
-        ),
-        ("Fujii", rd.Fujii(0.8, 0.5), "rd_fujii", (0.8, 0.5)),
-        ("EON", rd.EON(0.8, 0.5), "rd_eon", (0.8, 0.5)),
-        (
-            "Torrance–Sparrow (Gaussian)",
+            "torrance-sparrow",
             rd.TorranceSparrow(1.5, sigma_ts),
             "rd_torrance_sparrow",
             (1.5, s, norm),
         ),
     ]
+    return [(registry.get(i).label, m, c, p) for i, m, c, p in cases]
 
 
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:

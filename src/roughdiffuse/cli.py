@@ -18,6 +18,7 @@ from .commands import COMMANDS, UsageError
 EPILOG = """\
 examples:
   roughdiffuse eval --model oren-nayar --sigma 20 --albedo 0.8 --theta-i 30 --theta-r 60
+  roughdiffuse models
   roughdiffuse figures -o figures/
   roughdiffuse <command> --help
 

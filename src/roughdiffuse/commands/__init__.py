@@ -6,6 +6,7 @@ parser and sets ``func``) and add ``NAME`` to :data:`COMMANDS`.
 
 COMMANDS: list[str] = [
     "eval",
+    "models",
     "explore",
     "render",
     "plot",

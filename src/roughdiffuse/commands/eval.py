@@ -12,6 +12,10 @@ EXAMPLES = """\
 examples:
   roughdiffuse eval --model oren-nayar --sigma 20 --theta-i 30 --theta-r 60 --delta-phi 0
   roughdiffuse eval --model eon --roughness 1 --albedo 0.9,0.5,0.2 --theta-i 80
+  roughdiffuse eval --model torrance-sparrow-beckmann --param alpha=0.3 --theta-i 20
+  roughdiffuse eval --model mix --param weight=0.3 --param sigma=15
+
+`roughdiffuse models` lists the model ids and their parameters.
 """
 
 

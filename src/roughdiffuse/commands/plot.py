@@ -7,7 +7,7 @@ import copy
 import math
 
 from . import UsageError
-from ._common import MODEL_NAMES, add_model_arguments, float_list, model_from_args
+from ._common import add_model_arguments, float_list, model_from_args, model_ids
 from .render import add_output_arguments, add_scene_arguments, check_output, make_shape
 
 EXAMPLES = """\
@@ -37,7 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     for action in p._actions:  # --model and --sigma take lists here
         if action.dest == "model":
-            action.help = f"comma-separated names from: {', '.join(MODEL_NAMES)}"
+            action.help = f"comma-separated ids from: {', '.join(model_ids())}"
         if action.dest == "sigma":
             action.type = float_list
             action.default = [20.0]
@@ -59,14 +59,19 @@ def _models(args: argparse.Namespace, sigma_list: list[float] | None = None) -> 
     if not names:
         raise UsageError("--model must name at least one model")
     sigmas = sigma_list if sigma_list is not None else args.sigma
+    from .. import registry
+
     models = {}
     for name in names:
-        uses_sigma = name in ("oren-nayar", "oren-nayar-full", "torrance-sparrow")
+        try:
+            uses_sigma = "sigma" in registry.get(name).defaults()
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
         for s in sigmas if uses_sigma else sigmas[:1]:
             a = copy.copy(args)
-            a.model, a.sigma = name, s
+            a.model, a.sigma = name, s if uses_sigma else None
             label = f"{name}, σ = {s:g}°" if uses_sigma else name
-            models[label] = model_from_args(a)
+            models[label] = model_from_args(a, strict=False)
     return models
 
 
@@ -133,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
         def make(sigma_rad: float):  # noqa: ANN202
             a = copy.copy(args)
             a.model, a.sigma = names[0], math.degrees(sigma_rad)
-            return model_from_args(a)
+            return model_from_args(a, strict=False)
 
         size = args.size if isinstance(args.size, int) else min(args.size)
         fig = plots.plot_roughness_series(

@@ -58,6 +58,7 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
         "eta": _float(q, "eta", 1.5),
         "weight": _float(q, "weight", 0.0),
         "limb": _float(q, "limb", 0.5),
+        "alpha": _float(q, "alpha", math.sqrt(2.0) * 0.2),
         "distribution": q.get("distribution", "gaussian"),
     }
 

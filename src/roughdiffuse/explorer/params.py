@@ -13,19 +13,10 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from ..models import (
-    EON,
-    Fujii,
-    Lambert,
-    LommelSeeliger,
-    LunarLambert,
-    Mix,
-    Model,
-    OrenNayar,
-    TorranceSparrow,
-)
+from .. import registry
+from ..models import Model
 
-__all__ = ["MODEL_IDS", "DEFAULTS", "model_from_params"]
+__all__ = ["MODEL_IDS", "DEFAULTS", "FLAT_KEYS", "model_from_params"]
 
 MODEL_IDS: dict[str, int] = {
     "lambert": 0,
@@ -34,36 +25,48 @@ MODEL_IDS: dict[str, int] = {
     "fujii": 3,
     "eon": 4,
     "torrance-sparrow": 5,
+    "torrance-sparrow-beckmann": 5,
     "mix": 6,
     "lommel-seeliger": 7,
     "lunar-lambert": 8,
 }
-"""Model names and the ids ``brdf.glsl`` dispatches on (the same numbers there)."""
+"""The registry ids the GLSL has a copy of, and the numbers ``brdf.glsl`` dispatches on (the
+same in ``static/js/models.js``). A registry model missing here (``"glsl": false`` in
+``/api/models``) is not in the page's menus."""
 
-DEFAULTS: dict[str, Any] = {
-    "model": "oren-nayar",
-    "albedo": (0.8, 0.8, 0.8),
-    "sigma": 0.0,
-    "roughness": 0.0,
-    "eta": 1.5,
-    "weight": 0.0,
-    "limb": 0.5,
-    "distribution": "gaussian",
-}
-"""Values of the parameters a parameter set leaves out (σ in radians)."""
+FLAT_KEYS: dict[str, str] = {"limb_darkening": "limb"}
+"""Declared parameter name -> its key in the flat record (the GLSL's ``RDParams``), where the
+two differ."""
+
+
+def _flat_defaults() -> dict[str, Any]:
+    out: dict[str, Any] = {"model": "oren-nayar"}
+    for model_id in MODEL_IDS:
+        for p in registry.get(model_id).parameters:
+            key = FLAT_KEYS.get(p.name, p.name)
+            if key not in out:
+                out[key] = [p.default] * 3 if p.channels else p.default
+    out.setdefault("distribution", "gaussian")
+    return out
+
+
+DEFAULTS: dict[str, Any] = _flat_defaults()
+"""Values of the parameters a parameter set leaves out: the declared defaults (σ in radians)."""
 
 
 def model_from_params(params: Mapping[str, Any]) -> Model:
-    """The Python model for one explorer parameter set.
+    """The Python model for one explorer parameter set (one flat record, as the GLSL reads it).
 
     Parameters
     ----------
     params : mapping
-        ``model`` (a key of :data:`MODEL_IDS`), ``albedo`` (three numbers in [0, 1]),
-        ``sigma`` (radians, [0, π/2]), ``roughness`` (r in [0, 1]), ``eta`` (> 0), ``weight``
-        (Mix: weight of the specular lobe, [0, 1]), ``limb`` (Lunar-Lambert L, [0, 1]),
-        ``distribution`` (``"gaussian"`` or ``"beckmann"``). Missing keys take
-        :data:`DEFAULTS`.
+        ``model`` (a key of :data:`MODEL_IDS`), then the model's declared parameters (see
+        ``roughdiffuse models``) under their flat keys: ``albedo`` (three numbers in [0, 1]),
+        ``sigma`` (radians), ``roughness``, ``eta``, ``weight`` (Mix), ``limb``
+        (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``. Keys the model does not
+        take are ignored (the page sends every slider); missing keys take :data:`DEFAULTS`.
+        ``torrance-sparrow`` with ``distribution="beckmann"`` is the GLSL's reading of a σ
+        for Beckmann: α = √2 σ.
 
     Returns
     -------
@@ -80,33 +83,18 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     name = p["model"]
     if name not in MODEL_IDS:
         raise ValueError(f"model must be one of {', '.join(MODEL_IDS)} (got {name!r})")
-    albedo = [float(a) for a in p["albedo"]]
-    if len(albedo) != 3:
-        raise ValueError(f"albedo must have 3 values (got {len(albedo)})")
-    sigma, r, eta = float(p["sigma"]), float(p["roughness"]), float(p["eta"])
-    weight, limb = float(p["weight"]), float(p["limb"])
-    if not 0.0 <= weight <= 1.0 or math.isnan(weight):
-        raise ValueError(f"weight must be in [0, 1] (got {weight})")
-    dist = p["distribution"]
-    if name == "lambert":
-        return Lambert(albedo)
-    if name == "oren-nayar":
-        return OrenNayar(albedo, sigma, "qualitative")
-    if name == "oren-nayar-full":
-        return OrenNayar(albedo, sigma, "full")
-    if name == "fujii":
-        return Fujii(albedo, r)
-    if name == "eon":
-        return EON(albedo, r)
-    if name == "torrance-sparrow":
-        return TorranceSparrow(eta, sigma, dist)
-    if name == "mix":
-        return Mix(
-            [
-                (1.0 - weight, OrenNayar(albedo, sigma, "full")),
-                (weight, TorranceSparrow(eta, sigma, dist)),
-            ]
-        )
-    if name == "lommel-seeliger":
-        return LommelSeeliger(albedo)
-    return LunarLambert(albedo, limb)
+    if name == "torrance-sparrow" and p.get("distribution") == "beckmann":
+        name = "torrance-sparrow-beckmann"
+        p = {**p, "alpha": math.sqrt(2.0) * float(p["sigma"])}
+    entry = registry.get(name)
+    kwargs: dict[str, Any] = {}
+    for param in entry.parameters:
+        value = p[FLAT_KEYS.get(param.name, param.name)]
+        if param.channels:
+            value = [float(a) for a in value]
+            if len(value) != 3:
+                raise ValueError(f"{param.name} must have 3 values (got {len(value)})")
+        elif not param.categorical:
+            value = float(value)
+        kwargs[param.name] = value
+    return entry.create(**kwargs)

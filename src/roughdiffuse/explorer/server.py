@@ -1,9 +1,11 @@
 """The explorer's local web server (standard library only).
 
-It serves the static page in ``static/`` and three small JSON/PNG endpoints under ``/api/``:
+It serves the static page in ``static/`` and four small JSON/PNG endpoints under ``/api/``:
 
 * ``/api/info.json``: what this server can do (``vase``: the Python renderer is importable;
   ``groundtruth``: the V-cavity solver is importable).
+* ``/api/models``: every model of :mod:`roughdiffuse.registry`, the same JSON as
+  ``roughdiffuse models --json``; the page builds its menus and sliders from it.
 * ``/api/vase.png?model=…&albedo=…``: the vase preset, rendered by :mod:`roughdiffuse.render`.
 * ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…``: V-cavity radiance in the plane of
   incidence, computed by :mod:`roughdiffuse.simulate` on request.
@@ -130,6 +132,10 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         try:
             if path == "/api/info.json":
                 self._json(HTTPStatus.OK, backend.info(), head)
+            elif path == "/api/models":
+                from .. import registry
+
+                self._json(HTTPStatus.OK, registry.to_json(), head)
             elif path == "/api/vase.png":
                 self._send(HTTPStatus.OK, backend.vase_png(q), "image/png", head)
             elif path == "/api/groundtruth.json":

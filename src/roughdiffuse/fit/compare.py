@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..models import EON, Fujii, Lambert, LommelSeeliger, LunarLambert, OrenNayar, TorranceSparrow
 from .least_squares import DegenerateDataWarning, FitResult, fit
 from .measurements import Measurements
 
@@ -32,26 +31,40 @@ class Candidate:
     bounds: Mapping[str, tuple[float, float]] | None = None
 
 
-CANDIDATES: dict[str, Candidate] = {
-    c.name: c
-    for c in (
-        Candidate("lambert", Lambert, ("albedo",)),
-        Candidate("oren-nayar", OrenNayar, ("albedo", "sigma"), {"variant": "qualitative"}),
-        Candidate("oren-nayar-full", OrenNayar, ("albedo", "sigma"), {"variant": "full"}),
-        Candidate("fujii", Fujii, ("albedo", "roughness")),
-        Candidate("eon", EON, ("albedo", "roughness")),
-        Candidate(
-            "torrance-sparrow",
-            TorranceSparrow,
-            ("eta", "sigma"),
-            None,
-            {"eta": (1.0, 3.0), "sigma": (0.02, math.pi / 2)},
-        ),
-        Candidate("lommel-seeliger", LommelSeeliger, ("albedo",)),
-        Candidate("lunar-lambert", LunarLambert, ("albedo", "limb_darkening")),
-    )
-}
-"""The models :func:`compare_models` tries, by their CLI names."""
+def candidate(model_id: str) -> Candidate:
+    """The candidate of one registry id: its numeric parameters fitted, its fixed choices
+    fixed, the boxes its declaration gives (see :mod:`roughdiffuse.registry`)."""
+    from .. import registry
+
+    entry = registry.get(model_id)
+    factory = getattr(entry.cls, "from_params", entry.cls)
+    numeric = tuple(p.name for p in entry.parameters if not p.categorical)
+    return Candidate(entry.id, factory, numeric, dict(entry.fixed) or None, None)
+
+
+class _Candidates(Mapping[str, Candidate]):
+    """Every registry id as a :class:`Candidate` (read when asked: plugins included)."""
+
+    def __getitem__(self, name: str) -> Candidate:
+        from .. import registry
+
+        if name not in registry.ids():
+            raise KeyError(name)
+        return candidate(name)
+
+    def __iter__(self) -> Iterator[str]:
+        from .. import registry
+
+        return iter(registry.ids())
+
+    def __len__(self) -> int:
+        from .. import registry
+
+        return len(registry.ids())
+
+
+CANDIDATES: Mapping[str, Candidate] = _Candidates()
+"""The models :func:`compare_models` tries: every id of :mod:`roughdiffuse.registry`."""
 
 
 @dataclass(frozen=True)

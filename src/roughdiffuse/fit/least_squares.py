@@ -29,6 +29,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..models import Model
+from ..models.declaration import Param
 from .measurements import Measurements
 
 __all__ = ["DEFAULT_BOUNDS", "DegenerateDataWarning", "FitResult", "fit"]
@@ -40,7 +41,18 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "eta": (1.0, 3.0),
     "limb_darkening": (0.0, 1.0),
 }
-"""Bounds used for a parameter the caller gives none for (radians for ``sigma``)."""
+"""Bounds for a parameter of a factory *function* the caller gives none for (radians for
+``sigma``). A model class's own parameters take the box its declaration gives
+(:attr:`roughdiffuse.models.declaration.Param.bounds`)."""
+
+
+def declared_params(factory: Any) -> dict[str, Param]:
+    """The declared parameters of a model class, or of a classmethod factory of one
+    (``Mix.from_params``); empty for anything else."""
+    cls = factory if isinstance(factory, type) else getattr(factory, "__self__", None)
+    if isinstance(cls, type) and issubclass(cls, Model):
+        return {p.name: p for p in cls.params}
+    return {}
 
 RANK_TOL = 1e-7
 """Singular values of the column-normalised Jacobian below this (relative to the largest)
@@ -179,6 +191,12 @@ def _layout(
         if not is_class:
             raise ValueError("params must name the parameters of a model factory function")
         params = tuple(factory.array_fields)
+        if factory.params:  # those the declaration gives this choice of categorical values
+            choices = {p.name: p.default for p in factory.params if p.categorical}
+            choices.update(fixed)
+            params = tuple(
+                p.name for p in factory.params if not p.categorical and p.applies(choices)
+            )
     params = tuple(params)
     if not params:
         raise ValueError("params must name at least one parameter to fit")
@@ -217,9 +235,13 @@ def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
         if key not in layout.params:
             raise ValueError(f"bounds names {key!r}, which is not fitted (params: {layout.params})")
     rows = []
+    declared = declared_params(layout.factory)
     for p, c in zip(layout.params, layout.channels, strict=True):
+        box = declared[p].bounds if p in declared else None
         if p in bounds:
             lo, hi = (float(v) for v in bounds[p])
+        elif box is not None:
+            lo, hi = box
         elif p in DEFAULT_BOUNDS:
             lo, hi = DEFAULT_BOUNDS[p]
         else:
@@ -484,7 +506,8 @@ def fit(
         "sigma")`` for Oren–Nayar). With RGB data, ``albedo`` is fitted per channel and the
         others are shared.
     bounds : mapping or sequence of (low, high), optional
-        Per parameter; defaults from :data:`DEFAULT_BOUNDS` (σ in radians).
+        Per parameter; defaults from the model's declaration (``Param.bounds``), else
+        :data:`DEFAULT_BOUNDS` (σ in radians).
     fixed : mapping, optional
         Other constructor arguments, e.g. ``{"variant": "full"}``.
     x0 : mapping, optional

@@ -1,6 +1,6 @@
 """Reflectance models: one module per family, one interface (see :mod:`.base`)."""
 
-from .base import MODEL_CLASSES, BSDFSample, Model
+from .base import MODEL_CLASSES, BSDFSample, Model, register_pytree
 from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
@@ -29,5 +29,6 @@ __all__ = [
     "fon_average_albedo",
     "fresnel_dielectric",
     "oren_nayar",
+    "register_pytree",
     "slope_distribution",
 ]

@@ -87,6 +87,9 @@ class Param:
     when : mapping or None
         The parameter exists only for these values of categorical parameters, e.g.
         ``{"distribution": "gaussian"}``; otherwise it must be left unset (``None``).
+    fit_range : (float, float) or None
+        The box a fit searches by default (finite); ``None``: ``[min, max]``. Narrower where
+        the accepted range is unbounded (η) or has a degenerate end (σ = 0 is a mirror).
     example : float or None
         A typical value, where the command line and the explorer start when the user gives
         none (σ = 20° shows roughness where the default σ = 0 is Lambert); ``None``: the
@@ -104,6 +107,7 @@ class Param:
     min_open: bool = False
     when: Mapping[str, str] | None = field(default=None, hash=False)
     example: float | None = None
+    fit_range: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         if self.unit not in UNITS:
@@ -120,6 +124,15 @@ class Param:
     def categorical(self) -> bool:
         """True for a parameter with named choices (a static field, not a pytree leaf)."""
         return self.choices is not None
+
+    @property
+    def bounds(self) -> tuple[float, float] | None:
+        """The default fit box: ``fit_range``, else ``(min, max)`` if both are finite."""
+        if self.fit_range is not None:
+            return (float(self.fit_range[0]), float(self.fit_range[1]))
+        if self.choices is None and self.min is not None and self.max is not None:
+            return (float(self.min), float(self.max))
+        return None
 
     @property
     def interval(self) -> str:
@@ -218,6 +231,7 @@ class Param:
             "example": self.default if self.example is None else self.example,
             "channels": self.channels,
             "choices": list(self.choices) if self.choices is not None else None,
+            "fit_range": list(self.fit_range) if self.fit_range is not None else None,
         }
 
 

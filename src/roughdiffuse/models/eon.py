@@ -77,7 +77,7 @@ class EON(Model):
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"eon": {}}
-    labels: ClassVar[dict[str, str]] = {"eon": "EON (energy-preserving)"}
+    labels: ClassVar[dict[str, str]] = {"eon": "EON"}
     sampling: ClassVar[Strategy] = CLTC
     reference: ClassVar[str] = (
         "J. Portsmouth, P. Kutz, S. Hill, EON: A practical energy-preserving rough diffuse BRDF, "

@@ -58,7 +58,7 @@ class LommelSeeliger(Model):
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lommel-seeliger": {}}
-    labels: ClassVar[dict[str, str]] = {"lommel-seeliger": "Lommel–Seeliger (lunar)"}
+    labels: ClassVar[dict[str, str]] = {"lommel-seeliger": "Lommel–Seeliger"}
     reference: ClassVar[str] = (
         "B. Hapke, Theory of Reflectance and Emittance Spectroscopy, 2nd ed. (2012), Eq. 9.13"
     )
@@ -116,7 +116,7 @@ class LunarLambert(Model):
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lunar-lambert": {}}
-    labels: ClassVar[dict[str, str]] = {"lunar-lambert": "Lunar-Lambert (McEwen)"}
+    labels: ClassVar[dict[str, str]] = {"lunar-lambert": "Lunar-Lambert"}
     reference: ClassVar[str] = (
         "A. S. McEwen, Photometric functions for photoclinometry and other applications, "
         "Icarus 92 (1991)"

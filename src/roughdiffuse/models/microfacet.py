@@ -32,6 +32,7 @@ __all__ = [
     "DISTRIBUTIONS",
     "SIGMA_FLOOR",
     "fresnel_dielectric",
+    "gaussian_norm",
     "normal_pdf",
     "normal_sample",
     "slope_distribution",
@@ -74,7 +75,7 @@ def fresnel_dielectric(xp: Any, cos_t: Array, eta: Array) -> Array:
     return xp.where(g2 > 0, 0.5 * a * a * (1.0 + b * b), 1.0 + 0.0 * c)
 
 
-def _gaussian_norm(xp: Any, sigma: Array, dtype: Any) -> Array:
+def gaussian_norm(xp: Any, sigma: Array, dtype: Any) -> Array:
     """1 / (2π ∫_0^{π/2} exp(−θ²/2σ²) cos θ sin θ dθ), times σ² (finite as σ → 0).
 
     With θ = σ t the integral is σ² J(σ), J = ∫_0^T exp(−t²/2) sin(2σt)/(2σ) dt,
@@ -105,7 +106,7 @@ def slope_distribution(
     sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
     if distribution == "gaussian":
         theta = xp.atan2(sin_h, cos_h)
-        norm = _gaussian_norm(xp, s[..., None] if s.ndim else s, dtype)
+        norm = gaussian_norm(xp, s[..., None] if s.ndim else s, dtype)
         d = xp.exp(-theta * theta / (2.0 * s * s)) * norm / (s * s)
     else:
         a2 = s * s
@@ -139,7 +140,7 @@ def _gaussian_angle(xp: Any, u1: Array, s: Array) -> Array:
     """t = θh/σ with density ∝ exp(−t²/2) sin(2σt)/(2σ) on [0, T], T = min(π/(2σ), 12).
 
     That is D(h) n·h sin θh dθh for the Gaussian-in-angle D (the truncation at 12σ is the
-    distribution's own, see :func:`_gaussian_norm`). No closed-form inverse exists: start
+    distribution's own, see :func:`gaussian_norm`). No closed-form inverse exists: start
     from the inverse of the small-angle density t exp(−t²/2) and take Newton steps on
     √F(t) = √(u Z) (on √(Z − F) = √((1 − u) Z) for u > ½), F the CDF by 32-point
     Gauss–Legendre and Z = F(T); the square roots make both ends, where the density

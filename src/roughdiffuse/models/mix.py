@@ -55,7 +55,7 @@ class Mix(Model):
               min=0.0, max=SIGMA_MAX, default=0.2, example=math.radians(20.0)),
         Param("weight", "w, weight of the specular part", min=0.0, max=1.0, default=0.1),
         Param("eta", "relative refractive index η of the specular part", min=0.0, max=ETA_MAX,
-              min_open=True, default=1.5),
+              min_open=True, default=1.5, fit_range=(1.0, 3.0)),
         Param("distribution", "facet distribution of the specular part (Beckmann: α = √2 σ)",
               choices=("gaussian", "beckmann"), default="gaussian"),
     )

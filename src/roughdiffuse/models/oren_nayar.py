@@ -148,8 +148,8 @@ class OrenNayar(Model):
         "oren-nayar-full": {"variant": "full"},
     }
     labels: ClassVar[dict[str, str]] = {
-        "oren-nayar": "Oren–Nayar (qualitative)",
-        "oren-nayar-full": "Oren–Nayar (full, with interreflection)",
+        "oren-nayar": "Oren–Nayar qualitative",
+        "oren-nayar-full": "Oren–Nayar full",
     }
     reference: ClassVar[str] = (
         "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994"

@@ -100,6 +100,7 @@ class TorranceSparrow(Model):
             max=ETA_MAX,
             min_open=True,
             default=1.5,
+            fit_range=(1.0, 3.0),
         ),
         Param(
             "sigma",
@@ -110,6 +111,7 @@ class TorranceSparrow(Model):
             default=0.2,
             when={"distribution": "gaussian"},
             example=math.radians(20.0),
+            fit_range=(0.02, SIGMA_MAX),
         ),
         Param(
             "distribution",
@@ -124,6 +126,7 @@ class TorranceSparrow(Model):
             max=_SQRT2 * SIGMA_MAX,
             default=_SQRT2 * 0.2,
             when={"distribution": "beckmann"},
+            fit_range=(_SQRT2 * 0.02, _SQRT2 * SIGMA_MAX),
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {
@@ -131,8 +134,8 @@ class TorranceSparrow(Model):
         "torrance-sparrow-beckmann": {"distribution": "beckmann"},
     }
     labels: ClassVar[dict[str, str]] = {
-        "torrance-sparrow": "Torrance–Sparrow (specular)",
-        "torrance-sparrow-beckmann": "Torrance–Sparrow (specular, Beckmann)",
+        "torrance-sparrow": "Torrance–Sparrow",
+        "torrance-sparrow-beckmann": "Torrance–Sparrow (Beckmann)",
     }
     lobe: ClassVar[str] = "glossy"
     sampling: ClassVar[Strategy] = MICROFACET_GAUSSIAN
@@ -149,7 +152,8 @@ class TorranceSparrow(Model):
             object.__setattr__(self, "alpha", _SQRT2 * sigma)
             object.__setattr__(self, "sigma", None)
         elif self.distribution == "beckmann" and self.alpha is not None:
-            if self.sigma is not None and self.sigma != 0.2:
+            sigma_default = isinstance(self.sigma, float | int) and self.sigma == 0.2
+            if self.sigma is not None and not sigma_default:
                 raise ValueError("give alpha for the Beckmann distribution, not sigma as well")
             object.__setattr__(self, "sigma", None)
         super().__post_init__()

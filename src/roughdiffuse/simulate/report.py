@@ -39,6 +39,13 @@ def _cosines(ti, tr, dp):
     return np.cos(ti), np.cos(tr), np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
 
 
+def _label(model_id: str, suffix: str = "") -> str:
+    """The registry's label of a model (:mod:`roughdiffuse.registry`), plus ``suffix``."""
+    from .. import registry
+
+    return registry.get(model_id).label + suffix
+
+
 def model_values(name: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
     """BRDF of a named comparison model at angle arrays (1/sr)."""
     mi, mo, c = _cosines(ti, tr, dp)
@@ -193,14 +200,14 @@ def write_report(
     inf = table(better, "all")
     truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
     comparisons = [
-        ("Lambert", "lambert", "all bounces"),
-        ("Oren–Nayar qualitative", "on-qualitative", "1 bounce"),
-        ("Oren–Nayar qualitative", "on-qualitative", "all bounces"),
+        (_label("lambert"), "lambert", "all bounces"),
+        (_label("oren-nayar"), "on-qualitative", "1 bounce"),
+        (_label("oren-nayar"), "on-qualitative", "all bounces"),
         ("Oren–Nayar L1", "on-L1", "1 bounce"),
-        ("Oren–Nayar full (L1 + L2)", "on-full", "2 bounces"),
-        ("Oren–Nayar full (L1 + L2)", "on-full", "all bounces"),
-        ("Fujii (FON, best r)", "fujii", "1 bounce"),
-        ("EON (best r)", "eon", "all bounces"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "2 bounces"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "all bounces"),
+        (_label("fujii", ", best r"), "fujii", "1 bounce"),
+        (_label("eon", ", best r"), "eon", "all bounces"),
     ]
     lines += [
         f"## Model errors (measure `{better}`)",

@@ -10,7 +10,7 @@
 
 const float RD_PI = 3.141592653589793;
 const float RD_TAN_FLOOR = 1e-6;   // oren_nayar.TAN_FLOOR
-const float RD_COS_FLOOR = 1e-6;   // torrance_sparrow._COS_FLOOR
+const float RD_COS_FLOOR = 1e-6;   // microfacet.COS_FLOOR
 const float RD_SUM_FLOOR = 1e-6;   // lunar._SUM_FLOOR
 const float RD_K1 = 0.5 - 2.0 / (3.0 * RD_PI);            // fujii.K1
 const float RD_K2 = 2.0 / 3.0 - 28.0 / (15.0 * RD_PI);    // fujii.K2
@@ -134,7 +134,7 @@ vec3 rd_eon(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
 }
 
 // ---------------------------------------------------------------- Torrance-Sparrow (JOSA 1967)
-// torrance_sparrow.fresnel_dielectric (Cook and Torrance 1982)
+// microfacet.fresnel_dielectric (Cook and Torrance 1982)
 float rd_fresnel_dielectric(float c, float eta) {
   float g2 = eta * eta - 1.0 + c * c;
   float g = rd_safe_sqrt(g2);
@@ -143,7 +143,7 @@ float rd_fresnel_dielectric(float c, float eta) {
   return g2 > 0.0 ? 0.5 * a * a * (1.0 + b * b) : 1.0;
 }
 
-// torrance_sparrow._gaussian_norm: 1/(2 pi J(sigma)), J by composite 4-point Gauss-Legendre
+// microfacet.gaussian_norm: 1/(2 pi J(sigma)), J by composite 4-point Gauss-Legendre
 // (16 panels over [0, T]; agrees with the Python 96-point rule to 1e-8)
 float rd_gaussian_norm(float s) {
   const float X0 = 0.0694318442029737;   // 4-point Gauss-Legendre on [0, 1]
@@ -165,7 +165,8 @@ float rd_gaussian_norm(float s) {
   return 1.0 / (2.0 * RD_PI * j);
 }
 
-// torrance_sparrow.slope_distribution: D(h), normalised, 0 for sigma = 0
+// microfacet.slope_distribution: D(h), normalised, 0 for sigma = 0. Beckmann: m = sqrt(2) sigma,
+// so the page passes sigma = alpha / sqrt(2) for the torrance-sparrow-beckmann id (models.js)
 // (sin_h is passed in: rd_torrance_sparrow computes it without the cancellation in 1 - cos_h^2)
 float rd_slope_distribution(float cos_h, float sin_h, float sigma, int distribution) {
   if (!(sigma > 0.0)) return 0.0;

@@ -3,7 +3,7 @@
 
 import { CsvError, parseBrdfCsv } from "./csv.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
-import { BY_KEY, MODELS, defaultState, gpuParams } from "./models.js";
+import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 
 const $ = (id) => document.getElementById(id);
@@ -11,8 +11,8 @@ const DEG = Math.PI / 180;
 const E0 = Math.PI; // irradiance, as in sphere.frag
 
 const state = {
-  a: defaultState("oren-nayar"),
-  b: defaultState("lambert"),
+  a: null, // defaultState("oren-nayar") once /api/models has been read
+  b: null,
   mode: 0,
   light: { theta: 0, phi: 0 }, // degrees
   exposure: 0, // EV
@@ -39,6 +39,7 @@ function slider(parent, id, label, min, max, step, value, format) {
   return input;
 }
 
+/** The sliders and selects of one slot, built from the declarations of /api/models. */
 function buildPanel(slot) {
   const root = $(`panel-${slot}`);
   const s = state[slot];
@@ -47,29 +48,45 @@ function buildPanel(slot) {
   sel.id = `${p}model`;
   for (const m of MODELS) sel.append(new Option(m.label, m.key));
   root.append(sel);
-  const grey = document.createElement("label");
-  grey.innerHTML = `<input type="checkbox" id="${p}grey" checked> grey albedo (R = G = B)`;
-  grey.id = `${p}grey-row`;
-  root.append(grey);
   const f3 = (v) => v.toFixed(3);
-  const ctl = {
-    model: sel,
-    grey: grey.querySelector("input"),
-    albedo: ["r", "g", "b"].map((c, k) => slider(root, `${p}albedo-${c}`, `albedo ${c.toUpperCase()}`, 0, 1, 0.005, s.albedo[k], f3)),
-    sigma: slider(root, `${p}sigma`, "σ", 0, 90, 0.5, s.sigmaDeg, (v) => `${v.toFixed(1)}° = ${(v * DEG).toFixed(3)} rad`),
-    roughness: slider(root, `${p}roughness`, "r (Fujii/EON, not an angle)", 0, 1, 0.01, s.roughness, f3),
-    weight: slider(root, `${p}weight`, "specular weight", 0, 1, 0.01, s.weight, f3),
-    eta: slider(root, `${p}eta`, "specular index η", 1.0, 3.0, 0.01, s.eta, (v) => v.toFixed(2)),
-    limb: slider(root, `${p}limb`, "limb darkening L", 0, 1, 0.01, s.limb, f3),
-  };
-  const dist = document.createElement("label");
-  dist.id = `${p}distribution-row`;
-  dist.innerHTML = `facet distribution <select id="${p}distribution"><option value="gaussian">Gaussian in slope angle</option><option value="beckmann">Beckmann</option></select>`;
-  root.append(dist);
-  ctl.distribution = dist.querySelector("select");
+  const ctl = { model: sel, sliders: {}, selects: {} };
+  for (const [k, q] of Object.entries(PARAMS)) {
+    if (q.channels) {
+      const grey = document.createElement("label");
+      grey.innerHTML = `<input type="checkbox" id="${p}grey" checked> grey ${k} (R = G = B)`;
+      grey.id = `${p}grey-row`;
+      root.append(grey);
+      ctl.grey = grey.querySelector("input");
+      ctl.channels = k;
+      ctl.albedo = ["r", "g", "b"].map((c, j) => slider(root, `${p}${k}-${c}`, `${k} ${c.toUpperCase()}`, q.lo, q.hi, 0.005, s[k][j], f3));
+    } else if (q.choices !== null) {
+      const row = document.createElement("label");
+      row.id = `${p}${k}-row`;
+      row.textContent = `${q.description} `;
+      const select = document.createElement("select");
+      select.id = `${p}${k}`;
+      for (const c of q.choices) select.append(new Option(c, c));
+      row.append(select);
+      root.append(row);
+      ctl.selects[k] = select;
+    } else if (q.unit === "radians") {
+      const fmt = (v) => `${v.toFixed(1)}° = ${(v * DEG).toFixed(3)} rad`;
+      ctl.sliders[k] = slider(root, `${p}${k}`, q.description, q.lo / DEG, q.hi / DEG, 0.5, s[`${k}Deg`], fmt);
+    } else {
+      const fmt = q.hi - q.lo > 1.5 ? (v) => v.toFixed(2) : f3;
+      ctl.sliders[k] = slider(root, `${p}${k}`, q.description, q.lo, q.hi, 0.01, s[k], fmt);
+    }
+  }
+  if (slot === "a" && LEFT_OUT.length) {
+    const note = document.createElement("p");
+    note.id = "models-left-out";
+    note.textContent = "Not in the menus (no GLSL copy of the formula): " +
+      LEFT_OUT.map((m) => m.key).join(", ") + ". `roughdiffuse render --model ID` renders them.";
+    root.append(note);
+  }
   panels[slot] = ctl;
   const onInput = (ev) => {
-    if (ctl.grey.checked && ev && ctl.albedo.includes(ev.target)) {
+    if (ctl.grey && ctl.grey.checked && ev && ctl.albedo.includes(ev.target)) {
       for (const a of ctl.albedo) if (a !== ev.target) { a.value = ev.target.value; a.dispatchEvent(new Event("change")); }
     }
     readPanel(slot);
@@ -83,37 +100,40 @@ function buildPanel(slot) {
 function readPanel(slot) {
   const c = panels[slot], s = state[slot];
   s.model = c.model.value;
-  s.albedo = c.albedo.map((a) => Number(a.value));
-  s.sigmaDeg = Number(c.sigma.value);
-  s.roughness = Number(c.roughness.value);
-  s.weight = Number(c.weight.value);
-  s.eta = Number(c.eta.value);
-  s.limb = Number(c.limb.value);
-  s.distribution = c.distribution.value;
+  if (c.channels) s[c.channels] = c.albedo.map((a) => Number(a.value));
+  for (const [k, el] of Object.entries(c.sliders)) {
+    if (PARAMS[k].unit === "radians") s[`${k}Deg`] = Number(el.value);
+    else s[k] = Number(el.value);
+  }
+  for (const [k, el] of Object.entries(c.selects)) s[k] = el.value;
+  Object.assign(s, BY_KEY[s.model].fixed); // a choice the id fixes (Torrance–Sparrow's D)
   showUsed(slot);
 }
 
 function writePanel(slot) {
   const c = panels[slot], s = state[slot];
   c.model.value = s.model;
-  c.albedo.forEach((a, k) => (a.value = s.albedo[k]));
-  c.grey.checked = s.albedo[0] === s.albedo[1] && s.albedo[1] === s.albedo[2];
-  c.sigma.value = s.sigmaDeg;
-  c.roughness.value = s.roughness;
-  c.weight.value = s.weight;
-  c.eta.value = s.eta;
-  c.limb.value = s.limb;
-  c.distribution.value = s.distribution;
-  for (const el of [...c.albedo, c.sigma, c.roughness, c.weight, c.eta, c.limb]) el.dispatchEvent(new Event("input"));
+  if (c.channels) {
+    const v = s[c.channels];
+    c.albedo.forEach((a, k) => (a.value = v[k]));
+    c.grey.checked = v[0] === v[1] && v[1] === v[2];
+  }
+  for (const [k, el] of Object.entries(c.sliders)) el.value = PARAMS[k].unit === "radians" ? s[`${k}Deg`] : s[k];
+  for (const [k, el] of Object.entries(c.selects)) el.value = s[k];
+  for (const el of [...(c.albedo ?? []), ...Object.values(c.sliders)]) el.dispatchEvent(new Event("input"));
   showUsed(slot);
 }
 
+/** Show the controls of the parameters the slot's model declares, hide the others. */
 function showUsed(slot) {
+  const c = panels[slot];
   const uses = BY_KEY[state[slot].model].uses;
   const p = `${slot}-`;
-  for (const k of ["sigma", "roughness", "weight", "eta", "limb", "distribution"]) $(`${p}${k}-row`).hidden = !uses.includes(k);
-  for (const c of ["r", "g", "b"]) $(`${p}albedo-${c}-row`).hidden = !uses.includes("albedo");
-  $(`${p}grey-row`).hidden = !uses.includes("albedo");
+  for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
+  if (c.channels) {
+    for (const ch of ["r", "g", "b"]) $(`${p}${c.channels}-${ch}-row`).hidden = !uses.includes(c.channels);
+    $(`${p}grey-row`).hidden = !uses.includes(c.channels);
+  }
 }
 
 // ------------------------------------------------------------------ light
@@ -317,7 +337,7 @@ function queryFor(slot) {
   const s = state[slot];
   const q = new URLSearchParams({
     model: s.model, albedo: s.albedo.join(","), sigma: String(s.sigmaDeg * DEG), roughness: String(s.roughness),
-    eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), distribution: s.distribution,
+    eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), alpha: String(s.alpha), distribution: s.distribution,
     light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
   return q.toString();
@@ -400,6 +420,9 @@ async function start() {
     if (r.ok) info = await r.json();
   } catch { /* a static copy of the page without the server: no vase, no ground truth */ }
   $("preset-vase").hidden = !info.vase;
+  await loadModels();
+  state.a = defaultState("oren-nayar");
+  state.b = defaultState("lambert");
   buildPanel("a");
   buildPanel("b");
   $("mode").addEventListener("change", (ev) => { state.mode = Number(ev.target.value); refresh(); });

@@ -1,50 +1,117 @@
-// The models the explorer offers, the parameters each one uses, and the record the GLSL
-// receives. Ids match brdf.glsl and MODEL_IDS in roughdiffuse/explorer/params.py.
+// The models the explorer offers come from the server's /api/models: the registry
+// (roughdiffuse/registry.py), the same JSON as `roughdiffuse models --json`, with each
+// model's parameters, units, ranges and defaults. What is written here belongs to the GLSL,
+// the one second copy of the formulas: the number brdf.glsl dispatches on for each id (as
+// MODEL_IDS in roughdiffuse/explorer/params.py) and the field of its RDParams record each
+// declared parameter fills.
 
-export const MODELS = [
-  { key: "lambert", id: 0, label: "Lambert", short: "Lambert", uses: ["albedo"] },
-  { key: "oren-nayar", id: 1, label: "Oren–Nayar (qualitative)", short: "Oren–Nayar qualitative", uses: ["albedo", "sigma"] },
-  { key: "oren-nayar-full", id: 2, label: "Oren–Nayar (full, with interreflection)", short: "Oren–Nayar full", uses: ["albedo", "sigma"] },
-  { key: "fujii", id: 3, label: "Fujii (FON)", short: "Fujii", uses: ["albedo", "roughness"] },
-  { key: "eon", id: 4, label: "EON (energy-preserving)", short: "EON", uses: ["albedo", "roughness"] },
-  { key: "torrance-sparrow", id: 5, label: "Torrance–Sparrow (specular)", short: "Torrance–Sparrow", uses: ["sigma", "eta", "distribution"] },
-  { key: "mix", id: 6, label: "Mix: Oren–Nayar full + Torrance–Sparrow", short: "Mix", uses: ["albedo", "sigma", "weight", "eta", "distribution"] },
-  { key: "lommel-seeliger", id: 7, label: "Lommel–Seeliger (lunar)", short: "Lommel–Seeliger", uses: ["albedo"] },
-  { key: "lunar-lambert", id: 8, label: "Lunar-Lambert (McEwen)", short: "Lunar-Lambert", uses: ["albedo", "limb"] },
-];
+/** brdf.glsl's model numbers; a registry model missing here has no GLSL copy. */
+export const GLSL_IDS = {
+  lambert: 0,
+  "oren-nayar": 1,
+  "oren-nayar-full": 2,
+  fujii: 3,
+  eon: 4,
+  "torrance-sparrow": 5,
+  "torrance-sparrow-beckmann": 5,
+  mix: 6,
+  "lommel-seeliger": 7,
+  "lunar-lambert": 8,
+};
 
-export const BY_KEY = Object.fromEntries(MODELS.map((m) => [m.key, m]));
+/** Declared parameter name -> key of the page's state and of RDParams, where they differ. */
+const FLAT_KEY = { limb_darkening: "limb" };
+export const flatKey = (name) => FLAT_KEY[name] ?? name;
 
-/** Default UI state of one model slot (σ in degrees, as on the sliders). */
+/** Every model of the registry with a GLSL copy: {key, id, label, short, uses, params}. */
+export const MODELS = [];
+/** The registry's models the page leaves out, with the reason: [{key, label, reason}]. */
+export const LEFT_OUT = [];
+export const BY_KEY = {};
+/** One declaration per state key (the first model declaring it): unit, range, default. */
+export const PARAMS = {};
+
+/** Fill MODELS, LEFT_OUT, BY_KEY and PARAMS from the JSON of /api/models. */
+export function setModels(records) {
+  MODELS.length = 0;
+  LEFT_OUT.length = 0;
+  for (const k of Object.keys(BY_KEY)) delete BY_KEY[k];
+  for (const k of Object.keys(PARAMS)) delete PARAMS[k];
+  for (const r of records) {
+    if (!r.glsl || !(r.id in GLSL_IDS)) {
+      LEFT_OUT.push({ key: r.id, label: r.label, reason: "no GLSL copy of its formula" });
+      continue;
+    }
+    const params = {};
+    for (const p of r.parameters) params[flatKey(p.name)] = p;
+    const m = { key: r.id, id: GLSL_IDS[r.id], label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {} };
+    MODELS.push(m);
+    BY_KEY[m.key] = m;
+    for (const [k, p] of Object.entries(params)) {
+      const q = PARAMS[k];
+      if (!q) PARAMS[k] = { ...p, key: k };
+      else if (p.choices === null) { // one slider for every model that has it: the union range
+        const lo = (p.fit_range ?? [p.min, p.max])[0], hi = (p.fit_range ?? [p.min, p.max])[1];
+        q.lo = Math.min(q.lo ?? lo, lo);
+        q.hi = Math.max(q.hi ?? hi, hi);
+      }
+    }
+  }
+  for (const q of Object.values(PARAMS)) {
+    if (q.choices !== null) continue;
+    const [lo, hi] = q.fit_range ?? [q.min, q.max];
+    q.lo = Math.min(q.lo ?? lo, lo);
+    q.hi = Math.max(q.hi ?? hi, hi);
+  }
+}
+
+/** Fetch /api/models and fill the tables. */
+export async function loadModels(url = "api/models") {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`the model list (${url}) is unavailable: HTTP ${r.status}`);
+  setModels(await r.json());
+}
+
+const DEG = Math.PI / 180;
+
+/** The value the page starts a parameter at: the declaration's example, else its default. */
+function start(p) {
+  return p.example ?? p.default;
+}
+
+/** Default UI state of one model slot (angles in degrees, as on the sliders). */
 export function defaultState(key = "oren-nayar") {
-  return {
-    model: key,
-    albedo: [0.8, 0.8, 0.8],
-    sigmaDeg: 20,
-    roughness: 0.5,
-    eta: 1.5,
-    weight: 0.1,
-    limb: 0.5,
-    distribution: "gaussian",
-  };
+  const own = BY_KEY[key]?.params ?? {};
+  const s = { model: key };
+  for (const [k, q] of Object.entries(PARAMS)) {
+    const p = own[k] ?? q;
+    const v = start(p);
+    if (p.channels) s[k] = [v, v, v];
+    else if (p.unit === "radians") s[`${k}Deg`] = v / DEG;
+    else s[k] = v;
+  }
+  return s;
 }
 
 /**
  * The record the GLSL receives (brdf.glsl's RDParams). Accepts the UI state (sigmaDeg) or a
- * record with sigma in radians already (as the tests send it).
+ * record with sigma in radians already (as the tests send it). Beckmann's α is given to the
+ * GLSL as σ = α/√2 (brdf.glsl's Beckmann takes the per-component slope deviation).
  */
 export function gpuParams(s) {
   const m = BY_KEY[s.model];
   if (!m) throw new Error(`unknown model ${JSON.stringify(s.model)}`);
   const sigma = s.sigma !== undefined ? s.sigma : (s.sigmaDeg * Math.PI) / 180;
+  const distribution = s.distribution ?? m.fixed.distribution ?? "gaussian";
+  const beckmannId = m.fixed.distribution === "beckmann";
   return {
     model: m.id,
     albedo: Float32Array.from(s.albedo ?? [0.8, 0.8, 0.8]),
-    sigma,
+    sigma: beckmannId ? (s.alpha ?? PARAMS.alpha.default) / Math.SQRT2 : sigma,
     roughness: s.roughness ?? 0,
     eta: s.eta ?? 1.5,
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
-    distribution: (s.distribution ?? "gaussian") === "beckmann" ? 1 : 0,
+    distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
   };
 }
