@@ -61,5 +61,8 @@ def test_every_package_model_is_in_the_test_matrix_and_the_glsl_table():
     tested = {type(m) for m in all_models()}
     for e in registry.entries():
         if e.source == "roughdiffuse":
-            assert e.cls in tested, e.id
+            # a tabulated model (VCavity: compiled = False, no differentiable parameters, not
+            # for the fast path) has its own tests (tests/test_models_vcavity.py) instead of
+            # the matrix, which differentiates parameters and compiles every model
+            assert e.cls in tested or not getattr(e.cls, "compiled", True), e.id
             assert e.glsl == (e.id in MODEL_IDS), e.id
