@@ -34,6 +34,7 @@ from .models import (
     OrenNayar,
     SmithDiffuse,
     TorranceSparrow,
+    VCavity,
     oren_nayar,
 )
 from .models.declaration import Param
@@ -92,6 +93,7 @@ __all__ = [
     "Param",
     "SmithDiffuse",
     "TorranceSparrow",
+    "VCavity",
     "__version__",
     "fastpath_enabled",
     "oren_nayar",

@@ -244,6 +244,7 @@ def _register_builtins() -> None:
         OrenNayar,
         SmithDiffuse,
         TorranceSparrow,
+        VCavity,
     )
 
     builtins = (
@@ -266,6 +267,8 @@ def _register_builtins() -> None:
         Minnaert,
         # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
         SmithDiffuse,
+        # issue 15: the exact V-cavity surface, tabulated from the solver
+        VCavity,
     )
     for cls in builtins:
         register_model(cls, source="roughdiffuse")

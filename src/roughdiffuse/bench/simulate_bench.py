@@ -6,6 +6,7 @@ must be single-threaded, see below) and puts its rows in ``RESULTS.md``; on its 
     python -m roughdiffuse.bench.simulate_bench                    # prints the table
     python -m roughdiffuse.bench.simulate_bench --cavities 2000 --geometries 2 --json /tmp/s.json
     python -m roughdiffuse.bench.simulate_bench --cases "closed form,bounces=1"  # those cases
+    python -m roughdiffuse.bench.simulate_bench --versus --geometries 32  # old solver (git) vs new
 
 Measured, each with the NumPy solver path (the baseline) and, next to it, the same call with
 ``jax.numpy`` arrays (the solver's JAX path, jitted; timed after a warm-up call, float64),
@@ -191,6 +192,99 @@ def bench_simulate(
     return rows
 
 
+BASELINE_REVISION = "1c092a6"
+"""The solver before issue 15 (per-cavity element radiosity): the "old" column of
+:func:`bench_versus`."""
+
+
+def _baseline(revision: str) -> Any:
+    """``roughdiffuse.simulate`` of git ``revision``, imported as ``roughdiffuse_baseline``.
+
+    The package at that revision is extracted (``git archive``) into a temporary folder and
+    imported under another name, so both solvers run in this process, interleaved.
+    """
+    import importlib
+    import io
+    import subprocess
+    import tarfile
+    import tempfile
+
+    root = Path(__file__).resolve().parent.parent
+    data = subprocess.run(
+        ["git", "-C", str(root), "archive", revision, "src/roughdiffuse"],
+        check=True,
+        capture_output=True,
+    ).stdout
+    tmp = Path(tempfile.mkdtemp(prefix="roughdiffuse_baseline_"))
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        tar.extractall(tmp, filter="data")
+    (tmp / "src" / "roughdiffuse").rename(tmp / "roughdiffuse_baseline")
+    sys.path.insert(0, str(tmp))
+    return importlib.import_module("roughdiffuse_baseline.simulate")
+
+
+def bench_versus(
+    repeat: int = 3,
+    n_surface: int = 32,
+    sigmas: tuple[float, ...] = (0.3, 0.7, 1.2),
+    revision: str = BASELINE_REVISION,
+) -> list[dict[str, Any]]:
+    """Old solver (``revision``) against the new one, NumPy, surface BRDF, default settings.
+
+    For each σ and bounces in (1, "all"): values per second of both (interleaved, same
+    geometries, ρ = 0.9), their ratio, the largest relative difference, and the 90 × 90 ×
+    180 table time on 2 cores (two single-core worker processes) from each rate. The
+    geometries are random with θi, θr up to 89.9° and four of them grazing (90°).
+    """
+    from roughdiffuse.simulate import brdf
+
+    old = _baseline(revision)
+    rng = np.random.default_rng(0)
+    ti, tr = rng.uniform(0, math.radians(89.9), (2, n_surface))
+    dp = rng.uniform(0, math.pi, n_surface)
+    ti[:2] = tr[2:4] = math.pi / 2
+    rows = []
+    for sigma in sigmas:
+        for bounces in (1, "all"):
+            variants = {
+                "old": lambda s=sigma, b=bounces: old.brdf(ti, tr, dp, s, 0.9, b),
+                "new": lambda s=sigma, b=bounces: brdf(ti, tr, dp, s, 0.9, b),
+            }
+            ref, got = (np.asarray(f()) for f in variants.values())  # warm-up, caches
+            times = interleaved(variants, repeat)
+            row: dict[str, Any] = {"sigma": sigma, "bounces": bounces, "evaluations": n_surface}
+            for k, t in times.items():
+                row[k] = rate_summary(t, n_surface, unit=1.0)
+                row[f"table_90x90x180_hours_{CORES}_cores_{k}"] = (
+                    TABLE_SIZE / row[k]["median"] / CORES / 3600
+                )
+            row["new_over_old"] = row["new"]["median"] / row["old"]["median"]
+            row["max_rel_difference"] = rel_error(got, ref)
+            rows.append(row)
+    return rows
+
+
+def markdown_versus(rows: list[dict[str, Any]], revision: str = BASELINE_REVISION) -> str:
+    """Markdown table of :func:`bench_versus` rows."""
+    lines = [
+        f"| σ | bounces | old ({revision}), values / s | new, values / s | new / old "
+        f"| max relative difference | 90×90×180 table on {CORES} cores, h (old; new) |",
+        "| ---: | --- | --- | --- | ---: | ---: | --- |",
+    ]
+    for r in rows:
+        cells = [
+            f"{r[k]['median']:.4g} ({r[k]['min']:.4g}–{r[k]['max']:.4g})" for k in ("old", "new")
+        ]
+        hours = "; ".join(
+            f"{r[f'table_90x90x180_hours_{CORES}_cores_{k}']:.3g}" for k in ("old", "new")
+        )
+        lines.append(
+            f"| {r['sigma']} | {r['bounces']} | {cells[0]} | {cells[1]} "
+            f"| {r['new_over_old']:.1f} | {r['max_rel_difference']:.1e} | {hours} |"
+        )
+    return "\n".join(lines)
+
+
 def markdown(rows: list[dict[str, Any]]) -> str:
     """Markdown table of :func:`bench_simulate` rows."""
     lines = [
@@ -237,7 +331,23 @@ def main(argv: list[str] | None = None) -> int:
         help="only cases whose name contains one of these comma-separated texts",
     )
     p.add_argument("--json", type=Path, help="write the rows as JSON (- : standard output)")
+    p.add_argument(
+        "--versus",
+        metavar="REV",
+        nargs="?",
+        const=BASELINE_REVISION,
+        help="instead: the old solver of git revision REV (default "
+        f"{BASELINE_REVISION}) against this one, surface BRDF, σ = 0.3, 0.7, 1.2",
+    )
     args = p.parse_args(argv)
+    if args.versus:
+        rows = bench_versus(args.repeat, args.geometries, revision=args.versus)
+        print(markdown_versus(rows, args.versus))
+        if args.json:
+            from timing import write_atomic
+
+            write_atomic(args.json, json.dumps(rows, indent=1) + "\n")
+        return 0
     if args.repeat < 1 or args.cavities < 100 or args.geometries < 1:
         p.error("--repeat and --geometries must be >= 1, --cavities >= 100")
     only = [t.strip() for t in args.cases.split(",") if t.strip()]

@@ -16,6 +16,7 @@ from .mix import Mix
 from .oren_nayar import OrenNayar, oren_nayar
 from .smith_diffuse import SmithDiffuse
 from .torrance_sparrow import TorranceSparrow, fresnel_dielectric, slope_distribution
+from .vcavity import VCavity
 
 __all__ = [
     "EON",
@@ -39,6 +40,7 @@ __all__ = [
     "Param",
     "SmithDiffuse",
     "TorranceSparrow",
+    "VCavity",
     "fon_albedo",
     "fon_average_albedo",
     "fresnel_dielectric",
