@@ -13,6 +13,7 @@ import numbers
 from typing import Any
 
 import array_api_compat
+import array_api_compat.numpy  # noqa: F401 - the submodule is compared against below
 import numpy as np
 
 Array = Any

@@ -1,4 +1,5 @@
-"""Reading and writing files: the atomic writer (:mod:`.atomic`) and images (:mod:`.images`).
+"""Reading and writing files: the atomic writer (:mod:`.atomic`), images (:mod:`.images`) and
+meshes (:mod:`.mesh`).
 
 Every file roughdiffuse writes goes through :func:`atomic_write`: whole or not at all, with
 the mode the umask gives, and no temporary file left behind by an exception or a signal.

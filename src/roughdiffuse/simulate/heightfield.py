@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import check_range
-from ..io import write_bytes
+from ..io.mesh import write_ply
 from .cavity import Bounces, check_bounces
 
 __all__ = [
@@ -124,23 +124,6 @@ def heightfield_mesh(h: np.ndarray, spacing: float, tiles: int = 3):
     t1 = np.where(even[:, None], np.stack([v00, v10, v11], 1), np.stack([v00, v10, v01], 1))
     t2 = np.where(even[:, None], np.stack([v00, v11, v01], 1), np.stack([v10, v11, v01], 1))
     return verts, np.concatenate([t1, t2])
-
-
-def write_ply(path: str | os.PathLike, verts: np.ndarray, faces: np.ndarray) -> Path:
-    """Write a binary little-endian PLY (float32 positions, int32 triangles), whole or not
-    (:func:`roughdiffuse.io.write_bytes`)."""
-    header = (
-        "ply\nformat binary_little_endian 1.0\n"
-        f"element vertex {len(verts)}\n"
-        "property float x\nproperty float y\nproperty float z\n"
-        f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
-    ).encode()
-    face_rec = np.empty(len(faces), dtype=[("n", "u1"), ("v", "<i4", (3,))])
-    face_rec["n"] = 3
-    face_rec["v"] = faces
-    return write_bytes(
-        path, header + np.ascontiguousarray(verts, dtype="<f4").tobytes() + face_rec.tobytes()
-    )
 
 
 @dataclass(frozen=True)

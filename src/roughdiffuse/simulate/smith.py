@@ -33,13 +33,13 @@ correlated heights; how close Smith comes to one is measured in docs/accuracy.md
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validate import check_range
+from ..quadrature import gauss_legendre
 from .cavity import Bounces, check_bounces
 from .smith_slopes import (
     check_distribution,
@@ -104,15 +104,9 @@ def _directions(ti, tr, dp):
     return wi, wo
 
 
-@functools.lru_cache(maxsize=8)
-def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
-    x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
-
-
 def _pieces(edges: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre nodes and weights on each interval of sorted ``edges`` (..., E)."""
-    t, w = _gauss(n)
+    t, w = gauss_legendre(n)
     a, b = edges[..., :-1, None], edges[..., 1:, None]
     shape = edges.shape[:-1] + (-1,)
     return (a + (b - a) * t).reshape(shape), ((b - a) * w).reshape(shape)

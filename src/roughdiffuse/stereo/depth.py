@@ -137,7 +137,7 @@ def write_ply(path: str | os.PathLike[str], depth: np.ndarray) -> None:
     """Write a depth map as a binary PLY mesh: a vertex per object pixel (x, y, z in pixel
     units, x right, y up), two triangles per 2 × 2 block of object pixels. Written whole or
     not at all."""
-    from ..io.atomic import write_bytes
+    from ..io.mesh import write_ply as write_mesh
 
     z = np.asarray(depth, dtype=np.float64)
     m = np.isfinite(z)
@@ -152,14 +152,5 @@ def write_ply(path: str | os.PathLike[str], depth: np.ndarray) -> None:
     # counter-clockwise seen from +z (the camera): a (top-left), c (bottom-left), b
     t1 = np.stack([a[quad], c[quad], b[quad]], axis=1)
     t2 = np.stack([b[quad], c[quad], d[quad]], axis=1)
-    faces = np.concatenate([t1, t2]).astype("<i4")
-    header = (
-        "ply\nformat binary_little_endian 1.0\n"
-        f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
-        f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
-    ).encode()
-    face_rec = np.empty(len(faces), dtype=[("n", "u1"), ("v", "<i4", (3,))])
-    face_rec["n"] = 3
-    face_rec["v"] = faces
-
-    write_bytes(path, header + verts.tobytes() + face_rec.tobytes())
+    faces = np.concatenate([t1, t2])
+    write_mesh(path, verts, faces)
