@@ -97,6 +97,18 @@ MODEL(eon, P2(float), P2(double), (mi, mo, cio, p0, p1))
 /* Gaussian-in-slope-angle Torrance-Sparrow; p2 is the distribution's normalisation (times
  * sigma^2), a parameter-only quantity that run.py takes from the model module. */
 MODEL(torrance_sparrow, P3(float), P3(double), (mi, mo, cio, p0, p1, p2))
+/* issue 17: the production and photometric models (src/roughdiffuse/models/burley.py,
+ * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) */
+#define P5(T) T p0, T p1, T p2, T p3, T p4
+MODEL(burley, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(frostbite, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(burley_2015, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(hammon, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(chan, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(minnaert, P2(float), P2(double), (mi, mo, cio, p0, p1))
+MODEL(lambert_sphere_fast, P1(float), P1(double), (mi, mo, cio, p0))
+MODEL(lambert_sphere_full, P1(float), P1(double), (mi, mo, cio, p0))
+MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
 
 #else /* ------------------------------------------ the formulas, for RD_REAL = float, double */
 #define real RD_REAL
@@ -192,196 +204,142 @@ static inline real RD_F(torrance_sparrow)(real mi, real mo, real cio, real eta, 
     return fr * d * g_over / C(4);
 }
 
+/* ---- issue 17 ---- */
+static inline real RD_F(pow5)(real x) { real x2 = x * x; return x2 * x2 * x; }
+static inline real RD_F(cos_h)(real mi, real mo, real cio) {
+    real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
+    return len_h != C(0) ? (mi + mo) / len_h : C(0);
+}
+static inline real RD_F(schlick2)(real mi, real mo, real f90) {
+    return (C(1) + (f90 - C(1)) * RD_F(pow5)(C(1) - mi)) * (C(1) + (f90 - C(1)) * RD_F(pow5)(C(1) - mo));
+}
+
+static inline real RD_F(burley)(real mi, real mo, real cio, real albedo, real r) {
+    return albedo / PI * RD_F(schlick2)(mi, mo, C(0.5) + r * (C(1) + cio));
+}
+
+static inline real RD_F(frostbite)(real mi, real mo, real cio, real albedo, real r) {
+    real factor = C(1) - r * (C(1) - C(1) / C(1.51));
+    return albedo / PI * factor * RD_F(schlick2)(mi, mo, r * (C(0.5) + (C(1) + cio)));
+}
+
+static inline real RD_F(burley_2015)(real mi, real mo, real cio, real albedo, real r) {
+    real fl = RD_F(pow5)(C(1) - mi), fv = RD_F(pow5)(C(1) - mo);
+    real rr = r * (C(1) + cio);
+    real d = (C(1) - C(0.5) * fl) * (C(1) - C(0.5) * fv);
+    return albedo / PI * (d + rr * (fl + fv + fl * fv * (rr - C(1))));
+}
+
+static inline real RD_F(hammon)(real mi, real mo, real cio, real albedo, real alpha) {
+    real facing = C(0.5) * (C(1) + cio);
+    real rough = facing * (C(0.9) - C(0.4) * facing) * (C(1) + C(0.5) / fmax(RD_F(cos_h)(mi, mo, cio), C(1e-6)));
+    real smooth = C(1.05) * (C(1) - RD_F(pow5)(C(1) - mi)) * (C(1) - RD_F(pow5)(C(1) - mo));
+    return albedo / PI * (smooth + alpha * (rough - smooth)) + albedo * albedo * C(0.1159) * alpha;
+}
+
+static inline real RD_F(chan)(real mi, real mo, real cio, real albedo, real alpha) {
+    real a2 = fmax(alpha * alpha, C(1e-12));
+    real g = RD_F(clamp)(log2(C(2) / a2 - C(1)) / C(18), C(0), C(1));
+    real t = RD_F(clamp)(C(2.2) * g - C(0.5), C(0), C(1));
+    real ch = RD_F(clamp)(RD_F(cos_h)(mi, mo, cio), C(0), C(1));
+    real cos_d = C(0.5) * sqrt(fmax(C(2) * (C(1) + cio), C(0)));
+    real rough = cos_d + RD_F(pow5)(C(1) - cos_d);
+    real smooth = (C(1) - C(0.75) * RD_F(pow5)(C(1) - mi)) * (C(1) - C(0.75) * RD_F(pow5)(C(1) - mo));
+    real fb = ((C(34.5) * g - C(59)) * g + C(24.5)) * cos_d * exp2(-fmax(C(73.2) * g - C(21.2), C(8.9)) * sqrt(ch));
+    return albedo / PI * (rough + t * (smooth - rough) + fb);
+}
+
+static inline real RD_F(minnaert)(real mi, real mo, real cio, real albedo, real k) {
+    return albedo / PI * pow(fmax(mi, C(1e-6)) * fmax(mo, C(1e-6)), k - C(1));
+}
+
+static inline real RD_F(ls_pow)(real u, real e) { return u > C(0) ? exp(e * log(u)) : C(0); }
+static inline real RD_F(ls_c)(real kd) {
+    return (C(1) - RD_F(ls_pow)(C(1) - kd, C(2.73556))) / (C(1) - C(0.184096) * RD_F(ls_pow)(C(1) - kd, C(2.48423)));
+}
+static inline real RD_F(ls_phase)(real u) {
+    u = RD_F(clamp)(u, C(-1), C(1));
+    real sin_t = sqrt(fmax((C(1) - u) * (C(1) + u), C(0)));
+    real t = atan2(sin_t, u), t2 = t * t;
+    real series = t * t2 * (C(1) / C(3) + t2 * (C(-1) / C(30) + t2 * (C(1) / C(840) - t2 / C(45360))));
+    return C(2) * (t < C(0.3) ? series : sin_t - t * u) / (C(3) * PI * PI);
+}
+
+static inline real RD_F(lambert_sphere_fast)(real mi, real mo, real cio, real kd) {
+    real c = RD_F(ls_c)(kd);
+    real ss = c * RD_F(ls_phase)(-cio) / fmax(mi + mo, C(1e-6));
+    real cps = cio - mi * mo;
+    real s = sqrt(fmax((C(1) - mi * mi) * (C(1) - mo * mo), C(0)));
+    real phi = acos(RD_F(clamp)(s != C(0) ? cps / s : C(0), C(-1), C(1)));
+    real cos_s = sqrt(fmax(mi * mi + mo * mo - mi * mi * mo * mo, C(0)));
+    real ratio = s / (atan2(cos_s, s) + C(0.113706) * s);
+    real multi = (phi + sqrt(mi * mo)) * (c - C(0.249978)) * ratio / C(4.50996) + RD_F(ls_pow)(C(1.94208) * kd, C(1.85432));
+    return fmax(C(0.995917) * ss + C(0.0684744) * multi, C(0));
+}
+
+static inline real RD_F(lambert_sphere_full)(real mi, real mo, real cio, real kd) {
+    real c = RD_F(ls_c)(kd), q = C(1) - c, r = sqrt(fmax(q, C(0))), q15 = q * r;
+    real ha = (C(8.216443463470172) + C(1.501116252342486) * RD_F(ls_pow)(r, C(6.054351911707695))) / (C(4.175932557866179) - C(1.2122216865199813) * r);
+    real hd = (C(7.773097842804312) - C(0.5658108102188075) * RD_F(ls_pow)(r, C(0.9615460393324836))) / (C(8.659120811349371) - C(0.15997430541238322) * RD_F(ls_pow)(r, C(7)));
+    real root = sqrt(fmax(C(1) - C(2) * ((C(89) * c) / C(288) + (C(59) * c * c) / C(288) - c * c * c / C(72)), C(0)));
+    real A = (C(69) * c) / C(128);
+    real B = (C(-0.08446297239646791) + C(0.5153566145541554) * r - C(0.77757371002123) * q + C(0.34668869623791543) * q15) / (C(0.9648932738041012) - C(0.6655015709030936) * r + C(0.1826019462608555) * q);
+    real CC = (C(682.8479477533338) - C(2567.7368047535556) * r + C(7487.987105705168) * q - C(5602.448801045478) * q15) / (C(5850.602606063662) - C(4008.3309624647227) * r + C(1480.250743805733) * q);
+    real D = (C(0.2855294320307508) + C(160.39651500649123) * r - C(327.42799697993706) * q + C(166.88327184107732) * q15) / (C(674.1908010450103) - C(412.9837444306491) * r + C(596.4232294419696) * q);
+    real E = (C(15) * q * c * (C(3) + (C(4) * c) / C(3))) / C(128);
+    real F = (C(-1.9208967199948512) - C(242.16001167844007) * r - C(21.914139454773085) * q + C(266.06342182761813) * q15) / (C(1499.904420175135) + C(457.4200839912641) * r + C(215.77342164754094) * q);
+    real hk = C(-0.14483935877260054) * c + C(0.024285125615255733) * c * c;
+    real l1 = C(-0.05890107167021953) * c - C(0.004740543453386809) * c * c;
+    real sum = fmax(mi + mo, C(1e-6)), p = mi * mo;
+    real udi = RD_F(ls_pow)(mi, hd), udo = RD_F(ls_pow)(mo, hd);
+    real h0i = (C(1) + ha * udi) / (C(1) + ha * root * udi), h0o = (C(1) + ha * udo) / (C(1) + ha * root * udo);
+    real ei = C(0.45944184025347456) + mi * (C(-1.0787917226917565) + mi * (C(1.8572804924335546) - C(1.1283119660147671) * mi));
+    real eo = C(0.45944184025347456) + mo * (C(-1.0787917226917565) + mo * (C(1.8572804924335546) - C(1.1283119660147671) * mo));
+    real h = exp(hk * RD_F(ls_pow)(mi, ei)) * exp(hk * RD_F(ls_pow)(mo, eo));
+    real poly = A + CC * p + E * p * p + B * (mi + mo) + D * p * (mi + mo) + F * (mi * mi + mo * mo);
+    real f0 = C(0.5) / PI * h0i * h0o / sum * poly;
+    real inner = (c * (C(64) + C(45) * p)) / C(48) - (C(15) * (C(1) + C(0.44) * c) * c * p * h) / C(16) - (C(4) * c * (C(1) + l1 * mi) * (C(1) + l1 * mo) * h) / C(3);
+    real f1m = C(-2) / PI * inner / (C(8) * sum);
+    real f0s = (C(207) + C(256) * p - C(45) * mo * mo + C(45) * mi * mi * (C(-1) + C(3) * mo * mo)) / (C(768) * PI * sum);
+    return fmax(c * RD_F(ls_phase)(-cio) / sum + f0 - c * f0s + f1m * (cio - p), C(0));
+}
+
+static inline real RD_F(hapke_h)(real x, real gamma) { return (C(1) + C(2) * x) / (C(1) + C(2) * x * gamma); }
+
+static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real hh, real xi, real theta_bar) {
+    real gamma = sqrt(fmax(C(1) - w, C(0)));
+    real tan_half = sqrt(fmax((C(1) - cio) / fmax(C(1) + cio, C(1e-12)), C(0)));
+    real surge = b0 * hh / fmax(hh + tan_half, C(1e-12));
+    real pg = (C(1) - xi * xi) / pow(C(1) + xi * xi + C(2) * xi * cio, C(1.5));
+    real lobe = (C(1) + surge) * pg - C(1);
+    if (!(theta_bar > C(0)))
+        return w / C(4) * (lobe + RD_F(hapke_h)(mi, gamma) * RD_F(hapke_h)(mo, gamma)) / fmax(mi + mo, C(1e-12)) / PI;
+    real tan_t = fmax(sin(theta_bar) / cos(theta_bar), C(1e-6)), cot_t = C(1) / tan_t;
+    real chi = C(1) / sqrt(C(1) + PI * tan_t * tan_t);
+    real sin_i = sqrt(fmax(C(1) - mi * mi, C(0))), sin_e = sqrt(fmax(C(1) - mo * mo, C(0)));
+    real cot_i = mi / fmax(sin_i, C(1e-10)), cot_e = mo / fmax(sin_e, C(1e-10));
+    real e1i = exp(C(-2) / PI * cot_t * cot_i), e2i = exp(C(-1) / PI * cot_t * cot_t * cot_i * cot_i);
+    real e1e = exp(C(-2) / PI * cot_t * cot_e), e2e = exp(C(-1) / PI * cot_t * cot_t * cot_e * cot_e);
+    real mu0e_0 = chi * (mi + sin_i * tan_t * e2i / (C(2) - e1i));
+    real mue_0 = chi * (mo + sin_e * tan_t * e2e / (C(2) - e1e));
+    real sie = sin_i * sin_e;
+    real cphi = RD_F(clamp)(sie != C(0) ? (cio - mi * mo) / sie : C(1), C(-1), C(1));
+    real phi_pi = acos(cphi) / PI;
+    real fphi = exp(C(-2) * sqrt(fmax((C(1) - cphi) / fmax(C(1) + cphi, C(1e-12)), C(0))));
+    real s2 = C(0.5) * (C(1) - cphi);
+    int i_le_e = mi >= mo;
+    real den_a = fmax(C(2) - e1e - phi_pi * e1i, C(1e-12)), den_b = fmax(C(2) - e1i - phi_pi * e1e, C(1e-12));
+    real mu0e = i_le_e ? chi * (mi + sin_i * tan_t * (cphi * e2e + s2 * e2i) / den_a) : chi * (mi + sin_i * tan_t * (e2i - s2 * e2e) / den_b);
+    real mue = i_le_e ? chi * (mo + sin_e * tan_t * (e2e - s2 * e2i) / den_a) : chi * (mo + sin_e * tan_t * (cphi * e2i + s2 * e2e) / den_b);
+    real qq = i_le_e ? chi * mi / mu0e_0 : chi * mo / mue_0;
+    real s_over = mue * chi / fmax(mue_0 * mu0e_0 * (C(1) - fphi + fphi * qq), C(1e-12));
+    return w / C(4) * mu0e / fmax(mu0e + mue, C(1e-12)) * (lobe + RD_F(hapke_h)(mu0e, gamma) * RD_F(hapke_h)(mue, gamma)) * s_over / PI;
+}
+
+
 #undef real
 #undef C
 #undef PI
 #undef K1
 #undef K2
 #endif
-
-/* ---- issue 17: the production and photometric models (src/roughdiffuse/models/burley.py,
- * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) ---- */
-
-static inline float pow5f(float x) { float x2 = x * x; return x2 * x2 * x; }
-#define HALF_VECTOR                                                                      \
-    float len_h = sqrtf(fmaxf(2.0f * (1.0f + cio), 0.0f));                               \
-    float cos_h = len_h != 0.0f ? (mi + mo) / len_h : 0.0f;                              \
-    float cos_d = 0.5f * len_h;
-
-void rd_burley(ARGS, float albedo, float r) {
-    LOOP {
-        GEOMETRY
-        HALF_VECTOR
-        float f90 = 0.5f + 2.0f * r * cos_d * cos_d;
-        float s = (1.0f + (f90 - 1.0f) * pow5f(1.0f - mi)) * (1.0f + (f90 - 1.0f) * pow5f(1.0f - mo));
-        STORE(albedo / PI_F * s)
-    }
-}
-
-void rd_frostbite(ARGS, float albedo, float r) {
-    float factor = 1.0f - r * (1.0f - 1.0f / 1.51f);
-    LOOP {
-        GEOMETRY
-        HALF_VECTOR
-        float f90 = r * (0.5f + 2.0f * cos_d * cos_d);
-        float s = (1.0f + (f90 - 1.0f) * pow5f(1.0f - mi)) * (1.0f + (f90 - 1.0f) * pow5f(1.0f - mo));
-        STORE(albedo / PI_F * factor * s)
-    }
-}
-
-void rd_burley_2015(ARGS, float albedo, float r) {
-    LOOP {
-        GEOMETRY
-        HALF_VECTOR
-        float fl = pow5f(1.0f - mi), fv = pow5f(1.0f - mo);
-        float rr = 2.0f * r * cos_d * cos_d;
-        float d = (1.0f - 0.5f * fl) * (1.0f - 0.5f * fv);
-        STORE(albedo / PI_F * (d + rr * (fl + fv + fl * fv * (rr - 1.0f))))
-    }
-}
-
-void rd_hammon(ARGS, float albedo, float alpha) {
-    LOOP {
-        GEOMETRY
-        HALF_VECTOR
-        float facing = cos_d * cos_d;
-        float rough = facing * (0.9f - 0.4f * facing) * (1.0f + 0.5f / fmaxf(cos_h, 1e-6f));
-        float smooth = 1.05f * (1.0f - pow5f(1.0f - mi)) * (1.0f - pow5f(1.0f - mo));
-        float single = smooth + alpha * (rough - smooth);
-        STORE(albedo / PI_F * single + albedo * albedo * 0.1159f * alpha)
-    }
-}
-
-void rd_chan(ARGS, float albedo, float alpha) {
-    float a2 = fmaxf(alpha * alpha, 1e-12f);
-    float g = clampf(log2f(2.0f / a2 - 1.0f) / 18.0f, 0.0f, 1.0f);
-    float t = clampf(2.2f * g - 0.5f, 0.0f, 1.0f);
-    float amp = (34.5f * g - 59.0f) * g + 24.5f, rate = fmaxf(73.2f * g - 21.2f, 8.9f);
-    LOOP {
-        GEOMETRY
-        HALF_VECTOR
-        float ch = clampf(cos_h, 0.0f, 1.0f);
-        float rough = cos_d + pow5f(1.0f - cos_d);
-        float smooth = (1.0f - 0.75f * pow5f(1.0f - mi)) * (1.0f - 0.75f * pow5f(1.0f - mo));
-        float fd = rough + t * (smooth - rough);
-        float fb = amp * cos_d * exp2f(-rate * sqrtf(ch));
-        STORE(albedo / PI_F * (fd + fb))
-    }
-}
-
-void rd_minnaert(ARGS, float albedo, float k) {
-    LOOP {
-        GEOMETRY
-        STORE(albedo / PI_F * powf(fmaxf(mi, 1e-6f) * fmaxf(mo, 1e-6f), k - 1.0f))
-    }
-}
-
-static inline float ls_phase(float u) {
-    u = clampf(u, -1.0f, 1.0f);
-    return 2.0f * (sqrtf(fmaxf(1.0f - u * u, 0.0f)) - u * acosf(u)) / (3.0f * PI_F * PI_F);
-}
-
-static inline float ls_c_from_kd(float kd) {
-    return (1.0f - powf(1.0f - kd, 2.73556f)) / (1.0f - 0.184096f * powf(1.0f - kd, 2.48423f));
-}
-
-void rd_lambert_sphere_fast(ARGS, float kd) {
-    float c = ls_c_from_kd(kd), kd_term = powf(1.94208f * kd, 1.85432f);
-    LOOP {
-        GEOMETRY
-        float ss = c * ls_phase(-cio) / fmaxf(mi + mo, 1e-6f);
-        float s = sqrtf(fmaxf((1.0f - mi * mi) * (1.0f - mo * mo), 0.0f));
-        float cp = clampf(s != 0.0f ? (cio - mi * mo) / s : 0.0f, -1.0f, 1.0f);
-        float ratio = s / (acosf(clampf(s, 0.0f, 1.0f)) + 0.113706f * s);
-        float multi = (acosf(cp) + sqrtf(mi * mo)) * (c - 0.249978f) * ratio / 4.50996f + kd_term;
-        STORE(fmaxf(0.995917f * ss + 0.0684744f * multi, 0.0f))
-    }
-}
-
-static inline float ls_pow(float u, float e) { return u > 0.0f ? expf(e * logf(u)) : 0.0f; }
-
-void rd_lambert_sphere_full(ARGS, float kd) {
-    float c = ls_c_from_kd(kd), q = 1.0f - c, r = sqrtf(q), q15 = q * r;
-    float s0 = r;
-    float ha = (8.216443463470172f + 1.501116252342486f * powf(s0, 6.054351911707695f)) /
-               (4.175932557866179f - 1.2122216865199813f * s0);
-    float hd = (7.773097842804312f - 0.5658108102188075f * powf(s0, 0.9615460393324836f)) /
-               (8.659120811349371f - 0.15997430541238322f * powf(s0, 7.0f));
-    float root = sqrtf(fmaxf(1.0f - 2.0f * ((89.0f * c) / 288.0f + (59.0f * c * c) / 288.0f - c * c * c / 72.0f), 0.0f));
-    float A = (69.0f * c) / 128.0f;
-    float B = (-0.08446297239646791f + 0.5153566145541554f * r - 0.77757371002123f * q + 0.34668869623791543f * q15) /
-              (0.9648932738041012f - 0.6655015709030936f * r + 0.1826019462608555f * q);
-    float C = (682.8479477533338f - 2567.7368047535556f * r + 7487.987105705168f * q - 5602.448801045478f * q15) /
-              (5850.602606063662f - 4008.3309624647227f * r + 1480.250743805733f * q);
-    float D = (0.2855294320307508f + 160.39651500649123f * r - 327.42799697993706f * q + 166.88327184107732f * q15) /
-              (674.1908010450103f - 412.9837444306491f * r + 596.4232294419696f * q);
-    float E = (15.0f * q * c * (3.0f + (4.0f * c) / 3.0f)) / 128.0f;
-    float F = (-1.9208967199948512f - 242.16001167844007f * r - 21.914139454773085f * q + 266.06342182761813f * q15) /
-              (1499.904420175135f + 457.4200839912641f * r + 215.77342164754094f * q);
-    float hk = -0.14483935877260054f * c + 0.024285125615255733f * c * c;
-    float l1 = -0.05890107167021953f * c - 0.004740543453386809f * c * c;
-    LOOP {
-        GEOMETRY
-        float sum = fmaxf(mi + mo, 1e-6f), p = mi * mo;
-        float udi = ls_pow(mi, hd), udo = ls_pow(mo, hd);
-        float h0i = (1.0f + ha * udi) / (1.0f + ha * root * udi), h0o = (1.0f + ha * udo) / (1.0f + ha * root * udo);
-        float ei = 0.45944184025347456f + mi * (-1.0787917226917565f + mi * (1.8572804924335546f - 1.1283119660147671f * mi));
-        float eo = 0.45944184025347456f + mo * (-1.0787917226917565f + mo * (1.8572804924335546f - 1.1283119660147671f * mo));
-        float h = expf(hk * ls_pow(mi, ei)) * expf(hk * ls_pow(mo, eo));
-        float poly = A + C * p + E * p * p + B * (mi + mo) + D * p * (mi + mo) + F * (mi * mi + mo * mo);
-        float f0 = 0.5f / PI_F * h0i * h0o / sum * poly;
-        float inner = (c * (64.0f + 45.0f * p)) / 48.0f - (15.0f * (1.0f + 0.44f * c) * c * p * h) / 16.0f -
-                      (4.0f * c * (1.0f + l1 * mi) * (1.0f + l1 * mo) * h) / 3.0f;
-        float f1m = -2.0f / PI_F * inner / (8.0f * sum);
-        float f0s = (207.0f + 256.0f * p - 45.0f * mo * mo + 45.0f * mi * mi * (-1.0f + 3.0f * mo * mo)) / (768.0f * PI_F * sum);
-        float f = c * ls_phase(-cio) / sum + f0 - c * f0s + f1m * (cio - p);
-        STORE(fmaxf(f, 0.0f))
-    }
-}
-
-static inline float hapke_h(float x, float gamma) { return (1.0f + 2.0f * x) / (1.0f + 2.0f * x * gamma); }
-
-void rd_hapke(ARGS, float w, float b0, float hh, float xi, float theta_bar) {
-    float gamma = sqrtf(1.0f - w);
-    float tan_t = fmaxf(tanf(theta_bar), 1e-6f), cot_t = 1.0f / tan_t;
-    float chi = 1.0f / sqrtf(1.0f + PI_F * tan_t * tan_t);
-    int rough_on = theta_bar > 0.0f;
-    LOOP {
-        GEOMETRY
-        float tan_half = sqrtf(fmaxf((1.0f - cio) / fmaxf(1.0f + cio, 1e-12f), 0.0f));
-        float surge = b0 * hh / fmaxf(hh + tan_half, 1e-12f);
-        float pg = (1.0f - xi * xi) / powf(1.0f + xi * xi + 2.0f * xi * cio, 1.5f);
-        float lobe = (1.0f + surge) * pg - 1.0f;
-        float val;
-        if (!rough_on) {
-            val = w / 4.0f * (lobe + hapke_h(mi, gamma) * hapke_h(mo, gamma)) / fmaxf(mi + mo, 1e-12f);
-        } else {
-            float sin_i = sqrtf(fmaxf(1.0f - mi * mi, 0.0f)), sin_e = sqrtf(fmaxf(1.0f - mo * mo, 0.0f));
-            float cot_i = mi / fmaxf(sin_i, 1e-10f), cot_e = mo / fmaxf(sin_e, 1e-10f);
-            float e1i = expf(-2.0f / PI_F * cot_t * cot_i), e2i = expf(-1.0f / PI_F * cot_t * cot_t * cot_i * cot_i);
-            float e1e = expf(-2.0f / PI_F * cot_t * cot_e), e2e = expf(-1.0f / PI_F * cot_t * cot_t * cot_e * cot_e);
-            float mu0e_0 = chi * (mi + sin_i * tan_t * e2i / (2.0f - e1i));
-            float mue_0 = chi * (mo + sin_e * tan_t * e2e / (2.0f - e1e));
-            float sie = sin_i * sin_e;
-            float cphi = clampf(sie != 0.0f ? (cio - mi * mo) / sie : 1.0f, -1.0f, 1.0f);
-            float phi_pi = acosf(cphi) / PI_F;
-            float fphi = expf(-2.0f * sqrtf(fmaxf((1.0f - cphi) / fmaxf(1.0f + cphi, 1e-12f), 0.0f)));
-            float s2 = 0.5f * (1.0f - cphi);
-            float mu0e, mue, qq;
-            if (mi >= mo) {
-                float den = fmaxf(2.0f - e1e - phi_pi * e1i, 1e-12f);
-                mu0e = chi * (mi + sin_i * tan_t * (cphi * e2e + s2 * e2i) / den);
-                mue = chi * (mo + sin_e * tan_t * (e2e - s2 * e2i) / den);
-                qq = chi * mi / mu0e_0;
-            } else {
-                float den = fmaxf(2.0f - e1i - phi_pi * e1e, 1e-12f);
-                mu0e = chi * (mi + sin_i * tan_t * (e2i - s2 * e2e) / den);
-                mue = chi * (mo + sin_e * tan_t * (cphi * e2i + s2 * e2e) / den);
-                qq = chi * mo / mue_0;
-            }
-            float s_over = mue * chi / fmaxf(mue_0 * mu0e_0 * (1.0f - fphi + fphi * qq), 1e-12f);
-            val = w / 4.0f * mu0e / fmaxf(mu0e + mue, 1e-12f) * (lobe + hapke_h(mu0e, gamma) * hapke_h(mue, gamma)) * s_over;
-        }
-        STORE(val / PI_F)
-    }
-}
