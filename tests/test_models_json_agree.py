@@ -60,9 +60,9 @@ def test_every_package_model_is_in_the_test_matrix_and_the_glsl_table():
     """Adding a model: its module, its class in the registry, one entry in tests/conftest."""
     tested = {type(m) for m in all_models()}
     for e in registry.entries():
-        if e.source == "roughdiffuse" and e.cls.traceable and getattr(e.cls, "compiled", True):
-            # SmithDiffuse (Monte Carlo, traceable = False) and VCavity (tabulated, compiled =
-            # False: no differentiable parameters, not for the fast path) have their own tests
+        if e.source == "roughdiffuse" and e.cls.closed_form:
+            # SmithDiffuse (Monte Carlo) and VCavity (tabulated: closed_form =
+            # False, no differentiable parameters, not for the fast path) have their own tests
             # (test_smith_diffuse_model.py, test_models_vcavity.py) instead of the matrix,
             # which differentiates parameters and compiles every model
             assert e.cls in tested, e.id

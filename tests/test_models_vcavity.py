@@ -82,7 +82,7 @@ def test_bad_parameters_name_themselves(kwargs, name):
 
 def test_registry_jit_and_the_fast_path_refusal():
     m = registry.create("v-cavity", albedo=0.5, sigma=0.2, bounces="1")
-    assert isinstance(m, rd.VCavity) and m.compiled is False and m.array_fields == ()
+    assert isinstance(m, rd.VCavity) and m.closed_form is False and m.array_fields == ()
     jax = pytest.importorskip("jax")
     wi, wo = _dirs(np.array([0.3, 1.0]), np.array([0.7, 0.2]), np.array([0.5, 2.0]))
     want = m.brdf(wi, wo)
@@ -91,7 +91,7 @@ def test_registry_jit_and_the_fast_path_refusal():
     from roughdiffuse import fastpath
 
     z = np.array([0.0, 0.0, 1.0])
-    with pytest.raises(TypeError, match="fast path cannot trace it"):
+    with pytest.raises(ValueError, match="not a closed form"):
         fastpath.evaluate(m, z, z, z)
 
 

@@ -49,8 +49,9 @@ def test_declaration_agrees_with_the_class(entry):
         if p.when is None:
             assert fields[p.name].default == p.default, p.name
     numeric = {p.name for p in cls.params if not p.categorical}
-    # a tabulated model (VCavity, compiled = False) has static parameters, no leaves
-    assert set(cls.array_fields) == (numeric if getattr(cls, "compiled", True) else set())
+    # a tabulated model (VCavity: traced by JAX, not a closed form) has static parameters
+    tabulated = cls.traceable and not cls.closed_form
+    assert set(cls.array_fields) == (set() if tabulated else numeric)
     assert set(cls.channel_fields) == {p.name for p in cls.params if p.channels}
     assert isinstance(cls.sampling, Strategy)
     # the model built from the declared defaults has exactly those values

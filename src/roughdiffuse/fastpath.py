@@ -613,10 +613,10 @@ def brdf_cosines(
 def _check_model(model: Any) -> None:
     if not isinstance(model, Model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
-    if not type(model).traceable:
+    if not type(model).closed_form:
         raise ValueError(
-            f"{type(model).__name__} is computed by simulation, not a formula: the fast path "
-            "compiles formulas only; call model.radiance (NumPy) instead"
+            f"{type(model).__name__} is not a closed form (a simulation or a table): the fast "
+            "path compiles closed forms only; call model.radiance (NumPy) instead"
         )
 
 

@@ -45,11 +45,11 @@ def candidate(model_id: str) -> Candidate:
 
 
 def _fittable_ids() -> list[str]:
-    """Registry ids of the models that are formulas (a simulation, ``traceable = False``,
-    has no JAX Jacobian)."""
+    """Registry ids of the closed-form models (a simulation or a table, ``closed_form =
+    False``, has no parameters to differentiate)."""
     from .. import registry
 
-    return [e.id for e in registry.entries() if e.cls.traceable]
+    return [e.id for e in registry.entries() if e.cls.closed_form]
 
 
 class _Candidates(Mapping[str, Candidate]):

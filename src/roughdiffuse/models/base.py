@@ -102,7 +102,13 @@ class Model:
         Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
     traceable : bool
         False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
-        it cannot be traced by ``jax.jit``, compiled by the fast path or written in GLSL.
+        it cannot be traced by ``jax.jit`` (the renderer, fits).
+    closed_form : bool
+        True for a formula of elementwise operations on the three cosines with its numeric
+        parameters as inputs: what the compiled fast path, the Mitsuba plugins (Dr.Jit),
+        ``compare_models`` and the interface-wide tests need. False for a simulation
+        (``SmithDiffuse``) and for a model tabulated from a solver (``VCavity``, which still
+        runs under ``jax.jit``).
     array_fields : tuple of str
         Numeric parameters (JAX pytree leaves, differentiable); derived from ``params``.
         Other fields are static.
@@ -118,6 +124,7 @@ class Model:
     reference: ClassVar[str] = ""
     glsl: ClassVar[bool] = False
     traceable: ClassVar[bool] = True
+    closed_form: ClassVar[bool] = True
     array_fields: ClassVar[tuple[str, ...]] = ()
     channel_fields: ClassVar[tuple[str, ...]] = ()
 

@@ -81,6 +81,7 @@ class SmithDiffuse(Model):
         "Smith model, ACM TOG 35(4) (SIGGRAPH 2016)"
     )
     traceable: ClassVar[bool] = False
+    closed_form: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -122,7 +122,7 @@ class VCavity(Model):
     under ``jax.jit``, as the renderer calls it) and PyTorch. σ and ρ are static, not
     differentiable: gradients with respect to them do not exist here. The compiled fast
     path (:mod:`roughdiffuse.fastpath`) refuses it with a ``TypeError`` (class attribute
-    ``compiled = False``).
+    ``closed_form = False``).
 
     Parameters
     ----------
@@ -180,8 +180,8 @@ class VCavity(Model):
         "(Sec. 3-4); solved exactly by roughdiffuse.simulate"
     )
     glsl: ClassVar[bool] = False
-    compiled: ClassVar[bool] = False
-    """Not for the compiled fast path (a table, not a closed form)."""
+    closed_form: ClassVar[bool] = False
+    """A table, not a closed form: not for the compiled fast path or the Mitsuba plugins."""
     array_fields: ClassVar[tuple[str, ...]] = ()
     """No pytree leaves: σ and ρ select a table, they are static under ``jax.jit``."""
 
@@ -204,7 +204,7 @@ class VCavity(Model):
         if isinstance(xp, TraceNamespace) or not hasattr(xp, "take"):
             raise TypeError(
                 "VCavity is tabulated from the exact solver, not a closed form: the compiled "
-                "fast path cannot trace it (compiled = False); call its brdf or radiance"
+                "fast path cannot trace it (closed_form = False); call its brdf or radiance"
             )
         rho, sig = float(self.albedo), float(self.sigma)
         zero = 0.0 * (mu_i + mu_o + cos_io)

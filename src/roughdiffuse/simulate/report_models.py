@@ -76,7 +76,7 @@ def _entries():
 
     chosen = []
     for e in registry.entries():
-        if e.lobe != "diffuse" or not e.cls.traceable or e.id == "mix":
+        if e.lobe != "diffuse" or not e.cls.closed_form or e.id == "mix":
             continue
         numeric = [p for p in e.parameters if not p.categorical and p.name != "albedo"]
         if len(numeric) > 1:
