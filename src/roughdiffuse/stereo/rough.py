@@ -164,8 +164,8 @@ def _make_steps(
     parameter is one forward-mode derivative (``jax.jvp``) over every pixel, JᵀJ is a sum of
     products over the lights, and the small per-pixel systems are solved by
     :func:`_cholesky_solve` on (P,) arrays. Functions: a Levenberg–Marquardt step with its
-    trial cost and acceptance (one pass over the data), the pieces of the Schur complement
-    for the global roughness, the cost.
+    trial cost and acceptance (one pass over the data), and the pieces of the Schur
+    complement for the global roughness with the standard errors' diagonal.
     """
     import jax
     import jax.numpy as jnp
@@ -266,11 +266,7 @@ def _make_steps(
             a_inv_diag,
         )
 
-    def cost(theta, g, n0, l, e, obs, w):  # noqa: ANN001, ANN202
-        r = resid(theta.T, g, n0.T, l, e, obs, w)
-        return jnp.sum(r * r, axis=(0, 1))
-
-    return {"local": jax.jit(local), "pieces": jax.jit(pieces), "cost": jax.jit(cost)}
+    return {"local": jax.jit(local), "pieces": jax.jit(pieces)}
 
 
 def rough(
@@ -376,7 +372,7 @@ def rough(
             done = it + 1
             # 1. per-pixel LM for the current roughness
             for _ in range(local_steps):
-                cost_now = chunks.local(steps["local"], state, g)
+                chunks.local(steps["local"], state, g)
             local_steps = 2
             if per_pixel:
                 bar.update(1)
@@ -401,7 +397,6 @@ def rough(
                 tr *= 0.25
                 if tr < 1e-7 * hi:
                     break
-        _ = cost_now
         bar.close()
         sch, _, costs, a_diag = chunks.pieces(steps["pieces"], state, g)
     theta, n0 = state["theta"].astype(np.float64), state["n0"].astype(np.float64)
