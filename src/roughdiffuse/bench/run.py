@@ -232,9 +232,10 @@ def bench_brdf(
             variants["c"] = lambda c_call=c_call: c_call(wi, wo, out_c)
         ref = np.asarray(reference(model.brdf, wi[check], wo[check]))
         errors = {}
-        from roughdiffuse._dispatch import BUILD_ROWS
+        from roughdiffuse._dispatch import BUILD_ROWS, MIN_ROWS
 
-        for _ in range(-(-BUILD_ROWS // rows)):  # the calls after which the kernel is built
+        warm = -(-BUILD_ROWS // rows) if rows >= MIN_ROWS else 0
+        for _ in range(warm):  # the calls after which the kernel is built
             variants["default"]()
         for k, fn in variants.items():  # warm-up and the agreement check
             res = fn()
