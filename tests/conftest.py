@@ -53,6 +53,16 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
         rd.LommelSeeliger(a),
         rd.LunarLambert(a, 0.6),
         rd.Mix([(0.9, rd.OrenNayar(a, 0.3)), (0.1, rd.TorranceSparrow(1.5, 0.2))]),
+        rd.Burley(a, 0.5),
+        rd.BurleyRenormalized(a, 0.7),
+        rd.Burley2015(a, 0.3),
+        rd.Hammon(a, 0.5),
+        rd.Chan(a, 0.4),
+        rd.LambertSphere(a, "full"),
+        rd.LambertSphere(a, "fast"),
+        rd.Hapke(a, 0.8, 0.1, -0.3, 0.35),
+        rd.Hapke(a, 0.0, 0.0, 0.2, 0.0),
+        rd.Minnaert(a, 0.7),
     ]
 
 

@@ -14,6 +14,14 @@ Limits of float32 (WebGL has no double), kept out of the domain and said here:
   far). σ from 0.03 rad is tested.
 * η < 1 exactly at the critical angle, where the Fresnel factor has an infinite derivative:
   η = 0.75 (total internal reflection on part of the grid, no grid point on the boundary).
+* Hapke with macroscopic roughness (θ̄ > 0) within 1° of Δφ = 0° or 180°: its shadowing
+  function depends on tan(Δφ/2), whose derivative in cos Δφ is infinite at Δφ = 0, and cos Δφ
+  from float32 cosines is known only to about 1e-7, Δφ to about 3e-4 rad; the value then
+  moves by up to 0.4 % (0° at grazing) and can round below 0 at 180° with both directions
+  grazing. Those grid points are left out for Hapke with θ̄ > 0.
+* d'Eon's Lambert spheres: relative tolerance 3e-4. Both variants add terms of opposite sign
+  that grow as 1/(μi + μo); with both directions at μ = 1e-4 they cancel about 1000-fold
+  (the full variant missed 1e-4 by 1.1e-4 there).
 """
 
 from __future__ import annotations
@@ -51,6 +59,18 @@ PARAMETER_SETS: dict[str, list[dict]] = {
     ],
     "lommel-seeliger": [{"albedo": RGB}],
     "lunar-lambert": [{"albedo": RGB, "limb": L} for L in (0.0, 0.6, 1.0)],
+    "burley": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
+    "frostbite": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
+    "burley-2015": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
+    "hammon": [{"albedo": RGB, "alpha": a} for a in (0.0, 0.3, 1.0)],
+    "chan": [{"albedo": RGB, "alpha": a} for a in (0.0, 0.01, 0.3, 1.0)],
+    "lambert-sphere": [{"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast")],
+    "hapke": [
+        {"albedo": RGB, "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
+        {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
+        {"albedo": RGB, "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
+    ],
+    "minnaert": [{"albedo": RGB, "k": k} for k in (0.0, 0.5, 1.0, 1.7)],
 }
 
 
@@ -90,6 +110,14 @@ def _describe(cos: np.ndarray) -> str:
     )
 
 
+def _near_principal_plane(cos: np.ndarray, degrees: float = 1.0) -> np.ndarray:
+    """Geometries within ``degrees`` of Δφ = 0° or 180° (see the module docstring: Hapke)."""
+    mu_i, mu_o, c = cos[:, 0], cos[:, 1], cos[:, 2]
+    s = np.sqrt(np.clip(1 - mu_i**2, 0, 1) * np.clip(1 - mu_o**2, 0, 1))
+    cos_phi = np.divide(c - mu_i * mu_o, s, out=np.ones_like(s), where=s > 0)
+    return np.abs(cos_phi) >= math.cos(math.radians(degrees))
+
+
 @pytest.mark.parametrize("model", list(PARAMETER_SETS))
 def test_glsl_matches_python(page, model):
     """Every parameter set of ``model``: GLSL within 1e-4 relative of Python everywhere."""
@@ -103,7 +131,10 @@ def test_glsl_matches_python(page, model):
         py = np.asarray(model_from_params(params).brdf_cosines(c64[:, 0], c64[:, 1], c64[:, 2]))
         py = np.broadcast_to(py.reshape(len(c64), -1), glsl.shape)
         assert np.all(np.isfinite(py)), f"{params}: Python model not finite"
-        bad = ~(np.abs(glsl - py) <= RTOL * np.abs(py) + ATOL)
+        rtol = 3e-4 if model == "lambert-sphere" else RTOL
+        bad = ~(np.abs(glsl - py) <= rtol * np.abs(py) + ATOL)
+        if model == "hapke" and params["theta_bar"] > 0:
+            bad &= ~_near_principal_plane(c64)[:, None]
         for k in np.flatnonzero(bad.any(axis=1))[:3]:
             failures.append(
                 f"{params} at {_describe(GEOMETRIES[k])}: GLSL {glsl[k].tolist()} "

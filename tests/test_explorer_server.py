@@ -86,7 +86,9 @@ def test_serves_the_page_and_its_modules(server):
 def test_serves_only_its_own_files(server, path):
     """../, absolute paths, encoded tricks, directories: 404, never a file from elsewhere."""
     status, _, body = get(server, path)
-    assert status == 404, (path, status)
+    # an absolute-form target makes http.client send "Host: 127.0.0.1" without the port: the
+    # Host check refuses it (421) before the path is looked at
+    assert status == (421 if path.startswith("http:") else 404), (path, status)
     assert b"root:" not in body and b"import" not in body
 
 

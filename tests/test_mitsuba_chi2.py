@@ -50,6 +50,8 @@ def _registry_cases() -> list[tuple[str, dict, float]]:
     covered = {name for name, _ in CASES}  # their defaults are near the cases above
     cases = []
     for entry in registry.entries():
+        if not entry.cls.traceable:  # a simulation (SmithDiffuse) has no plugin
+            continue
         defaults, rough = parameter_sets(entry)
         sets = [(rough, (45.0,))]
         if plugin_name(entry.id) not in covered:

@@ -80,7 +80,7 @@ def test_render_npy_holds_linear_radiance(tmp_path):
         (["--model", "phong"], "unknown model"),
         (["--shape", "cube"], "unknown shape"),
         (["--sigma", "95"], "--sigma must be in [0, 90]"),
-        (["--spp", "5"], "samples_per_pixel"),
+        (["--spp", "5"], "--spp"),
         (["--light-theta", "-5"], "--light-theta"),
         (["--size", "big"], "size"),
     ],

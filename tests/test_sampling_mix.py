@@ -78,7 +78,7 @@ def test_the_strategy_is_the_mixture_of_the_components():
 
 @pytest.mark.parametrize("theta", [0.0, 0.7, 1.3])
 def test_pdf_is_the_albedo_weighted_sum_of_the_components_pdfs(theta):
-    """q_ON ∝ 0.5·ρ, q_TS ∝ 0.5·F(cos θo, η); pdf = q_ON cos θi/π + q_TS pdf_TS."""
+    """q_ON ∝ 0.5·ρ, q_TS ∝ 0.5·F(cos θr, η); pdf = q_ON cos θi/π + q_TS pdf_TS."""
     ts = rd.TorranceSparrow(1.5, 0.2)
     m = rd.Mix([(0.5, rd.OrenNayar(0.7, 0.3)), (0.5, ts)])
     wi, _ = _grid(30)
@@ -160,7 +160,7 @@ def test_mean_weight_is_the_closed_form_albedo(theta):
 
 
 def test_mixture_sampling_beats_cosine_sampling_on_a_coated_surface():
-    """The issue's case: 0.5 Oren–Nayar + 0.5 Torrance–Sparrow (σ = 0.05) at θo = 0, where
+    """The issue's case: 0.5 Oren–Nayar + 0.5 Torrance–Sparrow (σ = 0.05) at θr = 0, where
     cosine sampling gives a weight variance of about 1e-2 (the README's table)."""
     m = rd.Mix([(0.5, rd.OrenNayar(0.7, 0.3)), (0.5, rd.TorranceSparrow(1.5, 0.05))])
     for theta in (0.0, math.radians(45), math.radians(80)):

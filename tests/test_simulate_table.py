@@ -149,6 +149,9 @@ def test_report_quick(tmp_path):
     assert main(["simulate", "--report", "--quick", "-o", str(tmp_path), "--no-progress"]) == 0
     text = (tmp_path / "index.md").read_text()
     assert "reading fits better" in text and "Oren–Nayar full" in text
+    for truth in ("V-cavity", "Smith-Beckmann", "Smith-GGX"):  # the scoreboard's three truths
+        assert f"### Against the {truth} surface" in text
+    assert "White furnace" in text and "Which model for which surface" in text
     for png in ("plane_of_incidence.png", "error_maps.png"):
         assert (tmp_path / png).stat().st_size > 10_000
 

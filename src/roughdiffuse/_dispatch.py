@@ -146,7 +146,7 @@ def compiled(model: Any, entry: str, *arrays: Any, irradiance: Any = 1.0) -> Any
 
     ``entry`` is ``"brdf"``, ``"brdf_cosines"`` or ``"radiance"``.
     """
-    if not _ENABLED:
+    if not _ENABLED or not type(model).traceable:  # a simulation (SmithDiffuse) runs as it is
         return None
     rows = _rows(entry, arrays)
     if rows < MIN_ROWS or not _plain_parameters(model):

@@ -13,6 +13,14 @@ import numpy as np
 from ._array import concrete
 
 
+class ParameterError(ValueError):
+    """A parameter outside its accepted range (raised by the checks here).
+
+    A ``ValueError``, so callers that catch ``ValueError`` keep working; the CLI tells it
+    apart from a ``ValueError`` raised inside NumPy or SciPy, which would be a bug.
+    """
+
+
 def _fmt(x: float) -> str:
     if x == math.pi / 2:
         return "π/2"
@@ -32,7 +40,8 @@ def check_range(
     scalar: bool = True,
     channels: bool = False,
 ) -> None:
-    """Raise ``ValueError`` unless every entry of ``value`` lies in the interval.
+    """Raise :class:`ParameterError` (a ``ValueError``) unless every entry of ``value`` lies in
+    the interval.
 
     Parameters
     ----------
@@ -56,17 +65,17 @@ def check_range(
     interval = f"{'(' if lo_open else '['}{_fmt(lo)}, {right}"
     where = f" {unit}" if unit else ""
     if arr.dtype.kind not in "biuf":
-        raise ValueError(f"{name} must be a real number in {interval}{where} (got {value!r})")
+        raise ParameterError(f"{name} must be a real number in {interval}{where} (got {value!r})")
     if channels:
         if arr.ndim > 1:
-            raise ValueError(
+            raise ParameterError(
                 f"{name} must be a scalar or a 1-D array of channel values (got shape {arr.shape})"
             )
     elif scalar and arr.ndim != 0:
-        raise ValueError(f"{name} must be a scalar (got shape {arr.shape})")
+        raise ParameterError(f"{name} must be a scalar (got shape {arr.shape})")
     a = arr.astype(np.float64)
     bad = ~np.isfinite(a) | (a > hi) | ((a <= lo) if lo_open else (a < lo))
     if np.any(bad):
         shown = a[bad].flat[0] if a.ndim else float(a)
         per = " (per channel)" if channels and a.ndim else ""
-        raise ValueError(f"{name} must be in {interval}{where}{per} (got {shown:g})")
+        raise ParameterError(f"{name} must be in {interval}{where}{per} (got {shown:g})")

@@ -1,19 +1,34 @@
 """The ``roughdiffuse`` command: parses arguments and calls the library, nothing more.
 
 Subcommands live in :mod:`roughdiffuse.commands`, one module each, each with a
-``register(subparsers)`` function. Bad input (a ``ValueError`` from the library or a
-:class:`~roughdiffuse.commands.UsageError`) prints one line and exits with status 2.
+``register(subparsers)`` function.
+
+Errors are sorted by whose they are (:func:`classify`):
+
+* the user's (exit status 2, one line): a :class:`~roughdiffuse.commands.UsageError`, a
+  :class:`~roughdiffuse._validate.ParameterError` or another ``ValueError`` raised by
+  roughdiffuse's own code (a refusal naming the parameter), an ``OSError`` (a file or folder
+  that cannot be read or written, a full disk), a ``MemoryError``;
+* anything else is a bug (exit status 1): it says so and where, and ``--debug`` (or
+  ``ROUGHDIFFUSE_DEBUG=1``) prints the traceback. A ``ValueError`` raised inside NumPy, SciPy
+  or JAX is a bug too, not bad input.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+import traceback
 from collections.abc import Sequence
+from pathlib import Path
 
 from . import __version__
+from ._validate import ParameterError
 from .commands import COMMANDS, UsageError
+
+PACKAGE_DIR = Path(__file__).resolve().parent
 
 EPILOG = """\
 examples:
@@ -21,6 +36,9 @@ examples:
   roughdiffuse models
   roughdiffuse figures -o figures/
   roughdiffuse <command> --help
+
+Bad input prints one line and exits with status 2; an internal error (a bug) exits with
+status 1 and says where; --debug prints its traceback.
 
 Angles on the command line are in degrees; the Python API takes radians.
 """
@@ -40,10 +58,73 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"roughdiffuse {__version__}")
+    parser.add_argument(
+        "--debug", action="store_true", help="print the traceback of any error (for bug reports)"
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         importlib.import_module(f"{__package__}.commands.{name}").register(sub)
+    for p in sub.choices.values():  # `roughdiffuse CMD --debug` works too
+        p.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+        )
     return parser
+
+
+def _raised_in_package(exc: BaseException) -> bool:
+    """Whether ``exc`` was raised by roughdiffuse's own code (its innermost frame)."""
+    tb = exc.__traceback__
+    if tb is None:
+        return False
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    try:
+        Path(tb.tb_frame.f_code.co_filename).resolve().relative_to(PACKAGE_DIR)
+    except ValueError:
+        return False
+    return True
+
+
+def classify(exc: BaseException) -> str | None:
+    """The one-line message for a user error, or None for an internal error (a bug)."""
+    if isinstance(exc, UsageError | ParameterError):
+        return str(exc)
+    if isinstance(exc, ValueError) and _raised_in_package(exc):
+        return str(exc)
+    if isinstance(exc, OSError):
+        what = exc.strerror or str(exc) or type(exc).__name__
+        if exc.filename is not None:
+            return f"{os.fsdecode(exc.filename)!r}: {what}"
+        return what
+    if isinstance(exc, MemoryError):
+        return "not enough memory for this job; ask for less (a smaller size or count)"
+    return None
+
+
+def _where(exc: BaseException) -> str:
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return ""
+    f = frames[-1]
+    return f" at {f.filename}:{f.lineno} in {f.name}"
+
+
+def report_error(exc: BaseException, prog: str, debug: bool) -> int:
+    """Print ``exc`` for the user and return the exit status: 2 for a user error, 1 for a
+    bug."""
+    message = classify(exc)
+    if debug:
+        traceback.print_exception(exc, file=sys.stderr)
+    if message is not None:
+        print(f"{prog}: error: {message}", file=sys.stderr)
+        return 2
+    hint = "" if debug else "; rerun with --debug for the traceback"
+    print(
+        f"{prog}: internal error (a bug in roughdiffuse {__version__}, please report it): "
+        f"{type(exc).__name__}: {exc}{_where(exc)}{hint}",
+        file=sys.stderr,
+    )
+    return 1
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -53,14 +134,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
+    prog = f"roughdiffuse {args.command}"
+    debug = bool(args.debug) or os.environ.get("ROUGHDIFFUSE_DEBUG", "") not in ("", "0")
     try:
         return int(args.func(args) or 0)
-    except (UsageError, ValueError) as exc:
-        print(f"roughdiffuse {args.command}: error: {exc}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
-        print(f"roughdiffuse {args.command}: interrupted", file=sys.stderr)
+        print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError as exc:
+        if exc.filename is not None:
+            return report_error(exc, prog, debug)
+        # whoever read the output went away (`roughdiffuse models | head -1`): stop quietly,
+        # with the status of a process killed by SIGPIPE, and no flush error at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + 13
+    except Exception as exc:  # noqa: BLE001 - sorted into user errors and bugs
+        return report_error(exc, prog, debug)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -613,6 +613,11 @@ def brdf_cosines(
 def _check_model(model: Any) -> None:
     if not isinstance(model, Model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+    if not type(model).traceable:
+        raise ValueError(
+            f"{type(model).__name__} is computed by simulation, not a formula: the fast path "
+            "compiles formulas only; call model.radiance (NumPy) instead"
+        )
 
 
 # ------------------------------------------------------------------ automatic dispatch

@@ -1,4 +1,4 @@
-"""The lecture's figures in one call: :func:`make_figures` writes eight PNGs and index.html.
+"""The lecture's figures in one call: :func:`make_figures` writes ten PNGs and index.html.
 
 Each figure is a function that returns a matplotlib Figure and the caption shown in the
 index; the renders use :func:`roughdiffuse.render.render` and the models' own code.
@@ -20,7 +20,23 @@ import numpy as np
 
 from . import _figure
 from .io.atomic import atomic_write
-from .models import EON, Fujii, Lambert, LommelSeeliger, Mix, OrenNayar, TorranceSparrow
+from .models import (
+    EON,
+    Burley,
+    BurleyRenormalized,
+    Chan,
+    Fujii,
+    Hammon,
+    Hapke,
+    Lambert,
+    LambertSphere,
+    LommelSeeliger,
+    LunarLambert,
+    Minnaert,
+    Mix,
+    OrenNayar,
+    TorranceSparrow,
+)
 from .plots import (
     ROUGHNESS_SERIES,
     plot_cross_section,
@@ -37,7 +53,7 @@ from .render import (
     render,
 )
 
-__all__ = ["FIGURES", "Figure", "make_figures"]
+__all__ = ["FIGURES", "Figure", "figure_matches", "make_figures"]
 
 SIZE = 200
 """Pixels across a rendered object in the figures."""
@@ -85,19 +101,27 @@ def _lambert_sphere() -> Any:
     return fig
 
 
+LUNAR_HAPKE = Hapke(0.12, b0=1.0, h=0.06, g=-0.25, theta_bar=math.radians(20.0))
+"""Hapke with lunar-like parameters (B0 ≈ 1, h ≈ 0.06, backscattering ξ ≈ −0.25, θ̄ ≈ 20°:
+the range of Helfenstein & Veverka, Icarus 1987, and Hapke 2012, Table 12.1); w is set by the
+moon preset."""
+
+
 def _full_moon() -> Any:
     light = DistantLight(0.0)
     models = {
         "Lambert": Lambert(),
         "Oren–Nayar full, σ = 0.7 rad": OrenNayar(sigma=0.7, variant="full"),
         "Lommel–Seeliger": LommelSeeliger(),
+        "Hapke (lunar parameters)": LUNAR_HAPKE,
+        "Minnaert, k = 0.6": Minnaert(k=0.6),
     }
     moon = Moon()
     results = {
         k: render(m, moon, light, size=SIZE, samples_per_pixel=SPP) for k, m in models.items()
     }
-    fig = _figure.figure(figsize=(11, 6.6))
-    grid = fig.add_gridspec(2, 3, height_ratios=[1, 0.9])
+    fig = _figure.figure(figsize=(14, 6.6))
+    grid = fig.add_gridspec(2, len(models), height_ratios=[1, 0.9])
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
         centre = float(img[SIZE // 2, SIZE // 2])
@@ -289,6 +313,89 @@ def _models_side_by_side() -> Any:
     return fig
 
 
+def _production_models() -> Any:
+    models = {
+        "Lambert": Lambert(0.8),
+        "Burley, r = 0.5": Burley(0.8, 0.5),
+        "Frostbite, r = 0.5": BurleyRenormalized(0.8, 0.5),
+        "Hammon, α = 0.25": Hammon(0.8, 0.25),
+        "Chan, α = 0.25": Chan(0.8, 0.25),
+        "EON, r = 0.5": EON(0.8, 0.5),
+        "d'Eon spheres": LambertSphere(0.8, "full"),
+    }
+    light = DistantLight(math.radians(60.0), 0.0)
+    size = SIZE // 2
+    imgs = {
+        k: render(m, Sphere(), light, size=size, samples_per_pixel=SPP)[0]
+        for k, m in models.items()
+    }
+    vmax = max(float(v.max()) for v in imgs.values())
+    fig = _figure.figure(figsize=(14, 7.2))
+    grid = fig.add_gridspec(2, len(models), height_ratios=[1, 1.5])
+    for i, (label, img) in enumerate(imgs.items()):
+        show_radiance(fig.add_subplot(grid[0, i]), img, vmax, label)
+    half = len(models) // 2 + 1
+    styles = {"Lambert": {"color": "k", "ls": "--"}}
+    for j, theta_i in enumerate((30.0, 70.0)):
+        cols = slice(0, half) if j == 0 else slice(half, len(models))
+        ax = fig.add_subplot(grid[1, cols])
+        plot_plane_of_incidence(models, math.radians(theta_i), ax=ax, styles=styles)
+        ax.set_title(f"plane of incidence, θi = {theta_i:g}°", fontsize="medium")
+        ax.legend(fontsize="x-small")
+    _suptitle(
+        fig,
+        "9. What production renderers use: ρ = 0.8, light at θi = 60° (one grey scale); "
+        "Burley 2015 equals Burley 2012",
+    )
+    fig.tight_layout()
+    return fig
+
+
+def furnace_groups() -> dict[str, dict[str, Any]]:
+    """Every model at ρ = 1 for the white-furnace figure, a few roughnesses each."""
+    deg = math.radians
+    return {
+        "Lambert": {"ρ = 1": Lambert(1.0)},
+        "Oren–Nayar (qualitative)": {f"σ = {s}°": OrenNayar(1.0, deg(s)) for s in (0, 20, 40, 60)},
+        "Oren–Nayar (full)": {f"σ = {s}°": OrenNayar(1.0, deg(s), "full") for s in (0, 20, 40, 60)},
+        "Fujii (FON)": {f"r = {r}": Fujii(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "EON": {f"r = {r}": EON(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Torrance–Sparrow (η = 1.5)": {
+            f"σ = {s}°": TorranceSparrow(1.5, deg(s)) for s in (10, 20, 40)
+        },
+        "Lommel–Seeliger": {"w = 1": LommelSeeliger(1.0)},
+        "Lunar-Lambert": {f"L = {x}": LunarLambert(1.0, x) for x in (0.0, 0.5, 1.0)},
+        "Minnaert": {f"k = {k}": Minnaert(1.0, k) for k in (0.5, 1.0, 1.5)},
+        "Burley 2012 (= 2015)": {f"r = {r}": Burley(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Frostbite": {f"r = {r}": BurleyRenormalized(1.0, r) for r in (0.0, 0.5, 1.0)},
+        "Hammon": {f"α = {a}": Hammon(1.0, a) for a in (0.0, 0.5, 1.0)},
+        "Chan": {f"α = {a}": Chan(1.0, a) for a in (0.01, 0.25, 1.0)},
+        "d'Eon Lambertian spheres": {
+            "full": LambertSphere(1.0, "full"),
+            "fast": LambertSphere(1.0, "fast"),
+        },
+        "Hapke (w = 1)": {
+            "smooth, isotropic": Hapke(1.0, 0.0, 0.1, 0.0, 0.0),
+            "θ̄ = 20°": Hapke(1.0, 0.0, 0.1, 0.0, deg(20)),
+            "θ̄ = 20°, B0 = 1, h = 0.06": Hapke(1.0, 1.0, 0.06, 0.0, deg(20)),
+        },
+    }
+
+
+def _white_furnace() -> Any:
+    from .energy import plot_albedo
+
+    fig = plot_albedo(furnace_groups(), np.radians(np.arange(0.0, 89.6, 2.5)))
+    for ax in fig.axes:  # Minnaert k < 1 and Lunar-Lambert diverge at grazing: clip
+        ax.set_ylim(0.0, 1.6)
+    fig.suptitle(
+        "10. White furnace, every model at ρ = 1: ∫ f cos θi dωi against θo "
+        "(1 = no energy lost or gained; clipped at 1.6)"
+    )
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.98))
+    return fig
+
+
 FIGURES: tuple[Figure, ...] = (
     Figure(
         "1-lambert-sphere",
@@ -357,6 +464,27 @@ FIGURES: tuple[Figure, ...] = (
         "qualitative model.",
         _models_side_by_side,
     ),
+    Figure(
+        "9-production-models",
+        "What production renderers use",
+        "Spheres and plane-of-incidence radiance of the diffuse models production renderers "
+        "ship: Burley's Disney diffuse (Filament, MaterialX), Frostbite's renormalised "
+        "version (Falcor), Hammon's GGX diffuse (Unity), Chan's (Unreal), EON (OpenPBR) and "
+        "d'Eon's Lambertian spheres, against Lambert (dashed). Burley 2015 (Mitsuba 3's "
+        "principled) is Burley 2012 rewritten and coincides with it.",
+        _production_models,
+    ),
+    Figure(
+        "10-white-furnace",
+        "White furnace for every model",
+        "Directional albedo at ρ = 1 against the viewing angle: 1 means the model neither "
+        "loses nor creates energy. Lambert and EON are 1; d'Eon's full model stays within "
+        "2 %, its fast variant creates up to 25 % at grazing; Burley (r = 1) and Hammon "
+        "(α = 1) create energy at grazing angles, at r or α = 0 they lose it; Frostbite loses "
+        "up to 30 %; Minnaert with k < 1 and Lunar-Lambert diverge at grazing; Hapke (w = 1) "
+        "with roughness loses 13–18 %. The README lists the numbers.",
+        _white_furnace,
+    ),
 )
 
 
@@ -381,6 +509,14 @@ def _write_index(folder: Path) -> Path:
         "on a linear grey scale.</p>\n" + "\n".join(items) + "\n</body>\n</html>\n"
     )
     return atomic_write(folder / "index.html", lambda tmp: tmp.write_text(page, "utf-8"))
+
+
+def figure_matches(name: str, key: str) -> bool:
+    """Whether ``--only`` ``key`` names the figure ``name``: a number is the figure's number
+    (``1`` is ``1-lambert-sphere``, not ``10-…``), other text a prefix of the name."""
+    if key.isdigit():
+        return name.split("-", 1)[0] == key
+    return name.startswith(key)
 
 
 def make_figures(
@@ -414,7 +550,7 @@ def make_figures(
     if not folder.parent.is_dir():
         raise ValueError(f"parent folder {str(folder.parent)!r} does not exist")
     folder.mkdir(exist_ok=True)
-    chosen = [f for f in FIGURES if not only or any(f.name.startswith(o) for o in only)]
+    chosen = [f for f in FIGURES if not only or any(figure_matches(f.name, o) for o in only)]
     if only and not chosen:
         raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
     out = []

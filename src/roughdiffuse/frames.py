@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ._array import Array, asarray, concrete, namespace, result_dtype
+from ._array import Array, asarray, concrete, namespace, result_dtype, safe_div, safe_sqrt
 
 __all__ = [
     "angles_to_cosines",
@@ -142,3 +142,13 @@ def angles_to_cosines(
     ti, tr, dp = xp.broadcast_arrays(ti, tr, dp)
     mi, mo = xp.cos(ti), xp.cos(tr)
     return mi, mo, mi * mo + xp.sin(ti) * xp.sin(tr) * xp.cos(dp)
+
+
+def half_vector_cosines(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> tuple[Array, Array]:
+    """(n·h, wi·h) of the half vector h = (wi + wo)/|wi + wo| from the three local cosines.
+
+    |wi + wo| = √(2 (1 + wi·wo)), so wi·h = wo·h = √((1 + wi·wo)/2) (Burley's cos θd) and
+    n·h = (μi + μo)/|wi + wo|; n·h is 0 where wi = −wo (h undefined, both on the horizon).
+    """
+    len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
+    return safe_div(xp, mu_i + mu_o, len_h), 0.5 * len_h

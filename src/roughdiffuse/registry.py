@@ -228,16 +228,46 @@ def register_model(cls: M, *, source: str | None = None, replace: bool = False) 
 def _register_builtins() -> None:
     from .models import (
         EON,
+        Burley,
+        Burley2015,
+        BurleyRenormalized,
+        Chan,
         Fujii,
+        Hammon,
+        Hapke,
         Lambert,
+        LambertSphere,
         LommelSeeliger,
         LunarLambert,
+        Minnaert,
         Mix,
         OrenNayar,
+        SmithDiffuse,
         TorranceSparrow,
     )
 
-    for cls in (Lambert, OrenNayar, Fujii, EON, TorranceSparrow, Mix, LommelSeeliger, LunarLambert):
+    builtins = (
+        Lambert,
+        OrenNayar,
+        Fujii,
+        EON,
+        TorranceSparrow,
+        Mix,
+        LommelSeeliger,
+        LunarLambert,
+        # issue 17: what production renderers and planetary photometry use instead
+        Burley,
+        BurleyRenormalized,
+        Burley2015,
+        Hammon,
+        Chan,
+        LambertSphere,
+        Hapke,
+        Minnaert,
+        # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
+        SmithDiffuse,
+    )
+    for cls in builtins:
         register_model(cls, source="roughdiffuse")
 
 

@@ -98,8 +98,24 @@ def bench_models() -> list[tuple[str, Any, str, tuple[float, ...]]]:
             "rd_torrance_sparrow",
             (1.5, s, norm),
         ),
+        # issue 17: the models production renderers and planetary photometry use
+        ("burley", rd.Burley(0.8, 0.5), "rd_burley", (0.8, 0.5)),
+        ("frostbite", rd.BurleyRenormalized(0.8, 0.5), "rd_frostbite", (0.8, 0.5)),
+        ("burley-2015", rd.Burley2015(0.8, 0.5), "rd_burley_2015", (0.8, 0.5)),
+        ("hammon", rd.Hammon(0.8, 0.3), "rd_hammon", (0.8, 0.3)),
+        ("chan", rd.Chan(0.8, 0.3), "rd_chan", (0.8, 0.3)),
+        ("minnaert", rd.Minnaert(0.8, 0.7), "rd_minnaert", (0.8, 0.7)),
+        ("lambert-sphere", rd.LambertSphere(0.8, "fast"), "rd_lambert_sphere_fast", (0.8,)),
+        ("lambert-sphere", rd.LambertSphere(0.8, "full"), "rd_lambert_sphere_full", (0.8,)),
+        (
+            "hapke",
+            rd.Hapke(0.5, 0.8, 0.06, -0.3, 0.35),
+            "rd_hapke",
+            (0.5, 0.8, 0.06, -0.3, 0.35),
+        ),
     ]
-    return [(registry.get(i).label, m, c, p) for i, m, c, p in cases]
+    labels = {"rd_lambert_sphere_fast": " (fast)", "rd_lambert_sphere_full": " (full)"}
+    return [(registry.get(i).label + labels.get(c, ""), m, c, p) for i, m, c, p in cases]
 
 
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:

@@ -14,6 +14,7 @@ COMMANDS: list[str] = [
     "fit",
     "albedo",
     "simulate",
+    "stereo",
     "bench",
 ]
 

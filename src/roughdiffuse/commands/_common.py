@@ -71,6 +71,18 @@ def model_ids() -> list[str]:
     return registry.ids()
 
 
+def _start(name: str) -> str:
+    """The value a parameter starts at on the command line (first model declaring it)."""
+    from .. import registry
+
+    for entry in registry.entries():
+        for p in entry.parameters:
+            if p.name == name:
+                v = p.default if p.example is None else p.example
+                return f"{math.degrees(v):g}" if p.unit == "radians" else f"{v:g}"
+    return "none"
+
+
 def add_model_arguments(parser: argparse.ArgumentParser, default: str = "oren-nayar") -> None:
     """--model ID, --param NAME=VALUE and the shorthands --albedo, --sigma (degrees), ...
 
@@ -96,28 +108,31 @@ def add_model_arguments(parser: argparse.ArgumentParser, default: str = "oren-na
         "--albedo",
         type=_albedo,
         default=None,
-        help="albedo ρ in [0, 1], or R,G,B (default: 0.8)",
+        help=f"albedo ρ in [0, 1], or R,G,B (default: {_start('albedo')})",
     )
     g.add_argument(
-        "--sigma", type=float, default=None, help="roughness σ in DEGREES, 0 to 90 (default: 20)"
+        "--sigma",
+        type=float,
+        default=None,
+        help=f"roughness σ in DEGREES, 0 to 90 (default: {_start('sigma')})",
     )
     g.add_argument(
         "--roughness",
         type=float,
         default=None,
-        help="Fujii/EON roughness r in [0, 1] (default: 0.5)",
+        help=f"Fujii/EON roughness r in [0, 1] (default: {_start('roughness')})",
     )
     g.add_argument(
         "--eta",
         type=float,
         default=None,
-        help="Torrance-Sparrow refractive index η in (0, 1000] (default: 1.5)",
+        help=f"Torrance-Sparrow refractive index η in (0, 1000] (default: {_start('eta')})",
     )
     g.add_argument(
         "--limb-darkening",
         type=float,
         default=None,
-        help="Lunar-Lambert weight L in [0, 1] (default: 0.5)",
+        help=f"Lunar-Lambert weight L in [0, 1] (default: {_start('limb_darkening')})",
     )
 
 

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 from . import UsageError
+from ._checks import finite_float
 from ._common import float_list
 
 EXAMPLES = """\
@@ -63,7 +64,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=[0.0, 0.25, 0.5, 0.75, 1.0],
         help="Fujii/EON roughness r in [0, 1], comma-separated (default: 0,0.25,0.5,0.75,1)",
     )
-    p.add_argument("--albedo", type=float, default=1.0, help="albedo ρ in [0, 1] (default: 1)")
+    p.add_argument(
+        "--albedo", type=finite_float, default=1.0, help="albedo ρ in [0, 1] (default: 1)"
+    )
     p.add_argument("-o", "--output", default="albedo.png", help="plot file: .png, .svg or .pdf")
     p.add_argument("--table", metavar="CSV", help="also write the albedo table (CSV) here")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -135,11 +138,12 @@ def run(args: argparse.Namespace) -> int:
         flat = {f"{g}, {k}": m for g, curves in groups.items() for k, m in curves.items()}
         print(energy.variance_table(flat))
         return 0
-    from .render import check_output
+    from ._checks import output_file
 
-    out = check_output(args.output, (".png", ".svg", ".pdf"), args.force)
+    # every output checked before anything is computed or written
+    out = output_file(args.output, (".png", ".svg", ".pdf"), force=args.force, option="-o")
     if args.table:
-        check_output(args.table, (".csv",), args.force)
+        output_file(args.table, (".csv",), force=args.force, option="--table")
 
     from ..io.atomic import atomic_write
 

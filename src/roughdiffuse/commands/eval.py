@@ -6,6 +6,7 @@ import argparse
 import math
 
 from . import UsageError
+from ._checks import finite_float, require_finite
 from ._common import add_model_arguments, model_from_args
 
 EXAMPLES = """\
@@ -29,9 +30,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_arguments(p)
-    p.add_argument("--theta-i", type=float, default=0.0, help="incidence angle θi, degrees [0, 90]")
-    p.add_argument("--theta-r", type=float, default=0.0, help="viewing angle θr, degrees [0, 90]")
-    p.add_argument("--delta-phi", type=float, default=0.0, help="azimuth φr − φi, degrees")
+    p.add_argument(
+        "--theta-i", type=finite_float, default=0.0, help="incidence angle θi, degrees [0, 90]"
+    )
+    p.add_argument(
+        "--theta-r", type=finite_float, default=0.0, help="viewing angle θr, degrees [0, 90]"
+    )
+    p.add_argument("--delta-phi", type=finite_float, default=0.0, help="azimuth φr − φi, degrees")
     p.set_defaults(func=run)
 
 
@@ -49,6 +54,11 @@ def run(args: argparse.Namespace) -> int:
     wo = spherical_to_vector(math.radians(args.theta_r), math.radians(args.delta_phi))
     f = np.asarray(model.brdf(wi, wo))
     a = np.asarray(model.directional_albedo(wo))
+    inputs = (
+        f"{model!r} at θi = {args.theta_i:g}°, θr = {args.theta_r:g}°, Δφ = {args.delta_phi:g}°"
+    )
+    require_finite(f, "the BRDF", inputs)
+    require_finite(a, "the directional albedo", inputs)
     print(f"model: {model!r}")
     print(f"brdf (1/sr): {np.array2string(f, precision=6)}")
     print(f"directional albedo at wo: {np.array2string(a, precision=6)}")

@@ -34,8 +34,19 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..figures import make_figures
+    from ..figures import FIGURES, figure_matches, make_figures
+    from . import UsageError
+    from ._checks import output_folder
 
+    # checked before the folder is created or anything drawn
+    if args.only:
+        unknown = [o for o in args.only if not any(figure_matches(f.name, o) for f in FIGURES)]
+        if unknown:
+            raise UsageError(
+                f"--only: no figure matches {', '.join(unknown)}; names: "
+                f"{', '.join(f.name for f in FIGURES)}"
+            )
+    output_folder(args.output, option="-o")
     paths = make_figures(
         args.output, force=args.force, progress=not args.no_progress, only=args.only
     )

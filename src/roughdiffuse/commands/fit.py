@@ -8,6 +8,12 @@ import os
 import warnings
 
 from . import UsageError
+from ._checks import finite_float, output_file, reading, require_finite
+
+DATA_RANGE = (1e-100, 1e100)
+"""Magnitudes of data values the fit accepts: their squares, and sums of a few million of
+them, stay normal float64 numbers (about 2.2e-308 to 1.8e308), so RMS, AIC and BIC are
+finite and meaningful."""
 
 EXAMPLES = """\
 examples:
@@ -72,14 +78,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--f-scale",
-        type=float,
+        type=finite_float,
         default=None,
         help="residual scale where a robust loss sets in: a fraction of the value "
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
     g = p.add_argument_group("samples and MERL files")
-    g.add_argument("--irradiance", type=float, default=None, help="E0 for radiance data")
+    g.add_argument("--irradiance", type=finite_float, default=None, help="E0 for radiance data")
     g.add_argument(
         "--max-samples",
         type=int,
@@ -102,14 +108,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="THETA,PHI",
         help="direction to the viewer (degrees, default 0,0)",
     )
-    g.add_argument("--margin", type=float, default=0.04, help="--shape: the render's margin")
+    g.add_argument("--margin", type=finite_float, default=0.04, help="--shape: the render's margin")
     g.add_argument(
         "--erode",
         type=int,
         default=1,
         help="drop this many pixels along silhouettes and shadow edges (default 1)",
     )
-    g.add_argument("--exposure", type=float, default=None, help="PNG: exposure in stops")
+    g.add_argument("--exposure", type=finite_float, default=None, help="PNG: exposure in stops")
     g.add_argument("--encoding", choices=("srgb", "linear"), default=None, help="PNG curve")
     p.set_defaults(func=run)
 
@@ -122,11 +128,14 @@ def _load(args: argparse.Namespace):  # noqa: ANN202 - returns Measurements
         raise UsageError(f"data file {path!r} does not exist")
     ext = os.path.splitext(path)[1].lower()
     if ext in (".csv", ".txt", ".tsv"):
-        return read_csv(path, irradiance=args.irradiance)
+        with reading(path, "data file"):
+            return read_csv(path, irradiance=args.irradiance)
     if ext == ".binary":
         if args.max_samples < 10:
             raise UsageError(f"--max-samples must be >= 10 (got {args.max_samples})")
-        return read_merl(path).to_measurements(max_samples=args.max_samples)
+        with reading(path, "MERL file"):
+            merl = read_merl(path)
+        return merl.to_measurements(max_samples=args.max_samples)
     if ext in (".npy", ".exr", ".png"):
         return _load_image(args, path)
     raise UsageError(f"DATA must end in .csv, .binary, .npy, .exr or .png (got {path!r})")
@@ -152,9 +161,11 @@ def _load_image(args: argparse.Namespace, path: str):  # noqa: ANN202
     camera = OrthographicCamera(
         math.radians(args.view[0]), math.radians(args.view[1]), margin=args.margin
     )
-    image, mask = read_image(path, exposure=args.exposure, encoding=args.encoding)
+    with reading(path, "image"):
+        image, mask = read_image(path, exposure=args.exposure, encoding=args.encoding)
     if args.normals is not None:
-        normals = read_normals(args.normals)
+        with reading(args.normals, "normal map"):
+            normals = read_normals(args.normals)
         if normals.shape[:2] != image.shape[:2]:
             raise UsageError(
                 f"normal map {normals.shape[:2]} and image {image.shape[:2]} differ in size"
@@ -178,6 +189,26 @@ def _load_image(args: argparse.Namespace, path: str):  # noqa: ANN202
     )
 
 
+def _check_values(value: object, path: str) -> None:
+    """Refuse data the fit cannot handle: non-finite, all zero, or beyond :data:`DATA_RANGE`."""
+    import numpy as np
+
+    v = np.asarray(value, dtype=np.float64)
+    if v.size == 0:
+        raise UsageError(f"{path}: no data values")
+    if not np.all(np.isfinite(v)):
+        raise UsageError(f"{path}: {int(np.sum(~np.isfinite(v)))} values are NaN or infinite")
+    mag = np.abs(v[v != 0])
+    if mag.size == 0:
+        raise UsageError(f"{path}: every value is 0; there is nothing to fit")
+    lo, hi = DATA_RANGE
+    if mag.max() > hi or mag.min() < lo:
+        raise UsageError(
+            f"{path}: values from {mag.min():.3g} to {mag.max():.3g} in magnitude; the fit takes "
+            f"[{lo:g}, {hi:g}] (rescale the data, or give --irradiance for radiance)"
+        )
+
+
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -186,9 +217,12 @@ def run(args: argparse.Namespace) -> int:
 
     if args.model not in CANDIDATES:
         raise UsageError(f"unknown model {args.model!r}; choose one of: {', '.join(CANDIDATES)}")
-    if args.report and not args.report.lower().endswith((".html", ".htm")):
-        raise UsageError(f"--report must name an .html file (got {args.report!r})")
+    if args.report:  # checked before the data is read or fitted; replaced if it exists
+        if not args.report.lower().endswith((".html", ".htm")):
+            raise UsageError(f"--report must name an .html file (got {args.report!r})")
+        output_file(args.report, option="--report", overwrite=True)
     data = _load(args)
+    _check_values(data.value, args.data)
     print(f"data: {data.source}: {data.size} samples ({data.kind})")
     options = {"noise": args.noise, "loss": args.loss}
     if args.noise == "relative" and (data.value <= 0).any():
@@ -214,6 +248,12 @@ def run(args: argparse.Namespace) -> int:
             c = CANDIDATES[args.model]
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
             print(results[0].table())
+    for r in results:
+        require_finite(
+            [r.rms, r.aic, r.bic, *np.ravel(r.values)],
+            f"the fit of {r.model_name} (RMS, AIC, BIC, parameters)",
+            args.data,
+        )
     if caught and not args.compare:
         print("warning: the data cannot identify every parameter (see the table)")
     if args.report:

@@ -8,7 +8,13 @@ import math
 
 from . import UsageError
 from ._common import add_model_arguments, float_list, model_from_args, model_ids
-from .render import add_output_arguments, add_scene_arguments, check_output, make_shape
+from .render import (
+    add_output_arguments,
+    add_scene_arguments,
+    check_output,
+    check_render_memory,
+    make_shape,
+)
 
 EXAMPLES = """\
 examples:
@@ -107,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.kind == "cross-section":
         models = _models(args)
         shape = make_shape(args.shape)
+        check_render_memory(args, channels=3, images=len(models))
         results = {
             k: render(
                 m,

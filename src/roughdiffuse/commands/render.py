@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from . import UsageError
+from ._checks import finite_float, fits_in_memory, output_file, require_finite
 from ._common import add_model_arguments, model_from_args
 
 EXAMPLES = """\
@@ -51,15 +52,27 @@ def _light(text: str) -> tuple[float, float, float]:
     return (vals[0], vals[1], vals[2] if len(vals) == 3 else 1.0)
 
 
+MAX_EXPOSURE = 64.0
+"""Largest |--exposure| in stops (2^64 brightens the faintest float32 radiance to white)."""
+
+BYTES_PER_SAMPLE = 9
+"""Renderer memory per pixel sample besides the radiance: two float32 ray coordinates and a
+hit flag (``render/renderer.py``); the radiance adds 4 bytes per colour channel."""
+
+
 def _exposure(text: str) -> float | str:
     if text == "auto":
         return text
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
+        value = math.nan
+    if not -MAX_EXPOSURE <= value <= MAX_EXPOSURE:
         raise argparse.ArgumentTypeError(
-            f"exposure must be a number of stops or 'auto' (got {text!r})"
-        ) from None
+            f"exposure must be a number of stops in [-{MAX_EXPOSURE:g}, {MAX_EXPOSURE:g}] "
+            f"or 'auto' (got {text!r})"
+        )
+    return value
 
 
 def add_scene_arguments(p: argparse.ArgumentParser, shape: bool = True) -> None:
@@ -69,9 +82,13 @@ def add_scene_arguments(p: argparse.ArgumentParser, shape: bool = True) -> None:
         g.add_argument(
             "--shape", default="sphere", metavar="NAME", help=f"one of: {', '.join(SHAPES)}"
         )
-    g.add_argument("--light-theta", type=float, default=0.0, help="light θ, degrees [0, 180]")
-    g.add_argument("--light-phi", type=float, default=0.0, help="light φ, degrees")
-    g.add_argument("--irradiance", type=float, default=1.0, help="E0 of the light (default 1)")
+    g.add_argument(
+        "--light-theta", type=finite_float, default=0.0, help="light θ, degrees [0, 180]"
+    )
+    g.add_argument("--light-phi", type=finite_float, default=0.0, help="light φ, degrees")
+    g.add_argument(
+        "--irradiance", type=finite_float, default=1.0, help="E0 of the light (default 1)"
+    )
     g.add_argument(
         "--light",
         type=_light,
@@ -79,8 +96,8 @@ def add_scene_arguments(p: argparse.ArgumentParser, shape: bool = True) -> None:
         metavar="THETA,PHI[,E0]",
         help="a light (repeatable; replaces --light-theta/--light-phi); lights add",
     )
-    g.add_argument("--view-theta", type=float, default=0.0, help="view θ, degrees [0, 180]")
-    g.add_argument("--view-phi", type=float, default=0.0, help="view φ, degrees")
+    g.add_argument("--view-theta", type=finite_float, default=0.0, help="view θ, degrees [0, 180]")
+    g.add_argument("--view-phi", type=finite_float, default=0.0, help="view φ, degrees")
     g.add_argument("--size", type=_size, default=512, help="N or WxH pixels (default 512)")
     g.add_argument(
         "--spp", type=int, default=4, help="samples per pixel, a square: 1, 4, 9, ... (default 4)"
@@ -96,16 +113,27 @@ def add_output_arguments(p: argparse.ArgumentParser, suffixes: tuple[str, ...]) 
 
 
 def check_output(path: str, suffixes: tuple[str, ...], force: bool) -> Path:
-    """The output path, or UsageError (wrong suffix, missing folder, existing file)."""
-    out = Path(path)
-    if out.suffix.lower() not in suffixes:
-        raise UsageError(f"output file must end in {', '.join(suffixes)} (got {path!r})")
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise UsageError(f"output folder {str(folder)!r} does not exist")
-    if out.exists() and not force:
-        raise UsageError(f"{path} exists; use --force to overwrite it")
-    return out
+    """The -o path, checked before any work (:func:`~roughdiffuse.commands._checks.
+    output_file`): suffix, a folder that exists and can be written, no folder or existing
+    file in the way unless --force."""
+    return output_file(path, suffixes, force=force, option="-o")
+
+
+def check_render_memory(args: argparse.Namespace, channels: int = 1, images: int = 1) -> None:
+    """Refuse a --size/--spp whose rays cannot fit in memory (:data:`BYTES_PER_SAMPLE`)."""
+    from ..render.renderer import MAX_SIZE
+
+    size = args.size
+    h, w = (size, size) if isinstance(size, int) else size
+    if not (1 <= h <= MAX_SIZE and 1 <= w <= MAX_SIZE):
+        raise UsageError(f"--size must be N or WxH with sides in [1, {MAX_SIZE}] (got {w}x{h})")
+    if not (1 <= args.spp <= 256 and math.isqrt(args.spp) ** 2 == args.spp):
+        raise UsageError(f"--spp must be a square number in [1, 256]: 1, 4, 9, … (got {args.spp})")
+    per_sample = BYTES_PER_SAMPLE + 4 * channels
+    fits_in_memory(
+        float(h) * w * args.spp * per_sample * images,
+        f"--size {w}x{h} --spp {args.spp} (about {per_sample} bytes per sample)",
+    )
 
 
 def make_shape(name: str):  # noqa: ANN201 - a Shape
@@ -136,10 +164,24 @@ def _finite(name: str, deg: float) -> float:
     return math.radians(deg)
 
 
+FLOAT32_MAX = 3.4028234663852886e38
+"""The renderer works in float32: a larger irradiance is infinite there."""
+
+
+def _irradiance(name: str, e0: float) -> float:
+    if not 0.0 <= e0 <= FLOAT32_MAX:
+        raise UsageError(f"--{name} must be in [0, {FLOAT32_MAX:.4g}] (float32; got {e0:g})")
+    return e0
+
+
 def scene_from_args(args: argparse.Namespace):  # noqa: ANN201
     """(lights, camera) from the scene arguments."""
     from ..render import DistantLight, OrthographicCamera
 
+    for *_, e in args.light or ():
+        _irradiance("light E0", e)
+    if not args.light:
+        _irradiance("irradiance", args.irradiance)
     if args.light:
         lights = [
             DistantLight(_angle("light", t), _finite("light", p), e) for t, p, e in args.light
@@ -192,6 +234,8 @@ def run(args: argparse.Namespace) -> int:
     model = model_from_args(args)
     shape = make_shape(args.shape)
     lights, camera = scene_from_args(args)
+    rgb = model.channels > 1 or any(isinstance(x.irradiance, tuple) for x in lights)
+    check_render_memory(args, channels=3 if rgb else 1)
     t0 = time.perf_counter()
     image, mask = render(
         model,
@@ -203,6 +247,11 @@ def run(args: argparse.Namespace) -> int:
         shadows=not args.no_shadows,
     )
     elapsed = time.perf_counter() - t0
+    require_finite(
+        image,
+        "the image",
+        "this --irradiance / --light E0 (float32 radiance overflows above about 3.4e38) and model",
+    )
     meta = {
         "roughdiffuse:model": repr(model),
         "roughdiffuse:shape": args.shape,

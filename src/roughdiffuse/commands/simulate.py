@@ -4,9 +4,22 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 
 from . import UsageError
+from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
 from ._common import float_list
+
+MAX_BOUNCES = 100
+"""Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
+node (``simulate.cavity.radiosity_operator``): on a busy 2-core machine 100 bounces took 45 s
+where 'all' took 15–20 s, about 0.3 s a bounce, so a million would take days. The all-bounce
+limit ('all', one matrix inverse) is what many bounces approach."""
+
+MAX_ELEMENTS = 128
+"""Largest --elements K (default 16): the solver's time grows fast with K (on a busy 2-core
+machine K = 64 took 32 s where 16 took 19 s, and 200 more than two minutes); see
+:func:`_solver_bytes` for its memory."""
 
 EXAMPLES = """\
 examples:
@@ -28,8 +41,16 @@ def _bounces(text: str) -> int | str:
         return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"bounces must be an integer >= 1 or 'all' (got {text!r})"
+            f"bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {text!r})"
         ) from None
+
+
+def _solver_bytes(elements: int) -> float:
+    """Memory of the radiosity solver for K elements per facet: deep cavities take 4K
+    (``simulate.cavity.elements_for_slope``), Richardson extrapolation doubles that, two
+    facets double it again: float64 matrices of (16 K)² entries, about 20 of them at once
+    (measured: K = 64 added 150 MB to the process)."""
+    return 20 * 8 * float(16 * elements) ** 2
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -41,9 +62,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--theta-i", type=float, default=30.0, help="incidence angle, degrees [0, 90]")
-    p.add_argument("--theta-r", type=float, default=30.0, help="viewing angle, degrees [0, 90]")
-    p.add_argument("--delta-phi", type=float, default=0.0, help="azimuth φr − φi, degrees")
+    p.add_argument(
+        "--theta-i", type=finite_float, default=30.0, help="incidence angle, degrees [0, 90]"
+    )
+    p.add_argument(
+        "--theta-r", type=finite_float, default=30.0, help="viewing angle, degrees [0, 90]"
+    )
+    p.add_argument("--delta-phi", type=finite_float, default=0.0, help="azimuth φr − φi, degrees")
     p.add_argument(
         "--sigma",
         type=float_list,
@@ -51,9 +76,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="roughness σ in DEGREES (list for tables)",
     )
     p.add_argument(
-        "--albedo", type=float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
+        "--albedo", type=finite_float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
     )
-    p.add_argument("--bounces", type=_bounces, default="all", help="1, 2, ... or all (default all)")
+    p.add_argument(
+        "--bounces",
+        type=_bounces,
+        default="all",
+        help=f"1, 2, ... {MAX_BOUNCES} or all (default all)",
+    )
     p.add_argument(
         "--measure",
         default="solid-angle",
@@ -61,15 +91,24 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="slope-distribution measure: density in dθa, or per solid angle of facet normals "
         "(default; the reading the Oren-Nayar coefficients fit, docs/accuracy.md)",
     )
-    p.add_argument("--elements", type=int, default=16, help="radiosity elements per facet K")
+    p.add_argument(
+        "--elements",
+        type=int,
+        default=16,
+        help=f"radiosity elements per facet K, 1 to {MAX_ELEMENTS} (default 16)",
+    )
     p.add_argument("--table", metavar="FILE", help="compute a ground-truth table into FILE (.npz)")
     p.add_argument(
         "--force",
         action="store_true",
         help="replace a finished --table FILE (or chunks of other settings) by a new run",
     )
-    p.add_argument("--step", type=float, default=10.0, help="table step of θi and θr, degrees")
-    p.add_argument("--delta-phi-step", type=float, default=30.0, help="table step of Δφ, degrees")
+    p.add_argument(
+        "--step", type=finite_float, default=10.0, help="table step of θi and θr, degrees"
+    )
+    p.add_argument(
+        "--delta-phi-step", type=finite_float, default=30.0, help="table step of Δφ, degrees"
+    )
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
     p.add_argument(
         "--backend",
@@ -105,14 +144,23 @@ def run(args: argparse.Namespace) -> int:
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
-    if args.elements < 1:
-        raise UsageError(f"--elements must be >= 1 (got {args.elements})")
+    if args.bounces != "all" and not 1 <= args.bounces <= MAX_BOUNCES:
+        raise UsageError(
+            f"--bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {args.bounces})"
+        )
+    if not 1 <= args.elements <= MAX_ELEMENTS:
+        raise UsageError(f"--elements must be in [1, {MAX_ELEMENTS}] (got {args.elements})")
+    fits_in_memory(
+        _solver_bytes(args.elements) * args.workers,
+        f"--elements {args.elements} --workers {args.workers}",
+    )
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
     settings = Settings(measure=args.measure, elements=args.elements)
     if args.report:
         from ..simulate.report import write_report
 
+        output_folder(args.output, option="-o")
         out = write_report(
             args.output,
             quick=args.quick,
@@ -125,6 +173,11 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         ang = _grid(args.step, 0.0, 90.0, "step")
         dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+        # checked before any chunk is computed; an existing table is resumed or reused
+        output_file(args.table, option="--table", overwrite=True)
+        chunks = f"{args.table}.chunks"
+        if os.path.exists(chunks) and not os.path.isdir(chunks):
+            raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
         table = compute_table(
             args.table,
             ang,
@@ -168,6 +221,7 @@ def run(args: argparse.Namespace) -> int:
         settings,
         return_difference=True,
     )
+    require_finite([f, d], "the BRDF", f"--sigma {args.sigma[0]:g} --albedo {args.albedo:g}")
     print(f"brdf (1/sr): {float(f):.8g}")
     print(f"f * pi / albedo: {float(f) * math.pi / max(args.albedo, 1e-300):.8g}")
     print(f"element change f(K) - f(2K): {float(d):.2e} (K = {args.elements}, extrapolated)")

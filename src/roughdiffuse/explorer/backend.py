@@ -4,6 +4,10 @@ Both depend on other parts of roughdiffuse (:mod:`roughdiffuse.render`,
 :mod:`roughdiffuse.simulate`); when a part is missing, :func:`info` says so and the page hides
 what needs it. No table of ground truth ships with the package: the server runs the solver for
 the plane of incidence on request (about 2 s, cached).
+
+What a request may cost is bounded: the vase comes in the sizes of :data:`VASE_SIZES` only,
+and at most :data:`VASE_COMPILED` compiled renderers are kept (:class:`CompiledVariants`);
+the ground truth keeps :data:`GROUND_TRUTH_CACHED` curves.
 """
 
 from __future__ import annotations
@@ -11,6 +15,7 @@ from __future__ import annotations
 import functools
 import math
 import threading
+from collections.abc import Callable, Hashable
 from typing import Any
 
 import numpy as np
@@ -18,7 +23,79 @@ import numpy as np
 from .. import __version__
 from .params import model_from_params
 
-__all__ = ["THETA_R_DEG", "Unavailable", "ground_truth", "info", "params_from_query", "vase_png"]
+__all__ = [
+    "THETA_R_DEG",
+    "VASE_COMPILED",
+    "VASE_SIZES",
+    "CompiledVariants",
+    "Unavailable",
+    "ground_truth",
+    "info",
+    "params_from_query",
+    "vase_png",
+]
+
+VASE_SIZES = (64, 128, 200, 256, 512)
+"""Image sizes (pixels) the vase endpoint offers; the page asks for 200."""
+
+VASE_COMPILED = 8
+"""Compiled vase renderers kept at once: each (model, size) compiles once (3–5 s of CPU,
+about 9 MB); see :class:`CompiledVariants`."""
+
+GROUND_TRUTH_CACHED = 64
+"""Ground-truth curves kept (45 floats each)."""
+
+
+class CompiledVariants:
+    """A bound on the renderer's compiled variants.
+
+    The renderer compiles one function per (model structure, image size) into JAX's own
+    caches, which grow without bound and cannot drop a single entry. This class counts the
+    variants compiled since the caches were last emptied; when a new one would make more than
+    ``maxsize``, it empties them (``clear``, by default :func:`jax.clear_caches`) first. So at
+    most ``maxsize`` variants are held at any time; a variant in use again is not counted
+    twice.
+
+    Parameters
+    ----------
+    maxsize : int
+        Variants kept.
+    clear : callable, optional
+        Empties the compiled caches.
+    """
+
+    def __init__(self, maxsize: int = VASE_COMPILED, clear: Callable[[], None] | None = None):
+        self.maxsize = maxsize
+        self.clears = 0
+        self._clear = clear
+        self._keys: set[Hashable] = set()
+        self._lock = threading.Lock()
+
+    def __len__(self) -> int:
+        return len(self._keys)
+
+    def __contains__(self, key: Hashable) -> bool:
+        return key in self._keys
+
+    def use(self, key: Hashable) -> None:
+        """Note that ``key`` is about to be rendered (compiled if new)."""
+        with self._lock:
+            if key in self._keys:
+                return
+            if len(self._keys) >= self.maxsize:
+                self._keys.clear()  # the caches are emptied: nothing stays compiled
+                if self._clear is not None:
+                    self._clear()
+                else:
+                    import jax
+
+                    jax.clear_caches()
+                self.clears += 1
+            self._keys.add(key)
+
+
+VASE_VARIANTS = CompiledVariants()
+"""The vase endpoint's compiled variants."""
 
 
 class Unavailable(Exception):
@@ -84,14 +161,24 @@ def _render_vase() -> Any:
         exposure = _float(q, "exposure", 0.0)
         if not -10.0 <= exposure <= 10.0:
             raise ValueError(f"exposure must be in [-10, 10] stops (got {exposure:g})")
-        size = int(_float(q, "size", 200))
-        if not 16 <= size <= 512:
-            raise ValueError(f"size must be in [16, 512] pixels (got {size})")
+        size = _float(q, "size", 200)
+        if size not in VASE_SIZES:
+            raise ValueError(
+                f"size must be one of {', '.join(map(str, VASE_SIZES))} pixels (got {size:g})"
+            )
+        size = int(size)
         # E0 = π and 2^exposure, as on the page's sphere (a white Lambert surface facing the
         # light has radiance 1)
         light = DistantLight(math.radians(theta), math.radians(phi), math.pi)
+        VASE_VARIANTS.use((type(model).__name__, repr(_static_fields(model)), size))
         image, _ = render(model, SurfaceOfRevolution(), light, size=size, samples_per_pixel=4)
         rgb = np.asarray(image, dtype=np.float64) * 2.0**exposure
+        if not np.all(np.isfinite(rgb)):
+            raise ValueError(
+                f"these parameters give a vase image with NaN or infinite radiance "
+                f"({q.get('model', 'oren-nayar')}: eta={q.get('eta', '1.5')}, "
+                f"sigma={q.get('sigma', '0')}, roughness={q.get('roughness', '0')})"
+            )
         if rgb.ndim == 2:
             rgb = np.repeat(rgb[..., None], 3, axis=-1)
         data = np.round(linear_to_srgb(rgb) * 255.0).astype(np.uint8)
@@ -100,6 +187,23 @@ def _render_vase() -> Any:
         return buf.getvalue()
 
     return vase
+
+
+def _static_fields(model: Any) -> tuple[Any, ...]:
+    """The fields of ``model`` that select a compiled variant (strings: variant,
+    distribution), and those of a Mix's components."""
+    import dataclasses
+
+    if not dataclasses.is_dataclass(model):
+        return ()
+    out: list[Any] = []
+    for f in dataclasses.fields(model):
+        v = getattr(model, f.name)
+        if isinstance(v, str):
+            out.append(v)
+        elif f.name == "components":
+            out.extend((type(m).__name__, _static_fields(m)) for _, m in v)
+    return tuple(out)
 
 
 def _solver() -> Any:
@@ -117,7 +221,7 @@ THETA_R_DEG = tuple(float(t) for t in range(-88, 89, 4))
 _SOLVER_LOCK = threading.Lock()  # one solver run at a time: the machine may have 2 cores
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=GROUND_TRUTH_CACHED)
 def _plane_of_incidence(sigma: float, theta_i_deg: float, albedo: float) -> tuple[float, ...]:
     brdf = _solver()
     tr = np.radians(np.abs(THETA_R_DEG))
@@ -151,7 +255,10 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
     """V-cavity radiance in the plane of incidence, from the solver (all bounces).
 
     Query: ``sigma`` (radians, (0, π/2]), ``theta_i`` (degrees, [0, 90)), ``albedo`` ([0, 1]).
-    Computed on demand by :func:`roughdiffuse.simulate.surface.brdf` with its default
+    The values are put on a grid (σ to 1e-4 rad, θi to 0.1°, ρ to 0.001) so that small
+    slider moves hit the cache; the grid value is kept inside the range (σ ≥ 1e-4 and
+    ≤ π/2, θi ≤ 89.9°), and it is the one validated, used and returned. Computed on demand
+    by :func:`roughdiffuse.simulate.surface.brdf` with its default
     settings (about 2 s for the 45 angles; cached), at θr = −88°, −84°, …, 88°.
 
     Returns
@@ -166,13 +273,17 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
     theta_i = _float(q, "theta_i", 0.0)
     albedo = _float(q, "albedo", 0.8)
     if not 0.0 < sigma <= math.pi / 2:
-        raise ValueError(f"sigma must be in (0, π/2] radians (got {sigma:g})")
+        raise ValueError(f"sigma must be in (0, π/2] radians (got {sigma!r})")
     if not 0.0 <= theta_i < 90.0:
-        raise ValueError(f"theta_i must be in [0, 90) degrees (got {theta_i:g})")
+        raise ValueError(f"theta_i must be in [0, 90) degrees (got {theta_i!r})")
     if not 0.0 <= albedo <= 1.0:
-        raise ValueError(f"albedo must be in [0, 1] (got {albedo:g})")
-    # rounded so that small slider moves hit the cache
-    sigma, theta_i, albedo = round(sigma, 4), round(theta_i, 1), round(albedo, 3)
+        raise ValueError(f"albedo must be in [0, 1] (got {albedo!r})")
+    # on a grid so that small slider moves hit the cache, kept inside the accepted range
+    sigma = min(max(round(sigma, 4), 1e-4), math.pi / 2)
+    theta_i = min(round(theta_i, 1), 89.9)
+    albedo = round(albedo, 3)
+    if not (0.0 < sigma <= math.pi / 2 and 0.0 <= theta_i < 90.0 and 0.0 <= albedo <= 1.0):
+        raise AssertionError(f"grid values out of range: {sigma!r}, {theta_i!r}, {albedo!r}")
     f = _plane_of_incidence(sigma, theta_i, albedo)
     e_cos = math.pi * math.cos(math.radians(theta_i))
     return {

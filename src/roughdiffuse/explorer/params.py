@@ -29,6 +29,14 @@ MODEL_IDS: dict[str, int] = {
     "mix": 6,
     "lommel-seeliger": 7,
     "lunar-lambert": 8,
+    "burley": 9,
+    "frostbite": 10,
+    "burley-2015": 11,
+    "hammon": 12,
+    "chan": 13,
+    "lambert-sphere": 14,
+    "hapke": 15,
+    "minnaert": 16,
 }
 """The registry ids the GLSL has a copy of, and the numbers ``brdf.glsl`` dispatches on (the
 same in ``static/js/models.js``). A registry model missing here (``"glsl": false`` in

@@ -14,14 +14,23 @@ It serves only its own files: a path with a ``..`` or ``.`` segment, an empty se
 a backslash, a NUL, or anything that resolves outside ``static/`` gets 404; so does every
 path that is not a regular file there (no directory listings). It binds to 127.0.0.1 unless
 told otherwise.
+
+It answers only requests addressed to it: the ``Host`` header must name the address it
+printed (or ``localhost``, or a loopback address) with its port, else 421; an ``Origin``
+header, when sent, must be ``http://`` and such a host, else 403. So neither another web page
+nor a DNS-rebinding name can make the user's browser talk to it. A connection idle for
+:data:`IDLE_TIMEOUT` seconds is closed, at most :data:`MAX_THREADS` requests are served at
+once (more get 503), and a client that goes away is one quiet line, not a traceback.
 """
 
 from __future__ import annotations
 
+import ipaddress
 import json
 import mimetypes
 import posixpath
 import socket
+import sys
 import threading
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -32,7 +41,21 @@ from urllib.parse import parse_qs, unquote, urlsplit
 from .. import __version__
 from . import backend
 
-__all__ = ["STATIC_DIR", "ExplorerHandler", "make_server", "resolve_static"]
+__all__ = [
+    "IDLE_TIMEOUT",
+    "MAX_THREADS",
+    "STATIC_DIR",
+    "ExplorerHandler",
+    "ExplorerServer",
+    "make_server",
+    "resolve_static",
+]
+
+IDLE_TIMEOUT = 15.0
+"""Seconds a connection may stay silent (while sending its request) before it is closed."""
+
+MAX_THREADS = 32
+"""Requests served at once; a connection beyond them gets 503 and is closed."""
 
 STATIC_DIR = Path(__file__).resolve().parent / "static"
 """The page's files (shipped as package data)."""
@@ -81,6 +104,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
 
     server_version = f"roughdiffuse-explorer/{__version__}"
     quiet = True
+    timeout = IDLE_TIMEOUT  # socket timeout: a half-open connection does not hold a thread
 
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - stdlib signature
         if not self.quiet:
@@ -108,7 +132,36 @@ class ExplorerHandler(BaseHTTPRequestHandler):
     def do_GET(self) -> None:  # noqa: N802 - stdlib name
         self._get(head=False)
 
+    def _refused(self, head: bool) -> bool:
+        """Answer 421 (foreign Host) or 403 (foreign Origin) and return True, or False."""
+        server = self.server
+        allowed = server.allowed_host if isinstance(server, ExplorerServer) else None
+        if allowed is None:
+            return False
+        if not allowed(self.headers.get("Host")):
+            self._send(
+                HTTPStatus.MISDIRECTED_REQUEST,
+                b"421 this server answers only requests addressed to it\n",
+                "text/plain; charset=utf-8",
+                head,
+            )
+            return True
+        origin = self.headers.get("Origin")
+        if origin is not None and not (
+            origin.startswith("http://") and allowed(origin[len("http://") :])
+        ):
+            self._send(
+                HTTPStatus.FORBIDDEN,
+                b"403 requests from other web pages are refused\n",
+                "text/plain; charset=utf-8",
+                head,
+            )
+            return True
+        return False
+
     def _get(self, head: bool) -> None:
+        if self._refused(head):
+            return
         try:
             url = urlsplit(self.path)
         except ValueError:
@@ -148,7 +201,105 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc)}, head)
 
 
-def make_server(host: str = "127.0.0.1", port: int | None = None) -> ThreadingHTTPServer:
+def _split_host(value: str) -> tuple[str, str] | None:
+    """("host", "port") of a Host header value (``[v6]:port`` or ``name:port``), or None."""
+    if value.startswith("["):
+        end = value.find("]")
+        if end < 0 or value[end + 1 : end + 2] != ":":
+            return None
+        return value[1:end].lower(), value[end + 2 :]
+    host, sep, port = value.rpartition(":")
+    return (host.lower(), port) if sep else None
+
+
+def _is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def _is_ip(host: str) -> bool:
+    try:
+        ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    return True
+
+
+class ExplorerServer(ThreadingHTTPServer):
+    """The explorer's HTTP server: one thread per request, at most :data:`MAX_THREADS`, and
+    a check of the ``Host`` header (:meth:`allowed_host`)."""
+
+    daemon_threads = True
+    max_threads = MAX_THREADS
+
+    def __init__(self, address: tuple[str, int], handler: type = ExplorerHandler) -> None:
+        super().__init__(address, handler)
+        self._slots = threading.BoundedSemaphore(self.max_threads)
+        self.bound_host = str(self.server_address[0]).lower()
+        self.bound_port = int(self.server_address[1])
+
+    def allowed_host(self, value: str | None) -> bool:
+        """Whether a ``Host`` header ``value`` addresses this server: its port, and its bound
+        address, ``localhost`` or a loopback address; any IP address (never a name, which a
+        DNS-rebinding page controls) when bound to all interfaces."""
+        parts = _split_host(value or "")
+        if parts is None or parts[1] != str(self.bound_port):
+            return False
+        host = parts[0]
+        if host == self.bound_host or _is_loopback(host):
+            return True
+        wildcard = self.bound_host in ("0.0.0.0", "::")
+        return wildcard and _is_ip(host)
+
+    def process_request(self, request: Any, client_address: Any) -> None:
+        if not self._slots.acquire(blocking=False):
+            try:
+                request.settimeout(1.0)
+                request.sendall(
+                    b"HTTP/1.1 503 Service Unavailable\r\nContent-Length: 0\r\n"
+                    b"Connection: close\r\n\r\n"
+                )
+            except OSError:
+                pass
+            self.shutdown_request(request)
+            return
+        try:
+            super().process_request(request, client_address)
+        except BaseException:
+            self._slots.release()
+            raise
+
+    def process_request_thread(self, request: Any, client_address: Any) -> None:
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            self._slots.release()
+
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """A client that went away (or stalled) is one line on stderr; anything else is a
+        traceback, as in the standard library."""
+        exc = sys.exc_info()[1]
+        if isinstance(exc, ConnectionError | TimeoutError):
+            host, port = client_address[:2]
+            print(
+                f"roughdiffuse explorer: client {host}:{port} went away "
+                f"({type(exc).__name__})",
+                file=sys.stderr,
+                flush=True,
+            )
+            return
+        super().handle_error(request, client_address)
+
+
+class _ExplorerServerV6(ExplorerServer):
+    address_family = socket.AF_INET6
+
+
+def make_server(host: str = "127.0.0.1", port: int | None = None) -> ExplorerServer:
     """A server bound to ``host``:``port`` (a free port when ``port`` is None or 0).
 
     Call ``serve_forever()`` on it (or :func:`serve_in_thread`); ``server_address`` holds the
@@ -156,16 +307,8 @@ def make_server(host: str = "127.0.0.1", port: int | None = None) -> ThreadingHT
     """
     if port is not None and not 0 <= port <= 65535:
         raise ValueError(f"port must be in [0, 65535] (got {port})")
-    cls = ThreadingHTTPServer
-    if ":" in host:
-
-        class _V6(ThreadingHTTPServer):
-            address_family = socket.AF_INET6
-
-        cls = _V6
-    server = cls((host, port or 0), ExplorerHandler)
-    server.daemon_threads = True
-    return server
+    cls = _ExplorerServerV6 if ":" in host else ExplorerServer
+    return cls((host, port or 0), ExplorerHandler)
 
 
 def serve_in_thread(server: ThreadingHTTPServer) -> threading.Thread:

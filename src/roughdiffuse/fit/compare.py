@@ -44,29 +44,33 @@ def candidate(model_id: str) -> Candidate:
     return Candidate(entry.id, factory, numeric, dict(entry.fixed) or None, None)
 
 
+def _fittable_ids() -> list[str]:
+    """Registry ids of the models that are formulas (a simulation, ``traceable = False``,
+    has no JAX Jacobian)."""
+    from .. import registry
+
+    return [e.id for e in registry.entries() if e.cls.traceable]
+
+
 class _Candidates(Mapping[str, Candidate]):
-    """Every registry id as a :class:`Candidate` (read when asked: plugins included)."""
+    """Every fittable registry id as a :class:`Candidate` (read when asked: plugins
+    included)."""
 
     def __getitem__(self, name: str) -> Candidate:
-        from .. import registry
-
-        if name not in registry.ids():
+        if name not in _fittable_ids():
             raise KeyError(name)
         return candidate(name)
 
     def __iter__(self) -> Iterator[str]:
-        from .. import registry
-
-        return iter(registry.ids())
+        return iter(_fittable_ids())
 
     def __len__(self) -> int:
-        from .. import registry
-
-        return len(registry.ids())
+        return len(_fittable_ids())
 
 
 CANDIDATES: Mapping[str, Candidate] = _Candidates()
-"""The models :func:`compare_models` tries: every id of :mod:`roughdiffuse.registry`."""
+"""The models :func:`compare_models` tries: every id of :mod:`roughdiffuse.registry` that is
+a formula."""
 
 
 @dataclass(frozen=True)

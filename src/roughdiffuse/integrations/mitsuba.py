@@ -70,8 +70,9 @@ def plugin_name(model_id: str) -> str:
 
 
 def plugins() -> dict[str, registry.Entry]:
-    """Plugin name -> registry entry, for every model the registry holds now."""
-    return {plugin_name(e.id): e for e in registry.entries()}
+    """Plugin name -> registry entry, for every model the registry holds now that is a formula
+    (a simulation such as ``SmithDiffuse``, ``traceable = False``, cannot run on Dr.Jit)."""
+    return {plugin_name(e.id): e for e in registry.entries() if e.cls.traceable}
 
 
 def _factory(cls: type[Model]) -> Callable[..., Model]:

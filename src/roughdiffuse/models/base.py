@@ -100,6 +100,9 @@ class Model:
         The source paper.
     glsl : bool
         Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
+    traceable : bool
+        False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
+        it cannot be traced by ``jax.jit``, compiled by the fast path or written in GLSL.
     array_fields : tuple of str
         Numeric parameters (JAX pytree leaves, differentiable); derived from ``params``.
         Other fields are static.
@@ -114,6 +117,7 @@ class Model:
     sampling: ClassVar[Strategy] = COSINE
     reference: ClassVar[str] = ""
     glsl: ClassVar[bool] = False
+    traceable: ClassVar[bool] = True
     array_fields: ClassVar[tuple[str, ...]] = ()
     channel_fields: ClassVar[tuple[str, ...]] = ()
 

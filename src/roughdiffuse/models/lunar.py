@@ -15,18 +15,20 @@
 
       f = ρ/π [(1 − L) + 2 L/(cos θi + cos θr)].
 
-Both diverge only when both directions are grazing; the sum of cosines is floored at 1e-6.
+Both are written as radiance factors I/F and converted to f_r in one place,
+:func:`.photometry.brdf_from_radiance_factor`. Both diverge only when both directions are
+grazing; the sum of cosines is floored at 1e-6.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum, safe_div
 from .base import Model, register_pytree
 from .declaration import Param
+from .photometry import brdf_from_radiance_factor
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
 
@@ -65,7 +67,8 @@ class LommelSeeliger(Model):
     glsl: ClassVar[bool] = True
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
-        return albedo / (4.0 * math.pi * maximum(xp, mu_i + mu_o, _SUM_FLOOR))
+        # I/F = (w/4) μ0/(μ0 + μ)
+        return brdf_from_radiance_factor(albedo / (4.0 * maximum(xp, mu_i + mu_o, _SUM_FLOOR)))
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form (w/2)(1 − μo ln(1 + 1/μo)), 0 below the horizon."""
@@ -126,5 +129,6 @@ class LunarLambert(Model):
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array
     ) -> Array:
+        # I/F = ρ [(1 − L) μ0 + 2 L μ0/(μ0 + μ)]
         ls = safe_div(xp, 2.0, maximum(xp, mu_i + mu_o, _SUM_FLOOR))
-        return albedo / math.pi * ((1.0 - limb_darkening) + limb_darkening * ls)
+        return brdf_from_radiance_factor(albedo * ((1.0 - limb_darkening) + limb_darkening * ls))

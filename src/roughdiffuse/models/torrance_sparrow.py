@@ -152,7 +152,8 @@ class TorranceSparrow(Model):
             object.__setattr__(self, "alpha", _SQRT2 * sigma)
             object.__setattr__(self, "sigma", None)
         elif self.distribution == "beckmann" and self.alpha is not None:
-            if self.sigma is not None and self.sigma != 0.2:
+            sigma_default = isinstance(self.sigma, float | int) and self.sigma == 0.2
+            if self.sigma is not None and not sigma_default:
                 raise ValueError("give alpha for the Beckmann distribution, not sigma as well")
             object.__setattr__(self, "sigma", None)
         super().__post_init__()

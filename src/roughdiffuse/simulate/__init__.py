@@ -6,6 +6,10 @@
   either reading of its measure (:mod:`.surface`);
 * :class:`GroundTruth`, :func:`compute_table` — tables on a grid, chunked, resumable, on Dask
   (:mod:`.table`).
+
+A second ground truth, the Smith microsurface with Lambertian facets (Beckmann or GGX slopes,
+one bounce by quadrature, any number by the random walk of Heitz et al. 2016), is
+:mod:`roughdiffuse.simulate.smith` (``smith.brdf``, ``smith.random_walk``).
 """
 
 from .cavity import cavity_radiance

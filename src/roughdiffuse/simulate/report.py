@@ -13,6 +13,10 @@ Comparisons (DESIGN.md, "The V-cavity microsurface"):
   against all bounces (FON: against one bounce, as it is a single-scattering model), and
   prints it.
 * The slope-measure question: Oren–Nayar's L1 against one bounce under both readings.
+* A second ground truth (:mod:`.report_smith`): the Smith microsurface's checks, and
+  rendered Gaussian heightfields against both solvers; and every registry model against the
+  V-cavity, Smith-Beckmann and Smith-GGX surfaces at ρ = 0.5 and 0.9
+  (:mod:`.report_models`).
 
 L1 is taken from the model code, not re-derived: the full model is f = a ρ + b ρ², so
 L1(ρ) = a ρ = 4 f(ρ/2) − f(ρ).
@@ -227,6 +231,7 @@ def write_report(
                 f"{np.abs(e).max():.4f} | {_where(inf, idx)} | {'' if r is None else f'{r:.2f}'} |"
             )
     lines += _convergence_lines(quick)
+    lines += _second_truth_lines(out, quick, progress)
     # figures: plane of incidence and error maps
     figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
     lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
@@ -238,6 +243,19 @@ def write_report(
     ]
     write_text(out / "index.md", "\n".join(lines))
     return out / "index.md"
+
+
+def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
+    """The Smith microsurface's checks and the rendered heightfields (:mod:`.report_smith`),
+    and every registry model against the three all-bounce truths (:mod:`.report_models`)."""
+    from .report_models import model_score_lines
+    from .report_smith import heightfield_lines, smith_check_lines
+
+    return (
+        smith_check_lines(quick)
+        + heightfield_lines(out, quick, progress)
+        + model_score_lines(quick, progress)
+    )
 
 
 def _convergence_lines(quick: bool) -> list[str]:

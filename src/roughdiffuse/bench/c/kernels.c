@@ -198,3 +198,190 @@ static inline real RD_F(torrance_sparrow)(real mi, real mo, real cio, real eta, 
 #undef K1
 #undef K2
 #endif
+
+/* ---- issue 17: the production and photometric models (src/roughdiffuse/models/burley.py,
+ * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) ---- */
+
+static inline float pow5f(float x) { float x2 = x * x; return x2 * x2 * x; }
+#define HALF_VECTOR                                                                      \
+    float len_h = sqrtf(fmaxf(2.0f * (1.0f + cio), 0.0f));                               \
+    float cos_h = len_h != 0.0f ? (mi + mo) / len_h : 0.0f;                              \
+    float cos_d = 0.5f * len_h;
+
+void rd_burley(ARGS, float albedo, float r) {
+    LOOP {
+        GEOMETRY
+        HALF_VECTOR
+        float f90 = 0.5f + 2.0f * r * cos_d * cos_d;
+        float s = (1.0f + (f90 - 1.0f) * pow5f(1.0f - mi)) * (1.0f + (f90 - 1.0f) * pow5f(1.0f - mo));
+        STORE(albedo / PI_F * s)
+    }
+}
+
+void rd_frostbite(ARGS, float albedo, float r) {
+    float factor = 1.0f - r * (1.0f - 1.0f / 1.51f);
+    LOOP {
+        GEOMETRY
+        HALF_VECTOR
+        float f90 = r * (0.5f + 2.0f * cos_d * cos_d);
+        float s = (1.0f + (f90 - 1.0f) * pow5f(1.0f - mi)) * (1.0f + (f90 - 1.0f) * pow5f(1.0f - mo));
+        STORE(albedo / PI_F * factor * s)
+    }
+}
+
+void rd_burley_2015(ARGS, float albedo, float r) {
+    LOOP {
+        GEOMETRY
+        HALF_VECTOR
+        float fl = pow5f(1.0f - mi), fv = pow5f(1.0f - mo);
+        float rr = 2.0f * r * cos_d * cos_d;
+        float d = (1.0f - 0.5f * fl) * (1.0f - 0.5f * fv);
+        STORE(albedo / PI_F * (d + rr * (fl + fv + fl * fv * (rr - 1.0f))))
+    }
+}
+
+void rd_hammon(ARGS, float albedo, float alpha) {
+    LOOP {
+        GEOMETRY
+        HALF_VECTOR
+        float facing = cos_d * cos_d;
+        float rough = facing * (0.9f - 0.4f * facing) * (1.0f + 0.5f / fmaxf(cos_h, 1e-6f));
+        float smooth = 1.05f * (1.0f - pow5f(1.0f - mi)) * (1.0f - pow5f(1.0f - mo));
+        float single = smooth + alpha * (rough - smooth);
+        STORE(albedo / PI_F * single + albedo * albedo * 0.1159f * alpha)
+    }
+}
+
+void rd_chan(ARGS, float albedo, float alpha) {
+    float a2 = fmaxf(alpha * alpha, 1e-12f);
+    float g = clampf(log2f(2.0f / a2 - 1.0f) / 18.0f, 0.0f, 1.0f);
+    float t = clampf(2.2f * g - 0.5f, 0.0f, 1.0f);
+    float amp = (34.5f * g - 59.0f) * g + 24.5f, rate = fmaxf(73.2f * g - 21.2f, 8.9f);
+    LOOP {
+        GEOMETRY
+        HALF_VECTOR
+        float ch = clampf(cos_h, 0.0f, 1.0f);
+        float rough = cos_d + pow5f(1.0f - cos_d);
+        float smooth = (1.0f - 0.75f * pow5f(1.0f - mi)) * (1.0f - 0.75f * pow5f(1.0f - mo));
+        float fd = rough + t * (smooth - rough);
+        float fb = amp * cos_d * exp2f(-rate * sqrtf(ch));
+        STORE(albedo / PI_F * (fd + fb))
+    }
+}
+
+void rd_minnaert(ARGS, float albedo, float k) {
+    LOOP {
+        GEOMETRY
+        STORE(albedo / PI_F * powf(fmaxf(mi, 1e-6f) * fmaxf(mo, 1e-6f), k - 1.0f))
+    }
+}
+
+static inline float ls_phase(float u) {
+    u = clampf(u, -1.0f, 1.0f);
+    return 2.0f * (sqrtf(fmaxf(1.0f - u * u, 0.0f)) - u * acosf(u)) / (3.0f * PI_F * PI_F);
+}
+
+static inline float ls_c_from_kd(float kd) {
+    return (1.0f - powf(1.0f - kd, 2.73556f)) / (1.0f - 0.184096f * powf(1.0f - kd, 2.48423f));
+}
+
+void rd_lambert_sphere_fast(ARGS, float kd) {
+    float c = ls_c_from_kd(kd), kd_term = powf(1.94208f * kd, 1.85432f);
+    LOOP {
+        GEOMETRY
+        float ss = c * ls_phase(-cio) / fmaxf(mi + mo, 1e-6f);
+        float s = sqrtf(fmaxf((1.0f - mi * mi) * (1.0f - mo * mo), 0.0f));
+        float cp = clampf(s != 0.0f ? (cio - mi * mo) / s : 0.0f, -1.0f, 1.0f);
+        float ratio = s / (acosf(clampf(s, 0.0f, 1.0f)) + 0.113706f * s);
+        float multi = (acosf(cp) + sqrtf(mi * mo)) * (c - 0.249978f) * ratio / 4.50996f + kd_term;
+        STORE(fmaxf(0.995917f * ss + 0.0684744f * multi, 0.0f))
+    }
+}
+
+static inline float ls_pow(float u, float e) { return u > 0.0f ? expf(e * logf(u)) : 0.0f; }
+
+void rd_lambert_sphere_full(ARGS, float kd) {
+    float c = ls_c_from_kd(kd), q = 1.0f - c, r = sqrtf(q), q15 = q * r;
+    float s0 = r;
+    float ha = (8.216443463470172f + 1.501116252342486f * powf(s0, 6.054351911707695f)) /
+               (4.175932557866179f - 1.2122216865199813f * s0);
+    float hd = (7.773097842804312f - 0.5658108102188075f * powf(s0, 0.9615460393324836f)) /
+               (8.659120811349371f - 0.15997430541238322f * powf(s0, 7.0f));
+    float root = sqrtf(fmaxf(1.0f - 2.0f * ((89.0f * c) / 288.0f + (59.0f * c * c) / 288.0f - c * c * c / 72.0f), 0.0f));
+    float A = (69.0f * c) / 128.0f;
+    float B = (-0.08446297239646791f + 0.5153566145541554f * r - 0.77757371002123f * q + 0.34668869623791543f * q15) /
+              (0.9648932738041012f - 0.6655015709030936f * r + 0.1826019462608555f * q);
+    float C = (682.8479477533338f - 2567.7368047535556f * r + 7487.987105705168f * q - 5602.448801045478f * q15) /
+              (5850.602606063662f - 4008.3309624647227f * r + 1480.250743805733f * q);
+    float D = (0.2855294320307508f + 160.39651500649123f * r - 327.42799697993706f * q + 166.88327184107732f * q15) /
+              (674.1908010450103f - 412.9837444306491f * r + 596.4232294419696f * q);
+    float E = (15.0f * q * c * (3.0f + (4.0f * c) / 3.0f)) / 128.0f;
+    float F = (-1.9208967199948512f - 242.16001167844007f * r - 21.914139454773085f * q + 266.06342182761813f * q15) /
+              (1499.904420175135f + 457.4200839912641f * r + 215.77342164754094f * q);
+    float hk = -0.14483935877260054f * c + 0.024285125615255733f * c * c;
+    float l1 = -0.05890107167021953f * c - 0.004740543453386809f * c * c;
+    LOOP {
+        GEOMETRY
+        float sum = fmaxf(mi + mo, 1e-6f), p = mi * mo;
+        float udi = ls_pow(mi, hd), udo = ls_pow(mo, hd);
+        float h0i = (1.0f + ha * udi) / (1.0f + ha * root * udi), h0o = (1.0f + ha * udo) / (1.0f + ha * root * udo);
+        float ei = 0.45944184025347456f + mi * (-1.0787917226917565f + mi * (1.8572804924335546f - 1.1283119660147671f * mi));
+        float eo = 0.45944184025347456f + mo * (-1.0787917226917565f + mo * (1.8572804924335546f - 1.1283119660147671f * mo));
+        float h = expf(hk * ls_pow(mi, ei)) * expf(hk * ls_pow(mo, eo));
+        float poly = A + C * p + E * p * p + B * (mi + mo) + D * p * (mi + mo) + F * (mi * mi + mo * mo);
+        float f0 = 0.5f / PI_F * h0i * h0o / sum * poly;
+        float inner = (c * (64.0f + 45.0f * p)) / 48.0f - (15.0f * (1.0f + 0.44f * c) * c * p * h) / 16.0f -
+                      (4.0f * c * (1.0f + l1 * mi) * (1.0f + l1 * mo) * h) / 3.0f;
+        float f1m = -2.0f / PI_F * inner / (8.0f * sum);
+        float f0s = (207.0f + 256.0f * p - 45.0f * mo * mo + 45.0f * mi * mi * (-1.0f + 3.0f * mo * mo)) / (768.0f * PI_F * sum);
+        float f = c * ls_phase(-cio) / sum + f0 - c * f0s + f1m * (cio - p);
+        STORE(fmaxf(f, 0.0f))
+    }
+}
+
+static inline float hapke_h(float x, float gamma) { return (1.0f + 2.0f * x) / (1.0f + 2.0f * x * gamma); }
+
+void rd_hapke(ARGS, float w, float b0, float hh, float xi, float theta_bar) {
+    float gamma = sqrtf(1.0f - w);
+    float tan_t = fmaxf(tanf(theta_bar), 1e-6f), cot_t = 1.0f / tan_t;
+    float chi = 1.0f / sqrtf(1.0f + PI_F * tan_t * tan_t);
+    int rough_on = theta_bar > 0.0f;
+    LOOP {
+        GEOMETRY
+        float tan_half = sqrtf(fmaxf((1.0f - cio) / fmaxf(1.0f + cio, 1e-12f), 0.0f));
+        float surge = b0 * hh / fmaxf(hh + tan_half, 1e-12f);
+        float pg = (1.0f - xi * xi) / powf(1.0f + xi * xi + 2.0f * xi * cio, 1.5f);
+        float lobe = (1.0f + surge) * pg - 1.0f;
+        float val;
+        if (!rough_on) {
+            val = w / 4.0f * (lobe + hapke_h(mi, gamma) * hapke_h(mo, gamma)) / fmaxf(mi + mo, 1e-12f);
+        } else {
+            float sin_i = sqrtf(fmaxf(1.0f - mi * mi, 0.0f)), sin_e = sqrtf(fmaxf(1.0f - mo * mo, 0.0f));
+            float cot_i = mi / fmaxf(sin_i, 1e-10f), cot_e = mo / fmaxf(sin_e, 1e-10f);
+            float e1i = expf(-2.0f / PI_F * cot_t * cot_i), e2i = expf(-1.0f / PI_F * cot_t * cot_t * cot_i * cot_i);
+            float e1e = expf(-2.0f / PI_F * cot_t * cot_e), e2e = expf(-1.0f / PI_F * cot_t * cot_t * cot_e * cot_e);
+            float mu0e_0 = chi * (mi + sin_i * tan_t * e2i / (2.0f - e1i));
+            float mue_0 = chi * (mo + sin_e * tan_t * e2e / (2.0f - e1e));
+            float sie = sin_i * sin_e;
+            float cphi = clampf(sie != 0.0f ? (cio - mi * mo) / sie : 1.0f, -1.0f, 1.0f);
+            float phi_pi = acosf(cphi) / PI_F;
+            float fphi = expf(-2.0f * sqrtf(fmaxf((1.0f - cphi) / fmaxf(1.0f + cphi, 1e-12f), 0.0f)));
+            float s2 = 0.5f * (1.0f - cphi);
+            float mu0e, mue, qq;
+            if (mi >= mo) {
+                float den = fmaxf(2.0f - e1e - phi_pi * e1i, 1e-12f);
+                mu0e = chi * (mi + sin_i * tan_t * (cphi * e2e + s2 * e2i) / den);
+                mue = chi * (mo + sin_e * tan_t * (e2e - s2 * e2i) / den);
+                qq = chi * mi / mu0e_0;
+            } else {
+                float den = fmaxf(2.0f - e1i - phi_pi * e1e, 1e-12f);
+                mu0e = chi * (mi + sin_i * tan_t * (e2i - s2 * e2e) / den);
+                mue = chi * (mo + sin_e * tan_t * (cphi * e2i + s2 * e2e) / den);
+                qq = chi * mo / mue_0;
+            }
+            float s_over = mue * chi / fmaxf(mue_0 * mu0e_0 * (1.0f - fphi + fphi * qq), 1e-12f);
+            val = w / 4.0f * mu0e / fmaxf(mu0e + mue, 1e-12f) * (lobe + hapke_h(mu0e, gamma) * hapke_h(mue, gamma)) * s_over;
+        }
+        STORE(val / PI_F)
+    }
+}

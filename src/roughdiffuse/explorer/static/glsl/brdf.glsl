@@ -25,6 +25,14 @@ const int RD_TORRANCE_SPARROW = 5;
 const int RD_MIX = 6;              // (1 - weight) Oren-Nayar full + weight Torrance-Sparrow
 const int RD_LOMMEL_SEELIGER = 7;
 const int RD_LUNAR_LAMBERT = 8;
+const int RD_BURLEY = 9;
+const int RD_FROSTBITE = 10;
+const int RD_BURLEY_2015 = 11;
+const int RD_HAMMON = 12;
+const int RD_CHAN = 13;
+const int RD_LAMBERT_SPHERE = 14;
+const int RD_HAPKE = 15;
+const int RD_MINNAERT = 16;
 
 struct RDParams {
   int model;
@@ -35,6 +43,13 @@ struct RDParams {
   float weight;      // Mix: weight of the specular lobe
   float limb;        // Lunar-Lambert L
   int distribution;  // Torrance-Sparrow D: 0 gaussian, 1 beckmann
+  float alpha;       // Hammon / Chan GGX alpha in [0, 1]
+  int variant;       // Lambert spheres: 0 full, 1 fast
+  float k;           // Minnaert exponent
+  float b0;          // Hapke opposition-surge amplitude
+  float h;           // Hapke opposition-surge width h
+  float g;           // Hapke Henyey-Greenstein asymmetry xi
+  float theta_bar;   // Hapke mean slope angle, radians
 };
 
 float rd_safe_sqrt(float x) { return x > 0.0 ? sqrt(x) : 0.0; }
@@ -214,6 +229,200 @@ vec3 rd_lunar_lambert(float mu_i, float mu_o, vec3 albedo, float limb) {
   return albedo / RD_PI * ((1.0 - limb) + limb * ls);
 }
 
+// ---------------------------------------------------------------- production diffuse (issue 17)
+// burley.schlick_weight: (1 - mu)^5
+float rd_schlick_weight(float mu) { float m = 1.0 - mu; float m2 = m * m; return m2 * m2 * m; }
+
+// burley._schlick_product: (1 + (f90 - 1) F(mu_i)) (1 + (f90 - 1) F(mu_o))
+float rd_schlick_product(float mu_i, float mu_o, float f90) {
+  return (1.0 + (f90 - 1.0) * rd_schlick_weight(mu_i)) * (1.0 + (f90 - 1.0) * rd_schlick_weight(mu_o));
+}
+
+// burley.Burley._kernel (Burley 2012, Eq. 3); cos^2 theta_d = (1 + cos_io)/2
+vec3 rd_burley(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  float f90 = 0.5 + r * (1.0 + cos_io);
+  return albedo / RD_PI * rd_schlick_product(mu_i, mu_o, f90);
+}
+
+// burley.BurleyRenormalized._kernel (Lagarde & de Rousiers 2014, Listing 1)
+vec3 rd_frostbite(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  float f90 = r * (0.5 + (1.0 + cos_io));
+  float factor = 1.0 - r * (1.0 - 1.0 / 1.51);
+  return albedo / RD_PI * factor * rd_schlick_product(mu_i, mu_o, f90);
+}
+
+// burley.Burley2015._kernel (Burley 2015, Eq. 4-5)
+vec3 rd_burley_2015(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  float fl = rd_schlick_weight(mu_i), fv = rd_schlick_weight(mu_o);
+  float rr = r * (1.0 + cos_io);
+  return albedo / RD_PI * ((1.0 - 0.5 * fl) * (1.0 - 0.5 * fv) + rr * (fl + fv + fl * fv * (rr - 1.0)));
+}
+
+// frames.half_vector_cosines: n.h
+float rd_cos_h(float mu_i, float mu_o, float cos_io) {
+  return rd_safe_div(mu_i + mu_o, rd_safe_sqrt(2.0 * (1.0 + cos_io)), 0.0);
+}
+
+// hammon.Hammon._kernel (Hammon 2017)
+vec3 rd_hammon(float mu_i, float mu_o, float cos_io, vec3 albedo, float alpha) {
+  float facing = 0.5 * (1.0 + cos_io);
+  float rough = facing * (0.9 - 0.4 * facing) * (1.0 + 0.5 / max(rd_cos_h(mu_i, mu_o, cos_io), 1e-6));
+  float smooth_ = 1.05 * (1.0 - rd_schlick_weight(mu_i)) * (1.0 - rd_schlick_weight(mu_o));
+  float single = smooth_ + alpha * (rough - smooth_);
+  return albedo / RD_PI * single + albedo * albedo * (0.1159 * alpha);
+}
+
+// chan.Chan._kernel (Chan 2018)
+vec3 rd_chan(float mu_i, float mu_o, float cos_io, vec3 albedo, float alpha) {
+  float a2 = max(alpha * alpha, 1e-12);
+  float g = clamp(log2(2.0 / a2 - 1.0) / 18.0, 0.0, 1.0);
+  float cos_h = clamp(rd_cos_h(mu_i, mu_o, cos_io), 0.0, 1.0);
+  float cos_d = 0.5 * rd_safe_sqrt(2.0 * (1.0 + cos_io));
+  float rough = cos_d + rd_schlick_weight(cos_d);
+  float smooth_ = (1.0 - 0.75 * rd_schlick_weight(mu_i)) * (1.0 - 0.75 * rd_schlick_weight(mu_o));
+  float fd = rough + clamp(2.2 * g - 0.5, 0.0, 1.0) * (smooth_ - rough);
+  float fb = ((34.5 * g - 59.0) * g + 24.5) * cos_d * exp2(-max(73.2 * g - 21.2, 8.9) * rd_safe_sqrt(cos_h));
+  return albedo / RD_PI * (fd + fb);
+}
+
+// ---------------------------------------------------------------- d'Eon's Lambertian spheres (EGSR 2021)
+// lambert_sphere._power: u^e with 0^e = 0
+float rd_power(float u, float e) { return u > 0.0 ? exp(e * log(u)) : 0.0; }
+
+// lambert_sphere.single_scattering_albedo (paper Eq. 46)
+float rd_ls_c(float kd) {
+  float t = 1.0 - kd;
+  return (1.0 - rd_power(t, 2.73556)) / (1.0 - 0.184096 * rd_power(t, 2.48423));
+}
+
+// lambert_sphere.lambert_sphere_phase
+float rd_ls_phase(float u) {
+  u = clamp(u, -1.0, 1.0);
+  float sin_t = rd_safe_sqrt((1.0 - u) * (1.0 + u));
+  float t = atan(sin_t, u);
+  float t2 = t * t;
+  float series = t * t2 * (1.0 / 3.0 + t2 * (-1.0 / 30.0 + t2 * (1.0 / 840.0 - t2 / 45360.0)));
+  return 2.0 * (t < 0.3 ? series : sin_t - t * u) / (3.0 * RD_PI * RD_PI);
+}
+
+// lambert_sphere._h0 (paper Eq. 37)
+float rd_ls_h0(float u, float c) {
+  float s = sqrt(max(1.0 - c, 0.0));
+  float a = (8.216443463470172 + 1.501116252342486 * rd_power(s, 6.054351911707695))
+          / (4.175932557866179 - 1.2122216865199813 * s);
+  float d = (7.773097842804312 - 0.5658108102188075 * rd_power(s, 0.9615460393324836))
+          / (8.659120811349371 - 0.15997430541238322 * rd_power(s, 7.0));
+  float root = rd_safe_sqrt(1.0 - 2.0 * ((89.0 * c) / 288.0 + (59.0 * c * c) / 288.0 - c * c * c / 72.0));
+  float ud = rd_power(u, d);
+  return (1.0 + a * ud) / (1.0 + a * root * ud);
+}
+
+// lambert_sphere._h1 (paper Eq. 28)
+float rd_ls_h1(float u, float c) {
+  float k = -0.14483935877260054 * c + 0.024285125615255733 * c * c;
+  float e = 0.45944184025347456 + u * (-1.0787917226917565 + u * (1.8572804924335546 - 1.1283119660147671 * u));
+  return exp(k * rd_power(u, e));
+}
+
+// lambert_sphere._f0
+float rd_ls_f0(float ui, float uo, float c) {
+  float q = 1.0 - c, r = sqrt(max(q, 0.0)), q15 = q * r;
+  float a = (69.0 * c) / 128.0;
+  float b = (-0.08446297239646791 + 0.5153566145541554 * r - 0.77757371002123 * q + 0.34668869623791543 * q15)
+          / (0.9648932738041012 - 0.6655015709030936 * r + 0.1826019462608555 * q);
+  float cc = (682.8479477533338 - 2567.7368047535556 * r + 7487.987105705168 * q - 5602.448801045478 * q15)
+           / (5850.602606063662 - 4008.3309624647227 * r + 1480.250743805733 * q);
+  float d = (0.2855294320307508 + 160.39651500649123 * r - 327.42799697993706 * q + 166.88327184107732 * q15)
+          / (674.1908010450103 - 412.9837444306491 * r + 596.4232294419696 * q);
+  float e = (15.0 * q * c * (3.0 + (4.0 * c) / 3.0)) / 128.0;
+  float f = (-1.9208967199948512 - 242.16001167844007 * r - 21.914139454773085 * q + 266.06342182761813 * q15)
+          / (1499.904420175135 + 457.4200839912641 * r + 215.77342164754094 * q);
+  float p = ui * uo;
+  float poly = a + cc * p + e * p * p + b * (ui + uo) + d * p * (ui + uo) + f * (ui * ui + uo * uo);
+  return 0.5 / RD_PI * rd_ls_h0(ui, c) * rd_ls_h0(uo, c) / max(ui + uo, RD_SUM_FLOOR) * poly;
+}
+
+// lambert_sphere._f1m
+float rd_ls_f1m(float ui, float uo, float c) {
+  float l1 = -0.05890107167021953 * c - 0.004740543453386809 * c * c;
+  float h = rd_ls_h1(ui, c) * rd_ls_h1(uo, c);
+  float p = ui * uo;
+  float inner = (c * (64.0 + 45.0 * p)) / 48.0 - (15.0 * (1.0 + 0.44 * c) * c * p * h) / 16.0
+              - (4.0 * c * (1.0 + l1 * ui) * (1.0 + l1 * uo) * h) / 3.0;
+  return -2.0 / RD_PI * inner / (8.0 * max(ui + uo, RD_SUM_FLOOR));
+}
+
+// lambert_sphere.LambertSphere._kernel, one channel
+float rd_lambert_sphere_1(float mu_i, float mu_o, float cos_io, float kd, int variant) {
+  float c = rd_ls_c(kd);
+  float ss = rd_ls_phase(-cos_io) / max(mu_i + mu_o, RD_SUM_FLOOR);
+  float cps = cos_io - mu_i * mu_o;
+  if (variant == 0) {
+    float f0s = (207.0 + 256.0 * mu_i * mu_o - 45.0 * mu_o * mu_o + 45.0 * mu_i * mu_i * (-1.0 + 3.0 * mu_o * mu_o))
+              / (768.0 * RD_PI * max(mu_i + mu_o, RD_SUM_FLOOR));
+    return max(c * ss + rd_ls_f0(mu_i, mu_o, c) - c * f0s + rd_ls_f1m(mu_i, mu_o, c) * cps, 0.0);
+  }
+  float s = rd_safe_sqrt((1.0 - mu_i * mu_i) * (1.0 - mu_o * mu_o));
+  float phi = acos(clamp(rd_safe_div(cps, s, 0.0), -1.0, 1.0));
+  float cos_s = rd_safe_sqrt(mu_i * mu_i + mu_o * mu_o - mu_i * mu_i * mu_o * mu_o);
+  float ratio = s / (atan(cos_s, s) + 0.113706 * s);
+  float multi = (phi + rd_safe_sqrt(mu_i * mu_o)) * (c - 0.249978) * ratio / 4.50996 + rd_power(1.94208 * kd, 1.85432);
+  return max(0.995917 * c * ss + 0.0684744 * multi, 0.0);
+}
+
+vec3 rd_lambert_sphere(float mu_i, float mu_o, float cos_io, vec3 kd, int variant) {
+  return vec3(rd_lambert_sphere_1(mu_i, mu_o, cos_io, kd.r, variant),
+              rd_lambert_sphere_1(mu_i, mu_o, cos_io, kd.g, variant),
+              rd_lambert_sphere_1(mu_i, mu_o, cos_io, kd.b, variant));
+}
+
+// ---------------------------------------------------------------- planetary photometry
+// minnaert.Minnaert._kernel: rho/pi (mu_i mu_o)^(k - 1)
+vec3 rd_minnaert(float mu_i, float mu_o, vec3 albedo, float k) {
+  return albedo / RD_PI * rd_power(max(mu_i, 1e-6) * max(mu_o, 1e-6), k - 1.0);
+}
+
+// hapke.chandrasekhar_h (Hapke 2012, Eq. 8.55), per channel
+vec3 rd_hapke_h(float x, vec3 w) { return (1.0 + 2.0 * x) / (1.0 + 2.0 * x * sqrt(max(1.0 - w, 0.0))); }
+
+// hapke.Hapke._kernel (ISIS HapkeHen; Hapke 1984 roughness)
+vec3 rd_hapke(float mu_i, float mu_o, float cos_g, vec3 w, float b0, float h, float xi, float theta_bar) {
+  const float TINY = 1e-12;
+  float tan_half = rd_safe_sqrt((1.0 - cos_g) / max(1.0 + cos_g, TINY));
+  float surge = b0 * h / max(h + tan_half, TINY);
+  float pg = (1.0 - xi * xi) / pow(1.0 + xi * xi + 2.0 * xi * cos_g, 1.5);
+  float lobe = (1.0 + surge) * pg - 1.0;
+  if (!(theta_bar > 0.0)) {
+    return w / 4.0 * (lobe + rd_hapke_h(mu_i, w) * rd_hapke_h(mu_o, w)) / max(mu_i + mu_o, TINY) / RD_PI;
+  }
+  float tan_t = max(tan(theta_bar), 1e-6), cot_t = 1.0 / tan_t;
+  float chi = 1.0 / sqrt(1.0 + RD_PI * tan_t * tan_t);
+  float sin_i = rd_safe_sqrt(1.0 - mu_i * mu_i), sin_e = rd_safe_sqrt(1.0 - mu_o * mu_o);
+  float cot_i = mu_i / max(sin_i, 1e-10), cot_e = mu_o / max(sin_e, 1e-10);
+  float e1i = exp(-2.0 / RD_PI * cot_t * cot_i), e2i = exp(-1.0 / RD_PI * cot_t * cot_t * cot_i * cot_i);
+  float e1e = exp(-2.0 / RD_PI * cot_t * cot_e), e2e = exp(-1.0 / RD_PI * cot_t * cot_t * cot_e * cot_e);
+  float mu0e_0 = chi * (mu_i + sin_i * tan_t * e2i / (2.0 - e1i));
+  float mue_0 = chi * (mu_o + sin_e * tan_t * e2e / (2.0 - e1e));
+  float cphi = clamp(rd_safe_div(cos_g - mu_i * mu_o, sin_i * sin_e, 1.0), -1.0, 1.0);
+  float phi_pi = acos(cphi) / RD_PI;
+  float fphi = exp(-2.0 * rd_safe_sqrt((1.0 - cphi) / max(1.0 + cphi, TINY)));
+  float s2 = 0.5 * (1.0 - cphi);
+  float mu0e, mue, q;
+  if (mu_i >= mu_o) {
+    float den = max(2.0 - e1e - phi_pi * e1i, TINY);
+    mu0e = chi * (mu_i + sin_i * tan_t * (cphi * e2e + s2 * e2i) / den);
+    mue = chi * (mu_o + sin_e * tan_t * (e2e - s2 * e2i) / den);
+    q = chi * mu_i / mu0e_0;
+  } else {
+    float den = max(2.0 - e1i - phi_pi * e1e, TINY);
+    mu0e = chi * (mu_i + sin_i * tan_t * (e2i - s2 * e2e) / den);
+    mue = chi * (mu_o + sin_e * tan_t * (cphi * e2i + s2 * e2e) / den);
+    q = chi * mu_o / mue_0;
+  }
+  float s_over_mu0 = mue * chi / max(mue_0 * mu0e_0 * (1.0 - fphi + fphi * q), TINY);
+  return w / 4.0 * mu0e / max(mu0e + mue, TINY) * (lobe + rd_hapke_h(mu0e, w) * rd_hapke_h(mue, w)) * s_over_mu0 / RD_PI;
+}
+
 // ---------------------------------------------------------------- dispatch
 // base.Model._eval: clip the cosines, evaluate, 0 below the horizon
 vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
@@ -233,5 +442,13 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
          + p.weight * rd_torrance_sparrow(mi, mo, c, p.eta, p.sigma, p.distribution);
   if (p.model == RD_LOMMEL_SEELIGER) return rd_lommel_seeliger(mi, mo, p.albedo);
   if (p.model == RD_LUNAR_LAMBERT) return rd_lunar_lambert(mi, mo, p.albedo, p.limb);
+  if (p.model == RD_BURLEY) return rd_burley(mi, mo, c, p.albedo, p.roughness);
+  if (p.model == RD_FROSTBITE) return rd_frostbite(mi, mo, c, p.albedo, p.roughness);
+  if (p.model == RD_BURLEY_2015) return rd_burley_2015(mi, mo, c, p.albedo, p.roughness);
+  if (p.model == RD_HAMMON) return rd_hammon(mi, mo, c, p.albedo, p.alpha);
+  if (p.model == RD_CHAN) return rd_chan(mi, mo, c, p.albedo, p.alpha);
+  if (p.model == RD_LAMBERT_SPHERE) return rd_lambert_sphere(mi, mo, c, p.albedo, p.variant);
+  if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar);
+  if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
   return vec3(0.0);
 }

@@ -49,6 +49,13 @@ function setParams(gl, prog, name, g) {
   gl.uniform1f(loc("weight"), g.weight);
   gl.uniform1f(loc("limb"), g.limb);
   gl.uniform1i(loc("distribution"), g.distribution);
+  gl.uniform1f(loc("alpha"), g.alpha);
+  gl.uniform1i(loc("variant"), g.variant);
+  gl.uniform1f(loc("k"), g.k);
+  gl.uniform1f(loc("b0"), g.b0);
+  gl.uniform1f(loc("h"), g.h);
+  gl.uniform1f(loc("g"), g.g);
+  gl.uniform1f(loc("theta_bar"), g.theta_bar);
 }
 
 /**

@@ -17,6 +17,14 @@ export const GLSL_IDS = {
   mix: 6,
   "lommel-seeliger": 7,
   "lunar-lambert": 8,
+  burley: 9,
+  frostbite: 10,
+  "burley-2015": 11,
+  hammon: 12,
+  chan: 13,
+  "lambert-sphere": 14,
+  hapke: 15,
+  minnaert: 16,
 };
 
 /** Declared parameter name -> key of the page's state and of RDParams, where they differ. */
@@ -113,5 +121,13 @@ export function gpuParams(s) {
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
     distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
+    // issue 17's models (brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar)
+    alpha: s.alpha ?? 0.3,
+    variant: (s.variant ?? "full") === "fast" ? 1 : 0,
+    k: s.k ?? 1.0,
+    b0: s.b0 ?? 0.0,
+    h: s.h ?? 0.1,
+    g: s.g ?? 0.0,
+    theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
   };
 }

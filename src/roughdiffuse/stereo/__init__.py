@@ -1,0 +1,47 @@
+"""Shape and reflectance of rough objects from images: photometric stereo.
+
+K ≥ 3 images of a still object, seen by an orthographic camera under known distant lights,
+give per-pixel normals, albedo and roughness. Lambertian photometric stereo (Woodham 1980)
+is the baseline and the starting point; :func:`rough` then fits a rough-diffuse model of the
+registry (e.g. the full Oren–Nayar model) to every pixel, with the roughness global or per
+pixel, and :func:`integrate` turns the normals into a depth map.
+
+>>> import numpy as np
+>>> import roughdiffuse as rd
+>>> from roughdiffuse import stereo
+>>> data = stereo.synthetic_sphere(rd.OrenNayar(0.7, 0.4, "full"), size=24, noise=0.0)
+>>> lam = stereo.lambertian(data)
+>>> res = stereo.rough(data, rd.OrenNayar(variant="full"))
+>>> round(float(res.roughness), 3)
+0.4
+"""
+
+from .depth import gradients, integrate, write_ply
+from .inputs import StereoInput, load_images, read_diligent, read_lights, read_mask
+from .lambertian import LambertianResult, lambertian, observation_weights
+from .outputs import result_maps, write_outputs
+from .rough import RoughResult, rough, roughness_parameter
+from .synthetic import angular_error, default_lights, render_stereo, synthetic_sphere
+
+__all__ = [
+    "LambertianResult",
+    "RoughResult",
+    "StereoInput",
+    "angular_error",
+    "default_lights",
+    "gradients",
+    "integrate",
+    "lambertian",
+    "load_images",
+    "observation_weights",
+    "read_diligent",
+    "read_lights",
+    "read_mask",
+    "render_stereo",
+    "result_maps",
+    "rough",
+    "roughness_parameter",
+    "synthetic_sphere",
+    "write_outputs",
+    "write_ply",
+]

@@ -1,0 +1,116 @@
+"""Lambertian photometric stereo: the linear least-squares baseline.
+
+Woodham, "Photometric method for determining surface orientation from multiple images",
+Optical Engineering 19(1), 1980. For a Lambertian pixel of albedo ρ and normal n, the image
+under a distant light l_k of irradiance E_k is I_k = (ρ/π) E_k max(n·l_k, 0) (the lecture's
+L = ρ/π E0 n·s). Where the light is in front (n·l_k > 0), I_k / E_k = l_k · b is linear in
+b = (ρ/π) n, so b is the least-squares solution over the observations kept, ρ = π |b| and
+n = b / |b|. Shadowed and saturated observations are left out (see :func:`observation_weights`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .inputs import StereoInput
+
+__all__ = ["LambertianResult", "lambertian", "observation_weights"]
+
+
+def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
+    """0/1 weights (K, P) of the observations kept, for the P object pixels.
+
+    An observation is left out when it is invalid (saturated, not finite) or dark: below
+    ``shadow`` times the pixel's brightest observation, after dividing by each light's
+    irradiance. Dark values are attached or cast shadows, where I = 0 carries no linear
+    information on n, and where a cast shadow is not modelled at all.
+    """
+    if not 0.0 <= shadow < 1.0:
+        raise ValueError(f"shadow must be in [0, 1) (got {shadow:g})")
+    m = data.mask
+    grey = (data.images[:, m, :] / data.intensities[:, None, :]).mean(axis=-1)  # (K, P)
+    top = grey.max(axis=0, keepdims=True)
+    keep = data.valid[:, m] & (grey > shadow * top) & (grey > 0)
+    return keep.astype(np.float64)
+
+
+class LambertianResult:
+    """Per-pixel results of Lambertian photometric stereo.
+
+    Attributes
+    ----------
+    normals : array (P, 3)
+        Unit normals of the P object pixels (NaN where fewer than 3 observations were kept).
+    albedo : array (P, C)
+        ρ per channel.
+    residual : array (P,)
+        RMS of the residuals over the kept observations, relative to the pixel's mean value.
+    weights : array (K, P)
+        Observations used.
+    """
+
+    def __init__(
+        self, normals: np.ndarray, albedo: np.ndarray, residual: np.ndarray, weights: np.ndarray
+    ) -> None:
+        self.normals = normals
+        self.albedo = albedo
+        self.residual = residual
+        self.weights = weights
+
+
+def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
+    """Lambertian photometric stereo on every object pixel.
+
+    Parameters
+    ----------
+    data : StereoInput
+        Images, lights and mask.
+    shadow : float
+        Relative threshold below which an observation counts as shadowed.
+
+    Returns
+    -------
+    LambertianResult
+
+    Examples
+    --------
+    Three lights, one pixel facing the camera with ρ = 0.5:
+
+    >>> import numpy as np
+    >>> from roughdiffuse.stereo import StereoInput
+    >>> L = np.array([[0, 0, 1.0], [0.6, 0, 0.8], [0, 0.6, 0.8]])
+    >>> imgs = (0.5 / np.pi * L[:, 2]).reshape(3, 1, 1)
+    >>> r = lambertian(StereoInput.from_arrays(imgs, L))
+    >>> np.round(r.normals[0], 6).tolist(), round(float(r.albedo[0, 0]), 6)
+    ([0.0, 0.0, 1.0], 0.5)
+    """
+    w = observation_weights(data, shadow)  # (K, P)
+    m = data.mask
+    vals = data.images[:, m, :] / data.intensities[:, None, :]  # (K, P, C)
+    grey = vals.mean(axis=-1)  # (K, P)
+    l = data.directions  # (K, 3)
+    # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I
+    a = np.einsum("kp,ki,kj->pij", w, l, l)
+    rhs = np.einsum("kp,ki,kp->pi", w, l, grey)
+    enough = w.sum(axis=0) >= 3
+    det = np.linalg.det(a)
+    ok = enough & (np.abs(det) > 1e-12)
+    b = np.full((grey.shape[1], 3), np.nan)
+    b[ok] = np.linalg.solve(a[ok], rhs[ok][..., None])[..., 0]
+    length = np.linalg.norm(b, axis=-1)
+    ok &= length > 0
+    normals = np.where(ok[:, None], b / np.where(ok, length, 1.0)[:, None], np.nan)
+    # per-channel albedo: least squares of I_c = (ρ_c/π) max(n·l, 0) over the kept observations
+    shading = np.maximum(np.einsum("pi,ki->kp", np.nan_to_num(normals), l), 0.0) / np.pi  # (K, P)
+    num = np.einsum("kp,kp,kpc->pc", w, shading, vals)
+    den = np.einsum("kp,kp->p", w, shading**2)
+    albedo = np.where(
+        ok[:, None] & (den[:, None] > 0), num / np.where(den > 0, den, 1.0)[:, None], np.nan
+    )
+    pred = shading[..., None] * albedo[None]
+    resid = np.sqrt(
+        np.einsum("kp,kpc->p", w, (np.nan_to_num(pred) - vals) ** 2)
+        / np.maximum(w.sum(axis=0) * vals.shape[2], 1)
+    )
+    scale = np.maximum(np.einsum("kp,kp->p", w, grey) / np.maximum(w.sum(axis=0), 1), 1e-30)
+    return LambertianResult(normals, albedo, np.where(ok, resid / scale, np.nan), w)

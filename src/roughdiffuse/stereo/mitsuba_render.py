@@ -1,0 +1,185 @@
+"""Photometric-stereo images rendered by Mitsuba 3: a truth outside roughdiffuse's renderer.
+
+The object (a sphere, or the clay vase of :func:`roughdiffuse.render.clay_vase_profile` as a
+triangle mesh) is rendered by Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light
+and cast shadows, as photometric stereo models them), under each distant light in turn, seen
+by an orthographic camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is
+any Mitsuba BSDF, roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar",
+"variant": "full", "sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own
+``aov`` integrator (``sh_normal``), averaged over each pixel.
+
+Mitsuba is an optional dependency: ``pip install mitsuba``. Its ``llvm`` variants need libLLVM
+(see :mod:`roughdiffuse.integrations.mitsuba`). The caller's variant is restored afterwards.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .inputs import StereoInput
+
+__all__ = ["render_mitsuba", "vase_mesh"]
+
+MARGIN = 0.04
+"""Frame margin around the object, as :class:`roughdiffuse.render.OrthographicCamera`."""
+
+
+def vase_mesh(heights: int = 96, around: int = 128) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The clay vase as a closed triangle mesh (y up, height 2): vertices (N, 3), smooth
+    vertex normals (N, 3) from the profile's slope, and triangles (M, 3), counter-clockwise
+    seen from outside. The foot and the lip are closed by flat caps."""
+    from ..render import clay_vase_profile
+
+    y = np.linspace(-1.0, 1.0, heights)
+    r = np.asarray(clay_vase_profile(y), dtype=np.float64)
+    h = 1e-5
+    slope = (np.asarray(clay_vase_profile(y + h)) - np.asarray(clay_vase_profile(y - h))) / (2 * h)
+    phi = np.linspace(0.0, 2 * math.pi, around, endpoint=False)
+    c, s = np.cos(phi), np.sin(phi)
+    verts = np.stack([r[:, None] * c, np.repeat(y[:, None], around, 1), r[:, None] * s], -1)
+    norms = np.stack(
+        [
+            np.broadcast_to(c, (heights, around)),
+            -slope[:, None] + 0 * c,
+            np.broadcast_to(s, (heights, around)),
+        ],
+        -1,
+    )
+    verts, norms = verts.reshape(-1, 3), norms.reshape(-1, 3)
+    norms /= np.linalg.norm(norms, axis=1, keepdims=True)
+    i, j = np.meshgrid(np.arange(heights - 1), np.arange(around), indexing="ij")
+    a = i * around + j
+    b = i * around + (j + 1) % around
+    tris = np.concatenate(
+        [
+            np.stack([a, b, a + around], -1).reshape(-1, 3),
+            np.stack([b, b + around, a + around], -1).reshape(-1, 3),
+        ]
+    )
+    # caps: a centre vertex each, with copies of the rim vertices carrying the cap's normal
+    parts_v, parts_n, parts_t = [verts], [norms], [tris]
+    base = len(verts)
+    for ring, centre, normal, flip in ((0, -1.0, -1.0, False), (heights - 1, 1.0, 1.0, True)):
+        rim = verts[ring * around : (ring + 1) * around]
+        parts_v.append(np.vstack([[0.0, centre, 0.0], rim]))
+        parts_n.append(np.tile([0.0, normal, 0.0], (around + 1, 1)))
+        k = np.arange(around)
+        tri = np.stack([np.full(around, base), base + 1 + k, base + 1 + (k + 1) % around], -1)
+        parts_t.append(tri[:, ::-1] if flip else tri)
+        base += around + 1
+    return np.vstack(parts_v), np.vstack(parts_n), np.vstack(parts_t)
+
+
+def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
+    if shape == "sphere":
+        return {"type": "sphere", "bsdf": bsdf}
+    if shape != "vase":
+        raise ValueError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
+    v, n, t = vase_mesh()
+    mesh = mi.Mesh("vase", len(v), len(t), has_vertex_normals=True)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = mi.Float(v.astype(np.float32).ravel())
+    params["vertex_normals"] = mi.Float(n.astype(np.float32).ravel())
+    params["faces"] = mi.UInt32(t.astype(np.uint32).ravel())
+    params.update()
+    mesh.set_bsdf(mi.load_dict(bsdf) if isinstance(bsdf, dict) else bsdf)
+    return mesh
+
+
+def render_mitsuba(
+    bsdf: dict,
+    directions: Any,
+    *,
+    shape: str = "sphere",
+    size: int = 64,
+    spp: int = 64,
+    variant: str = "llvm_ad_rgb",
+    seed: int = 0,
+) -> tuple[StereoInput, np.ndarray]:
+    """Render ``shape`` under each light of ``directions`` with Mitsuba 3.
+
+    Parameters
+    ----------
+    bsdf : dict
+        A Mitsuba BSDF description (roughdiffuse's plugins are registered first).
+    directions : array (K, 3)
+        Directions towards the lights (camera frame), irradiance 1 each.
+    shape : {"sphere", "vase"}
+        Unit sphere, or the clay vase (height 2) seen from its side.
+    size : int
+        Image side in pixels.
+    spp : int
+        Samples per pixel (Monte Carlo noise falls as 1/√spp).
+    variant : str
+        Mitsuba variant.
+
+    Returns
+    -------
+    data : StereoInput
+        Grey images (the mean of Mitsuba's RGB), mask of fully covered pixels facing the
+        camera within 80°.
+    normals : array (H, W, 3)
+        Mitsuba's shading normals of each pixel (camera frame).
+    """
+    import mitsuba as mi
+
+    from ..integrations.mitsuba import register
+
+    previous = mi.variant()
+    mi.set_variant(variant)
+    try:
+        register()
+        dirs = np.asarray(directions, dtype=np.float64)
+        dirs = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+        half = 1.0 + 2.0 * MARGIN
+        sensor = {
+            "type": "orthographic",
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
+            )
+            @ mi.ScalarTransform4f().scale([half, half, 1.0]),
+            "film": {
+                "type": "hdrfilm",
+                "width": size,
+                "height": size,
+                "rfilter": {"type": "box"},
+                "pixel_format": "rgb",
+            },
+            "sampler": {"type": "independent", "sample_count": spp},
+        }
+        obj = _shape(mi, shape, bsdf)
+        images = []
+        for k, d in enumerate(dirs):
+            scene = mi.load_dict(
+                {
+                    "type": "scene",
+                    "integrator": {"type": "path", "max_depth": 2},
+                    "sensor": sensor,
+                    "light": {"type": "directional", "direction": (-d).tolist(), "irradiance": 1.0},
+                    "object": obj,
+                }
+            )
+            images.append(np.array(mi.render(scene, seed=seed + k), dtype=np.float64).mean(axis=-1))
+        aov = mi.load_dict(
+            {
+                "type": "scene",
+                "integrator": {"type": "aov", "aovs": "nn:sh_normal"},
+                "sensor": sensor,
+                "object": obj,
+            }
+        )
+        out = np.array(mi.render(aov, seed=seed), dtype=np.float64)
+    finally:
+        if previous is not None:
+            mi.set_variant(previous)
+    normals = out[..., :3]
+    length = np.linalg.norm(normals, axis=-1, keepdims=True)
+    # covered pixels: the normal averages to about unit length where every sample hit (a
+    # pixel's normals spread by ~0.05 rad shorten it by ~1e-4; a missed sample by 1/spp)
+    mask = (length[..., 0] > 0.995) & (normals[..., 2] > math.cos(math.radians(80)))
+    normals = np.where(length > 0, normals / np.maximum(length, 1e-30), 0.0)
+    data = StereoInput.from_arrays(np.stack(images), dirs, 1.0, mask=mask)
+    return data, normals

@@ -1,0 +1,311 @@
+"""How other renderers' Oren–Nayar and EON differ from roughdiffuse's (docs/implementations.md).
+
+Each function below transcribes one project's formula from its source, on the cosines
+NL = n·l, NV = n·v, LV = l·v (arrays), with that project's clamps and parameter conventions:
+
+* MaterialX ``libraries/pbrlib/genglsl/lib/mx_microfacet_diffuse.glsl``
+  (``mx_oren_nayar_diffuse``, ``mx_oren_nayar_compensated_diffuse``) and the node
+  ``mx_oren_nayar_diffuse_bsdf.glsl``, which clamps NdotL, NdotV and LdotV to [1e-8, 1] and
+  multiplies by color/π;
+* Blender Cycles ``intern/cycles/kernel/closure/bsdf_oren_nayar.h`` (``bsdf_oren_nayar_setup``,
+  ``bsdf_oren_nayar_get_intensity``, ``bsdf_oren_nayar_G``); the closure weight is the base
+  colour (``svm/closure.h``: ``bsdf_alloc(..., rgb_to_spectrum(base_color) * ...)``);
+* OSL ``src/testrender/shading.cpp`` (``OrenNayar::eval``);
+* Mitsuba 0.6 ``src/bsdfs/roughdiffuse.cpp`` (``RoughDiffuse::eval``; σ = α/√2);
+* pbrt-v3 ``src/core/reflection.cpp`` (``OrenNayar::f``; σ given in degrees).
+
+The numbers of docs/implementations.md are asserted at the end.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import roughdiffuse as rd
+
+PI = math.pi
+MX_EPS = 1e-8
+K1 = 0.5 - 2.0 / (3.0 * PI)  # MaterialX FUJII_CONSTANT_1
+K2 = 2.0 / 3.0 - 28.0 / (15.0 * PI)  # FUJII_CONSTANT_2
+
+
+# ----------------------------------------------------------------------------- MaterialX
+def mx_oren_nayar_diffuse(nv, nl, lv, roughness):
+    s = lv - nl * nv
+    stinv = np.where(s > 0.0, s / np.maximum(nl, nv), 0.0)
+    sigma2 = roughness * roughness
+    a = 1.0 - 0.5 * (sigma2 / (sigma2 + 0.33))
+    b = 0.45 * sigma2 / (sigma2 + 0.09)
+    return a + b * stinv
+
+
+def mx_fujii_dir_albedo(cos_theta, roughness):
+    a = 1.0 / (1.0 + K1 * roughness)
+    b = roughness * a
+    si = np.sqrt(np.maximum(0.0, 1.0 - cos_theta * cos_theta))
+    g = (
+        si * (np.arccos(np.clip(cos_theta, -1.0, 1.0)) - si * cos_theta)
+        + 2.0 * ((si / cos_theta) * (1.0 - si * si * si) - si) / 3.0
+    )
+    return a + b * g / PI
+
+
+def mx_oren_nayar_compensated_diffuse(nv, nl, lv, roughness, color):
+    s = lv - nl * nv
+    stinv = np.where(s > 0.0, s / np.maximum(nl, nv), s)
+    a = 1.0 / (1.0 + K1 * roughness)
+    single = color * a * (1.0 + roughness * stinv)
+    dir_v = mx_fujii_dir_albedo(nv, roughness)
+    dir_l = mx_fujii_dir_albedo(nl, roughness)
+    avg = a * (1.0 + K2 * roughness)
+    color_ms = color * color * avg / (1.0 - color * max(0.0, 1.0 - avg))
+    multi = (
+        color_ms
+        * np.maximum(MX_EPS, 1.0 - dir_v)
+        * np.maximum(MX_EPS, 1.0 - dir_l)
+        / max(MX_EPS, 1.0 - avg)
+    )
+    return single + multi
+
+
+def mx_oren_nayar_diffuse_bsdf(nv, nl, lv, roughness, color, energy_compensation):
+    """The node's BRDF (response / NdotL): clamps, then color/π times the lobe."""
+    nv, nl, lv = (np.clip(x, MX_EPS, 1.0) for x in (nv, nl, lv))
+    if energy_compensation:
+        return mx_oren_nayar_compensated_diffuse(nv, nl, lv, roughness, color) / PI
+    return mx_oren_nayar_diffuse(nv, nl, lv, roughness) * color / PI
+
+
+# ----------------------------------------------------------------------------- Cycles
+def cycles_g(cos_theta):
+    c = np.asarray(cos_theta, dtype=np.float64)
+    s = np.sqrt(np.maximum(0.0, 1.0 - c * c))
+    theta = np.arccos(np.clip(c, -1.0, 1.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = s * (theta - 2.0 / 3.0 - s * c) + 2.0 / 3.0 * (s / c) * (1.0 - s * s * s)
+    return np.where(c < 1e-6, (PI / 2 - 2.0 / 3.0) - c, g)
+
+
+def cycles_oren_nayar(nv, nl, lv, roughness, color):
+    """BRDF: closure weight (colour) × intensity / NL."""
+    sigma = min(max(roughness, 0.0), 1.0)
+    a = 1.0 / (PI + sigma * (PI / 2 - 2.0 / 3.0))
+    b = sigma * a
+    albedo = min(max(color, 0.0), 1.0)
+    e_avg = a * PI + ((2 * PI - 5.6) / 3.0) * b
+    e_ms = (1.0 / PI) * albedo**2 * (e_avg / (1.0 - e_avg)) / (1.0 - albedo * (1.0 - e_avg))
+    nv = np.maximum(nv, 0.0)
+    e_v = a * PI + b * cycles_g(nv)
+    multiscatter_term = e_ms * (1.0 - e_v)
+    nl = np.maximum(nl, 0.0)
+    t = lv - nl * nv
+    t = np.where(t > 0.0, t / (np.maximum(nl, nv) + np.finfo(np.float32).tiny), t)
+    single = a + b * t
+    e_l = a * PI + b * cycles_g(nl)
+    return color * (single + multiscatter_term * (1.0 - e_l))
+
+
+# ----------------------------------------------------------------------------- OSL
+def osl_oren_nayar(nv, nl, lv, sigma, color):
+    """testrender's eval returns A + B s/t with pdf NL/π: the BRDF is colour (A + B s/t)/π."""
+    s = lv - nl * nv
+    s2 = sigma * sigma
+    a = 1 - 0.50 * s2 / (s2 + 0.33)
+    b = 0.45 * s2 / (s2 + 0.09)
+    stinv = np.where(s > 0, s / np.maximum(nl, nv), 0.0)
+    return color * (a + b * stinv) / PI
+
+
+# ----------------------------------------------------------------------------- angles
+def _angles(nv, nl, lv):
+    sin_i = np.sqrt(np.maximum(0.0, 1 - nl * nl))
+    sin_o = np.sqrt(np.maximum(0.0, 1 - nv * nv))
+    den = sin_i * sin_o
+    cos_phi = np.where(den > 0, (lv - nl * nv) / np.where(den > 0, den, 1.0), 0.0)
+    return sin_i, sin_o, np.clip(cos_phi, -1, 1)
+
+
+def pbrt3_oren_nayar(nv, nl, lv, sigma_degrees, r):
+    sigma = math.radians(sigma_degrees)
+    sigma2 = sigma * sigma
+    a = 1.0 - (sigma2 / (2.0 * (sigma2 + 0.33)))
+    b = 0.45 * sigma2 / (sigma2 + 0.09)
+    sin_i, sin_o, cos_phi = _angles(nv, nl, lv)
+    max_cos = np.where((sin_i > 1e-4) & (sin_o > 1e-4), np.maximum(0.0, cos_phi), 0.0)
+    i_larger = nl > nv
+    sin_alpha = np.where(i_larger, sin_o, sin_i)
+    tan_beta = np.where(i_larger, sin_i / nl, sin_o / nv)
+    return r / PI * (a + b * max_cos * sin_alpha * tan_beta)
+
+
+def mitsuba06_roughdiffuse(nv, nl, lv, alpha, rho, fast):
+    sigma = alpha / math.sqrt(2.0)
+    sigma2 = sigma * sigma
+    sin_i, sin_o, cos_phi = _angles(nv, nl, lv)
+    eps = 1e-4  # Mitsuba's Epsilon (single precision build)
+    cos_phi = np.where((sin_i > eps) & (sin_o > eps), cos_phi, 0.0)
+    i_larger = nl > nv
+    if fast:
+        a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33)
+        b = 0.45 * sigma2 / (sigma2 + 0.09)
+        sin_alpha = np.where(i_larger, sin_o, sin_i)
+        tan_beta = np.where(i_larger, sin_i / nl, sin_o / nv)
+        return rho / PI * (a + b * np.maximum(cos_phi, 0.0) * sin_alpha * tan_beta)
+    theta_i, theta_o = np.arccos(np.clip(nl, -1, 1)), np.arccos(np.clip(nv, -1, 1))
+    alpha_, beta = np.maximum(theta_i, theta_o), np.minimum(theta_i, theta_o)
+    sin_alpha = np.where(i_larger, sin_o, sin_i)
+    sin_beta = np.where(i_larger, sin_i, sin_o)
+    tan_beta = np.where(i_larger, sin_i / nl, sin_o / nv)
+    tmp = sigma2 / (sigma2 + 0.09)
+    tmp2 = (4 / PI**2) * alpha_ * beta
+    tmp3 = 2 * beta / PI
+    c1 = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33)
+    c2 = 0.45 * tmp * np.where(cos_phi > 0, sin_alpha, sin_alpha - tmp3**3)
+    c3 = 0.125 * tmp * tmp2 * tmp2
+    c4 = 0.17 * sigma2 / (sigma2 + 0.13)
+    tan_half = (sin_alpha + sin_beta) / (
+        np.sqrt(np.maximum(0, 1 - sin_alpha**2)) + np.sqrt(np.maximum(0, 1 - sin_beta**2))
+    )
+    sngl = rho * (c1 + cos_phi * c2 * tan_beta + (1.0 - np.abs(cos_phi)) * c3 * tan_half)
+    dbl = rho * rho * (c4 * (1.0 - cos_phi * tmp3 * tmp3))
+    return (sngl + dbl) / PI
+
+
+# ----------------------------------------------------------------------------- helpers
+def _cosines(theta_i_deg, theta_r_deg, dphi_deg):
+    ti, tr, dp = (
+        np.radians(np.asarray(x, dtype=np.float64)) for x in (theta_i_deg, theta_r_deg, dphi_deg)
+    )
+    nl, nv = np.cos(ti), np.cos(tr)
+    return nv, nl, nl * nv + np.sin(ti) * np.sin(tr) * np.cos(dp)
+
+
+def _random_cosines(rng, n=2000, lo=0.02):
+    ti, tr = rng.uniform(0, 88, n), rng.uniform(0, 88, n)
+    dp = rng.uniform(0, 180, n)
+    nv, nl, lv = _cosines(ti, tr, dp)
+    keep = (nv > lo) & (nl > lo) & (np.sin(np.radians(ti)) > 1e-3) & (np.sin(np.radians(tr)) > 1e-3)
+    return nv[keep], nl[keep], lv[keep]
+
+
+def _ours(model, nv, nl, lv):
+    return np.asarray(model.brdf_cosines(nl, nv, lv))
+
+
+def _albedo(fn, mu_o, n=800):
+    """∫ f cos θi dωi by the midpoint rule (error O(h²), about 1e-5 here)."""
+    mu = (np.arange(n) + 0.5) / n
+    ph = (np.arange(n) + 0.5) / n * 2 * PI
+    m, p = np.meshgrid(mu, ph, indexing="ij")
+    lv = np.sqrt(1 - m * m) * np.cos(p) * math.sqrt(1 - mu_o**2) + m * mu_o
+    f = fn(np.full_like(m, mu_o), m, lv)
+    return float((f * m).sum() * (1.0 / n) * (2 * PI / n))
+
+
+# ----------------------------------------------------------------------------- agreement
+def test_pbrt3_and_osl_are_the_qualitative_model(rng):
+    nv, nl, lv = _random_cosines(rng)
+    ours = _ours(rd.OrenNayar(0.8, 0.5), nv, nl, lv)
+    np.testing.assert_allclose(
+        pbrt3_oren_nayar(nv, nl, lv, math.degrees(0.5), 0.8), ours, rtol=1e-12
+    )
+    np.testing.assert_allclose(osl_oren_nayar(nv, nl, lv, 0.5, 0.8), ours, rtol=1e-12)
+
+
+def test_mitsuba06_is_the_model_at_sigma_alpha_over_sqrt2(rng):
+    nv, nl, lv = _random_cosines(rng)
+    alpha = 0.5 * math.sqrt(2.0)
+    np.testing.assert_allclose(
+        mitsuba06_roughdiffuse(nv, nl, lv, alpha, 0.8, fast=True),
+        _ours(rd.OrenNayar(0.8, 0.5), nv, nl, lv),
+        rtol=1e-12,
+    )
+    np.testing.assert_allclose(
+        mitsuba06_roughdiffuse(nv, nl, lv, alpha, 0.8, fast=False),
+        _ours(rd.OrenNayar(0.8, 0.5, "full"), nv, nl, lv),
+        rtol=1e-9,
+    )
+
+
+def test_materialx_qualitative_takes_sigma_in_radians(rng):
+    nv, nl, lv = _random_cosines(rng)
+    got = mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, energy_compensation=False)
+    np.testing.assert_allclose(got, _ours(rd.OrenNayar(0.8, 0.5), nv, nl, lv), rtol=1e-12)
+
+
+def test_materialx_eon_equals_ours_where_the_clamp_does_not_act(rng):
+    nv, nl, lv = _random_cosines(rng)
+    ok = lv >= MX_EPS
+    got = mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.7, 0.8, energy_compensation=True)
+    np.testing.assert_allclose(got[ok], _ours(rd.EON(0.8, 0.7), nv, nl, lv)[ok], rtol=1e-12)
+    assert np.all(got[~ok] > _ours(rd.EON(0.8, 0.7), nv, nl, lv)[~ok])
+
+
+def test_materialx_clamp_raises_the_furnace_to_about_1_15_at_grazing():
+    """The node clamps L·V to [1e-8, 1]: EON's negative s/t for backward light is lost."""
+    node = lambda nv, nl, lv: mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 1.0, 1.0, True)  # noqa: E731
+    assert _albedo(node, 1.0) == pytest.approx(1.0, abs=1e-4)
+    assert _albedo(node, 0.5) == pytest.approx(1.056, abs=2e-3)
+    assert _albedo(node, 0.05) == pytest.approx(1.152, abs=2e-3)  # θo = 87.1°
+    ours = float(rd.EON(1.0, 1.0).directional_albedo(np.array([math.sqrt(1 - 0.05**2), 0, 0.05])))
+    assert ours == pytest.approx(1.0, abs=1e-9)
+
+
+def test_cycles_applies_the_albedo_three_times_to_the_multiple_scattering(rng):
+    nv, nl, lv = _random_cosines(rng)
+    # ρ = 1: the same BRDF as EON
+    np.testing.assert_allclose(
+        cycles_oren_nayar(nv, nl, lv, 0.6, 1.0), _ours(rd.EON(1.0, 0.6), nv, nl, lv), rtol=1e-10
+    )
+    # ρ = 0.5: single scattering agrees, the multiple-scattering lobe is ρ times EON's
+    rho = 0.5
+    ours_ms = _ours(rd.EON(rho, 0.6), nv, nl, lv) - _ours(rd.Fujii(rho, 0.6), nv, nl, lv)
+    cyc_ms = cycles_oren_nayar(nv, nl, lv, 0.6, rho) - _ours(rd.Fujii(rho, 0.6), nv, nl, lv)
+    np.testing.assert_allclose(cyc_ms, rho * ours_ms, rtol=1e-9, atol=1e-15)
+
+
+# ----------------------------------------------------------------------------- the doc's numbers
+GEOMETRIES = {"A": (60, 60, 0), "B": (60, 60, 180), "C": (30, 70, 90), "D": (85, 85, 180)}
+
+DOC_TABLE = {
+    # f in 1/sr, ρ = 0.8; qualitative ON at σ = 0.5 rad = 28.65°, EON/FON at r = 0.5
+    "roughdiffuse OrenNayar": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
+    "pbrt-v3 (sigma 28.65 deg)": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
+    "Mitsuba 0.6 fast (alpha 0.7071)": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
+    "OSL (sigma 0.5)": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
+    "MaterialX (roughness 0.5)": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
+    "roughdiffuse EON": {"A": 0.4018, "B": 0.1513, "C": 0.2357, "D": 0.1125},
+    "MaterialX EON": {"A": 0.4018, "B": 0.2070, "C": 0.2357, "D": 0.2221},
+    "Cycles EON": {"A": 0.3993, "B": 0.1489, "C": 0.2331, "D": 0.1124},
+}
+
+
+def _doc_values() -> dict[str, dict[str, float]]:
+    out: dict[str, dict[str, float]] = {}
+    for key, (ti, tr, dp) in GEOMETRIES.items():
+        nv, nl, lv = _cosines(ti, tr, dp)
+        row = {
+            "roughdiffuse OrenNayar": _ours(rd.OrenNayar(0.8, 0.5), nv, nl, lv),
+            "pbrt-v3 (sigma 28.65 deg)": pbrt3_oren_nayar(nv, nl, lv, math.degrees(0.5), 0.8),
+            "Mitsuba 0.6 fast (alpha 0.7071)": mitsuba06_roughdiffuse(
+                nv, nl, lv, 0.5 * math.sqrt(2), 0.8, fast=True
+            ),
+            "OSL (sigma 0.5)": osl_oren_nayar(nv, nl, lv, 0.5, 0.8),
+            "MaterialX (roughness 0.5)": mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, False),
+            "roughdiffuse EON": _ours(rd.EON(0.8, 0.5), nv, nl, lv),
+            "MaterialX EON": mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, True),
+            "Cycles EON": cycles_oren_nayar(nv, nl, lv, 0.5, 0.8),
+        }
+        for name, value in row.items():
+            out.setdefault(name, {})[key] = float(np.asarray(value).reshape(()))
+    return out
+
+
+def test_the_numbers_in_docs_implementations_md():
+    values = _doc_values()
+    for name, row in DOC_TABLE.items():
+        for key, expected in row.items():
+            assert values[name][key] == pytest.approx(expected, abs=5e-5), (name, key)
