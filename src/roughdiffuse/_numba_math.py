@@ -10,7 +10,7 @@ from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
-__all__ = ["exp2i", "tuned_vector_width"]
+__all__ = ["exp2i", "exp2i_f64", "tuned_vector_width"]
 
 
 @intrinsic
@@ -29,6 +29,24 @@ def exp2i(k: Any) -> Any:  # pragma: no cover - compiled by Numba
     """2**k as float32 for an integer-valued float32 k in [-126, 127] (exponent bits)."""
     bits = np.int32(np.int32(k) + np.int32(127))
     return _f32_from_bits(np.int32(bits << np.int32(23)))
+
+
+@intrinsic
+def _f64_from_bits(typingctx: Any, bits: Any) -> Any:
+    """Reinterpret an int64 as a float64 (an LLVM bitcast, which vectorises)."""
+    sig = types.float64(types.int64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return sig, codegen
+
+
+@numba.njit(inline="always", cache=True)
+def exp2i_f64(k: Any) -> Any:  # pragma: no cover - compiled by Numba
+    """2**k as float64 for an integer-valued float64 k in [-1022, 1023] (exponent bits)."""
+    bits = np.int64(np.int64(k) + np.int64(1023))
+    return _f64_from_bits(np.int64(bits << np.int64(52)))
 
 
 # Clang marks every function "min-legal-vector-width"="0"; Numba's functions carry no such

@@ -50,6 +50,7 @@ _UNARY_MATH = {
     "abs": "abs",
     "floor": "np.floor",
     "exp2i": "exp2i",
+    "exp2i_f64": "exp2i_f64",
 }
 _BINARY = {
     "add": "+",
@@ -334,6 +335,8 @@ class TraceNamespace:
             return anp.atan2(y, x)
         if self.graph.dtype == np.float32:
             return _atan2_polynomial(self, y, x)
+        if self.graph.dtype == np.float64:
+            return _atan2_polynomial_f64(self, y, x)
         return self.graph.op("atan2", y, x)
 
     def pow(self, a: Any, b: Any) -> Any:
@@ -465,12 +468,100 @@ _POLYNOMIAL = {
 }
 
 
+# ------------------------------------------------------------------ float64 polynomials
+# The same idea in double precision: libm's atan2, sin, cos and exp are calls the loop
+# vectoriser cannot widen, which kept the float64 kernels of the models that use them at about
+# 0.2 of a C loop (gcc calls glibc's vector math library). Cephes' double-precision
+# rational and polynomial approximations (S. Moshier, atan.c, sin.c, exp.c), written
+# branch-free; maximum relative error about 2e-16 plus the reduction's rounding.
+def _atan2_polynomial_f64(xp: TraceNamespace, y: Any, x: Any) -> Any:
+    """atan2 for float64 kernels (Cephes ``atan``: for t in [0, 1], t > 0.66 reduced by
+    (t − 1)/(t + 1) and π/4; a rational P(z)/Q(z) of degree 4/5 in z = u²)."""
+    ax, ay = abs(x), abs(y)
+    big = xp.where(ay > ax, ay, ax)
+    small = xp.where(ay > ax, ax, ay)
+    t = small / xp.where(big > 0.0, big, 1.0)  # in [0, 1]
+    red = t > 0.66
+    u = xp.where(red, (t - 1.0) / (t + 1.0), t)
+    z = u * u
+    p = (
+        (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z
+          - 7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z
+        - 6.485021904942025371773e1
+    )  # fmt: skip
+    q = (
+        ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z
+          + 4.328810604912902668951e2) * z + 4.853903996359136964868e2) * z
+        + 1.945506571482613964425e2
+    )  # fmt: skip
+    r = u + u * (z * p / q)
+    # π/4 and the bits of π/4 that a double misses (Cephes' MOREBITS / 2)
+    a = xp.where(red, (r + 3.061616997868382943065e-17) + math.pi / 4, r)
+    a = xp.where(ay > ax, math.pi / 2 - a, a)
+    a = xp.where(x < 0.0, math.pi - a, a)
+    return xp.where(y < 0.0, -a, a)
+
+
+def _sin_cos_polynomial_f64(xp: TraceNamespace, x: Any, want_sin: bool) -> Any:
+    """sin or cos for float64 kernels: x = k π/2 + r, |r| <= π/4, π/2 in three parts
+    (fdlibm's pio2_1, pio2_2, pio2_3: exact for |k| below about 2^20), Cephes' degree-13 and
+    degree-14 polynomials for sin r and cos r, the quadrant k mod 4."""
+    k = _round(xp, x * (2.0 / math.pi))
+    r = (
+        (x - k * 1.57079632673412561417e00) - k * 6.07710050630396597660e-11
+    ) - k * 2.02226624871116645580e-21
+    z = r * r
+    sin_r = r + r * z * (
+        (((((1.58962301576546568060e-10 * z - 2.50507477628578072866e-8) * z
+            + 2.75573136213857245213e-6) * z - 1.98412698295895385996e-4) * z
+          + 8.33333333332211858878e-3) * z) - 1.66666666666666307295e-1
+    )  # fmt: skip
+    cos_r = (1.0 - 0.5 * z) + z * z * (
+        (((((-1.13585365213876817300e-11 * z + 2.08757008419747316778e-9) * z
+            - 2.75573141792967388112e-7) * z + 2.48015872888517045348e-5) * z
+          - 1.38888888888730564116e-3) * z) + 4.16666666666665929218e-2
+    )  # fmt: skip
+    q = k - 4.0 * xp.graph.op("floor", k * 0.25)  # k mod 4, in {0, 1, 2, 3}
+    if not want_sin:
+        q = q + 1.0  # cos x = sin(x + π/2)
+        q = xp.where(q > 3.5, q - 4.0, q)
+    odd = ((q > 0.5) & (q < 1.5)) | (q > 2.5)
+    val = xp.where(odd, cos_r, sin_r)
+    return xp.where(q > 1.5, -val, val)
+
+
+def _exp_polynomial_f64(xp: TraceNamespace, x: Any) -> Any:
+    """exp for float64 kernels (Cephes ``exp``): x = k ln 2 + r, e^r = 1 + 2 r P(r²)/(Q(r²) −
+    r P(r²)), 2^k from the exponent bits. Arguments are clamped to [−708.39, 709] (e^−708.39 is
+    about the smallest normal double) and 0 is returned below (NumPy gives subnormals there)."""
+    tiny = x < -708.39
+    x = xp.where(x > 709.0, 709.0, xp.where(tiny, -708.39, x))
+    k = _round(xp, x * 1.4426950408889634)
+    r = (x - k * 6.93145751953125e-1) - k * 1.42860682030941723212e-6
+    z = r * r
+    p = r * ((1.26177193074810590878e-4 * z + 3.02994407707441961300e-2) * z
+             + 9.99999999999999999910e-1)  # fmt: skip
+    q = ((3.00198505138664455042e-6 * z + 2.52448340349684104192e-3) * z
+         + 2.27265548208155028766e-1) * z + 2.00000000000000000009e0  # fmt: skip
+    e = 1.0 + 2.0 * (p / (q - p))
+    return xp.where(tiny, 0.0, e * xp.graph.op("exp2i_f64", k))
+
+
+_POLYNOMIAL_F64 = {
+    "sin": lambda xp, x: _sin_cos_polynomial_f64(xp, x, want_sin=True),
+    "cos": lambda xp, x: _sin_cos_polynomial_f64(xp, x, want_sin=False),
+    "exp": _exp_polynomial_f64,
+}
+
+
 def _make_unary(name: str):  # noqa: ANN202 - method factory
     def f(self: TraceNamespace, x: Any) -> Any:
         if not _traced(x):
             return getattr(anp, name)(x)
         if name in _POLYNOMIAL and self.graph.dtype == np.float32:
             return _POLYNOMIAL[name](self, x)
+        if name in _POLYNOMIAL_F64 and self.graph.dtype == np.float64:
+            return _POLYNOMIAL_F64[name](self, x)
         return self.graph.op(name, x)
 
     f.__name__ = name
@@ -478,7 +569,7 @@ def _make_unary(name: str):  # noqa: ANN202 - method factory
 
 
 for _name in _UNARY_MATH:
-    if _name in ("floor", "exp2i"):
+    if _name in ("floor", "exp2i", "exp2i_f64"):
         continue
     setattr(TraceNamespace, _name, _make_unary(_name))
 

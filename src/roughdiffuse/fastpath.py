@@ -189,7 +189,7 @@ def _source(
         "import numba",
         "import numpy as np",
         "",
-        "from roughdiffuse._numba_math import exp2i, tuned_vector_width",
+        "from roughdiffuse._numba_math import exp2i, exp2i_f64, tuned_vector_width",
         "",
         *constants,
         f"_INF = np.{graph.dtype.name}(np.inf)",

@@ -228,12 +228,9 @@ def _convergence_lines(base) -> list[str]:
 
 def _heightfield_picture(out: Path, quick: bool) -> None:
     """A close look: one surface lit at 70° from the side, one bounce and all bounces."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import mitsuba as mi
 
+    from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
     from .heightfield import (
         gaussian_heightfield,
         heightfield_mesh,
@@ -261,7 +258,7 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
     finally:
         if previous is not None:
             mi.set_variant(previous)
-    fig, axes = plt.subplots(1, 2, figsize=(9, 4.6))
+    fig, axes = subplots(1, 2, figsize=(9, 4.6))
     top = float(np.percentile(imgs[1], 99.5))
     for ax, img, title in zip(axes, imgs, ("1 bounce", "all bounces"), strict=True):
         ax.imshow(img.T, cmap="gray", vmin=0, vmax=top, origin="lower")
@@ -274,4 +271,3 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
     )
     fig.tight_layout()
     atomic_write(out / "heightfield.png", lambda tmp: fig.savefig(tmp, dpi=100, format="png"))
-    plt.close(fig)
