@@ -50,7 +50,7 @@ def _registry_cases() -> list[tuple[str, dict, float]]:
     covered = {name for name, _ in CASES}  # their defaults are near the cases above
     cases = []
     for entry in registry.entries():
-        if not entry.cls.traceable:  # a simulation (SmithDiffuse) has no plugin
+        if not entry.cls.closed_form:  # a simulation or a table has no plugin
             continue
         defaults, rough = parameter_sets(entry)
         sets = [(rough, (45.0,))]

@@ -27,7 +27,7 @@ ALBEDO = [0.8, 0.55, 0.3]
 CASES = [
     (entry.id, params)
     for entry in registry.entries()
-    if entry.cls.traceable  # a simulation (SmithDiffuse) has no plugin
+    if entry.cls.closed_form  # a simulation or a table has no plugin
     for params in parameter_sets(entry)
 ]
 IDS = [f"{i}-{'rough' if p else 'defaults'}" for i, p in CASES]

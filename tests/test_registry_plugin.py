@@ -4,7 +4,7 @@ The package is built in a temporary folder from the README's own code blocks (it
 its ``pyproject.toml`` entry point) and made installed the way an installer would: the module
 and a ``.dist-info`` folder with ``entry_points.txt`` on the ``PYTHONPATH`` of a subprocess
 (nothing is installed into the shared environment). Then ``roughdiffuse models``,
-``roughdiffuse eval --model minnaert``, ``render``, the fit, ``compare_models`` and the fast
+``roughdiffuse eval --model minnaert-demo``, ``render``, the fit, ``compare_models`` and the fast
 path run on it. Expected values come from Minnaert's closed form, f = ρ/π (μi μo)^(k − 1).
 """
 
@@ -74,20 +74,20 @@ def test_readme_module_runs_its_doctest(plugin_path):
 def test_models_lists_the_plugin(plugin_path):
     out = _run(plugin_path, "-m", "roughdiffuse", "models", "--json")
     assert out.returncode == 0, out.stderr
-    rec = {r["id"]: r for r in json.loads(out.stdout)}["minnaert"]
+    rec = {r["id"]: r for r in json.loads(out.stdout)}["minnaert-demo"]
     assert rec["source"] == "minnaert-model" and rec["glsl"] is False
     assert [(p["name"], p["min"], p["max"], p["default"]) for p in rec["parameters"]] == [
         ("albedo", 0.0, 1.0, 1.0),
         ("k", 0.5, 1.5, 1.0),
     ]
     out = _run(plugin_path, "-m", "roughdiffuse", "models")
-    assert "minnaert  Minnaert" in out.stdout and "[from minnaert-model]" in out.stdout
+    assert "minnaert-demo  Minnaert (demo)" in out.stdout and "[from minnaert-model]" in out.stdout
 
 
 def test_eval_and_render_the_plugin(plugin_path, tmp_path):
     out = _run(
         plugin_path,
-        *("-m", "roughdiffuse", "eval", "--model", "minnaert", "--param", "k=0.8"),
+        *("-m", "roughdiffuse", "eval", "--model", "minnaert-demo", "--param", "k=0.8"),
         *("--albedo", "0.6", "--theta-i", "60", "--theta-r", "30"),
     )
     assert out.returncode == 0, out.stderr
@@ -95,10 +95,10 @@ def test_eval_and_render_the_plugin(plugin_path, tmp_path):
     expected = 0.6 / math.pi * (math.cos(math.radians(60)) * math.cos(math.radians(30))) ** -0.2
     assert float(line.split(":")[1]) == pytest.approx(expected, rel=1e-5)
     # a parameter Minnaert does not take is a usage error
-    out = _run(plugin_path, "-m", "roughdiffuse", "eval", "--model", "minnaert", "--sigma", "9")
+    out = _run(plugin_path, "-m", "roughdiffuse", "eval", "--model", "minnaert-demo", "--sigma", "9")
     assert out.returncode == 2 and "has no parameter 'sigma'" in out.stderr
     img = tmp_path / "m.npy"
-    args = ("--model", "minnaert", "--param", "k=0.7", "--size", "24", "--spp", "1")
+    args = ("--model", "minnaert-demo", "--param", "k=0.7", "--size", "24", "--spp", "1")
     out = _run(plugin_path, "-m", "roughdiffuse", "render", *args, "-o", str(img))
     assert out.returncode == 0, out.stderr
     a = np.load(img)
@@ -112,14 +112,14 @@ import roughdiffuse as rd
 from roughdiffuse import fastpath, registry
 from roughdiffuse.fit import Measurements, compare_models, fit
 
-m = registry.create("minnaert", albedo=0.5, k=0.8)
+m = registry.create("minnaert-demo", albedo=0.5, k=0.8)
 rng = np.random.default_rng(3)
 ti = rng.uniform(0.05, 1.4, 400); tr = rng.uniform(0.05, 1.4, 400); dp = rng.uniform(0, 6.28, 400)
 wi = rd.spherical_to_vector(ti, 0.0); wo = rd.spherical_to_vector(tr, dp)
 f = np.asarray(m.brdf(wi, wo))
 data = Measurements.from_angles(ti, tr, dp, f)
 r = fit(type(m), data, ("albedo", "k"))
-cmp = compare_models(data, ["lambert", "minnaert", "oren-nayar"])
+cmp = compare_models(data, ["lambert", "minnaert-demo", "oren-nayar"])
 n = np.tile([0.0, 0.0, 1.0], (400, 1))
 fast = fastpath.evaluate(m, n, wi, wo)
 ref = np.asarray(m.radiance(n, wi, wo))
@@ -135,5 +135,5 @@ def test_fit_compare_and_fast_path_on_the_plugin(plugin_path):
     # exact, noise-free data: the fit recovers the parameters that made it
     assert res["values"]["albedo"] == pytest.approx(0.5, abs=1e-6)
     assert res["values"]["k"] == pytest.approx(0.8, abs=1e-6)
-    assert res["best"] == "minnaert"
+    assert res["best"] == "minnaert-demo"
     assert res["fast"] < 1e-9  # float64 input: the fast path agrees to rounding

@@ -81,8 +81,8 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
     >>> L = np.array([[0, 0, 1.0], [0.6, 0, 0.8], [0, 0.6, 0.8]])
     >>> imgs = (0.5 / np.pi * L[:, 2]).reshape(3, 1, 1)
     >>> r = lambertian(StereoInput.from_arrays(imgs, L))
-    >>> np.round(r.normals[0], 6).tolist(), round(float(r.albedo[0, 0]), 6)
-    ([0.0, 0.0, 1.0], 0.5)
+    >>> bool(np.allclose(r.normals[0], [0, 0, 1])), round(float(r.albedo[0, 0]), 6)
+    (True, 0.5)
     """
     w = observation_weights(data, shadow)  # (K, P)
     m = data.mask
