@@ -37,7 +37,6 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "numpydoc",
-    "sphinx.ext.viewcode",
     "myst_nb",
     "sphinx_gallery.gen_gallery",
 ]
