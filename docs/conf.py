@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import sys
+import tomllib
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
@@ -23,14 +24,14 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 import rd_pages  # noqa: E402
 
-import roughdiffuse  # noqa: E402
-
 rd_pages.generate(DOCS)
 
 project = "roughdiffuse"
 author = "roughdiffuse developers"
 copyright = "roughdiffuse developers, MIT licence"
-release = roughdiffuse.__version__
+# the version of this checkout (an installed copy's metadata may be older)
+with open(ROOT / "pyproject.toml", "rb") as fh:
+    release = tomllib.load(fh)["project"]["version"]
 version = release
 
 extensions = [
@@ -84,10 +85,11 @@ sphinx_gallery_conf = {
 html_theme = "pydata_sphinx_theme"
 html_title = f"roughdiffuse {release}"
 html_static_path = ["_static"]
+html_favicon = "_static/favicon.svg"  # else browsers ask for /favicon.ico (a 404)
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 8,
+    "header_links_before_dropdown": 5,
     "navbar_end": ["theme-switcher", "navbar-icon-links"],
     "icon_links": [],
     "footer_start": ["copyright"],

@@ -36,7 +36,8 @@ SRC = ROOT / "src"
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A fresh build of the site (as ``make docs``: -W --keep-going), its HTML folder."""
     out = tmp_path_factory.mktemp("site")
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])}
+    path = os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])
+    env = {**os.environ, "PYTHONPATH": path}
     cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
            "-d", str(out / "doctrees"), str(ROOT / "docs"), str(out / "html")]
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)

@@ -75,10 +75,11 @@ def venv(dist: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
         [str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
         capture_output=True, text=True, check=True,
     ).stdout.strip()
+    clean = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     proc = subprocess.run(
         [sys.executable, "-m", "pip", "--python", str(py), "install", "--no-deps",
-         "--no-index", str(_wheel(dist))],
-        capture_output=True, text=True, timeout=300,
+         "--no-index", "--ignore-installed", str(_wheel(dist))],
+        capture_output=True, text=True, timeout=300, env=clean,
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert list(Path(purelib).glob("roughdiffuse-*.dist-info")), proc.stdout[-2000:]
