@@ -79,6 +79,8 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True,
     "promote_jupyter_magic": False,
     "show_signature": False,
+    # its timing pages load jQuery and DataTables from CDNs: not written
+    "write_computation_times": False,
 }
 
 # --- HTML: pydata-sphinx-theme, everything served locally
@@ -96,6 +98,7 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
     "secondary_sidebar_items": ["page-toc"],
 }
+html_context = {"default_mode": "auto"}  # else the theme logs "invalid theme mode"
 html_show_sourcelink = False
 html_copy_source = False
 # No MathJax from a CDN: formulas are written as text and images in these pages.
