@@ -37,7 +37,7 @@ version = release
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
-    "numpydoc",
+    "sphinx.ext.napoleon",
     "myst_nb",
     "sphinx_gallery.gen_gallery",
 ]
@@ -47,14 +47,16 @@ exclude_patterns = ["_build", "_ext", "gallery/README.txt", "**/.ipynb_checkpoin
                     "auto_gallery/*.ipynb", "auto_gallery/*.py", "auto_gallery/*.zip",
                     "auto_gallery/*.json", "auto_gallery/*.md5", "auto_gallery/*.codeobj.json"]
 
-# --- autodoc / numpydoc
+# --- autodoc / napoleon (NumPy-style docstrings; napoleon rather than numpydoc because it
+# keeps the custom "Class Attributes" section of roughdiffuse.models.base.Model)
 autosummary_generate = False
 autodoc_member_order = "bysource"
-autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types
-numpydoc_show_class_members = False
-numpydoc_class_members_toctree = False
-numpydoc_validation_checks: set[str] = set()
-numpydoc_xref_param_type = False
+autodoc_typehints = "none"  # the docstrings' Parameters sections carry the types
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_rtype = False
+napoleon_use_ivar = True  # Attributes as fields: no duplicates of the dataclass fields
+napoleon_custom_sections = [("Class Attributes", "params_style")]
 
 # --- MyST / notebooks
 myst_enable_extensions = ["colon_fence"]
