@@ -1,6 +1,7 @@
 # roughdiffuse: the two commands of the README.
 #   make figures   set up .venv, install the package, write the lecture's figures to figures/
 #   make test      the same set-up plus test extras and system packages, then the test suite
+#   make docs      the documentation site into docs/_build/html (warnings are errors)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -8,7 +9,7 @@ PIP    := $(PY) -m pip
 # libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
 export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
 
-.PHONY: figures test install install-test system-deps lint bench clean
+.PHONY: figures test docs install install-test install-docs system-deps lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -22,12 +23,18 @@ $(VENV)/.installed-test: pyproject.toml $(VENV)/.installed
 	@# PyTorch: the CPU wheel shipped with this machine image when present (the PyPI
 	@# default pulls several GB of CUDA packages); tests of the torch backend skip without it
 	if ls /opt/wheels/torch-2.13.0* >/dev/null 2>&1; then $(PIP) install -q torch==2.13.0; fi
-	$(PIP) install -q -e ".[test]"
+	$(PIP) install -q -e ".[test,docs]"
+	touch $@
+
+$(VENV)/.installed-docs: pyproject.toml $(VENV)/.installed
+	$(PIP) install -q -e ".[docs]"
 	touch $@
 
 install: $(VENV)/.installed
 
 install-test: $(VENV)/.installed-test
+
+install-docs: $(VENV)/.installed-docs
 
 system-deps:
 	bash scripts/system-deps.sh
@@ -39,8 +46,12 @@ test: install-test system-deps
 	$(PY) -m ruff check src tests $(wildcard bench examples)
 	$(PY) -m pytest
 
+# Sphinx runs the gallery and the notebooks; nothing is downloaded (see docs/conf.py)
+docs: install-docs
+	$(PY) -m sphinx -b html -W --keep-going docs docs/_build/html
+
 bench: install
 	$(PY) bench/run.py
 
 clean:
-	rm -rf $(VENV) figures .pytest_cache
+	rm -rf $(VENV) figures .pytest_cache docs/_build docs/models docs/api docs/auto_gallery docs/jupyter_execute

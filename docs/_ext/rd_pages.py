@@ -1,0 +1,394 @@
+"""Pages generated when the site is built: one per registry model, and the API reference.
+
+Nothing here lists models or modules by hand: the model pages come from
+:func:`roughdiffuse.registry.entries` (so models added by other packages or branches appear
+once they are registered), the API pages from walking the installed ``roughdiffuse`` package.
+Generated files go to ``docs/models/`` and ``docs/api/`` (both ignored by git).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import inspect
+import json
+import math
+import pkgutil
+import textwrap
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ROUGHNESS_NAMES = ("sigma", "roughness", "alpha")
+
+
+def _write(path: Path, text: str) -> None:
+    """Write ``text`` only if it differs (Sphinx then re-reads only changed pages)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        path.write_text(text, encoding="utf-8")
+
+
+# ------------------------------------------------------------------------------ models
+def _varied(entry: Any) -> tuple[Any | None, list[float]]:
+    """The roughness-like parameter of ``entry`` and three values across its fit range."""
+    numeric = [p for p in entry.parameters if p.choices is None and not p.channels]
+    pick = next((p for n in ROUGHNESS_NAMES for p in numeric if p.name == n), None)
+    if pick is None:
+        pick = next((p for p in numeric if p.unit == "radians"), None)
+    if pick is None and numeric:
+        pick = numeric[0]
+    if pick is None:
+        return None, []
+    lo, hi = pick.fit_range or (pick.min, pick.max)
+    lo = 0.0 if lo is None else lo
+    hi = lo + 1.0 if hi is None else hi
+    return pick, [lo + (hi - lo) * t for t in (0.2, 0.5, 0.8)]
+
+
+def _fmt_value(p: Any, v: float) -> str:
+    if p.unit == "radians":
+        return f"{p.name} = {v:.2f} rad ({math.degrees(v):.0f}°)"
+    return f"{p.name} = {v:.3g}"
+
+
+def _start(entry: Any) -> dict[str, Any]:
+    """Parameters the pictures use: each one's example value (else its default)."""
+    out = {}
+    for p in entry.parameters:
+        value = p.example if p.example is not None else p.default
+        if value is not None:
+            out[p.name] = value
+    return out
+
+
+def _figures(entry: Any, folder: Path) -> dict[str, str]:
+    """The sphere, plane-of-incidence and white-furnace pictures of ``entry``."""
+    from roughdiffuse.energy import plot_albedo
+    from roughdiffuse.plots import plot_plane_of_incidence, show_radiance
+    from roughdiffuse.render import DistantLight, Sphere, render
+
+    names = {}
+    start = _start(entry)
+    model = entry.create(**start)
+
+    fig, axes = plt.subplots(1, 2, figsize=(6.4, 3.4))
+    for ax, theta in zip(axes, (0.0, math.radians(60.0)), strict=True):
+        image, _ = render(model, Sphere(), DistantLight(theta), size=128)
+        image = np.asarray(image, dtype=np.float64)
+        show_radiance(ax, image, float(np.nanmax(image)) or 1.0,
+                      f"light at θ = {math.degrees(theta):.0f}°")
+    fig.suptitle(repr(model), fontsize="small")
+    fig.tight_layout()
+    names["sphere"] = f"{entry.id}-sphere.png"
+    fig.savefig(folder / names["sphere"], dpi=90)
+    plt.close(fig)
+
+    pick, values = _varied(entry)
+    curves = {"defaults": model} if pick is None else {
+        _fmt_value(pick, v): entry.create(**{**start, pick.name: v}) for v in values
+    }
+    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.4))
+    for ax, deg in zip(axes, (30.0, 60.0), strict=True):
+        plot_plane_of_incidence(curves, math.radians(deg), ax=ax, n=181)
+    fig.tight_layout()
+    names["plane"] = f"{entry.id}-plane.png"
+    fig.savefig(folder / names["plane"], dpi=90)
+    plt.close(fig)
+
+    white = {"albedo": 1.0} if any(p.name == "albedo" for p in entry.parameters) else {}
+    furnace = {label: entry.create(**{**start, **white, **({pick.name: v} if pick else {})})
+               for label, v in zip(curves, values or [None], strict=True)}
+    fig = plot_albedo({entry.label: furnace}, np.radians(np.arange(0.0, 89.0, 4.0)))
+    names["furnace"] = f"{entry.id}-furnace.png"
+    fig.savefig(folder / names["furnace"], dpi=90)
+    plt.close(fig)
+    return names
+
+
+def _speed(root: Path) -> list[dict[str, Any]]:
+    for candidate in (root / "bench" / "results.json",):
+        if candidate.is_file():
+            try:
+                return list(json.loads(candidate.read_text(encoding="utf-8")).get("results", []))
+            except (ValueError, AttributeError):
+                return []
+    return []
+
+
+def _speed_rows(entry: Any, results: list[dict[str, Any]]) -> list[str]:
+    """Rows of ``bench/results.json`` measured on this entry's model."""
+    import roughdiffuse
+    from roughdiffuse import registry
+
+    namespace = {name: getattr(roughdiffuse, name) for name in dir(roughdiffuse)}
+    namespace[entry.cls.__name__] = entry.cls
+    rows = []
+    for r in results:
+        try:
+            model = eval(r.get("repr", ""), namespace)  # noqa: S307 - the project's own file
+        except Exception:  # noqa: BLE001 - a record of a model this build does not have
+            continue
+        if registry.id_of(model) != entry.id:
+            continue
+        cells = [f"2^{r.get('log2_rows', '?')}"]
+        for key in ("fast", "c", "numpy"):
+            stats = r.get(key) or {}
+            cells.append(f"{stats['median']:.0f}" if "median" in stats else "–")
+        ratio = r.get("fast_over_numpy")
+        cells.append(f"{ratio:.1f}" if ratio else "–")
+        rows.append("| " + " | ".join(cells) + " |")
+    return rows
+
+
+def _param_table(entry: Any) -> list[str]:
+    from roughdiffuse.models.declaration import format_interval
+
+    lines = ["| parameter | meaning | unit | accepted | default | per channel |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    for p in entry.parameters:
+        if p.choices is not None:
+            accepted = ", ".join(f"`{c}`" for c in p.choices)
+        else:
+            accepted = format_interval(p.min, p.max, p.min_open)
+        default = f"`{p.default}`" if isinstance(p.default, str) else f"{p.default:g}"
+        lines.append(
+            f"| `{p.name}` | {p.description} | {p.unit} | {accepted} | {default} | "
+            f"{'yes' if p.channels else 'no'} |"
+        )
+    if len(lines) == 2:
+        lines.append("| (none) | | | | | |")
+    return lines
+
+
+def _model_page(entry: Any, names: dict[str, str], speed: list[str]) -> str:
+    cls = entry.cls
+    qual = f"{cls.__module__}.{cls.__qualname__}"
+    fixed = ", ".join(f"{k}={v!r}" for k, v in entry.fixed.items())
+    create = f'registry.create("{entry.id}")'
+    doc = inspect.getdoc(cls) or ""
+    summary = doc.split("\n\n", 1)[0].strip()
+    pick, _ = _varied(entry)
+    lines = [
+        f"# {entry.label}",
+        "",
+        f"`{entry.id}` · {entry.lobe} · class {{py:class}}`{qual}`"
+        + (f" with `{fixed}`" if fixed else "")
+        + f" · from `{entry.source}`"
+        + (" · also in the explorer's GLSL" if entry.glsl else ""),
+        "",
+        f"**Paper:** {entry.reference}",
+        "",
+        "## The model",
+        "",
+        "```{eval-rst}",
+        f".. autoclass:: {qual}",
+        "   :no-index:",
+        "   :no-members:",
+        "```",
+        "",
+        "```python",
+        "from roughdiffuse import registry",
+        f"model = {create}  # defaults; keyword arguments set parameters",
+        "```",
+        "",
+        "## Parameters",
+        "",
+        *_param_table(entry),
+        "",
+        "On the command line: `--model " + entry.id
+        + " --param NAME=VALUE` (angles in degrees there).",
+        "",
+        "## A sphere",
+        "",
+        f"![{entry.label}: rendered sphere]({names['sphere']})",
+        "",
+        "## Plane of incidence",
+        "",
+        "Radiance against the signed viewing angle θr in the plane of incidence "
+        "(E0 = 1; {func}`roughdiffuse.plots.plot_plane_of_incidence`)"
+        + (f", for three values of `{pick.name}`." if pick else "."),
+        "",
+        f"![{entry.label}: plane of incidence]({names['plane']})",
+        "",
+        "## White furnace",
+        "",
+        "Directional albedo ∫ f cos θi dωi against the viewing angle "
+        "({func}`roughdiffuse.energy.plot_albedo`"
+        + (", albedo 1" if any(p.name == "albedo" for p in entry.parameters) else "")
+        + "): 1 means no energy lost or gained.",
+        "",
+        f"![{entry.label}: white furnace]({names['furnace']})",
+        "",
+        "## Accuracy",
+        "",
+        "How the diffuse models compare with the exact V-cavity surface: {doc}`/accuracy`.",
+        "",
+        "## Speed",
+        "",
+    ]
+    if speed:
+        lines += [
+            "Million evaluations per second from `bench/results.json` "
+            "({doc}`/benchmarks`; `fast` is {func}`roughdiffuse.fastpath.evaluate`, `C` the "
+            "hand-written reference kernel, `NumPy` `model.radiance`):",
+            "",
+            "| N | fast | C | NumPy | fast/NumPy |",
+            "| --- | --- | --- | --- | --- |",
+            *speed,
+        ]
+    else:
+        lines.append("Not in `bench/results.json` (run `python bench/run.py`).")
+    lines.append("")
+    del summary
+    return "\n".join(lines)
+
+
+def generate_models(docs: Path) -> list[str]:
+    """Write ``docs/models/<id>.md`` and its pictures for every registry entry."""
+    from roughdiffuse import registry
+
+    folder = docs / "models"
+    folder.mkdir(exist_ok=True)
+    results = _speed(docs.parent)
+    ids = []
+    cache_file = folder / ".cache.json"
+    try:
+        cache = json.loads(cache_file.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        cache = {}
+    generator = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    for entry in registry.entries():
+        source = inspect.getsource(inspect.getmodule(entry.cls))
+        key = hashlib.sha256(
+            f"{generator}{entry.to_json()}{source}".encode()
+        ).hexdigest()
+        names = {k: f"{entry.id}-{k}.png" for k in ("sphere", "plane", "furnace")}
+        if cache.get(entry.id) != key or not all((folder / n).is_file() for n in names.values()):
+            names = _figures(entry, folder)
+            cache[entry.id] = key
+        _write(folder / f"{entry.id}.md", _model_page(entry, names, _speed_rows(entry, results)))
+        ids.append(entry.id)
+    cache_file.write_text(json.dumps(cache, indent=1), encoding="utf-8")
+    rows = ["| id | model | lobe | parameters | paper |", "| --- | --- | --- | --- | --- |"]
+    for entry in registry.entries():
+        params = ", ".join(p.name for p in entry.parameters) or "–"
+        rows.append(f"| {{doc}}`{entry.id} <{entry.id}>` | {entry.label} | {entry.lobe} | "
+                    f"{params} | {entry.reference} |")
+    index = [
+        "# Models",
+        "",
+        "Every model of {mod}`roughdiffuse.registry` (what `roughdiffuse models` lists), one page "
+        "each, generated when this site is built: a model registered by another package "
+        "(entry point `roughdiffuse.models`) appears here too.",
+        "",
+        *rows,
+        "",
+        "```{toctree}",
+        ":hidden:",
+        "",
+        *ids,
+        "```",
+        "",
+    ]
+    _write(folder / "index.md", "\n".join(index))
+    return ids
+
+
+# ------------------------------------------------------------------------------ API
+def public_modules(package: str = "roughdiffuse") -> list[str]:
+    """Every importable public module of ``package`` (no ``_private`` part, no ``__main__``)."""
+    pkg = importlib.import_module(package)
+    names = [package]
+    for info in pkgutil.walk_packages(pkg.__path__, prefix=f"{package}."):
+        parts = info.name.split(".")
+        if any(part.startswith("_") for part in parts):
+            continue
+        try:
+            importlib.import_module(info.name)
+        except Exception:  # noqa: BLE001 - an optional backend (Mitsuba, torch) not installed
+            continue
+        names.append(info.name)
+    return sorted(names)
+
+
+def _exports(module: Any) -> list[tuple[str, str]]:
+    """(name, canonical path) of what a module re-exports from elsewhere in the package."""
+    out = []
+    for name in getattr(module, "__all__", []):
+        obj = getattr(module, name, None)
+        home = getattr(obj, "__module__", None)
+        if inspect.ismodule(obj):
+            out.append((name, obj.__name__))
+        elif home and home != module.__name__ and home.startswith("roughdiffuse"):
+            out.append((name, f"{home}.{getattr(obj, '__qualname__', name)}"))
+    return out
+
+
+def generate_api(docs: Path) -> list[str]:
+    """Write ``docs/api/<module>.md`` (autodoc of what each module defines) and the index."""
+    folder = docs / "api"
+    folder.mkdir(exist_ok=True)
+    modules = public_modules()
+    for name in modules:
+        module = importlib.import_module(name)
+        title = f"``{name}``"
+        lines = [
+            title,
+            "=" * len(title),
+            "",
+            f".. automodule:: {name}",
+            "   :members:",
+            "   :ignore-module-all:",
+            "   :show-inheritance:",
+            "",
+        ]
+        exports = _exports(module)
+        if exports:
+            lines += ["Also available here", "-" * 19, "",
+                      "Defined in another module and importable from this one:", ""]
+            for short, full in exports:
+                obj = getattr(module, short, None)
+                role = "mod" if inspect.ismodule(obj) else "obj"
+                lines.append(f"- ``{short}``: :py:{role}:`{full}`")
+            lines.append("")
+        old = folder / f"{name}.md"
+        if old.exists():
+            old.unlink()
+        _write(folder / f"{name}.rst", "\n".join(lines))
+    summary = [
+        "# API reference",
+        "",
+        "Every public module of the package (generated from the docstrings when the site is "
+        "built; a module that imports an optional backend, e.g. Mitsuba, appears when that "
+        "backend is installed).",
+        "",
+        "```{eval-rst}",
+        ".. autosummary::",
+        "",
+        *[f"   {name}" for name in modules],
+        "```",
+        "",
+        "```{toctree}",
+        ":hidden:",
+        "",
+        *modules,
+        "```",
+        "",
+    ]
+    _write(folder / "index.md", "\n".join(summary))
+    return modules
+
+
+def generate(docs: Path) -> None:
+    generate_models(docs)
+    generate_api(docs)
+
+
+__all__ = ["generate", "generate_api", "generate_models", "public_modules"]
+del textwrap

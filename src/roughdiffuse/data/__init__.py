@@ -1,0 +1,85 @@
+"""Sample data that ships with the package, so the documentation's snippets run as written.
+
+Every file is made from a known model by ``scripts/make_sample_data.py`` (run it to remake
+them; the truth is recorded in ``sphere.json`` and in each file's header):
+
+``samples.csv``
+    BRDF samples of Oren–Nayar (full), ρ = 0.7, σ = 0.35 rad, at θi, θr ∈ {0°, 10°, …, 80°}
+    and Δφ ∈ {0°, 90°, 180°}, each multiplied by 1 + 0.01 N(0, 1) (seed 0); the format of
+    :func:`roughdiffuse.fit.read_csv`.
+``sphere.npy``, ``sphere_normals.npy``, ``sphere.json``
+    A 64 × 64 linear radiance image of a sphere of Oren–Nayar (full), ρ = 0.6, σ = 0.5 rad,
+    lit by a distant light at θ = 30°, φ = 0 (E0 = 1), one sample per pixel at its centre;
+    its normal map (zero vectors off the sphere); the light and the model in JSON.
+``oren-nayar.binary``
+    A MERL-format file (Matusik et al. 2003) tabulating Oren–Nayar (full), ρ = (0.6, 0.45,
+    0.3), σ = 0.3 rad. A MERL file is 33 MB and the reader takes only full files, so it is not
+    shipped: :func:`path` writes it on first use into :func:`cache_dir` (about 10 s) and
+    returns that path afterwards.
+
+Real measured BRDFs (the MERL database, "A data-driven reflectance model", Matusik, Pfister,
+Brand and McMillan, SIGGRAPH 2003) are not redistributed here: see the documentation's
+"Getting started" page for where they come from.
+
+>>> from roughdiffuse import data
+>>> data.names()
+['oren-nayar.binary', 'samples.csv', 'sphere.json', 'sphere.npy', 'sphere_normals.npy']
+>>> data.path("samples.csv").name
+'samples.csv'
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+__all__ = ["MERL_MODEL", "cache_dir", "names", "path"]
+
+_HERE = Path(__file__).resolve().parent
+_SHIPPED = ("samples.csv", "sphere.json", "sphere.npy", "sphere_normals.npy")
+_GENERATED = ("oren-nayar.binary",)
+
+MERL_MODEL = "OrenNayar(albedo=(0.6, 0.45, 0.3), sigma=0.3, variant='full')"
+"""The model ``oren-nayar.binary`` tabulates (its ``repr``)."""
+
+
+def names() -> list[str]:
+    """The names :func:`path` accepts, sorted."""
+    return sorted(_SHIPPED + _GENERATED)
+
+
+def cache_dir() -> Path:
+    """Where generated sample files go: ``$ROUGHDIFFUSE_DATA_DIR``, else
+    ``$XDG_CACHE_HOME/roughdiffuse/data`` (``~/.cache/roughdiffuse/data``)."""
+    env = os.environ.get("ROUGHDIFFUSE_DATA_DIR")
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "roughdiffuse" / "data"
+
+
+def _make_merl(target: Path) -> None:
+    from ..fit.merl import MERLBRDF, write_merl
+    from ..models import OrenNayar
+
+    model = OrenNayar(albedo=(0.6, 0.45, 0.3), sigma=0.3, variant="full")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    write_merl(target, MERLBRDF.from_model(model))  # atomic: temporary file, then rename
+
+
+def path(name: str) -> Path:
+    """The path of the sample file ``name`` (one of :func:`names`).
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a sample file, naming the accepted ones.
+    """
+    if name in _SHIPPED:
+        return _HERE / name
+    if name in _GENERATED:
+        target = cache_dir() / name
+        if not target.is_file():
+            _make_merl(target)
+        return target
+    raise ValueError(f"name must be one of {', '.join(names())} (got {name!r})")
