@@ -8,6 +8,7 @@ during the build. Nothing is downloaded: no intersphinx, no remote fonts, images
 from __future__ import annotations
 
 import os
+import re
 import sys
 import tomllib
 from pathlib import Path
@@ -116,11 +117,19 @@ html_copy_source = False
 mathjax_path = "no-mathjax.js"
 suppress_warnings = ["config.cache"]
 
-# Docstrings write |θa| and |Δf| for absolute values; reST would read them as substitutions.
-rst_prolog = """
-.. |θa| replace:: \\|θa\\|
-.. |Δf| replace:: \\|Δf\\|
-"""
+# Docstrings write |θa|, |wi + wo| and so on for absolute values and norms, as papers do;
+# reST would read them as substitution references. Escaped here, once, for every docstring
+# (doctest lines and inline literals are left as they are).
+_BARS = re.compile(r"(?<![\\\w`|])\|(?=[^\s|])([^|\n]*?[^\s|\\])\|(?![\w|])")
+
+
+def _escape_bars(app, what, name, obj, options, lines):  # noqa: ARG001 - Sphinx's signature
+    for i, line in enumerate(lines):
+        if line.lstrip().startswith((">>>", "...")):
+            continue
+        parts = line.split("``")  # odd parts are inline literals: left as they are
+        parts[::2] = [_BARS.sub(r"\\|\1\\|", p) for p in parts[::2]]
+        lines[i] = "``".join(parts)
 
 
 def _skip_aliases(app, what, name, obj, skip, options):  # noqa: ARG001 - Sphinx's signature
@@ -134,3 +143,4 @@ def _skip_aliases(app, what, name, obj, skip, options):  # noqa: ARG001 - Sphinx
 
 def setup(app):
     app.connect("autodoc-skip-member", _skip_aliases)
+    app.connect("autodoc-process-docstring", _escape_bars)

@@ -95,7 +95,8 @@ def test_eval_and_render_the_plugin(plugin_path, tmp_path):
     expected = 0.6 / math.pi * (math.cos(math.radians(60)) * math.cos(math.radians(30))) ** -0.2
     assert float(line.split(":")[1]) == pytest.approx(expected, rel=1e-5)
     # a parameter Minnaert does not take is a usage error
-    out = _run(plugin_path, "-m", "roughdiffuse", "eval", "--model", "minnaert-demo", "--sigma", "9")
+    args = ("-m", "roughdiffuse", "eval", "--model", "minnaert-demo", "--sigma", "9")
+    out = _run(plugin_path, *args)
     assert out.returncode == 2 and "has no parameter 'sigma'" in out.stderr
     img = tmp_path / "m.npy"
     args = ("--model", "minnaert-demo", "--param", "k=0.7", "--size", "24", "--spp", "1")

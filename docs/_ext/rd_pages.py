@@ -166,7 +166,7 @@ def _param_table(entry: Any) -> list[str]:
     return lines
 
 
-def _model_page(entry: Any, names: dict[str, str], speed: list[str]) -> str:
+def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str]) -> str:
     cls = entry.cls
     qual = f"{cls.__module__}.{cls.__qualname__}"
     fixed = ", ".join(f"{k}={v!r}" for k, v in entry.fixed.items())
@@ -204,27 +204,41 @@ def _model_page(entry: Any, names: dict[str, str], speed: list[str]) -> str:
         "On the command line: `--model " + entry.id
         + " --param NAME=VALUE` (angles in degrees there).",
         "",
-        "## A sphere",
-        "",
-        f"![{entry.label}: rendered sphere]({names['sphere']})",
-        "",
-        "## Plane of incidence",
-        "",
-        "Radiance against the signed viewing angle θr in the plane of incidence "
-        "(E0 = 1; {func}`roughdiffuse.plots.plot_plane_of_incidence`)"
-        + (f", for three values of `{pick.name}`." if pick else "."),
-        "",
-        f"![{entry.label}: plane of incidence]({names['plane']})",
-        "",
-        "## White furnace",
-        "",
-        "Directional albedo ∫ f cos θi dωi against the viewing angle "
-        "({func}`roughdiffuse.energy.plot_albedo`"
-        + (", albedo 1" if any(p.name == "albedo" for p in entry.parameters) else "")
-        + "): 1 means no energy lost or gained.",
-        "",
-        f"![{entry.label}: white furnace]({names['furnace']})",
-        "",
+    ]
+    if names is None:  # a Monte Carlo simulation: no images at build time
+        lines += [
+            "## Pictures",
+            "",
+            "This model is a Monte Carlo simulation on concrete values (it cannot be traced "
+            "by the renderer's `jax.jit`), so this page shows no rendered sphere or curves; "
+            "its values against the other surfaces are in {doc}`/accuracy`.",
+            "",
+        ]
+    else:
+        lines += [
+            "## A sphere",
+            "",
+            f"![{entry.label}: rendered sphere]({names['sphere']})",
+            "",
+            "## Plane of incidence",
+            "",
+            "Radiance against the signed viewing angle θr in the plane of incidence "
+            "(E0 = 1; {func}`roughdiffuse.plots.plot_plane_of_incidence`)"
+            + (f", for three values of `{pick.name}`." if pick else "."),
+            "",
+            f"![{entry.label}: plane of incidence]({names['plane']})",
+            "",
+            "## White furnace",
+            "",
+            "Directional albedo ∫ f cos θi dωi against the viewing angle "
+            "({func}`roughdiffuse.energy.plot_albedo`"
+            + (", albedo 1" if any(p.name == "albedo" for p in entry.parameters) else "")
+            + "): 1 means no energy lost or gained.",
+            "",
+            f"![{entry.label}: white furnace]({names['furnace']})",
+            "",
+        ]
+    lines += [
         "## Accuracy",
         "",
         "How the diffuse models compare with the exact V-cavity surface: {doc}`/accuracy`.",
@@ -269,7 +283,9 @@ def generate_models(docs: Path) -> list[str]:
             f"{generator}{entry.to_json()}{source}".encode()
         ).hexdigest()
         names = {k: f"{entry.id}-{k}.png" for k in ("sphere", "plane", "furnace")}
-        if cache.get(entry.id) != key or not all((folder / n).is_file() for n in names.values()):
+        if not entry.cls.traceable:
+            names = None
+        elif cache.get(entry.id) != key or not all((folder / n).is_file() for n in names.values()):
             names = _figures(entry, folder)
             cache[entry.id] = key
         _write(folder / f"{entry.id}.md", _model_page(entry, names, _speed_rows(entry, results)))

@@ -1,5 +1,5 @@
-"""Reading and writing files: the atomic writer (:mod:`.atomic`), images (:mod:`.images`) and
-meshes (:mod:`.mesh`).
+"""Reading and writing files: the atomic writer (:mod:`roughdiffuse.io.atomic`), images
+(:mod:`roughdiffuse.io.images`) and meshes (:mod:`roughdiffuse.io.mesh`).
 
 Every file roughdiffuse writes goes through :func:`atomic_write`: whole or not at all, with
 the mode the umask gives, and no temporary file left behind by an exception or a signal.

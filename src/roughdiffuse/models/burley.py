@@ -182,6 +182,8 @@ class Burley2015(Model):
     roughness : float
         Disney's roughness r in [0, 1].
 
+    Notes
+    -----
     Reciprocal. Expanding shows it is Burley 2012 rewritten, not a new model:
     (1 + (F_D90 − 1) F_L)(1 + (F_D90 − 1) F_V) with F_D90 = 1/2 + R_R is
     1 + (R_R − 1/2)(F_L + F_V) + (R_R − 1/2)² F_L F_V, which is the expression above; the

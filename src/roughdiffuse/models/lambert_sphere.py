@@ -156,6 +156,8 @@ class LambertSphere(Model):
     variant : {"full", "fast"}
         The paper's analytic fit or the symbolic-regression approximation.
 
+    Notes
+    -----
     Reciprocal (both variants are symmetric in wi and wo). Backscattering (wi near wo,
     u = −wi·wo near −1) brightens: the dusty look.
 
