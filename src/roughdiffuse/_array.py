@@ -13,7 +13,6 @@ import numbers
 from typing import Any
 
 import array_api_compat
-import array_api_compat.numpy  # noqa: F401 - the submodule is compared against below
 import numpy as np
 
 Array = Any
@@ -56,7 +55,7 @@ def is_jax(xp: Any) -> bool:
 
 def is_numpy(xp: Any) -> bool:
     """True when ``xp`` is NumPy's namespace (as :func:`namespace` returns it)."""
-    return xp is array_api_compat.numpy or xp is np
+    return xp is np or array_api_compat.is_numpy_namespace(xp)
 
 
 def is_tracer(x: object) -> bool:
@@ -139,7 +138,7 @@ def clip(xp: Any, x: Array, lo: float, hi: float) -> Array:
 
     NumPy gets ``np.clip`` (one pass instead of four; the same values, NaN stays NaN).
     """
-    if xp is array_api_compat.numpy:
+    if is_numpy(xp):
         return np.clip(x, lo, hi)
     return xp.where(x < lo, lo, xp.where(x > hi, hi, x))
 
@@ -149,14 +148,14 @@ def maximum(xp: Any, a: Array, b: Array | float) -> Array:
 
     NumPy gets ``np.fmax`` (one pass; like the ``where`` form it returns ``b`` for a NaN ``a``).
     """
-    if xp is array_api_compat.numpy:
+    if is_numpy(xp):
         return np.fmax(a, b)
     return xp.where(a >= b, a, b)
 
 
 def minimum(xp: Any, a: Array, b: Array | float) -> Array:
     """Elementwise minimum (NumPy: ``np.fmin``, see :func:`maximum`)."""
-    if xp is array_api_compat.numpy:
+    if is_numpy(xp):
         return np.fmin(a, b)
     return xp.where(a <= b, a, b)
 
