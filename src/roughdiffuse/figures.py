@@ -390,7 +390,7 @@ def _white_furnace() -> Any:
     for ax in fig.axes:  # Minnaert k < 1 and Lunar-Lambert diverge at grazing: clip
         ax.set_ylim(0.0, 1.6)
     fig.suptitle(
-        "10. White furnace, every model at ρ = 1: ∫ f cos θi dωi against θo "
+        "10. White furnace, every model at ρ = 1: ∫ f cos θi dωi against θr "
         "(1 = no energy lost or gained; clipped at 1.6)"
     )
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.98))
