@@ -23,7 +23,7 @@ import numpy as np
 
 from ..io.atomic import atomic_open
 
-__all__ = ["render_grooves", "write_groove_ply"]
+__all__ = ["render_grooves", "render_lambertian_mesh", "write_groove_ply"]
 
 HALF_GROOVES = 150
 
@@ -73,11 +73,46 @@ def render_grooves(
     """
     vx, vy, vz = (float(c) for c in wo)
     period = vz / math.hypot(vx, vz)  # one groove period along the screen's horizontal axis
-    scale_x = 0.5 * n_periods * period
-    origin = 50.0 * np.asarray(wo, dtype=float)
+    return render_lambertian_mesh(
+        mi,
+        ply,
+        albedo,
+        wi,
+        wo,
+        max_depth,
+        extent=(0.5 * n_periods * period, 3.0),
+        distance=50.0,
+        spp=spp,
+        res=res,
+        seed=seed,
+    )
+
+
+def render_lambertian_mesh(
+    mi: Any,
+    ply: str | os.PathLike,
+    albedo: float,
+    wi: np.ndarray,
+    wo: np.ndarray,
+    max_depth: int,
+    *,
+    extent: tuple[float, float],
+    distance: float,
+    spp: int,
+    res: int,
+    seed: int = 0,
+) -> np.ndarray:
+    """A Lambertian mesh (``ply``, face normals) under a directional light of irradiance 1
+    from ``wi``, seen from ``wo`` by an orthographic camera at ``distance`` whose film spans
+    ±``extent`` (x, y) around the origin; Mitsuba's ``path`` integrator with ``max_depth``.
+    The scene of the groove renders and of :mod:`roughdiffuse.simulate.heightfield`.
+
+    Returns the image's first channel, shape (res, res).
+    """
+    origin = distance * np.asarray(wo, dtype=float)
     to_world = mi.ScalarTransform4f().look_at(
         origin=origin.tolist(), target=[0.0, 0.0, 0.0], up=[0.0, 1.0, 0.0]
-    ) @ mi.ScalarTransform4f().scale([scale_x, 3.0, 1.0])
+    ) @ mi.ScalarTransform4f().scale([extent[0], extent[1], 1.0])
     scene = mi.load_dict(
         {
             "type": "scene",
@@ -99,7 +134,7 @@ def render_grooves(
                 "direction": (-np.asarray(wi, dtype=float)).tolist(),
                 "irradiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]},
             },
-            "grooves": {
+            "surface": {
                 "type": "ply",
                 "filename": str(ply),
                 "face_normals": True,

@@ -38,6 +38,7 @@ import numpy as np
 from .._validate import check_range
 from ..io.mesh import write_ply
 from .cavity import Bounces, check_bounces
+from .grooves import render_lambertian_mesh
 
 __all__ = [
     "HeightfieldSettings",
@@ -197,41 +198,19 @@ def render_heightfield(
     if abs(float(wo[1])) > 1e-12:
         raise ValueError("wo must lie in the x-z plane (wo[1] = 0)")
     cos_o = float(wo[2])
-    origin = (10.0 * length) * np.asarray(wo, dtype=float)
-    up = [0.0, 1.0, 0.0]
-    to_world = mi.ScalarTransform4f().look_at(
-        origin=origin.tolist(), target=[0.0, 0.0, 0.0], up=up
-    ) @ mi.ScalarTransform4f().scale([0.5 * length * cos_o, 0.5 * length, 1.0])
-    scene = mi.load_dict(
-        {
-            "type": "scene",
-            "integrator": {"type": "path", "max_depth": int(max_depth)},
-            "sensor": {
-                "type": "orthographic",
-                "to_world": to_world,
-                "film": {
-                    "type": "hdrfilm",
-                    "width": res,
-                    "height": res,
-                    "rfilter": {"type": "box"},
-                    "pixel_format": "rgb",
-                },
-                "sampler": {"type": "independent", "sample_count": spp},
-            },
-            "emitter": {
-                "type": "directional",
-                "direction": (-np.asarray(wi, dtype=float)).tolist(),
-                "irradiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]},
-            },
-            "surface": {
-                "type": "ply",
-                "filename": str(ply),
-                "face_normals": True,
-                "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": albedo}},
-            },
-        }
+    return render_lambertian_mesh(
+        mi,
+        ply,
+        albedo,
+        wi,
+        wo,
+        max_depth,
+        extent=(0.5 * length * cos_o, 0.5 * length),
+        distance=10.0 * length,
+        spp=spp,
+        res=res,
+        seed=seed,
     )
-    return np.array(mi.render(scene, seed=seed))[..., 0]
 
 
 def _depth(bounces: Bounces) -> int:
@@ -301,7 +280,15 @@ def heightfield_brdf(
                 ply = write_ply(Path(tmp) / f"hf{k}.ply", verts, faces)
                 for b in blist:
                     img = render_heightfield(
-                        mi, ply, length, albedo, wi, wo, _depth(b), res=s.res, spp=s.spp,
+                        mi,
+                        ply,
+                        length,
+                        albedo,
+                        wi,
+                        wo,
+                        _depth(b),
+                        res=s.res,
+                        spp=s.spp,
                         seed=seed * 1000 + k,
                     )
                     means[b].append(float(img.mean()) / math.cos(theta_i))
