@@ -433,13 +433,12 @@ def rough(
 
 
 def _upper_bound(model: Model, name: str) -> float:
-    """The parameter's declared upper bound (π/2 for an angle when none is declared)."""
-    for p in getattr(model, "params", ()) or ():
-        if getattr(p, "name", None) == name and getattr(p, "max", None) is not None:
-            hi = float(p.max)
-            if math.isfinite(hi):
-                return hi
-    return math.pi / 2 if name == "sigma" else 1.0
+    """Upper end of the parameter's fit box, as :mod:`roughdiffuse.fit` uses it
+    (:attr:`~roughdiffuse.models.declaration.Param.bounds`)."""
+    box = next((p.bounds for p in model.params if p.name == name), None)
+    if box is None:
+        raise ValueError(f"{type(model).__name__}.{name} has no bounded range to fit in")
+    return box[1]
 
 
 def _progress(total: int, show: bool) -> Any:
