@@ -41,9 +41,9 @@ def test_plot_and_table(tmp_path, capsys):
     assert col["Fujii (FON), r = 1"][0] == pytest.approx(1.0 / (1.0 + K1), abs=1e-6)
     s2 = math.radians(30.0) ** 2
     a = 1.0 - 0.5 * s2 / (s2 + 0.33)
-    assert col["Oren–Nayar (qualitative), σ = 30°"][0] == pytest.approx(a, abs=1e-5)
+    assert col["Oren–Nayar qualitative, σ = 30°"][0] == pytest.approx(a, abs=1e-5)
     # the qualitative model loses energy at high roughness, EON does not
-    assert col["Oren–Nayar (qualitative), σ = 30°"].max() < 0.99
+    assert col["Oren–Nayar qualitative, σ = 30°"].max() < 0.99
     assert "EON: albedo between 1.0000 and 1.0000" in capsys.readouterr().out
 
 
@@ -91,3 +91,24 @@ def test_existing_output_needs_force(tmp_path, capsys):
     assert "--force" in capsys.readouterr().err and out.read_bytes() == b"keep"
     assert main(["albedo", "--model", "lambert", "-o", str(out), "--force"]) == 0
     assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_any_registry_model_sweeps_its_declared_roughness(tmp_path):
+    """Registry ids beyond the first round's eight: the exact V-cavity surface at ρ = 1 keeps
+    all its energy (white furnace: 1 within the solver's 1e-4 tolerance, the accuracy
+    models/vcavity.py states for its table), and
+    Hammon's α sweep comes from --alpha."""
+    png, table = tmp_path / "a.png", tmp_path / "a.csv"
+    argv = ["albedo", "--model", "v-cavity,hammon", "--sigma", "30", "--alpha", "0.2,0.6"]
+    assert main([*argv, "-o", str(png), "--table", str(table)]) == 0
+    head, body = _table(table)
+    col = {name: body[:, i] for i, name in enumerate(head)}
+    assert {"Hammon (GGX diffuse), α = 0.2", "Hammon (GGX diffuse), α = 0.6"} <= set(col)
+    upto80 = col["theta_r_deg"] <= 80.0
+    np.testing.assert_allclose(col["V-cavity surface (exact), σ = 30°"][upto80], 1.0, atol=1e-4)
+
+
+def test_alpha_outside_a_models_range_is_refused(capsys):
+    assert main(["albedo", "--model", "hammon", "--alpha", "1.5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--alpha 1.5 for hammon" in err and "[0, 1]" in err and "\n" not in err

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import Any
 
 from . import UsageError
 from ._checks import finite_float
@@ -15,25 +16,23 @@ examples:
   roughdiffuse albedo -o albedo.png
   roughdiffuse albedo --model oren-nayar,eon --sigma 0,20,40,60 --roughness 0,0.5,1 \\
       -o albedo.svg --table albedo.csv
+  roughdiffuse albedo --model hammon,v-cavity --alpha 0.1,0.5 --sigma 10,30
   roughdiffuse albedo --variance
 
-σ (for oren-nayar, oren-nayar-full, torrance-sparrow) is in DEGREES; r (fujii, eon) is in
-[0, 1]; lunar-lambert is drawn for limb darkening L = 0, 0.5, 1. The white-furnace test
-uses albedo ρ = 1 (change it with --albedo).
+Any model of `roughdiffuse models` is accepted. Each panel sweeps the model's roughness:
+σ (a parameter named sigma, e.g. oren-nayar, torrance-sparrow, v-cavity) in DEGREES from
+--sigma; r (named roughness: fujii, eon, burley) in [0, 1] from --roughness; α (named alpha:
+hammon, chan, smith-diffuse-*) from --alpha. Models with none of these are drawn once, at
+their defaults. The white-furnace test uses albedo ρ = 1 (change it with --albedo).
 """
 
-FAMILIES = {
-    "lambert": "Lambert",
-    "oren-nayar": "Oren–Nayar (qualitative)",
-    "oren-nayar-full": "Oren–Nayar (full)",
-    "fujii": "Fujii (FON)",
-    "eon": "EON",
-    "torrance-sparrow": "Torrance–Sparrow (η = 1.5)",
-    "lommel-seeliger": "Lommel–Seeliger",
-    "lunar-lambert": "Lunar–Lambert",
+#: The roughness parameter a panel sweeps: declared name -> (option, unit shown, in degrees)
+SWEEPS = {
+    "sigma": ("sigma", "σ", True),
+    "roughness": ("roughness", "r", False),
+    "alpha": ("alpha", "α", False),
 }
-USES_SIGMA = ("oren-nayar", "oren-nayar-full", "torrance-sparrow")
-USES_R = ("fujii", "eon")
+DEFAULT_MODELS = "oren-nayar,oren-nayar-full,fujii,eon"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,9 +47,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--model",
-        default="oren-nayar,oren-nayar-full,fujii,eon",
-        help=f"comma-separated names from: {', '.join(FAMILIES)} "
-        "(default: oren-nayar,oren-nayar-full,fujii,eon)",
+        default=DEFAULT_MODELS,
+        help="comma-separated model ids, any of `roughdiffuse models` "
+        f"(default: {DEFAULT_MODELS})",
     )
     p.add_argument(
         "--sigma",
@@ -62,7 +61,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--roughness",
         type=float_list,
         default=[0.0, 0.25, 0.5, 0.75, 1.0],
-        help="Fujii/EON roughness r in [0, 1], comma-separated (default: 0,0.25,0.5,0.75,1)",
+        help="roughness r in [0, 1] of fujii, eon, burley…, comma-separated "
+        "(default: 0,0.25,0.5,0.75,1)",
+    )
+    p.add_argument(
+        "--alpha",
+        type=float_list,
+        default=[0.1, 0.3, 0.5, 0.8],
+        help="roughness α of hammon, chan, smith-diffuse-…, comma-separated, within each "
+        "model's declared range (default: 0.1,0.3,0.5,0.8)",
     )
     p.add_argument(
         "--albedo", type=finite_float, default=1.0, help="albedo ρ in [0, 1] (default: 1)"
@@ -78,53 +85,52 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+def _sweep(entry: Any, args: argparse.Namespace) -> tuple[str, str, list[Any]] | None:
+    """The declared roughness parameter of ``entry`` that a panel sweeps: its name, the
+    symbol for the curve labels and the values (``None`` when the model has none)."""
+    names = {p.name for p in entry.parameters}
+    for name, (option, symbol, degrees) in SWEEPS.items():
+        if name in names:
+            values = getattr(args, option)
+            return name, symbol, [(v, math.radians(v) if degrees else v) for v in values]
+    return None
+
+
 def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
-    from ..models import (
-        EON,
-        Fujii,
-        Lambert,
-        LommelSeeliger,
-        LunarLambert,
-        OrenNayar,
-        TorranceSparrow,
-    )
+    from .. import registry
 
     names = [n.strip() for n in args.model.split(",") if n.strip()]
     if not names:
         raise UsageError("--model must name at least one model")
     for n in names:
-        if n not in FAMILIES:
-            raise UsageError(f"unknown model {n!r}; choose from: {', '.join(FAMILIES)}")
+        if n not in registry.ids():
+            raise UsageError(f"unknown model {n!r}; choose from: {', '.join(registry.ids())}")
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
-    for r in args.roughness:
-        if not 0.0 <= r <= 1.0:
-            raise UsageError(f"--roughness must be in [0, 1] (got {r:g})")
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     rho = args.albedo
     groups: dict[str, dict[str, object]] = {}
     for n in names:
-        if n == "lambert":
-            curves = {f"ρ = {rho:g}": Lambert(rho)}
-        elif n == "lommel-seeliger":
-            curves = {f"ρ = {rho:g}": LommelSeeliger(rho)}
-        elif n == "lunar-lambert":
-            curves = {f"L = {x:g}": LunarLambert(rho, x) for x in (0.0, 0.5, 1.0)}
-        elif n in USES_SIGMA:
-            curves = {}
-            for s in args.sigma:
-                sig = math.radians(s)
-                if n == "torrance-sparrow":
-                    curves[f"σ = {s:g}°"] = TorranceSparrow(1.5, sig)
-                else:
-                    variant = "full" if n == "oren-nayar-full" else "qualitative"
-                    curves[f"σ = {s:g}°"] = OrenNayar(rho, sig, variant)
-        else:
-            cls = EON if n == "eon" else Fujii
-            curves = {f"r = {r:g}": cls(rho, r) for r in args.roughness}
-        groups[FAMILIES[n]] = curves
+        entry = registry.get(n)
+        base = {"albedo": rho} if "albedo" in {p.name for p in entry.parameters} else {}
+        sweep = _sweep(entry, args)
+        if sweep is None:
+            groups[entry.label] = {f"ρ = {rho:g}": entry.create(**base)}
+            continue
+        name, symbol, values = sweep
+        param = entry.param(name)
+        curves = {}
+        for shown, value in values:
+            try:
+                param.check(value)
+            except ValueError as exc:
+                option = SWEEPS[name][0]
+                raise UsageError(f"--{option} {shown:g} for {n}: {exc}") from None
+            unit = "°" if SWEEPS[name][2] else ""
+            curves[f"{symbol} = {shown:g}{unit}"] = entry.create(**base, **{name: value})
+        groups[entry.label] = curves
     return groups
 
 
@@ -170,13 +176,15 @@ def run(args: argparse.Namespace) -> int:
 def plot_kind(args: argparse.Namespace, out: Path) -> int:
     """``roughdiffuse plot albedo``: the white-furnace plot for ``plot``'s --model and --sigma.
 
-    ρ = 1; Fujii and EON get r = 0, 0.25, 0.5, 0.75, 1 (``plot`` has a single --roughness);
-    ``roughdiffuse albedo`` takes lists of both and writes tables.
+    ρ = 1; models with a roughness r get r = 0, 0.25, 0.5, 0.75, 1 and those with α get
+    α = 0.1, 0.3, 0.5, 0.8 (``plot`` has a single --roughness); ``roughdiffuse albedo`` takes
+    lists of each and writes tables.
     """
     forwarded = argparse.Namespace(
         model=args.model,
         sigma=list(args.sigma),
         roughness=[0.0, 0.25, 0.5, 0.75, 1.0],
+        alpha=[0.1, 0.3, 0.5, 0.8],
         albedo=1.0,
         output=str(out),
         table=None,
