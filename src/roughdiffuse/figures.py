@@ -2,8 +2,8 @@
 
 Each figure is a function that returns a matplotlib Figure and the caption shown in the
 index; the renders use :func:`roughdiffuse.render.render` and the models' own code.
-The figures reproduce the pictures and claims of the lecture in
-``seed/lecture-diffuse-reflection-rough-surfaces.md`` (Oren and Nayar, SIGGRAPH 1994).
+The figures reproduce the pictures and claims of the lecture on diffuse reflection from
+rough surfaces (Oren and Nayar, SIGGRAPH 1994), retold in the site's docs/lecture/ pages.
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ Cross-section (x along a = (cos φa, sin φa, 0), y = z, width w = 1): facet "+"
   facet is the segment s ∈ [0, g_l] with g_l = min(1, 2 cos θa (n·l) / (n_f·l)) where
   n_f·l > 0, else 0; the visible part likewise with v.
 * One bounce, closed form: L1 / E0 = Σ_f ρ/π (n_f·l) min(g_l, g_v) ℓ (n_f·v) / (n·v),
-  ℓ = 1 / (2 cos θa) the facet length (DESIGN.md, "The V-cavity microsurface").
+  ℓ = 1 / (2 cos θa) the facet length (Oren & Nayar 1994, Sec. 3).
 * Interreflection: radiosity between the two facets, K elements each, exact element-to-element
   view factors from Hottel's crossed-strings rule (Modest, *Radiative Heat Transfer*, §4.8).
   The direct term stays exact (closed form above); only the interreflected radiosity is
@@ -376,8 +376,8 @@ def cavity_radiance(
 ) -> Array:
     """Radiance of one V-cavity seen from ``wo``, lit from ``wi``, per unit irradiance E0.
 
-    L = Σ_f ∫_visible L_f(x) (n_f·v) dx / (w (n·v)) (DESIGN.md, "The V-cavity microsurface";
-    Oren & Nayar 1994, Sec. 4). Divide by cos θi for the cavity's BRDF.
+    L = Σ_f ∫_visible L_f(x) (n_f·v) dx / (w (n·v)) (Oren & Nayar 1994, Sec. 4).
+    Divide by cos θi for the cavity's BRDF.
 
     Array-API code: NumPy, JAX and PyTorch arrays give a float64 result of their own kind
     (JAX computes in float64 whether or not ``jax_enable_x64`` is set). One bounce runs under

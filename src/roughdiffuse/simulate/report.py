@@ -4,7 +4,7 @@
 that produced them), ``DIR/*.png`` (plane-of-incidence curves, error maps) and the
 ground-truth tables it computed (``DIR/tables/*.npz``, reused when the report is run again).
 
-Comparisons (DESIGN.md, "The V-cavity microsurface"):
+Comparisons (Oren & Nayar 1994, Secs. 3–4; docs/accuracy.md):
 
 * Oren–Nayar L1 (the full model's direct term) and the qualitative model against one bounce;
   L1 + L2 (the full model) against two bounces and against all bounces; Lambert against all.

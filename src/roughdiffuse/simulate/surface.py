@@ -4,7 +4,8 @@ Oren and Nayar (SIGGRAPH 1994, Sec. 4, "slope-area distribution") average the ra
 V-cavities over a Gaussian distribution of the facet slope θa of standard deviation σ, isotropic
 in the orientation φa. The surface BRDF is that average radiance divided by E0 cos θi.
 
-Two readings of the measure (DESIGN.md, "The V-cavity microsurface"), selectable by name:
+Two readings of Oren & Nayar's (1994, Sec. 3) slope measure, selectable by name
+(docs/accuracy.md, finding 1):
 
 * ``"angle"``: P(θa) dθa ∝ exp(−θa²/2σ²) dθa, a density in the slope angle, as in the
   lecture's 1-D Gaussian of the slope (a half-normal in |θa|);
