@@ -168,6 +168,7 @@ def _accuracy_lines(entry: Any, scores: dict[str, Any]) -> list[str]:
         ]
     settings = scores.get("settings", {})
     sig = settings.get("sigmas", {})
+    published = any(r["mapping"] == "published" for rows in per_truth.values() for r in rows)
     pick = next((r for rows in per_truth.values() for r in rows if r["value"] is not None), None)
     pname = next((p.name for p in entry.parameters if pick is not None and p.name != "albedo"
                   and p.choices is None), None)
@@ -183,22 +184,30 @@ def _accuracy_lines(entry: Any, scores: dict[str, Any]) -> list[str]:
         + ", ".join(f"α = {a} → σ = {v:.3f}" for a, v in sig.items())
         + "); the Smith surfaces are Monte Carlo, with errors below about "
         f"{100 * settings.get('largest_relative_stderr', 0):.0f} % at the noise level. "
-        + (f"`{pname}` is fitted per row (best RMS; 'published' uses the truth's own σ or α)."
-           if pname else "The model has no roughness parameter: it is scored as it is."),
+        + (f"`{pname}` is fitted per row (least RMS); the 'published' columns use the "
+           "truth's own σ or α instead." if pname else
+           "The model has no roughness parameter: it is scored as it is."),
         "",
-        "| truth | α | facet ρ | mapping | "
-        + (f"`{pname}` | " if pname else "")
-        + "RMS | max |",
-        "| --- | --- | --- | --- | " + ("--- | " if pname else "") + "--- | --- |",
+        "| truth | α | facet ρ | "
+        + (f"`{pname}` (best fit) | " if pname else "")
+        + "RMS | max |"
+        + (" published σ or α: RMS | its max |" if published else ""),
+        "| --- | --- | --- | " + ("--- | " if pname else "") + "--- | --- |"
+        + (" --- | --- |" if published else ""),
     ]
     for truth, rows in per_truth.items():
+        pub = {(r["alpha"], r["rho"]): r for r in rows if r["mapping"] == "published"}
         for r in rows:
-            value = "" if r["value"] is None else f"{r['value']:.3f} | "
-            lines.append(
-                f"| {truth} | {r['alpha']:g} | {r['rho']:g} | {r['mapping']} | "
-                + (value if pname else "")
-                + f"{r['rms']:.3f} | {r['max']:.2f} |"
-            )
+            if r["mapping"] == "published":
+                continue
+            cells = [truth, f"{r['alpha']:g}", f"{r['rho']:g}"]
+            if pname:
+                cells.append(f"{r['value']:.3f}")
+            cells += [f"{r['rms']:.3f}", f"{r['max']:.2f}"]
+            if published:
+                p = pub.get((r["alpha"], r["rho"]))
+                cells += [f"{p['rms']:.3f}", f"{p['max']:.2f}"] if p else ["–", "–"]
+            lines.append("| " + " | ".join(cells) + " |")
     lines += ["", "The whole report, with every model side by side: {doc}`/accuracy/index`."]
     return lines
 
