@@ -8,7 +8,7 @@ by Mitsuba's path tracer. The rough sphere keeps its limb bright, as the full mo
 
 ``rdmi.register()`` makes every formula model of the registry a Mitsuba BSDF named
 ``roughdiffuse_<id>`` (see the developer page on Mitsuba). The render is small (96 × 64 pixels,
-16 samples per pixel) so that the site builds quickly. Mitsuba is an optional dependency
+64 samples per pixel) so that the site builds quickly. Mitsuba is an optional dependency
 (extra ``mitsuba``): without it this example says so and draws nothing.
 """
 
@@ -43,9 +43,9 @@ else:
             "type": "orthographic",
             "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 10], target=[0, 0, 0],
                                                        up=[0, 1, 0])
-            @ mi.ScalarTransform4f().scale([2.25, 1.5, 1.0]),
+            @ mi.ScalarTransform4f().scale([2.25, 2.25, 1.0]),  # x in ±2.25, y in ±1.5
             "film": {"type": "hdrfilm", "width": 96, "height": 64, "pixel_format": "rgb"},
-            "sampler": {"type": "independent", "sample_count": 16},
+            "sampler": {"type": "independent", "sample_count": 64},
         },
         "sun": {"type": "directional", "direction": [-0.17, 0.0, -0.98], "irradiance": 3.0},
     }
