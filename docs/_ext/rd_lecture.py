@@ -119,7 +119,7 @@ def v_cavity() -> Figure:
     ax.axis("off")
     ax.set_xlim(-2.2 * w, 2.2 * w)
     ax.set_ylim(-1.3, 1.0)
-    ax.legend(fontsize="x-small", loc="upper left")
+    ax.legend(fontsize="x-small", loc="center right")
 
     ax = fig.add_subplot(1, 2, 2)
     sigma, rho, deg = 0.3, 0.9, 60.0
