@@ -266,7 +266,7 @@ def generate(docs: Path) -> list[Path]:
         done = {}
     out = []
     for name, draw in FIGURES.items():
-        path = folder / f"{name}.png"
+        path = folder / f"lecture-{name}.png"  # unique among the site's images
         out.append(path)
         if done.get(name) == key and path.is_file():
             continue
