@@ -23,9 +23,11 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
 sys.path.insert(0, str(DOCS / "_ext"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+import rd_lecture  # noqa: E402
 import rd_pages  # noqa: E402
 
 rd_pages.generate(DOCS)
+rd_lecture.generate(DOCS)
 
 project = "roughdiffuse"
 author = "roughdiffuse developers"

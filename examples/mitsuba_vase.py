@@ -6,7 +6,7 @@ right of the viewer, an orthographic camera, a grey Lambertian floor and the ``p
 integrator with interreflections (max_depth 4). The rough vase is flatter: its limb stays
 bright instead of darkening as cos θi, as the lecture explains.
 
-Usage (llvm variants need libLLVM >= 15, see the README's "Mitsuba 3" section)::
+Usage (llvm variants need libLLVM >= 15, see docs/developer/mitsuba.md)::
 
     python examples/mitsuba_vase.py [--variant llvm_ad_rgb] [--spp 128] [-o mitsuba_vase.png]
 """

@@ -64,6 +64,37 @@ def test_site_has_the_generated_pages(site: Path) -> None:
     )  # the gallery ran and drew
 
 
+def test_lecture_pages_have_their_figures(site: Path) -> None:
+    """Every lecture page shows figures drawn at build time (docs/_ext/rd_lecture.py)."""
+    import re
+
+    pages = sorted((site / "lecture").glob("*.html"))
+    names = {p.stem for p in pages}
+    assert {"lambert", "full-moon", "v-cavities", "oren-nayar", "vase", "torrance-sparrow",
+            "mixes"} <= names, names
+    for page in pages:
+        if page.stem == "index":
+            continue
+        images = re.findall(r'<img[^>]+src="([^"]+\.png)"', page.read_text(encoding="utf-8"))
+        assert images, f"{page.name} has no figure"
+        for src in images:
+            assert (page.parent / src).resolve().is_file(), f"{page.name}: {src}"
+
+
+def test_model_pages_show_the_accuracy_report_numbers(site: Path) -> None:
+    """The full Oren–Nayar page quotes its row of the committed scoreboard (the published-σ
+    RMS error against the V-cavity surface at α = 0.5, ρ = 0.9: 0.048 in
+    docs/accuracy/index.md, "Against the V-cavity surface")."""
+    import json
+
+    scores = json.loads((ROOT / "docs" / "accuracy" / "model_scores.json").read_text("utf-8"))
+    row = next(r for r in scores["models"]["oren-nayar-full"]["V-cavity"]
+               if r["alpha"] == 0.5 and r["rho"] == 0.9 and r["mapping"] == "published")
+    assert f"{row['rms']:.3f}" == "0.048"  # the JSON agrees with the committed Markdown table
+    text = (site / "models" / "oren-nayar-full.html").read_text(encoding="utf-8")
+    assert "<td><p>0.048</p></td>" in text or ">0.048<" in text
+
+
 class _Links(html.parser.HTMLParser):
     def __init__(self) -> None:
         super().__init__()

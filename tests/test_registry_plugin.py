@@ -1,6 +1,7 @@
-"""A model from another package, as the README's "Adding a model" builds it, is first-class.
+"""A model from another package, as the developer page "Adding a model" builds it, is
+first-class.
 
-The package is built in a temporary folder from the README's own code blocks (its module and
+The package is built in a temporary folder from that page's own code blocks (its module and
 its ``pyproject.toml`` entry point) and made installed the way an installer would: the module
 and a ``.dist-info`` folder with ``entry_points.txt`` on the ``PYTHONPATH`` of a subprocess
 (nothing is installed into the shared environment). Then ``roughdiffuse models``,
@@ -26,9 +27,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _readme_blocks() -> dict[str, str]:
-    """The code blocks of the README's "Adding a model" section, by language."""
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = text.split("## Adding a model", 1)[1].split("\n## ", 1)[0]
+    """The code blocks of ``docs/developer/adding-a-model.md``, by language."""
+    section = (ROOT / "docs" / "developer" / "adding-a-model.md").read_text(encoding="utf-8")
     blocks: dict[str, str] = {}
     for lang, body in re.findall(r"```(\w+)\n(.*?)```", section, flags=re.S):
         blocks.setdefault(lang, body)

@@ -154,6 +154,16 @@ def test_report_quick(tmp_path):
     assert "White furnace" in text and "Which model for which surface" in text
     for png in ("plane_of_incidence.png", "error_maps.png"):
         assert (tmp_path / png).stat().st_size > 10_000
+    # the scoreboard as JSON (the site's model pages read it) holds the tables' numbers
+    import json
+
+    scores = json.loads((tmp_path / "model_scores.json").read_text())
+    rows = scores["models"]["oren-nayar-full"]["V-cavity"]
+    assert {r["mapping"] for r in rows} == {"best fit", "published"}
+    table = text.split("### Against the V-cavity surface", 1)[1].split("###", 1)[0]
+    line = next(x for x in table.splitlines() if x.startswith("| Oren–Nayar full | sigma: best"))
+    for r in (r for r in rows if r["mapping"] == "best fit"):
+        assert f"{r['rms']:.3f} (max {r['max']:.2f}) [{r['value']:.2f}]" in line
 
 
 def test_backends_agree_and_bad_backend(tmp_path):

@@ -146,6 +146,72 @@ def _speed_rows(entry: Any, results: list[dict[str, Any]]) -> list[str]:
     return rows
 
 
+def _scores(docs: Path) -> dict[str, Any]:
+    """The accuracy report's scoreboard as committed (``docs/accuracy/model_scores.json``,
+    written by ``roughdiffuse simulate --report``): the build reads it, never recomputes it."""
+    from roughdiffuse.simulate.report_models import SCORES_FILE
+
+    try:
+        return json.loads((docs / "accuracy" / SCORES_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+
+
+def _accuracy_lines(entry: Any, scores: dict[str, Any]) -> list[str]:
+    """This model's RMS and maximum relative errors against the three all-bounce truths."""
+    per_truth = scores.get("models", {}).get(entry.id)
+    if not per_truth:
+        return [
+            "This model is not in the accuracy report's scoreboard (it scores the diffuse "
+            "models that are formulas with at most one roughness parameter); how the models "
+            "compare with the exact V-cavity surface: {doc}`/accuracy`.",
+        ]
+    settings = scores.get("settings", {})
+    sig = settings.get("sigmas", {})
+    published = any(r["mapping"] == "published" for rows in per_truth.values() for r in rows)
+    pick = next((r for rows in per_truth.values() for r in rows if r["value"] is not None), None)
+    pname = next((p.name for p in entry.parameters if pick is not None and p.name != "albedo"
+                  and p.choices is None), None)
+    lines = [
+        "Relative error (model − truth) / truth against three exact surfaces, all bounces "
+        f"(RMS and maximum over {settings.get('geometries', '?')} geometries, θi, θr ∈ "
+        + ", ".join(f"{t:g}" for t in settings.get("theta_deg", []))
+        + "°, Δφ ∈ " + ", ".join(f"{t:g}" for t in settings.get("delta_phi_deg", []))
+        + "°), as measured by the accuracy report (`roughdiffuse simulate --report`, "
+        "{mod}`roughdiffuse.simulate.report_models`; numbers from "
+        "`docs/accuracy/model_scores.json`). The V-cavity surface has the σ of the same mean "
+        "square slope as the Beckmann surface of α ("
+        + ", ".join(f"α = {a} → σ = {v:.3f}" for a, v in sig.items())
+        + "); the Smith surfaces are Monte Carlo, with errors below about "
+        f"{100 * settings.get('largest_relative_stderr', 0):.0f} % at the noise level. "
+        + (f"`{pname}` is fitted per row (least RMS); the 'published' columns use the "
+           "truth's own σ or α instead." if pname else
+           "The model has no roughness parameter: it is scored as it is."),
+        "",
+        "| truth | α | facet ρ | "
+        + (f"`{pname}` (best fit) | " if pname else "")
+        + "RMS | max |"
+        + (" published σ or α: RMS | its max |" if published else ""),
+        "| --- | --- | --- | " + ("--- | " if pname else "") + "--- | --- |"
+        + (" --- | --- |" if published else ""),
+    ]
+    for truth, rows in per_truth.items():
+        pub = {(r["alpha"], r["rho"]): r for r in rows if r["mapping"] == "published"}
+        for r in rows:
+            if r["mapping"] == "published":
+                continue
+            cells = [truth, f"{r['alpha']:g}", f"{r['rho']:g}"]
+            if pname:
+                cells.append(f"{r['value']:.3f}")
+            cells += [f"{r['rms']:.3f}", f"{r['max']:.2f}"]
+            if published:
+                p = pub.get((r["alpha"], r["rho"]))
+                cells += [f"{p['rms']:.3f}", f"{p['max']:.2f}"] if p else ["–", "–"]
+            lines.append("| " + " | ".join(cells) + " |")
+    lines += ["", "The whole report, with every model side by side: {doc}`/accuracy/index`."]
+    return lines
+
+
 def _param_table(entry: Any) -> list[str]:
     from roughdiffuse.models.declaration import format_interval
 
@@ -166,7 +232,8 @@ def _param_table(entry: Any) -> list[str]:
     return lines
 
 
-def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str]) -> str:
+def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
+                accuracy: list[str]) -> str:
     cls = entry.cls
     qual = f"{cls.__module__}.{cls.__qualname__}"
     fixed = ", ".join(f"{k}={v!r}" for k, v in entry.fixed.items())
@@ -241,7 +308,7 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str]) -> s
     lines += [
         "## Accuracy",
         "",
-        "How the diffuse models compare with the exact V-cavity surface: {doc}`/accuracy`.",
+        *accuracy,
         "",
         "## Speed",
         "",
@@ -270,6 +337,7 @@ def generate_models(docs: Path) -> list[str]:
     folder = docs / "models"
     folder.mkdir(exist_ok=True)
     results = _speed(docs.parent)
+    scores = _scores(docs)
     ids = []
     cache_file = folder / ".cache.json"
     try:
@@ -288,7 +356,8 @@ def generate_models(docs: Path) -> list[str]:
         elif cache.get(entry.id) != key or not all((folder / n).is_file() for n in names.values()):
             names = _figures(entry, folder)
             cache[entry.id] = key
-        _write(folder / f"{entry.id}.md", _model_page(entry, names, _speed_rows(entry, results)))
+        _write(folder / f"{entry.id}.md", _model_page(entry, names, _speed_rows(entry, results),
+                                                       _accuracy_lines(entry, scores)))
         ids.append(entry.id)
     cache_file.write_text(json.dumps(cache, indent=1), encoding="utf-8")
     rows = ["| id | model | lobe | parameters | paper |", "| --- | --- | --- | --- | --- |"]

@@ -570,7 +570,7 @@ FIGURES: tuple[Figure, ...] = (
         "2 %, its fast variant creates up to 25 % at grazing; Burley (r = 1) and Hammon "
         "(α = 1) create energy at grazing angles, at r or α = 0 they lose it; Frostbite loses "
         "up to 30 %; Minnaert with k < 1 and Lunar-Lambert diverge at grazing; Hapke (w = 1) "
-        "with roughness loses 13–18 %. The README lists the numbers.",
+        "with roughness loses 13–18 %. docs/developer/energy-and-sampling.md lists the numbers.",
         _white_furnace,
     ),
     Figure(

@@ -5,7 +5,7 @@ An id (kebab-case, e.g. ``oren-nayar-full``) names a model class and the categor
 fixes; the class's own declaration (:class:`~roughdiffuse.models.declaration.Param` records in
 ``params``, ``ids``, ``labels``, ``lobe``, ``sampling``, ``reference``) says the rest.
 
-Models from other packages join in two ways (see the README's "Adding a model"):
+Models from other packages join in two ways (see docs/developer/adding-a-model.md):
 
 * an entry point in the group ``roughdiffuse.models`` naming the class, loaded the first time
   the registry is read::

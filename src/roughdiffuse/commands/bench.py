@@ -17,7 +17,8 @@ examples:
   roughdiffuse bench --sizes 20 --no-render --no-simulate --fit-size 400 --fit-repeat 2
 
 Writes RESULTS.md and results.json to --output-dir (default: the current directory); from a
-checkout, `python bench/run.py` writes bench/RESULTS.md (see the README's "Benchmarks").
+checkout, `python bench/run.py` writes bench/RESULTS.md (see
+docs/developer/speed-and-benchmarks.md).
 """
 
 

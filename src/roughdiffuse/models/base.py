@@ -79,7 +79,7 @@ class Model:
 
     A model declares itself once, in class attributes; validation, the pytree leaves, the
     command line, fits, ``roughdiffuse models`` and the explorer derive from them (see
-    :mod:`roughdiffuse.registry` and the README's "Adding a model").
+    :mod:`roughdiffuse.registry` and docs/developer/adding-a-model.md).
 
     Class attributes
     ----------------

@@ -114,7 +114,7 @@ class VCavity(Model):
     and towards grazing, where f has kinks that a cubic rounds).
 
     Grazing limit: the V-cavity f diverges like 1/cos θ where θi and θr are both grazing
-    (the radiance L = f E0 cos θi stays finite; README, "Ground truth"). Here θi and θr are
+    (the radiance L = f E0 cos θi stays finite; docs/developer/ground-truth.md). Here θi and θr are
     clamped to :data:`THETA_CAP` = 89° before the table is read, so f is finite everywhere
     and, beyond 89°, equals its value at 89°.
 

@@ -254,7 +254,7 @@ def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
     return (
         smith_check_lines(quick)
         + heightfield_lines(out, quick, progress)
-        + model_score_lines(quick, progress)
+        + model_score_lines(quick, progress, out)
     )
 
 

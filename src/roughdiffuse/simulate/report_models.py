@@ -18,7 +18,9 @@ a roughness parameter are scored as they are.
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 from scipy import optimize
@@ -28,7 +30,10 @@ from .report_smith import matching_sigma
 from .surface import Settings
 from .surface import brdf as cavity_brdf
 
-__all__ = ["model_score_lines"]
+__all__ = ["SCORES_FILE", "model_score_lines"]
+
+SCORES_FILE = "model_scores.json"
+"""The scoreboard as data, written beside the report (the model pages of the site read it)."""
 
 ALPHAS = (0.2, 0.5, 1.0)
 ALBEDOS = (0.5, 0.9)
@@ -112,8 +117,13 @@ def _best(entry, param, rho, cosines, truth, quick=False):
     return x, *_rms_and_max(entry, param, x, rho, cosines, truth)
 
 
-def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
-    """The scoreboard section: tables per truth, and which model for which surface."""
+def model_score_lines(quick: bool, progress: bool = True, out: Path | None = None) -> list[str]:
+    """The scoreboard section: tables per truth, and which model for which surface.
+
+    With ``out``, the same numbers are also written to ``out / SCORES_FILE`` as JSON:
+    ``{"settings": {...}, "models": {id: {truth: [{"alpha", "rho", "mapping", "value",
+    "rms", "max"}, ...]}}}`` (``value`` is the roughness used, ``None`` without one).
+    """
     ti, tr, dp = _grid(quick)
     cosines = (
         np.cos(ti),
@@ -142,6 +152,7 @@ def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
         "",
     ]
     summary: dict[str, dict[str, list[float]]] = {t: {} for t in TRUTHS}
+    data: dict[str, dict[str, list[dict]]] = {}
     for truth in TRUTHS:
         lines += [
             f"### Against the {truth} surface",
@@ -156,12 +167,17 @@ def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
             for a in alphas:
                 for rho in ALBEDOS:
                     values = truths[truth, a, rho][0]
+                    rows = data.setdefault(entry.id, {}).setdefault(truth, [])
                     if param is None:
                         rms, mx = _rms_and_max(entry, None, None, rho, cosines, values)
                         cells.append(f"{rms:.3f} (max {mx:.2f})")
+                        x, how = None, "none"
                     else:
                         x, rms, mx = _best(entry, param, rho, cosines, values, quick)
                         cells.append(f"{rms:.3f} (max {mx:.2f}) [{x:.2f}]")
+                        how = "best fit"
+                    rows.append({"alpha": a, "rho": rho, "mapping": how, "value": x,
+                                 "rms": rms, "max": mx})
                     rms_all.append(rms)
                     pname = PUBLISHED.get((entry.id, truth))
                     if pname is not None and param is not None and param.name == pname:
@@ -169,6 +185,8 @@ def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
                         value = min(value, float(param.max))
                         prms, pmx = _rms_and_max(entry, param, value, rho, cosines, values)
                         pub_cells.append(f"{prms:.3f} (max {pmx:.2f})")
+                        rows.append({"alpha": a, "rho": rho, "mapping": "published",
+                                     "value": value, "rms": prms, "max": pmx})
             summary[truth][entry.label] = rms_all
             mapping = "none" if param is None else f"{param.name}: best fit"
             lines.append(f"| {entry.label} | {mapping} | " + " | ".join(cells) + " |")
@@ -190,4 +208,20 @@ def model_score_lines(quick: bool, progress: bool = True) -> list[str]:
         ranked = sorted(summary[truth].items(), key=lambda kv: float(np.mean(kv[1])))
         best = ", ".join(f"{name} {np.mean(v):.3f}" for name, v in ranked[:4])
         lines.append(f"* **{truth}**: {best}.")
+    if out is not None:
+        from ..io.atomic import write_text
+
+        settings = {
+            "albedos": list(ALBEDOS),
+            "alphas": list(alphas),
+            "sigmas": {f"{a:g}": matching_sigma(a) for a in alphas},
+            "theta_deg": [round(math.degrees(x), 6) for x in np.unique(ti)],
+            "delta_phi_deg": [round(math.degrees(x), 6) for x in np.unique(dp)],
+            "geometries": n,
+            "smith_samples": samples,
+            "largest_relative_stderr": rel_se,
+            "quick": quick,
+        }
+        payload = {"settings": settings, "models": data}
+        write_text(Path(out) / SCORES_FILE, json.dumps(payload, indent=1) + "\n")
     return lines
