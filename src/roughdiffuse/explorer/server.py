@@ -69,6 +69,7 @@ __all__ = [
     "MAX_THREADS",
     "UPLOADS_AT_ONCE",
     "UPLOAD_SECONDS",
+    "UPLOAD_SLOTS",
     "STATIC_DIR",
     "ExplorerHandler",
     "ExplorerServer",
@@ -91,7 +92,8 @@ UPLOAD_SECONDS = 120.0
 JSON_BODY_BYTES = 10_000
 """Largest JSON body of ``/api/fit`` and ``/api/rank``."""
 
-_UPLOADS = threading.BoundedSemaphore(UPLOADS_AT_ONCE)
+UPLOAD_SLOTS = threading.BoundedSemaphore(UPLOADS_AT_ONCE)
+"""Taken while an upload is read and parsed."""
 
 STATIC_DIR = Path(__file__).resolve().parent / "static"
 """The page's files (shipped as package data)."""
@@ -253,7 +255,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         n = self._length(limits[kind], f"{name} ({what})")
         if n is None:
             return
-        if not _UPLOADS.acquire(blocking=False):
+        if not UPLOAD_SLOTS.acquire(blocking=False):
             self._error(HTTPStatus.SERVICE_UNAVAILABLE, "other uploads are being read; try again")
             return
         try:
@@ -267,7 +269,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
                 return
             del body
         finally:
-            _UPLOADS.release()
+            UPLOAD_SLOTS.release()
         self._json(HTTPStatus.OK, ds.summary())
 
     def _fit(self, path: str) -> None:
