@@ -140,8 +140,13 @@ def _merl_bytes(merl_file) -> bytes:
         ("format", 400, "format must be 'merl' or 'csv'"),
     ],
 )
-def test_malformed_uploads_are_refused_with_a_message(explorer_url, merl_file, case, status,
-                                                      message):  # noqa: F811
+def test_malformed_uploads_are_refused_with_a_message(
+    explorer_url,  # noqa: F811 - fixture
+    merl_file,
+    case,
+    status,
+    message,
+):
     blob = bytearray(_merl_bytes(merl_file))
     fmt = "merl"
     if case == "short":
@@ -257,8 +262,10 @@ def test_merl_through_the_page_is_fitted(browser, explorer_url, merl_file):  # n
         assert "MERL BRDF" in p.locator("#data-status").inner_text()
         # θi selector: stepping it moves the light to the data's angle
         p.locator("#data-theta-i").fill("40")
-        p.wait_for_function("() => document.getElementById('light-readout').textContent"
-                            ".startsWith('light θ = 40.0°')")
+        p.wait_for_function(
+            "() => document.getElementById('light-readout').textContent"
+            ".startsWith('light θ = 40.0°')"
+        )
         p.wait_for_function("() => Number(document.body.dataset.csvPoints) > 150")
         p.click("#fit-run")
         p.wait_for_function("() => document.body.dataset.fit === 'done'", timeout=120_000)
@@ -271,9 +278,7 @@ def test_merl_through_the_page_is_fitted(browser, explorer_url, merl_file):  # n
         table = p.locator("#fit-table").inner_text()
         assert "sigma" in table and "20.054°" in table, table
         assert "RMS residual" in p.locator("#fit-status").inner_text()
-        order = p.evaluate(
-            "() => window.rdData.rank(['lambert', 'oren-nayar', 'oren-nayar-full'])"
-        )
+        order = p.evaluate("() => window.rdData.rank(['lambert', 'oren-nayar', 'oren-nayar-full'])")
         assert order[0] == "oren-nayar-full"
         assert p.locator("#rank-table tr[data-model]").first.get_attribute("data-model") == (
             "oren-nayar-full"
@@ -294,8 +299,13 @@ def test_bad_files_on_the_page_give_a_message(browser, explorer_url):  # noqa: F
         with p.expect_response(lambda r: "/api/data" in r.url) as resp:
             p.set_input_files(
                 "#data-file",
-                files=[{"name": "short.binary", "mimeType": "application/octet-stream",
-                        "buffer": b"\x5a\x00\x00\x00" * 3 + b"\x00" * 5000}],
+                files=[
+                    {
+                        "name": "short.binary",
+                        "mimeType": "application/octet-stream",
+                        "buffer": b"\x5a\x00\x00\x00" * 3 + b"\x00" * 5000,
+                    }
+                ],
             )
         assert resp.value.status == 400
         p.wait_for_function("() => document.body.dataset.dataLoaded === 'error'")
@@ -307,11 +317,17 @@ def test_bad_files_on_the_page_give_a_message(browser, explorer_url):  # noqa: F
 
         p.set_input_files(
             "#data-file",
-            files=[{"name": "big.binary", "mimeType": "application/octet-stream",
-                    "buffer": b"\x00" * (MAX_MERL_BYTES + 1)}],
+            files=[
+                {
+                    "name": "big.binary",
+                    "mimeType": "application/octet-stream",
+                    "buffer": b"\x00" * (MAX_MERL_BYTES + 1),
+                }
+            ],
         )
-        p.wait_for_function("() => document.getElementById('data-status').textContent"
-                            ".includes('too large')")
+        p.wait_for_function(
+            "() => document.getElementById('data-status').textContent.includes('too large')"
+        )
         # the browser itself logs the refused request ("status of 400"); nothing else
         assert all("status of 400" in e for e in log.errors), log.errors
     finally:
