@@ -362,3 +362,20 @@ def test_concurrent_requests_do_not_break_the_server(explorer_url, merl_dataset)
     assert 200 in codes
     code, _ = request(explorer_url, "GET", "/api/info.json")
     assert code == 200
+
+
+def test_csv_upload_fit_recovers_the_shipped_samples(explorer_url):  # noqa: F811
+    """The shipped samples.csv (Oren–Nayar full, ρ = 0.7, σ = 0.35 rad, 1 % noise, see
+    roughdiffuse.data): the fit lands within 4 standard errors of the truth."""
+    from roughdiffuse import data
+
+    text = data.path("samples.csv").read_bytes()
+    code, ds = request(explorer_url, "POST", "/api/data?format=csv&name=samples.csv", text)
+    assert code == 200, ds
+    assert ds["kind"] == "csv" and ds["theta_i"] == [float(t) for t in range(0, 90, 10)]
+    code, r = post_json(explorer_url, "/api/fit", {"dataset": ds["id"], "model": "oren-nayar-full"})
+    assert code == 200, r
+    got = dict(zip(r["names"], zip(r["values"], r["errors"], strict=True), strict=True))
+    for name, truth in (("albedo", 0.7), ("sigma", 0.35)):
+        value, err = got[name]
+        assert 0 < err < 0.05 and abs(value - truth) < 4 * err, (name, value, err)

@@ -63,7 +63,7 @@ export function channelValue(f, k) {
 
 /** How the plots describe the slice and the channel. */
 export function sliceLabel() {
-  const where = selection.dphi === 0 ? "in the plane of incidence" : `in the slice Δφ = ${selection.dphi}° (θr < 0: ${selection.dphi + 180}°)`;
+  const where = selection.dphi === 0 ? "in the plane of incidence" : `at Δφ = ${selection.dphi}° / ${selection.dphi + 180}°`;
   const ch = selection.channel === "mean" ? "mean of RGB" : ["red", "green", "blue"][selection.channel];
   return { where, channel: ch };
 }

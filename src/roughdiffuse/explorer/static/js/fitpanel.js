@@ -14,8 +14,8 @@ const DEG = Math.PI / 180;
 let hooks = null;
 let generation = 0; // a new dataset or a new ranking makes older answers stale
 
-function setStatus(text, isError = false) {
-  const el = $("fit-status");
+function setStatus(text, isError = false, id = "fit-status") {
+  const el = $(id);
   el.textContent = text;
   el.classList.toggle("error", isError);
 }
@@ -115,13 +115,13 @@ export async function rank(models = null) {
   };
   for (const [k, id] of ids.entries()) {
     if (gen !== generation) return null;
-    setStatus(`ranking by BIC: fitting ${id} (${k + 1} of ${ids.length})…`);
+    setStatus(`ranking by BIC: fitting ${id} (${k + 1} of ${ids.length})…`, false, "rank-status");
     let r;
     try {
       r = await post("api/rank", { dataset: dataset.id, models: [id] });
     } catch (err) {
       if (gen === generation) {
-        setStatus(`ranking stopped at ${id}: ${err.message}`, true);
+        setStatus(`ranking stopped at ${id}: ${err.message}`, true, "rank-status");
         document.body.dataset.rank = "error";
       }
       return null;
@@ -130,7 +130,7 @@ export async function rank(models = null) {
     done.push(r.ranking[0]);
     show();
   }
-  setStatus(`${done.length} models ranked by BIC on ${dataset.fit_samples} samples; best: ${done[0].model}.`);
+  setStatus(`${done.length} models ranked by BIC on ${dataset.fit_samples} samples; best: ${done[0].model}.`, false, "rank-status");
   document.body.dataset.rank = "done";
   return done.map((r) => r.model);
 }
@@ -141,7 +141,7 @@ export function setupFit(h) {
   window.rdData = { ...(window.rdData ?? {}), fitA, rank };
   const report = (err) => setStatus(String(err.message || err), true);
   $("fit-run").addEventListener("click", () => fitA().catch(report));
-  $("fit-rank").addEventListener("click", () => rank().catch(report));
+  $("fit-rank").addEventListener("click", () => rank().catch((err) => setStatus(String(err.message || err), true, "rank-status")));
   onDataset((ds) => {
     generation++;
     $("fit-panel").hidden = !ds;
@@ -149,6 +149,7 @@ export function setupFit(h) {
     $("fit-run").disabled = $("fit-rank").disabled = !ok;
     $("fit-table").innerHTML = "";
     $("rank-table").innerHTML = "";
+    setStatus("", false, "rank-status");
     setStatus(ok ? `fits use ${ds.fit_samples} of the ${ds.total} samples.` : ds ? "this dataset could not be sent to the server: no fits" : "");
   });
 }
