@@ -173,7 +173,17 @@ class UploadError extends Error {
   }
 }
 
+/** A file was not loaded: say why, and drop the previous dataset (its points would mislead). */
 function failed(file, message) {
+  if (dataset) {
+    dataset = null;
+    slice = null;
+    $("data-controls").hidden = true;
+    $("plot-scatter").hidden = true;
+    document.body.dataset.csvScatter = "0";
+    for (const fn of listeners) fn(null);
+    hooks.refresh();
+  }
   setStatus(`${file.name || "file"}: ${message.replace(new RegExp(`^${escapeRe(file.name || "")}: `), "")} The file was not loaded.`, true);
   document.body.dataset.dataLoaded = "error";
 }
