@@ -41,6 +41,7 @@ import numpy as np
 from .._validate import check_range
 from ..quadrature import gauss_legendre
 from .cavity import Bounces, check_bounces
+from .smith_formulas import numpy_formulas
 from .smith_slopes import (
     check_distribution,
     sample_visible_normals,
@@ -68,6 +69,7 @@ MAX_ORDER = 512
 """A walk is cut after this many scattering events (its remaining energy is below 1e-12
 for every α ≤ ALPHA_MAX: measured escape probability per event ≥ 0.2 at ρ = 1)."""
 
+_F = numpy_formulas()
 _BATCH = 1 << 17
 _V_MAX = 8.6
 """Beckmann quadrature cut-off in tan θm / α: the projected area beyond is exp(−8.6²) < 1e-32."""
@@ -201,20 +203,10 @@ def _single(ti, tr, dp, alpha, dist, n_theta, n_phi) -> np.ndarray:
 
 
 def _cosine_about(m: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Cosine-distributed directions about unit normals ``m`` (N, 3), m_z > 0.
-
-    Orthonormal basis of Duff et al. 2017 ("Building an orthonormal basis, revisited",
-    JCGT 6(1), Listing 3) for n_z ≥ 0.
-    """
+    """Cosine-distributed directions about unit normals ``m`` (N, 3), m_z > 0
+    (:mod:`.smith_formulas`' ``cosine_about``)."""
     u = rng.random((2, m.shape[0]))
-    r, phi = np.sqrt(u[0]), 2.0 * math.pi * u[1]
-    x, y, z = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u[0], 0.0))
-    nx, ny, nz = m[:, 0], m[:, 1], m[:, 2]
-    a = -1.0 / (1.0 + nz)
-    b = nx * ny * a
-    t = np.stack([1.0 + nx * nx * a, b, -nx], axis=1)
-    bt = np.stack([b, 1.0 + ny * ny * a, -ny], axis=1)
-    return x[:, None] * t + y[:, None] * bt + z[:, None] * m
+    return np.stack(_F.cosine_about(m[:, 0], m[:, 1], m[:, 2], u[0], u[1]), axis=1)
 
 
 @dataclass(frozen=True)
@@ -278,18 +270,15 @@ def _walk(
         lam = smith_lambda(dist, wr[:, 2], alpha)
         e = rng.random(idx.size)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            escape = (wr[:, 2] > 0.0) & (e > 1.0 - u**lam)
-            u_new = u * (1.0 - e) ** (-1.0 / lam)
-        u_new = np.where(np.isfinite(u_new), u_new, u)  # Λ = ±∞ (horizontal): same height
+            escape, u_new = _F.height_step(u, lam, wr[:, 2], e)
         stay = ~escape
-        idx, wr, u = idx[stay], wr[stay], np.minimum(u_new[stay], 1.0)
+        idx, wr, u = idx[stay], wr[stay], u_new[stay]
         if idx.size == 0:
             break
         m = sample_visible_normals(dist, -wr, alpha, rng)
         wo_k = wo[idx]
-        score = np.maximum(np.einsum("ij,ij->i", wo_k, m), 0.0) / math.pi
         with np.errstate(under="ignore"):
-            score = score * u ** lam_o[idx] * weight[idx]
+            score = _F.next_event(*wo_k.T, *m.T, u, lam_o[idx]) * weight[idx]
         total[:, idx] += rho**k * score
         if k <= orders:
             g = group[idx]
