@@ -124,15 +124,19 @@ def build(p: Any) -> SimpleNamespace:
         1/2); 0 ≤ x̃ < μ from the envelope μ e^{−x̃²} (mass μ (√π/2) erf μ), accepted with
         probability (μ − x̃)/μ.
         """
+        erf_mu = erf(mu)
         neg_mass = mu * (_SQRT_PI / 2) + 0.5
-        pos_mass = mu * (_SQRT_PI / 2) * erf(mu)
+        pos_mass = mu * (_SQRT_PI / 2) * erf_mu
         left = u0 * (neg_mass + pos_mass) < neg_mass
         gauss = u1 * neg_mass < mu * (_SQRT_PI / 2)
-        half = abs(erfinv(minimum(maximum(2.0 * u2 - 1.0, -1.0 + 1e-16), 1.0 - 1e-16)))
-        xl = -where(gauss, half, sqrt(-log1p(-u2)))
-        xr = erfinv(u1 * erf(mu))
-        keep_r = u2 * mu < mu - xr
-        return where(left, xl, where(keep_r, xr, math.nan))
+        # one erfinv serves the part chosen: |erfinv(2 u2 − 1)| is the half-Gaussian,
+        # erfinv(u1 erf μ) the Gaussian truncated to [0, μ)
+        inv = erfinv(
+            where(left, minimum(maximum(2.0 * u2 - 1.0, -1.0 + 1e-16), 1.0 - 1e-16), u1 * erf_mu)
+        )
+        xl = -where(gauss, abs(inv), sqrt(-log1p(-u2)))
+        keep_r = u2 * mu < mu - inv
+        return where(left, xl, where(keep_r, inv, math.nan))
 
     @jit
     def slope_proposal_neg(mu, v0, v1, v2):
