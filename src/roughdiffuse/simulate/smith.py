@@ -285,22 +285,22 @@ def _walk(
     total = np.zeros((len(albedos), n))
     idx = np.arange(n)
     wr = -wi
-    u = np.ones(n)
+    h = np.zeros(n)  # ln u, u = C1(height) (module docstring)
     segments = 0
     for k in range(1, bounces + 1):
         segments += idx.size
         lam = smith_lambda(dist, wr[:, 2], alpha)
         e = rng.random(idx.size)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            escape, u_new = _F.height_step(u, lam, wr[:, 2], e)
+            escape, h_new = _F.height_step(h, lam, wr[:, 2], e)
         stay = ~escape
-        idx, wr, u = idx[stay], wr[stay], u_new[stay]
+        idx, wr, h = idx[stay], wr[stay], h_new[stay]
         if idx.size == 0:
             break
         m = sample_visible_normals(dist, -wr, alpha, rng)
         wo_k = wo[idx]
         with np.errstate(under="ignore"):
-            score = _F.next_event(*wo_k.T, *m.T, u, lam_o[idx]) * weight[idx]
+            score = _F.next_event(*wo_k.T, *m.T, h, lam_o[idx]) * weight[idx]
         total[:, idx] += rho**k * score
         if k <= orders:
             g = group[idx]

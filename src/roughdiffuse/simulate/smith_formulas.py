@@ -27,7 +27,7 @@ Formulas (per direction ω = (x, y, z), roughness α, isotropic slopes):
 * ``cosine_about``: a cosine-distributed direction about a normal, in the orthonormal basis of
   Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1), Listing 3);
 * ``height_step``, ``next_event``: one step of the height-space walk and its next-event
-  estimate (Heitz et al. 2016, Sec. 4, eq. 7 inverted; heights as u = C1(h)).
+  estimate (Heitz et al. 2016, Sec. 4, eq. 7 inverted; heights as ln u, u = C1(height)).
 """
 
 from __future__ import annotations
@@ -176,21 +176,25 @@ def build(p: Any) -> SimpleNamespace:
         )
 
     @jit
-    def height_step(u, lam, wz, e):
-        """A ray leaving height u in direction ω (Λ(ω) = ``lam``): (escapes, next height).
+    def height_step(h, lam, wz, e):
+        """A ray leaving log-height h = ln u ≤ 0 in direction ω (Λ(ω) = ``lam``):
+        (escapes, next log-height).
 
-        It escapes with probability G1 = u^Λ (upward only, ``e`` uniform) and otherwise meets
-        the surface at u' = u (1 − e)^(−1/Λ) (Heitz et al. 2016, eq. 7 inverted), ≤ 1; at
-        Λ = ±∞ (a horizontal ray) it stays at u.
+        It escapes with probability G1 = u^Λ = e^{Λh} (upward only, ``e`` uniform) and
+        otherwise meets the surface at u' = u (1 − e)^(−1/Λ) (Heitz et al. 2016, eq. 7
+        inverted), h' = h − ln(1 − e)/Λ ≤ 0; at Λ = ±∞ (a horizontal ray) it stays at h.
+        Carrying ln u costs one exp and one log1p per step where u costs two powers.
         """
-        escape = (wz > 0.0) & (e > 1.0 - u**lam)
-        u_new = u * (1.0 - e) ** (-1.0 / lam)
-        return escape, minimum(where(isfinite(u_new), u_new, u), 1.0)
+        escape = (wz > 0.0) & (e > 1.0 - exp(lam * h))
+        h_new = h - log1p(-e) / lam
+        return escape, minimum(where(isfinite(h_new), h_new, h), 0.0)
 
     @jit
-    def next_event(ox, oy, oz, mx, my, mz, u, lam_o):
-        """f cos θo scored at a facet of normal m at height u: ⟨ωo, m⟩⁺/π · u^Λ(ωo)."""
-        return maximum(ox * mx + oy * my + oz * mz, 0.0) / math.pi * u**lam_o
+    def next_event(ox, oy, oz, mx, my, mz, h, lam_o):
+        """f cos θo scored at a facet of normal m at log-height h: ⟨ωo, m⟩⁺/π · e^{Λ(ωo) h}
+        (u^Λ(ωo); 1 at the top, h = 0, also for a grazing ωo, Λ = ∞)."""
+        g1 = exp(where(h < 0.0, lam_o * h, 0.0))
+        return maximum(ox * mx + oy * my + oz * mz, 0.0) / math.pi * g1
 
     return SimpleNamespace(
         lambda_upper=lambda_upper,

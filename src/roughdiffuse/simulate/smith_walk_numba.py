@@ -132,14 +132,14 @@ def _walk_blocks(
                 wgt = weight[g]
             lam_o = _smith_lambda(ggx, oz, alpha)
             rx, ry, rz = -wi[g, 0], -wi[g, 1], -wi[g, 2]
-            u = 1.0
+            h = 0.0  # ln u, u = C1(height)
             for a in range(n_a):
                 tot[a] = 0.0
                 pw[a] = 1.0
             for k in range(1, depth + 1):
                 nseg += 1
                 lam = _smith_lambda(ggx, rz, alpha)
-                escape, u = _height_step(u, lam, rz, uniform(key, c))
+                escape, h = _height_step(h, lam, rz, uniform(key, c))
                 c += 1
                 if escape:
                     break
@@ -162,7 +162,7 @@ def _walk_blocks(
                                 break
                         tx = x
                     mx, my, mz = _beckmann_normal(alpha, cphi, sphi, tx, ty)
-                score = _next_event(ox, oy, oz, mx, my, mz, u, lam_o) * wgt
+                score = _next_event(ox, oy, oz, mx, my, mz, h, lam_o) * wgt
                 for a in range(n_a):
                     pw[a] *= rho[a]
                     tot[a] += pw[a] * score
