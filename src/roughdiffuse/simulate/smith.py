@@ -25,7 +25,10 @@ The surface: microfacets of albedo ρ that reflect like Lambert's law, heights u
   drawn from the visible normals of −ω and the new direction from its cosine lobe. At every
   event the next-event estimate ⟨ωo, ωm⟩⁺/π · u^Λ(ωo) (times ρ^k at order k) scores
   f cos θo. The walk runs with ρ = 1 and weights the order k by ρ^k, so one walk gives every
-  albedo and every bounce count.
+  albedo and every bounce count. Two engines trace it: the compiled walk
+  (:mod:`.smith_walk_numba`, Numba threads, a counter-based generator; the default when Numba
+  is installed) and this module's NumPy walk (the reference), both made of the formulas of
+  :mod:`.smith_formulas`.
 
 Heights uncorrelated: a real surface (a Gaussian heightfield, :mod:`.heightfield`) has
 correlated heights; how close Smith comes to one is measured in docs/accuracy.md.
