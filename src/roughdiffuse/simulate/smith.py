@@ -424,7 +424,6 @@ def _run_compiled(
 
     from . import smith_walk_numba as k
 
-    kernel = k.walk_blocks()
     n_groups = wi.shape[0]
     per_group = -(-samples // k.BLOCK)
     n_blocks = n_groups * per_group
@@ -453,7 +452,7 @@ def _run_compiled(
             s1, s2 = np.zeros((count, a_n)), np.zeros((count, a_n))
             o1, o2 = np.zeros((count, orders)), np.zeros((count, orders))
             seg = np.zeros(count, dtype=np.int64)
-            kernel(
+            k.run_blocks(
                 *arrays, bool(uniform_wo), samples, first, count, alpha, dist == "ggx", rho,
                 bounces, orders, seed, s1, s2, o1, o2, seg,
             )

@@ -38,9 +38,10 @@ from .._numba_math import erfcx, erfinv
 from .._numba_random import path_key, uniform
 from .smith_formulas import build
 
-__all__ = ["BLOCK", "walk_blocks"]
+__all__ = ["BLOCK", "run_blocks", "walk_blocks"]
 
 _LOCK = threading.Lock()
+_CALL_LOCK = threading.Lock()
 _KERNEL: Any = None
 
 BLOCK = 1024
@@ -198,10 +199,11 @@ def walk_blocks() -> Any:
         if _KERNEL is None:
             from ..fastpath import private_cache_dir
 
-            jit = numba.njit(parallel=True, error_model="numpy", cache=True)
+            flags = dict(parallel=True, nogil=True, error_model="numpy")
+            jit = numba.njit(cache=True, **flags)
             directory = private_cache_dir()
             if directory is None:
-                _KERNEL = numba.njit(parallel=True, error_model="numpy")(_walk_blocks)
+                _KERNEL = numba.njit(**flags)(_walk_blocks)
             else:
                 old = numba.config.CACHE_DIR
                 numba.config.CACHE_DIR = str(directory / f"smith_walk_{_sources_digest()}")
@@ -210,3 +212,12 @@ def walk_blocks() -> Any:
                 finally:
                     numba.config.CACHE_DIR = old
         return _KERNEL
+
+
+def run_blocks(*args: Any) -> None:
+    """Call the kernel (arguments of :func:`_walk_blocks`), one call at a time in the process:
+    a call already uses every thread it is given, and not every Numba threading layer accepts
+    parallel kernels launched from two Python threads at once."""
+    kernel = walk_blocks()
+    with _CALL_LOCK:
+        kernel(*args)
