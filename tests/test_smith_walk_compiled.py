@@ -93,8 +93,9 @@ def test_compiled_walk_agrees_with_numpy_walk(dist, alpha, ti, tr, dp):
                          (c.orders, r.orders, c.orders_stderr, r.orders_stderr)):
         assert np.all(sx > 0) and np.all(sy > 0)
         assert np.all(np.abs(x - y) < Z * np.hypot(sx, sy)), (x, y, sx, sy)
-    # both trace the same walk: the mean number of segments per path agrees too (a path of
-    # k events has k + 1 segments, about 2 to 4 per path here)
+    # both trace the same walk: the mean number of segments per path agrees too (about 2 to 4
+    # per path here, standard deviation at most about the mean: over 60,000 paths each the
+    # relative s.e. of the ratio is below 0.6 %, so 3 % is more than 5 s.e.)
     assert c.segments / r.segments == pytest.approx(1.0, abs=0.03)
 
 
