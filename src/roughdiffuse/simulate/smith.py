@@ -430,6 +430,7 @@ def _run_compiled(
     step = max(1, (1 << 18) // k.BLOCK)
     rho = np.asarray(albedos, dtype=np.float64)
     a_n = rho.size
+    key = np.uint64(seed % (1 << 64))  # the generator's key is 64 bits
     sums = {
         "sum1": np.zeros((a_n, n_groups)),
         "sum2": np.zeros((a_n, n_groups)),
@@ -454,7 +455,7 @@ def _run_compiled(
             seg = np.zeros(count, dtype=np.int64)
             k.run_blocks(
                 *arrays, bool(uniform_wo), samples, first, count, alpha, dist == "ggx", rho,
-                bounces, orders, seed, s1, s2, o1, o2, seg,
+                bounces, orders, key, s1, s2, o1, o2, seg,
             )
             group = np.arange(first, first + count) // per_group
             for key, part in (("sum1", s1), ("sum2", s2), ("order1", o1), ("order2", o2)):
@@ -520,7 +521,8 @@ def random_walk(
     samples : int
         Paths per geometry (≥ 2); the standard error falls as 1/√samples.
     seed : int
-        Seed of the random numbers: the same arguments (and engine) give the same numbers.
+        Seed of the random numbers: the same arguments (and engine) give the same numbers
+        (the compiled engine uses it modulo 2^64).
     max_order : int
         Orders reported one by one in ``WalkResult.orders``.
     progress : bool
