@@ -6,6 +6,7 @@ Every Monte Carlo comparison uses a fixed seed and the tolerance |x − ref| < 4
 
 from __future__ import annotations
 
+import importlib.util
 import math
 
 import numpy as np
@@ -16,14 +17,25 @@ from roughdiffuse.simulate.smith_slopes import sample_visible_normals, smith_lam
 
 Z = 4.5
 DISTS = ("beckmann", "ggx")
+ENGINES = (
+    "numpy",
+    pytest.param(
+        "compiled",
+        marks=pytest.mark.skipif(
+            importlib.util.find_spec("numba") is None, reason="the compiled walk needs Numba"
+        ),
+    ),
+)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
 @pytest.mark.parametrize("alpha", [0.3, 1.0])
-def test_white_furnace(dist, alpha):
+def test_white_furnace(dist, alpha, engine):
     """ρ = 1, all bounces: every path leaves eventually, so the directional albedo is 1."""
     theta = np.radians([0.0, 60.0, 85.0])
-    a, se = smith.directional_albedo(theta, alpha, 1.0, "all", dist, samples=20_000, seed=5)
+    a, se = smith.directional_albedo(theta, alpha, 1.0, "all", dist, samples=20_000, seed=5,
+                                     engine=engine)
     assert np.all(se > 0) and np.all(se < 0.01)
     assert np.all(np.abs(a - 1.0) < Z * se), (a, se)
 
@@ -35,36 +47,42 @@ def test_albedo_below_one_loses_energy(dist):
     assert 0.25 + Z * se < a < 0.5 - Z * se
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
-def test_reciprocity(dist):
+def test_reciprocity(dist, engine):
     ti, tr, dp = np.radians([20.0, 70.0, 45.0]), np.radians([65.0, 10.0, 80.0]), 0.7
-    kw = dict(alpha=0.7, albedo=0.9, distribution=dist, samples=20_000, return_stderr=True)
+    kw = dict(alpha=0.7, albedo=0.9, distribution=dist, samples=20_000, return_stderr=True,
+              engine=engine)
     f, se = smith.brdf(ti, tr, dp, seed=1, **kw)
     g, sg = smith.brdf(tr, ti, dp, seed=2, **kw)
     assert np.all(np.abs(f - g) < Z * np.hypot(se, sg)), (f, g, se, sg)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
-def test_smooth_limit_is_lambert(dist):
+def test_smooth_limit_is_lambert(dist, engine):
     """α → 0: the flat Lambertian plane, ρ/π, for one bounce and for all of them."""
     ti, tr, dp = np.radians([0.0, 40.0, 80.0]), np.radians([30.0, 75.0, 60.0]), 2.0
     rho = 0.5
     one = smith.single_scattering(ti, tr, dp, 1e-4, rho, dist)
     assert np.allclose(one * math.pi / rho, 1.0, atol=1e-4)
-    f, se = smith.brdf(ti, tr, dp, 1e-3, rho, "all", dist, samples=5_000, return_stderr=True)
+    f, se = smith.brdf(ti, tr, dp, 1e-3, rho, "all", dist, samples=5_000, return_stderr=True,
+                       engine=engine)
     # the O(α²) change of a smooth surface is below 1e-3 here
     assert np.all(np.abs(f * math.pi / rho - 1.0) < Z * se * math.pi / rho + 1e-3)
     assert float(smith.brdf(0.3, 0.2, 0.1, 0.0, rho, "all", dist)) == rho / math.pi
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
-def test_walk_single_scattering_equals_quadrature(dist):
+def test_walk_single_scattering_equals_quadrature(dist, engine):
     rng = np.random.default_rng(4)
     ti, tr = rng.uniform(0.0, 1.5, 6), rng.uniform(0.0, 1.5, 6)
     dp = rng.uniform(0.0, 2 * math.pi, 6)
     for alpha in (0.25, 0.9):
         q = smith.single_scattering(ti, tr, dp, alpha, 1.0, dist)
-        r = smith.random_walk(ti, tr, dp, alpha, 1.0, 1, dist, samples=30_000, seed=9)
+        r = smith.random_walk(ti, tr, dp, alpha, 1.0, 1, dist, samples=30_000, seed=9,
+                              engine=engine)
         assert np.all(np.abs(r.values[0] - q) < Z * r.stderr[0]), (alpha, q, r.values[0])
 
 
@@ -145,21 +163,24 @@ def test_visible_normals_and_lambda_below_the_horizon(dist):
         assert abs(np.mean(x) - num / norm) < Z * se, (theta, np.mean(x), num / norm)
 
 
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
-def test_orders_non_negative_and_additive(dist):
+def test_orders_non_negative_and_additive(dist, engine):
     ti, tr, dp = np.radians([30.0, 75.0]), np.radians([60.0, 80.0]), np.radians([0.0, 180.0])
     r = smith.random_walk(ti, tr, dp, 0.8, (1.0, 0.5), 3, dist, samples=10_000, seed=3,
-                          max_order=3)
+                          max_order=3, engine=engine)
     assert np.all(r.orders >= 0) and np.all(r.orders[1] > 0)
     for a, rho in enumerate(r.albedos):
         s = sum(rho**k * r.orders[k - 1] for k in (1, 2, 3))
         assert np.allclose(r.values[a], s, rtol=1e-12)
-    more = smith.random_walk(ti, tr, dp, 0.8, 1.0, "all", dist, samples=10_000, seed=3)
+    more = smith.random_walk(ti, tr, dp, 0.8, 1.0, "all", dist, samples=10_000, seed=3,
+                             engine=engine)
     assert np.all(more.values[0] >= r.values[0])  # the same paths, more orders scored
 
 
-def test_seeded_and_reproducible():
-    kw = dict(alpha=0.5, albedo=0.7, samples=2_000)
+@pytest.mark.parametrize("engine", ENGINES)
+def test_seeded_and_reproducible(engine):
+    kw = dict(alpha=0.5, albedo=0.7, samples=2_000, engine=engine)
     a = smith.brdf([0.2, 0.9], 0.4, 1.0, seed=11, **kw)
     b = smith.brdf([0.2, 0.9], 0.4, 1.0, seed=11, **kw)
     c = smith.brdf([0.2, 0.9], 0.4, 1.0, seed=12, **kw)
@@ -192,9 +213,11 @@ def test_bad_angles():
 
 
 def test_workers_do_not_change_the_numbers(monkeypatch):
-    """Each batch of paths has its own spawned generator: 1 or 2 threads, same values."""
+    """NumPy walk: each batch of paths has its own spawned generator: 1 or 2 threads, same
+    values (the compiled walk: tests/test_smith_walk_compiled.py)."""
     monkeypatch.setattr(smith, "_BATCH", 2048)  # several batches from few paths
-    kw = dict(alpha=0.6, albedo=0.8, bounces="all", distribution="ggx", samples=3_000, seed=3)
+    kw = dict(alpha=0.6, albedo=0.8, bounces="all", distribution="ggx", samples=3_000, seed=3,
+              engine="numpy")
     a = smith.random_walk([0.2, 1.0], 0.5, 1.0, workers=1, **kw)
     b = smith.random_walk([0.2, 1.0], 0.5, 1.0, workers=2, **kw)
     assert np.array_equal(a.values, b.values) and np.array_equal(a.stderr, b.stderr)

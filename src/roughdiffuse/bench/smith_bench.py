@@ -3,14 +3,16 @@
 A segment is one ray from a height to the next intersection or out of the surface (the work
 unit of Heitz et al. 2016's walk: one height sample, one visible-normal sample, one next-event
 estimate and one cosine-lobe direction). Measured, all bounces at ρ = 1 (the longest walks),
-48 random geometries, for Beckmann and GGX at α = 0.3 and 1.0:
+48 random geometries, for Beckmann and GGX at α = 0.3 and 1.0, the two engines interleaved
+run by run in the same process:
 
-* one worker (NumPy's element-wise loops use one core);
-* two workers (``random_walk(..., workers=2)``: threads tracing batches at once, NumPy
-  releases the GIL in its loops; the values are the same as with one);
-* the reference, measured in the same run and interleaved with the walks: NumPy's default
-  generator drawing the same number of uniform doubles as there were segments, so the
-  ratio says what a segment costs in units of one random draw on this machine.
+* the compiled walk (``engine="compiled"``, Numba) on 1 and on 2 threads (``workers``);
+* the NumPy reference walk (``engine="numpy"``) with 1 and 2 workers (threads tracing
+  batches at once; NumPy releases the GIL in its loops).
+
+Besides wall-clock rates it records the process's CPU time (all threads): on a shared machine
+the segments per CPU-second are the steadier number, and CPU time / 2 is about what an idle
+2-core machine would take. The ratios compiled / NumPy compare runs of the same moment.
 
 Usage::
 
@@ -51,48 +53,43 @@ def _geometries(n: int):
     return rng.uniform(0, 1.4, n), rng.uniform(0, 1.4, n), rng.uniform(0, 2 * math.pi, n)
 
 
-def walk(dist: str, alpha: float, paths: int, seed: int, workers: int = 1) -> tuple[int, float]:
-    """(segments, seconds) of one all-bounce walk with ``paths`` paths per geometry."""
+VARIANTS = (("compiled", 1), ("compiled", 2), ("numpy", 1), ("numpy", 2))
+
+
+def walk(
+    dist: str, alpha: float, paths: int, seed: int, engine: str, workers: int
+) -> tuple[int, float, float]:
+    """(segments, wall seconds, CPU seconds) of one all-bounce walk, ``paths`` per geometry."""
     from roughdiffuse.simulate.smith import random_walk
 
     ti, tr, dp = _geometries(GEOMETRIES)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     r = random_walk(
-        ti, tr, dp, alpha, 1.0, "all", dist, samples=paths, seed=seed, workers=workers
+        ti, tr, dp, alpha, 1.0, "all", dist, samples=paths, seed=seed, workers=workers,
+        engine=engine,
     )
-    return r.segments, time.perf_counter() - t0
-
-
-def draws(count: int) -> float:
-    """Seconds to draw ``count`` uniform doubles (NumPy default generator, 2^17 at a time)."""
-    rng = np.random.default_rng(1)
-    t0 = time.perf_counter()
-    left = count
-    while left > 0:
-        rng.random(min(left, 1 << 17))
-        left -= 1 << 17
-    return time.perf_counter() - t0
+    return r.segments, time.perf_counter() - t0, time.process_time() - c0
 
 
 def run(paths: int, repeat: int) -> list[dict]:
     rows = []
     for dist, alpha in CASES:
-        one, two, ref = [], [], []
-        walk(dist, alpha, max(paths // 8, 16), 0)  # warm-up
+        wall: dict = {v: [] for v in VARIANTS}
+        cpu: dict = {v: [] for v in VARIANTS}
+        for engine, workers in VARIANTS:  # warm-up (and the compiled kernel's load)
+            walk(dist, alpha, max(paths // 16, 16), 0, engine, workers)
         for r in range(repeat):
-            seg, t = walk(dist, alpha, paths, r)
-            one.append(seg / t / 1e6)
-            seg2, t2 = walk(dist, alpha, paths, r, workers=2)
-            two.append(seg2 / t2 / 1e6)
-            ref.append(seg / draws(seg) / 1e6)
+            order = VARIANTS[r % len(VARIANTS) :] + VARIANTS[: r % len(VARIANTS)]
+            for engine, workers in order:
+                seg, t, c = walk(dist, alpha, paths, r, engine, workers)
+                wall[(engine, workers)].append(seg / t / 1e6)
+                cpu[(engine, workers)].append(seg / c / 1e6)
         rows.append(
             {
                 "case": f"{dist}, α = {alpha:g}",
-                "segments": seg,
                 "segments_per_path": seg / (paths * GEOMETRIES),
-                "one": summary(one),
-                "two": summary(two),
-                "draws": summary(ref),
+                "wall": {v: summary(x) for v, x in wall.items()},
+                "cpu": {v: summary(x) for v, x in cpu.items()},
             }
         )
     return rows
@@ -103,29 +100,51 @@ def _fmt(s: dict) -> str:
 
 
 def markdown(rows: list[dict], paths: int) -> str:
+    import numba
+
     cpu = platform.processor() or platform.machine()
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines = [
         BEGIN,
         "## Smith random walk",
         "",
         f"`python -m roughdiffuse.bench.smith_bench` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, "
-        f"{os.cpu_count()} cores ({cpu}), NumPy {np.__version__}: "
+        f"{os.cpu_count()} cores ({cpu}, load average {load:.1f} at the end: shared), "
+        f"NumPy {np.__version__}, Numba {numba.__version__}: "
         "`roughdiffuse.simulate.smith.random_walk`, "
         f"all bounces at ρ = 1, {GEOMETRIES} random geometries × {paths:,} paths, in million "
-        "path segments per second, median of the runs (min–max). One worker; two workers "
-        "(threads, `workers=2`, the same values); and, measured in the same run, NumPy's "
-        "default generator drawing as many uniform doubles as there were "
-        "segments (a segment's cost in random draws = draws / segments).",
+        "path segments per second, median of the runs (min–max); the compiled walk "
+        "(`engine=\"compiled\"`) and the NumPy reference walk (`engine=\"numpy\"`) "
+        "interleaved in the same run, each with 1 and 2 threads (`workers`). Wall-clock rates "
+        "first, then segments per CPU-second (the process's CPU time, all threads: the "
+        "steadier number on a shared machine).",
         "",
-        "| case | segments per path | 1 worker, M segments/s | 2 workers, M segments/s "
-        "| 2 / 1 | M draws/s | draws / segments (1 worker) |",
-        "| --- | ---: | --- | --- | ---: | --- | ---: |",
+        "| case | segments per path | compiled, 1 thread | compiled, 2 threads "
+        "| NumPy, 1 worker | NumPy, 2 workers | compiled / NumPy, 1 | compiled / NumPy, 2 |",
+        "| --- | ---: | --- | --- | --- | --- | ---: | ---: |",
     ]
     for r in rows:
+        w = r["wall"]
         lines.append(
-            f"| {r['case']} | {r['segments_per_path']:.2f} | {_fmt(r['one'])} | "
-            f"{_fmt(r['two'])} | {r['two']['median'] / r['one']['median']:.2f} | "
-            f"{_fmt(r['draws'])} | {r['draws']['median'] / r['one']['median']:.0f} |"
+            f"| {r['case']} | {r['segments_per_path']:.2f} | {_fmt(w[('compiled', 1)])} | "
+            f"{_fmt(w[('compiled', 2)])} | {_fmt(w[('numpy', 1)])} | {_fmt(w[('numpy', 2)])} | "
+            f"{w[('compiled', 1)]['median'] / w[('numpy', 1)]['median']:.0f} | "
+            f"{w[('compiled', 2)]['median'] / w[('numpy', 2)]['median']:.0f} |"
+        )
+    lines += [
+        "",
+        "Per CPU-second (million segments per second of CPU time, all threads):",
+        "",
+        "| case | compiled, 1 thread | compiled, 2 threads | NumPy, 1 worker "
+        "| NumPy, 2 workers | compiled / NumPy, 1 |",
+        "| --- | --- | --- | --- | --- | ---: |",
+    ]
+    for r in rows:
+        c = r["cpu"]
+        lines.append(
+            f"| {r['case']} | {_fmt(c[('compiled', 1)])} | {_fmt(c[('compiled', 2)])} | "
+            f"{_fmt(c[('numpy', 1)])} | {_fmt(c[('numpy', 2)])} | "
+            f"{c[('compiled', 1)]['median'] / c[('numpy', 1)]['median']:.0f} |"
         )
     lines.append(END)
     return "\n".join(lines)

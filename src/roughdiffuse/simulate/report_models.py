@@ -59,7 +59,7 @@ def _truths(quick: bool, progress: bool):
 
     ti, tr, dp = _grid(quick)
     alphas = (0.5,) if quick else ALPHAS
-    samples = 2_000 if quick else 10_000
+    samples = 2_000 if quick else 100_000
     out = {}
     jobs = [(t, a) for t in TRUTHS for a in alphas]
     for truth, a in tqdm(jobs, desc="truths", disable=not progress):

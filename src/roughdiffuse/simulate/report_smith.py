@@ -122,7 +122,7 @@ def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str
     )
     geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
     alphas = (0.5,) if quick else HF_ALPHAS
-    samples = 5_000 if quick else 40_000
+    samples = 5_000 if quick else 100_000
     bounces = (1, 2, "all")
     rows = []
     todo = [(a, g) for a in alphas for g in geoms]

@@ -25,7 +25,10 @@ The surface: microfacets of albedo ρ that reflect like Lambert's law, heights u
   drawn from the visible normals of −ω and the new direction from its cosine lobe. At every
   event the next-event estimate ⟨ωo, ωm⟩⁺/π · u^Λ(ωo) (times ρ^k at order k) scores
   f cos θo. The walk runs with ρ = 1 and weights the order k by ρ^k, so one walk gives every
-  albedo and every bounce count.
+  albedo and every bounce count. Two engines trace it: the compiled walk
+  (:mod:`.smith_walk_numba`, Numba threads, a counter-based generator; the default when Numba
+  is installed) and this module's NumPy walk (the reference), both made of the formulas of
+  :mod:`.smith_formulas`.
 
 Heights uncorrelated: a real surface (a Gaussian heightfield, :mod:`.heightfield`) has
 correlated heights; how close Smith comes to one is measured in docs/accuracy.md.
@@ -41,6 +44,7 @@ import numpy as np
 from .._validate import check_range
 from ..quadrature import gauss_legendre
 from .cavity import Bounces, check_bounces
+from .smith_formulas import numpy_formulas
 from .smith_slopes import (
     check_distribution,
     sample_visible_normals,
@@ -51,6 +55,7 @@ from .smith_slopes import (
 
 __all__ = [
     "ALPHA_MAX",
+    "ENGINES",
     "WalkResult",
     "brdf",
     "directional_albedo",
@@ -68,9 +73,31 @@ MAX_ORDER = 512
 """A walk is cut after this many scattering events (its remaining energy is below 1e-12
 for every α ≤ ALPHA_MAX: measured escape probability per event ≥ 0.2 at ρ = 1)."""
 
+_F = numpy_formulas()
 _BATCH = 1 << 17
 _V_MAX = 8.6
 """Beckmann quadrature cut-off in tan θm / α: the projected area beyond is exp(−8.6²) < 1e-32."""
+
+
+ENGINES: tuple[str, ...] = ("auto", "compiled", "numpy")
+"""Random-walk engines: "compiled" (Numba, :mod:`.smith_walk_numba`), "numpy" (the
+reference), "auto" (compiled when Numba is installed, else NumPy)."""
+
+
+def _check_engine(engine: object) -> str:
+    """The engine to run: "compiled" or "numpy" (``ValueError`` for another name)."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {ENGINES} (got {engine!r})")
+    if engine == "auto":
+        import importlib.util
+
+        return "compiled" if importlib.util.find_spec("numba") is not None else "numpy"
+    if engine == "compiled":
+        import importlib.util
+
+        if importlib.util.find_spec("numba") is None:
+            raise ValueError("engine='compiled' needs Numba (pip install numba); use 'numpy'")
+    return str(engine)
 
 
 def _check_alpha(alpha: object) -> float:
@@ -201,20 +228,10 @@ def _single(ti, tr, dp, alpha, dist, n_theta, n_phi) -> np.ndarray:
 
 
 def _cosine_about(m: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Cosine-distributed directions about unit normals ``m`` (N, 3), m_z > 0.
-
-    Orthonormal basis of Duff et al. 2017 ("Building an orthonormal basis, revisited",
-    JCGT 6(1), Listing 3) for n_z ≥ 0.
-    """
+    """Cosine-distributed directions about unit normals ``m`` (N, 3), m_z > 0
+    (:mod:`.smith_formulas`' ``cosine_about``)."""
     u = rng.random((2, m.shape[0]))
-    r, phi = np.sqrt(u[0]), 2.0 * math.pi * u[1]
-    x, y, z = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u[0], 0.0))
-    nx, ny, nz = m[:, 0], m[:, 1], m[:, 2]
-    a = -1.0 / (1.0 + nz)
-    b = nx * ny * a
-    t = np.stack([1.0 + nx * nx * a, b, -nx], axis=1)
-    bt = np.stack([b, 1.0 + ny * ny * a, -ny], axis=1)
-    return x[:, None] * t + y[:, None] * bt + z[:, None] * m
+    return np.stack(_F.cosine_about(m[:, 0], m[:, 1], m[:, 2], u[0], u[1]), axis=1)
 
 
 @dataclass(frozen=True)
@@ -271,25 +288,22 @@ def _walk(
     total = np.zeros((len(albedos), n))
     idx = np.arange(n)
     wr = -wi
-    u = np.ones(n)
+    h = np.zeros(n)  # ln u, u = C1(height) (module docstring)
     segments = 0
     for k in range(1, bounces + 1):
         segments += idx.size
         lam = smith_lambda(dist, wr[:, 2], alpha)
         e = rng.random(idx.size)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            escape = (wr[:, 2] > 0.0) & (e > 1.0 - u**lam)
-            u_new = u * (1.0 - e) ** (-1.0 / lam)
-        u_new = np.where(np.isfinite(u_new), u_new, u)  # Λ = ±∞ (horizontal): same height
+            escape, h_new = _F.height_step(h, lam, wr[:, 2], e)
         stay = ~escape
-        idx, wr, u = idx[stay], wr[stay], np.minimum(u_new[stay], 1.0)
+        idx, wr, h = idx[stay], wr[stay], h_new[stay]
         if idx.size == 0:
             break
         m = sample_visible_normals(dist, -wr, alpha, rng)
         wo_k = wo[idx]
-        score = np.maximum(np.einsum("ij,ij->i", wo_k, m), 0.0) / math.pi
         with np.errstate(under="ignore"):
-            score = score * u ** lam_o[idx] * weight[idx]
+            score = _F.next_event(*wo_k.T, *m.T, h, lam_o[idx]) * weight[idx]
         total[:, idx] += rho**k * score
         if k <= orders:
             g = group[idx]
@@ -369,6 +383,12 @@ def _run(
         if bar is not None:
             bar.close()
 
+    return _results(sums, samples, segments)
+
+
+def _results(sums: dict[str, np.ndarray], samples: int, segments: int):
+    """Means and standard errors from the per-group sums of scores and of their squares."""
+
     def stats(s1, s2):
         mean = s1 / samples
         var = np.maximum(s2 / samples - mean * mean, 0.0) * samples / max(samples - 1, 1)
@@ -377,6 +397,80 @@ def _run(
     values, stderr = stats(sums["sum1"], sums["sum2"])
     ords, ords_se = stats(sums["order1"], sums["order2"])
     return values, stderr, ords, ords_se, segments
+
+
+def _run_compiled(
+    wi: np.ndarray,
+    wo: np.ndarray,
+    weight: np.ndarray,
+    uniform_wo: bool,
+    samples: int,
+    alpha: float,
+    dist: str,
+    albedos: tuple[float, ...],
+    bounces: int,
+    orders: int,
+    seed: int,
+    progress: bool = False,
+    workers: int | None = None,
+):
+    """:func:`_run` on the compiled engine (:mod:`.smith_walk_numba`).
+
+    The walk runs in calls of about 2^18 paths (progress, Ctrl-C between calls); within one,
+    Numba's threads (``workers`` of them, default all) trace blocks of paths. The block sums are
+    added in block order, so the values do not depend on ``workers``.
+    """
+    import numba
+
+    from . import smith_walk_numba as k
+
+    n_groups = wi.shape[0]
+    per_group = -(-samples // k.BLOCK)
+    n_blocks = n_groups * per_group
+    step = max(1, (1 << 18) // k.BLOCK)
+    rho = np.asarray(albedos, dtype=np.float64)
+    a_n = rho.size
+    key = np.uint64(seed % (1 << 64))  # the generator's key is 64 bits
+    sums = {
+        "sum1": np.zeros((a_n, n_groups)),
+        "sum2": np.zeros((a_n, n_groups)),
+        "order1": np.zeros((orders, n_groups)),
+        "order2": np.zeros((orders, n_groups)),
+    }
+    arrays = [np.ascontiguousarray(x, dtype=np.float64) for x in (wi, wo, weight)]
+    segments = 0
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_groups * samples, unit="path", desc="Smith random walk")
+    threads = numba.get_num_threads()
+    if workers is not None:
+        numba.set_num_threads(max(1, min(workers, numba.config.NUMBA_NUM_THREADS)))
+    try:
+        for first in range(0, n_blocks, step):
+            count = min(step, n_blocks - first)
+            s1, s2 = np.zeros((count, a_n)), np.zeros((count, a_n))
+            o1, o2 = np.zeros((count, orders)), np.zeros((count, orders))
+            seg = np.zeros(count, dtype=np.int64)
+            k.run_blocks(
+                *arrays, bool(uniform_wo), samples, first, count, alpha, dist == "ggx", rho,
+                bounces, orders, key, s1, s2, o1, o2, seg,
+            )
+            group = np.arange(first, first + count) // per_group
+            for key, part in (("sum1", s1), ("sum2", s2), ("order1", o1), ("order2", o2)):
+                for b in range(count):  # in block order: the same sums for any thread count
+                    sums[key][:, group[b]] += part[b]
+            segments += int(seg.sum())
+            if bar is not None:
+                done = np.minimum((np.arange(first, first + count) % per_group + 1) * k.BLOCK,
+                                  samples) - (np.arange(first, first + count) % per_group) * k.BLOCK
+                bar.update(int(done.sum()))
+    finally:
+        numba.set_num_threads(threads)
+        if bar is not None:
+            bar.close()
+    return _results(sums, samples, segments)
 
 
 def _walk_settings(alpha, albedo, bounces, distribution, samples, seed, max_order):
@@ -405,7 +499,8 @@ def random_walk(
     seed: int = 0,
     max_order: int = 8,
     progress: bool = False,
-    workers: int = 1,
+    workers: int | None = None,
+    engine: str = "auto",
 ) -> WalkResult:
     """The Smith Lambertian microsurface's BRDF by the random walk of Heitz et al. 2016.
 
@@ -426,15 +521,23 @@ def random_walk(
     samples : int
         Paths per geometry (≥ 2); the standard error falls as 1/√samples.
     seed : int
-        Seed of NumPy's default generator: the same arguments give the same numbers.
+        Seed of the random numbers: the same arguments (and engine) give the same numbers
+        (the compiled engine uses it modulo 2^64).
     max_order : int
         Orders reported one by one in ``WalkResult.orders``.
     progress : bool
         Show a progress bar (tqdm).
-    workers : int
-        Threads tracing batches of 2^17 paths at once (NumPy releases the GIL in its loops);
-        each batch has its own generator spawned from ``seed``, so the values do not depend
-        on ``workers``.
+    workers : int or None
+        Threads. Compiled engine: Numba's threads (default: all of them), each tracing
+        blocks of paths whose random numbers are keyed by (seed, path, draw)
+        (:mod:`.smith_walk_numba`). NumPy engine: threads tracing batches of 2^17 paths at
+        once (default 1; NumPy releases the GIL in its loops), each batch with its own
+        generator spawned from ``seed``. Either way the values do not depend on ``workers``.
+    engine : {"auto", "compiled", "numpy"}
+        "compiled": the Numba walk (millions of segments per second, bench/RESULTS.md);
+        "numpy": the NumPy reference walk; "auto": compiled when Numba is installed. The two
+        engines draw different random numbers: their values agree within the standard errors
+        (tests/test_smith_walk_compiled.py), not to the last digit.
 
     Returns
     -------
@@ -443,6 +546,7 @@ def random_walk(
     alpha, albedos, depth, dist, samples, seed, orders = _walk_settings(
         alpha, albedo, bounces, distribution, samples, seed, max_order
     )
+    engine = _check_engine(engine)
     ti, tr, dp, shape = _check_angles(theta_i, theta_r, delta_phi)
     n_groups = ti.size
     if alpha == 0.0:  # a flat Lambertian plane: exactly ρ/π, one bounce
@@ -460,14 +564,22 @@ def random_walk(
         )
     wi_all, wo_all = _directions(ti, tr, dp)
     inv_cos = 1.0 / wo_all[:, 2]
+    if workers is not None:
+        workers = _check_count("workers", workers)
+    if engine == "compiled":
+        values, stderr, ords, ords_se, segments = _run_compiled(
+            wi_all, wo_all, inv_cos, False, samples, alpha, dist, albedos, depth, orders, seed,
+            progress, workers,
+        )
+    else:
 
-    def paths(group, rng):
-        return wi_all[group], wo_all[group], inv_cos[group]
+        def paths(group, rng):
+            return wi_all[group], wo_all[group], inv_cos[group]
 
-    values, stderr, ords, ords_se, segments = _run(
-        paths, n_groups, samples, alpha, dist, albedos, depth, orders, seed, progress,
-        _check_count("workers", workers),
-    )
+        values, stderr, ords, ords_se, segments = _run(
+            paths, n_groups, samples, alpha, dist, albedos, depth, orders, seed, progress,
+            workers or 1,
+        )
     return WalkResult(
         albedos,
         values.reshape((-1, *shape)),
@@ -492,6 +604,7 @@ def brdf(
     seed: int = 0,
     method: str = "auto",
     return_stderr: bool = False,
+    engine: str = "auto",
 ):
     """BRDF of the Smith microsurface with Lambertian facets, f(θi, θr, Δφ; α, ρ), in 1/sr.
 
@@ -517,6 +630,8 @@ def brdf(
         walk otherwise; "walk" forces the walk (also for one bounce).
     return_stderr : bool
         Also return the Monte Carlo standard error of each value.
+    engine : {"auto", "compiled", "numpy"}
+        The random walk's engine (:func:`random_walk`).
 
     Returns
     -------
@@ -533,6 +648,7 @@ def brdf(
     b = check_bounces(bounces)
     if method == "quadrature" and b != 1:
         raise ValueError("method='quadrature' computes one bounce only: pass bounces=1")
+    _check_engine(engine)
     if b == 1 and method != "walk":
         f = single_scattering(theta_i, theta_r, delta_phi, alpha, albedo, distribution)
         return (f, np.zeros_like(f)) if return_stderr else f
@@ -549,6 +665,7 @@ def brdf(
         samples=samples,
         seed=seed,
         max_order=1,
+        engine=engine,
     )
     return (r.values[0], r.stderr[0]) if return_stderr else r.values[0]
 
@@ -562,12 +679,14 @@ def directional_albedo(
     *,
     samples: int = 100_000,
     seed: int = 0,
+    engine: str = "auto",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Directional albedo ∫ f cos θo dωo of the Smith Lambertian microsurface, with its s.e.
 
     Each path draws its own ωo uniformly on the upper hemisphere and scores 2π times its
     next-event estimates of f cos θo, so the integral over ωo is part of the Monte Carlo
-    estimate (the white-furnace check: ρ = 1, all bounces gives 1).
+    estimate (the white-furnace check: ρ = 1, all bounces gives 1). ``engine``: as in
+    :func:`random_walk`.
 
     Returns
     -------
@@ -577,6 +696,7 @@ def directional_albedo(
     alpha, albedos, depth, dist, samples, seed, orders = _walk_settings(
         alpha, albedo, bounces, distribution, samples, seed, 1
     )
+    engine = _check_engine(engine)
     ti = np.asarray(theta_i, dtype=np.float64)
     check_range("theta_i", ti, 0.0, math.pi / 2, unit="radians", scalar=False)
     shape = ti.shape
@@ -584,6 +704,11 @@ def directional_albedo(
     if alpha == 0.0:
         return np.full(shape, albedos[0]), np.zeros(shape)
     wi_all = np.stack([np.sin(ti), np.zeros_like(ti), np.cos(ti)], axis=-1)
+    if engine == "compiled":
+        values, stderr, *_ = _run_compiled(
+            wi_all, wi_all, np.ones(ti.size), True, samples, alpha, dist, albedos, depth, 1, seed
+        )
+        return values[0].reshape(shape), stderr[0].reshape(shape)
 
     def paths(group, rng):
         u = rng.random((2, group.size))

@@ -20,10 +20,9 @@ distribution of roughness α, for directions on the whole sphere:
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from scipy.special import erf, erfcx, erfinv
+
+from . import smith_formulas
 
 __all__ = [
     "DISTRIBUTIONS",
@@ -34,7 +33,7 @@ __all__ = [
 ]
 
 DISTRIBUTIONS: tuple[str, ...] = ("beckmann", "ggx")
-_SQRT_PI = math.sqrt(math.pi)
+_F = smith_formulas.numpy_formulas()
 
 
 def check_distribution(distribution: object) -> str:
@@ -44,24 +43,12 @@ def check_distribution(distribution: object) -> str:
     return str(distribution)
 
 
-def _lambda_upper(distribution: str, cot: np.ndarray, alpha: float) -> np.ndarray:
-    """Λ for a direction above the horizon given a = |cot θ| / α ≥ 0 (inf where a = 0)."""
-    a = cot / alpha
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if distribution == "beckmann":
-            # (erf(a) − 1)/2 + exp(−a²)/(2a√π), written with erfcx to avoid the cancellation
-            lam = 0.5 * np.exp(-a * a) * (1.0 / (a * _SQRT_PI) - erfcx(a))
-        else:
-            t2 = 1.0 / (a * a)  # α² tan² θ
-            lam = t2 / (2.0 * (1.0 + np.sqrt(1.0 + t2)))
-    return np.where(a > 0.0, np.maximum(lam, 0.0), np.inf)
-
-
 def smith_lambda(distribution: str, z: np.ndarray, alpha: float) -> np.ndarray:
     """Smith's Λ(ω) for unit directions with z-component ``z`` (isotropic roughness α).
 
     Above the horizon Λ ≥ 0 (Heitz 2014 eq. 72 for GGX, eq. 86 for Beckmann); below it
-    Λ(ω) = −1 − Λ(−ω) ≤ −1 (Heitz et al. 2016, Sec. 3). At the horizon ±∞.
+    Λ(ω) = −1 − Λ(−ω) ≤ −1 (Heitz et al. 2016, Sec. 3). At the horizon ±∞. The formula is
+    :mod:`.smith_formulas`' (shared with the compiled walk).
 
     Examples
     --------
@@ -72,13 +59,8 @@ def smith_lambda(distribution: str, z: np.ndarray, alpha: float) -> np.ndarray:
     -1.0
     """
     z = np.asarray(z, dtype=np.float64)
-    az = np.abs(z)
-    sin = np.sqrt(np.maximum(1.0 - z * z, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cot = np.where(sin > 0.0, az / np.where(sin > 0.0, sin, 1.0), np.inf)
-    up = _lambda_upper(distribution, cot, alpha)
-    up = np.where(np.isinf(cot), 0.0, up)
-    return np.where(z >= 0.0, up, -1.0 - up)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return np.asarray(_F.smith_lambda(distribution == "ggx", z, alpha), dtype=np.float64)
 
 
 def slope_cdf_inverse(distribution: str, s: np.ndarray, alpha: float) -> np.ndarray:
@@ -105,23 +87,11 @@ def slope_cdf(distribution: str, tan_theta: np.ndarray, alpha: float) -> np.ndar
     return 1.0 / np.sqrt(1.0 + q)
 
 
-def _visible_ggx(w: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
-    """GGX visible normals for directions ``w`` (N, 3) on the whole sphere (spherical caps)."""
-    ws = np.stack([alpha * w[:, 0], alpha * w[:, 1], w[:, 2]], axis=1)
-    ws /= np.linalg.norm(ws, axis=1, keepdims=True)
-    phi = 2.0 * math.pi * u1
-    z = (1.0 - u2) * (1.0 + ws[:, 2]) - ws[:, 2]
-    sin = np.sqrt(np.clip(1.0 - z * z, 0.0, 1.0))
-    h = np.stack([sin * np.cos(phi), sin * np.sin(phi), z], axis=1) + ws
-    m = np.stack([alpha * h[:, 0], alpha * h[:, 1], np.maximum(h[:, 2], 0.0)], axis=1)
-    norm = np.linalg.norm(m, axis=1, keepdims=True)
-    return m / np.where(norm > 0.0, norm, 1.0)
-
-
 def _visible_slope_beckmann(mu: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """x̃ ~ (μ − x̃)⁺ exp(−x̃²), μ = cot θ (stretched α = 1 Beckmann, Heitz & d'Eon 2014).
 
-    Exact, by composition and rejection from proposals sampled in closed form:
+    Exact, by composition and rejection from proposals sampled in closed form
+    (:mod:`.smith_formulas`, ``slope_proposal_pos`` and ``slope_proposal_neg``):
 
     * μ ≥ 0, x̃ < 0: (μ + |x̃|) e^{−x̃²} is a mixture of a half-Gaussian (mass μ√π/2) and
       |x̃| e^{−x̃²} (mass 1/2, |x̃| = √(−ln U));
@@ -141,34 +111,10 @@ def _visible_slope_beckmann(mu: np.ndarray, rng: np.random.Generator) -> np.ndar
         u = rng.random((3, todo.size))
         out = np.full(todo.size, np.nan)
         pos = m >= 0.0
-        # μ ≥ 0
-        mp = m[pos]
-        neg_mass = mp * (_SQRT_PI / 2) + 0.5
-        pos_mass = mp * (_SQRT_PI / 2) * erf(mp)  # of the envelope μ e^{−x̃²} on [0, μ)
-        u0, u1, u2 = u[0][pos], u[1][pos], u[2][pos]
-        left = u0 * (neg_mass + pos_mass) < neg_mass
-        gauss = u1 * neg_mass < mp * (_SQRT_PI / 2)
-        half = np.abs(erfinv(np.clip(2.0 * u2 - 1.0, -1.0 + 1e-16, 1.0 - 1e-16)))
-        xl = -np.where(gauss, half, np.sqrt(-np.log1p(-u2)))
-        xr = erfinv(u1 * erf(mp))
         with np.errstate(divide="ignore", invalid="ignore"):
-            keep_r = u2 * mp < mp - xr
-        out_pos = np.where(left, xl, np.where(keep_r, xr, np.nan))
-        # μ < 0
-        mn = -m[~pos]
-        v0, v1, v2 = u[0][~pos], u[1][~pos], u[2][~pos]
-        small = mn < 0.8
-        y_small = np.sqrt(mn * mn - np.log1p(-v0))
-        with np.errstate(divide="ignore", invalid="ignore"):  # Gamma(2, 2m): two exponentials
-            s_big = -(np.log1p(-v0) + np.log1p(-v2)) / (2.0 * mn)
-        y_big = mn + s_big
-        ok_small = v1 * y_small < y_small - mn
-        ok_big = v1 < np.exp(-s_big * s_big)
-        y = np.where(small, y_small, y_big)
-        ok = np.where(small, ok_small, ok_big)
-        out_neg = np.where(ok, -y, np.nan)
-        out[pos] = out_pos
-        out[~pos] = out_neg
+            out[pos] = _F.slope_proposal_pos(m[pos], u[0][pos], u[1][pos], u[2][pos])
+            neg = ~pos
+            out[neg] = _F.slope_proposal_neg(m[neg], u[0][neg], u[1][neg], u[2][neg])
         done = np.isfinite(out)
         x[todo[done]] = out[done]
         todo = todo[~done]
@@ -177,27 +123,17 @@ def _visible_slope_beckmann(mu: np.ndarray, rng: np.random.Generator) -> np.ndar
 
 def _visible_beckmann(
     w: np.ndarray, alpha: float, u2: np.ndarray, u3: np.ndarray, rng: np.random.Generator
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Beckmann visible normals for directions ``w`` (N, 3) on the whole sphere."""
-    sx, sy = alpha * w[:, 0], alpha * w[:, 1]
-    rho = np.hypot(sx, sy)
-    cos, sin = w[:, 2], rho
     with np.errstate(divide="ignore", invalid="ignore"):
-        mu = np.where(sin > 1e-300, cos / np.where(sin > 1e-300, sin, 1.0), np.inf)
-        cphi = np.where(rho > 0.0, sx / np.where(rho > 0.0, rho, 1.0), 1.0)
-        sphi = np.where(rho > 0.0, sy / np.where(rho > 0.0, rho, 1.0), 0.0)
+        mu, cphi, sphi = _F.beckmann_frame(w[:, 0], w[:, 1], w[:, 2], alpha)
     # ỹ ~ N(0, 1/2) by Box–Muller; x̃ likewise where μ = +∞ (the normal is along z)
-    radius = np.sqrt(-np.log1p(-u2))
-    ty = radius * np.sin(2.0 * math.pi * u3)
-    tx = radius * np.cos(2.0 * math.pi * u3)
+    tx, ty = _F.gaussian_pair(u2, u3)
     finite = np.isfinite(mu)
     if np.any(finite):
         tx = tx.copy()
         tx[finite] = _visible_slope_beckmann(mu[finite], rng)
-    px = alpha * (cphi * tx - sphi * ty)
-    py = alpha * (sphi * tx + cphi * ty)
-    m = np.stack([-px, -py, np.ones_like(px)], axis=1)
-    return m / np.linalg.norm(m, axis=1, keepdims=True)
+    return _F.beckmann_normal(alpha, cphi, sphi, tx, ty)
 
 
 def sample_visible_normals(
@@ -208,8 +144,9 @@ def sample_visible_normals(
     Returns an (N, 3) array of unit normals with z ≥ 0 and ⟨w, ωm⟩ ≥ 0.
     """
     n = w.shape[0]
-    if distribution == "ggx":
-        u = rng.random((2, n))
-        return _visible_ggx(w, alpha, u[0], u[1])
     u = rng.random((2, n))
-    return _visible_beckmann(w, alpha, u[0], u[1], rng)
+    if distribution == "ggx":
+        m = _F.visible_ggx(w[:, 0], w[:, 1], w[:, 2], alpha, u[0], u[1])
+    else:
+        m = _visible_beckmann(w, alpha, u[0], u[1], rng)
+    return np.stack(m, axis=1)
