@@ -141,6 +141,18 @@ def test_same_seed_same_numbers_for_any_thread_count():
         assert np.array_equal(r.orders, a.orders) and r.segments == a.segments
 
 
+def test_a_walk_of_several_kernel_calls_keys_every_path_by_the_seed():
+    """More paths than one kernel call takes (2^18): the run goes in several calls. Path keys
+    are (seed, geometry · samples + path), so the first geometry of a long run is the same walk
+    as that geometry alone (a regression: the second call once received a string as its key)."""
+    kw = dict(alpha=0.5, albedo=0.9, bounces="all", distribution="ggx", seed=11,
+              engine="compiled")
+    many = smith.random_walk([0.3, 0.9, 1.3], 0.4, 2.0, samples=100_000, **kw)
+    alone = smith.random_walk(0.3, 0.4, 2.0, samples=100_000, **kw)
+    assert np.all(np.isfinite(many.values)) and np.all(many.values > 0)
+    assert np.array_equal(many.values[:, 0], alone.values)  # values: (albedos, geometries)
+
+
 def test_engine_choice(monkeypatch):
     with pytest.raises(ValueError, match="engine"):
         smith.brdf(0.3, 0.4, 0.0, alpha=0.5, engine="gpu")

@@ -458,9 +458,9 @@ def _run_compiled(
                 bounces, orders, key, s1, s2, o1, o2, seg,
             )
             group = np.arange(first, first + count) // per_group
-            for key, part in (("sum1", s1), ("sum2", s2), ("order1", o1), ("order2", o2)):
+            for name, part in (("sum1", s1), ("sum2", s2), ("order1", o1), ("order2", o2)):
                 for b in range(count):  # in block order: the same sums for any thread count
-                    sums[key][:, group[b]] += part[b]
+                    sums[name][:, group[b]] += part[b]
             segments += int(seg.sum())
             if bar is not None:
                 done = np.minimum((np.arange(first, first + count) % per_group + 1) * k.BLOCK,
