@@ -25,6 +25,8 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -276,24 +278,25 @@ def _make_steps(
         theta, n0 = theta.T, n0.T
         r, cols = jacobian(theta, g, n0, l, e, obs, w)
         a = normal_matrix(cols)
-        # A⁻¹ by one batched inverse (called once per fit, so the size of the compiled
-        # program matters more here than the speed of a LAPACK call per pixel)
-        a_mat = jnp.stack([jnp.stack(row, axis=-1) for row in a], axis=-2)  # (P, nu, nu)
-        a_mat = a_mat * (1.0 + 1e-9 * jnp.eye(nu, dtype=a_mat.dtype))
-        a_inv = jnp.linalg.inv(a_mat)
-        gu = jnp.stack([jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)], axis=-1)
-        cost = jnp.sum(r * r, axis=(0, 1))
-        a_inv_diag = jnp.diagonal(a_inv, axis1=-2, axis2=-1)
+        cost0 = jnp.sum(r * r, axis=(0, 1))
+        # the diagonal of A⁻¹ column by column with the unrolled Cholesky solve (XLA shares
+        # the factorisation): no LAPACK call (with one, chunks on two threads stalled)
+        eye = [
+            [jnp.ones_like(cost0) if i == j else jnp.zeros_like(cost0) for j in range(nu)]
+            for i in range(nu)
+        ]
+        a_inv_diag = jnp.stack([_cholesky_solve(jnp, a, eye[i])[i] for i in range(nu)], axis=-1)
+        gu = [jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)]
         if per_pixel:
-            zero = jnp.zeros_like(cost)
-            return zero, zero, cost, a_inv_diag
+            zero = jnp.zeros_like(cost0)
+            return zero, zero, cost0, a_inv_diag
         jg = cols[nu]
-        b = jnp.stack([jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)], axis=-1)
-        a_inv_b = jnp.einsum("pij,pj->pi", a_inv, b)
+        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
+        a_inv_b = _cholesky_solve(jnp, a, b)
         return (
-            jnp.sum(jg * jg, axis=(0, 1)) - jnp.sum(b * a_inv_b, axis=-1),
-            jnp.sum(jg * r, axis=(0, 1)) - jnp.sum(gu * a_inv_b, axis=-1),
-            cost,
+            jnp.sum(jg * jg, axis=(0, 1)) - sum(b[i] * a_inv_b[i] for i in range(nu)),
+            jnp.sum(jg * r, axis=(0, 1)) - sum(gu[i] * a_inv_b[i] for i in range(nu)),
+            cost0,
             a_inv_diag,
         )
 
@@ -522,6 +525,8 @@ class _Chunks:
     def __init__(self, p: int, dt: Any, l: Any, e: Any, obs: Any, w: Any) -> None:
         import jax.numpy as jnp
 
+        from .._array import double_precision
+
         self.p = p
         size = CHUNK if p > CHUNK else max(16, 1 << int(math.ceil(math.log2(max(p, 1)))))
         self.size = size
@@ -530,6 +535,10 @@ class _Chunks:
         self.e = jnp.asarray(e, dt)
         self.obs = [jnp.asarray(_pad(obs[:, sl], size, 1), dt) for sl in self.slices]
         self.w = [jnp.asarray(_pad(w[:, sl], size, 1), dt) for sl in self.slices]
+        double = jnp.dtype(dt) == jnp.float64
+        # JAX's precision setting is per thread: the worker threads enter it again
+        self.context = (lambda: double_precision(jnp)) if double else contextlib.nullcontext
+        self.workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
 
     def local(
         self, fn: Any, state: dict[str, np.ndarray], g: float, count: int
@@ -537,40 +546,69 @@ class _Chunks:
         """``count`` LM steps of every pixel, in place in ``state``; returns the costs and
         the pixels' terms of the roughness's reduced system."""
         out = np.empty((3, self.p), dtype=state["theta"].dtype)
-        for k, sl in enumerate(self.slices):
+
+        def run(k: int) -> None:
+            sl = self.slices[k]
             n = sl.stop - sl.start
-            th, lam, nn, cost, sch, rhs = fn(
-                _pad(state["theta"][sl], self.size, 0),
-                _pad(state["lam"][sl], self.size, 0),
-                g,
-                _pad(state["n0"][sl], self.size, 0),
-                self.l,
-                self.e,
-                self.obs[k],
-                self.w[k],
-                count,
-            )
-            state["theta"][sl] = np.asarray(th)[:n]
-            state["lam"][sl] = np.asarray(lam)[:n]
-            state["n0"][sl] = np.asarray(nn)[:n]
-            for i, v in enumerate((cost, sch, rhs)):
-                out[i, sl] = np.asarray(v)[:n]
+            with self.context():
+                th, lam, nn, cost, sch, rhs = fn(
+                    _pad(state["theta"][sl], self.size, 0),
+                    _pad(state["lam"][sl], self.size, 0),
+                    g,
+                    _pad(state["n0"][sl], self.size, 0),
+                    self.l,
+                    self.e,
+                    self.obs[k],
+                    self.w[k],
+                    count,
+                )
+                state["theta"][sl] = np.asarray(th)[:n]
+                state["lam"][sl] = np.asarray(lam)[:n]
+                state["n0"][sl] = np.asarray(nn)[:n]
+                for i, v in enumerate((cost, sch, rhs)):
+                    out[i, sl] = np.asarray(v)[:n]
+
+        self.map(run)
         return out[0], out[1], out[2]
 
+    def map(self, run: Any) -> None:
+        """``run(k)`` for every chunk k: the first in this thread (it compiles), the others
+        on :attr:`workers` threads, one chunk each at a time. XLA runs each elementwise loop
+        on one core, so the threads are what uses the others; JAX releases the GIL while a
+        compiled function runs."""
+        run(0)
+        rest = range(1, len(self.slices))
+        if self.workers < 2 or len(rest) < 2:
+            for k in rest:
+                run(k)
+            return
+        pool = ThreadPoolExecutor(self.workers, thread_name_prefix="roughdiffuse-stereo")
+        try:
+            for future in [pool.submit(run, k) for k in rest]:
+                future.result()
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)  # on Ctrl-C too: no chunk left behind
+
     def pieces(self, fn: Any, state: dict[str, np.ndarray], g: float) -> tuple[np.ndarray, ...]:
-        parts = []
-        for k, sl in enumerate(self.slices):
+        """The reduced system's terms, the costs and the diagonal of A⁻¹ of every pixel."""
+        parts: list[Any] = [None] * len(self.slices)
+
+        def run(k: int) -> None:
+            sl = self.slices[k]
             n = sl.stop - sl.start
-            out = fn(
-                _pad(state["theta"][sl], self.size, 0),
-                g,
-                _pad(state["n0"][sl], self.size, 0),
-                self.l,
-                self.e,
-                self.obs[k],
-                self.w[k],
-            )
-            parts.append([np.asarray(o)[:n] for o in out])
+            with self.context():
+                out = fn(
+                    _pad(state["theta"][sl], self.size, 0),
+                    g,
+                    _pad(state["n0"][sl], self.size, 0),
+                    self.l,
+                    self.e,
+                    self.obs[k],
+                    self.w[k],
+                )
+                parts[k] = [np.asarray(o)[:n] for o in out]
+
+        self.map(run)
         return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
 
 
