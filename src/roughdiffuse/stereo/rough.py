@@ -8,13 +8,19 @@ object pixel p gets its own normal n_p and albedo ρ_p (per channel), and the ro
 chosen model is either one value for the whole object or one per pixel. The image model is
 the renderer's: I_kc = E_kc f_r(l_k, v; n_p, ρ_pc, σ) max(n_p·l_k, 0), with v = +z.
 
-The fit minimises Σ w_kp (I_kc − Î_kc)² by Levenberg–Marquardt, vectorised over the pixels
-with ``jax.vmap`` and forward-mode Jacobians (``jax.jacfwd``) of the model's own formula.
+The fit minimises Σ w_kp (I_kc − Î_kc)² by Levenberg–Marquardt, on whole arrays of pixels,
+with forward-mode Jacobians (``jax.jvp`` with a batch of tangents) of the model's own formula.
 A normal is updated in its tangent plane (two parameters, renormalised after each step), so
 no parametrisation is singular. A global roughness couples every pixel: its Gauss–Newton step
 uses the Schur complement of the block-diagonal per-pixel system (the reduced camera system of
 bundle adjustment; Triggs et al., "Bundle Adjustment — A Modern Synthesis", 2000, Sec. 6.1),
-after the per-pixel parameters have been refined for the current roughness.
+after the per-pixel parameters have been refined for the current roughness; its start comes
+from the same fit on a random subset of the pixels.
+
+Speed (``bench/stereo_bench.py``): the pixels go in cache-sized chunks, each running several
+LM steps in one compiled loop, on as many threads as there are cores; the model's terms that
+depend only on the pixel (n·v) or only on the light (l·v) are evaluated once per pixel or
+light, and the roughness's Jacobian column comes out of the same forward pass as the others.
 
 Standard errors are the Gauss–Newton ones, s² (JᵀJ)⁻¹ with s² the residual variance, per
 pixel; for the global roughness from the Schur complement, with s² over all pixels.
