@@ -579,9 +579,9 @@ class _Chunks:
 
     def map(self, run: Any) -> None:
         """``run(k)`` for every chunk k: the first in this thread (it compiles), the others
-        on :attr:`workers` threads, one chunk each at a time. XLA runs each elementwise loop
-        on one core, so the threads are what uses the others; JAX releases the GIL while a
-        compiled function runs."""
+        on :attr:`workers` threads, one chunk each at a time. XLA's CPU code runs a chunk's
+        loops mostly on one core, so the threads are what can use the others; JAX releases
+        the GIL while a compiled function runs."""
         run(0)
         rest = range(1, len(self.slices))
         if self.workers < 2 or len(rest) < 2:
