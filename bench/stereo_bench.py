@@ -8,7 +8,10 @@ pixel on the same residual, evaluated with NumPy (normal as two angles, albedo, 
 timed on a random subset of pixels and extrapolated. Both are timed in the same run; the
 section "Photometric stereo" of ``bench/RESULTS.md`` is rewritten::
 
-    python bench/stereo_bench.py [--size 1152] [--subset 200]
+    python bench/stereo_bench.py [--size 1152] [--subset 200] [--no-write]
+
+``--size 400`` (about 0.1 Mpx) is a quick check. The machine may be shared: each step is
+also timed in CPU seconds of this process (all its threads), and the load average is noted.
 """
 
 from __future__ import annotations
@@ -59,6 +62,14 @@ def scipy_loop(data: stereo.StereoInput, start: stereo.LambertianResult, idx: np
     return time.perf_counter() - t
 
 
+def _row(name: str, wall: float, cpu: float, pixels: int, digits: int) -> str:
+    per = 1e6 / pixels
+    return (
+        f"| {name} | {wall:.{digits}f} | {wall * per:.{digits}f} | {cpu:.{digits}f} | "
+        f"{cpu * per:.{digits}f} |"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, default=1152, help="image side (1152² ≈ 1 Mpx)")
@@ -68,35 +79,48 @@ def main() -> None:
     model = rd.OrenNayar(0.7, 0.5, "full")
     data, normals = stereo.render_stereo(model, Sphere(), stereo.default_lights(8), args.size)
     pixels = int(data.mask.sum())
-    t = time.perf_counter()
+    load = os.getloadavg()[0]
+    t, c = time.perf_counter(), time.process_time()
     lam = stereo.lambertian(data)
-    t_lam = time.perf_counter() - t
-    times = []
+    t_lam, c_lam = time.perf_counter() - t, time.process_time() - c
+    times, cpu = [], []
     for _ in range(2):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         res = stereo.rough(data, rd.OrenNayar(variant="full"), start=lam)
         times.append(time.perf_counter() - t)
+        cpu.append(time.process_time() - c)
+    load = max(load, os.getloadavg()[0])
     err = float(np.nanmean(stereo.angular_error(res.normals, normals[data.mask])))
     rng = np.random.default_rng(0)
     idx = rng.choice(pixels, size=min(args.subset, pixels), replace=False)
+    c = time.process_time()
     t_sub = scipy_loop(data, lam, idx)
+    c_scipy = (time.process_time() - c) / len(idx) * pixels
     t_scipy = t_sub / len(idx) * pixels
     cores = len(os.sched_getaffinity(0))
     lines = [
         "## Photometric stereo",
         "",
-        f"`python bench/stereo_bench.py` ({cores} cores): a {args.size} × {args.size} sphere, "
-        f"{pixels:,} object pixels, 8 images, full Oren–Nayar (σ = 0.5), float32 fit.",
+        f"`python bench/stereo_bench.py` ({cores} cores, load average up to {load:.1f} during "
+        f"the run, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}): a {args.size} × "
+        f"{args.size} sphere, {pixels:,} object pixels, 8 images, full Oren–Nayar (σ = 0.5), "
+        "float32 fit.",
         "",
-        "| step | seconds | per Mpx |",
-        "| --- | ---: | ---: |",
-        f"| Lambertian least squares (start) | {t_lam:.2f} | {t_lam / pixels * 1e6:.2f} |",
-        f"| rough fit, first call (compiles) | {times[0]:.1f} | {times[0] / pixels * 1e6:.1f} |",
-        f"| rough fit, warm | {times[1]:.1f} | {times[1] / pixels * 1e6:.1f} |",
-        f"| SciPy `least_squares` per pixel ({len(idx)} pixels, extrapolated) | {t_scipy:.0f} | "
-        f"{t_scipy / pixels * 1e6:.0f} |",
+        "| step | seconds | per Mpx | CPU seconds | CPU per Mpx |",
+        "| --- | ---: | ---: | ---: | ---: |",
+        _row("Lambertian least squares (start)", t_lam, c_lam, pixels, 2),
+        _row("rough fit, first call (compiles)", times[0], cpu[0], pixels, 1),
+        _row("rough fit, warm", times[1], cpu[1], pixels, 1),
+        _row(
+            f"SciPy `least_squares` per pixel ({len(idx)} pixels, extrapolated)",
+            t_scipy,
+            c_scipy,
+            pixels,
+            0,
+        ),
         "",
-        f"Warm fit {t_scipy / times[1]:.0f}× faster than the per-pixel SciPy loop; "
+        f"Warm fit {t_scipy / times[1]:.0f}× faster than the per-pixel SciPy loop "
+        f"({c_scipy / cpu[1]:.0f}× in CPU time); "
         f"{res.iterations} iterations, fitted σ = {res.roughness:.5f}, mean angular error "
         f"{err:.3f}° (noise-free images).",
         "",

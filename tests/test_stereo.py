@@ -59,6 +59,25 @@ def test_rough_fit_with_noise_is_within_its_standard_errors(rough_sphere):
     assert 0 < res.roughness_se < 0.02
 
 
+def test_rough_fit_in_many_chunks_on_threads_with_a_subset_start(rough_sphere, monkeypatch):
+    """The path of large objects, on a small one: the pixels in 8 chunks (run on a thread per
+    core when there are several) and σ started from a random subset of 128 pixels. Noise-free
+    images: the truth, to the float32 fit's precision as in the single-chunk test above."""
+    import importlib
+
+    module = importlib.import_module("roughdiffuse.stereo.rough")
+    data, normals = rough_sphere
+    assert data.mask.sum() > 4 * 128  # the subset start applies
+    monkeypatch.setattr(module, "CHUNK", 128)
+    monkeypatch.setattr(module, "SUBSET", 128)
+    res = stereo.rough(data, rd.OrenNayar(variant="full"))
+    err = stereo.angular_error(res.normals, normals[data.mask])
+    assert np.nanmax(err) < 0.05
+    assert res.roughness == pytest.approx(0.6, abs=1e-4)
+    np.testing.assert_allclose(np.nanmedian(res.albedo), 0.7, rtol=1e-4)
+    assert np.all(np.isfinite(res.normal_se)) and np.all(res.normal_se > 0)
+
+
 def test_per_pixel_roughness_noise_free(rough_sphere):
     data, _ = rough_sphere
     res = stereo.rough(data, rd.OrenNayar(variant="full"), per_pixel=True)
