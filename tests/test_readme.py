@@ -30,8 +30,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
-_FENCE = re.compile(r"(?:^<!--\s*(?P<marker>.*?)\s*-->\n)?^```(?P<lang>\w*)\n(?P<body>.*?)^```",
-                    re.M | re.S)
+_FENCE = re.compile(
+    r"(?:^<!--[ \t]*(?P<marker>[^\n]*?)[ \t]*-->\n)?^```(?P<lang>\w*)\n(?P<body>.*?)^```",
+    re.M | re.S,
+)
 
 
 @dataclass
