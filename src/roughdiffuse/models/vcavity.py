@@ -181,7 +181,11 @@ class VCavity(Model):
     )
     glsl: ClassVar[bool] = False
     closed_form: ClassVar[bool] = False
-    """A table, not a closed form: not for the compiled fast path or the Mitsuba plugins."""
+    """A table, not a closed form: the compiled fast path (scalar Numba code) cannot trace
+    its gathers, and ``compare_models`` leaves it out."""
+    mitsuba: ClassVar[bool] = True
+    """A Mitsuba plugin all the same: the Dr.Jit namespace gathers from the table
+    (``xp.take``), σ and ρ are fixed when the BSDF is loaded."""
     array_fields: ClassVar[tuple[str, ...]] = ()
     """No pytree leaves: σ and ρ select a table, they are static under ``jax.jit``."""
 
