@@ -119,10 +119,12 @@ class VCavity(Model):
     and, beyond 89°, equals its value at 89°.
 
     The interpolation is array-API code (gathers), so the model runs on NumPy, JAX (also
-    under ``jax.jit``, as the renderer calls it) and PyTorch. σ and ρ are static, not
+    under ``jax.jit``, as the renderer calls it), PyTorch and Dr.Jit: the Mitsuba 3 plugin
+    ``roughdiffuse_v_cavity`` (:mod:`roughdiffuse.integrations.mitsuba`, class attribute
+    ``mitsuba = True``) reads the same table with ``dr.gather``. σ and ρ are static, not
     differentiable: gradients with respect to them do not exist here. The compiled fast
     path (:mod:`roughdiffuse.fastpath`) refuses it with a ``TypeError`` (class attribute
-    ``closed_form = False``).
+    ``closed_form = False``: its scalar Numba code has no gather).
 
     Parameters
     ----------
