@@ -35,6 +35,7 @@ for _r in ROUGHNESS:
         CASES += [("roughdiffuse_torrance_sparrow", {"sigma": _r, "eta": 1.5})]
         if _r < 1.0:  # Beckmann slopes with σ = 1 rad are almost all beyond grazing
             CASES += [("roughdiffuse_torrance_sparrow", {"sigma": _r, "distribution": "beckmann"})]
+CASES += [("roughdiffuse_v_cavity", {"sigma": 1.0, "albedo": 0.5})]  # its table, cosine sampling
 
 
 
@@ -50,7 +51,7 @@ def _registry_cases() -> list[tuple[str, dict, float]]:
     covered = {name for name, _ in CASES}  # their defaults are near the cases above
     cases = []
     for entry in registry.entries():
-        if not entry.cls.closed_form:  # a simulation or a table has no plugin
+        if not entry.cls.mitsuba:  # a simulation (SmithDiffuse) has no plugin
             continue
         defaults, rough = parameter_sets(entry)
         sets = [(rough, (45.0,))]

@@ -145,3 +145,17 @@ def test_lit_fraction_is_where_the_light_is(mi):
     left, right = theirs[:, : SIZE // 2, 0].sum(), theirs[:, SIZE // 2 :, 0].sum()
     assert right > 3 * left
     assert math.isfinite(float(theirs.sum()))
+
+
+def test_v_cavity_plugin_matches_our_renderer(mi):
+    """The exact V-cavity surface (its table read by ``dr.gather`` in Mitsuba, by ``take``
+    under ``jax.jit`` here): one grey channel, σ = 0.3, ρ = 1 (the table of
+    tests/test_mitsuba_registry.py's defaults)."""
+    light, camera = CONFIGS[0]
+    theirs = _mitsuba_image(
+        mi, {"type": "roughdiffuse_v_cavity", "sigma": 0.3, "albedo": 1.0}, light, camera
+    )
+    ours, mask = _our_image(rd.VCavity(1.0, 0.3), light, camera)
+    mean_abs, bias = _compare(ours, mask, theirs)
+    assert mean_abs < 0.01, (mean_abs, bias)
+    assert abs(bias) < 0.003, (mean_abs, bias)

@@ -127,6 +127,22 @@ def test_dask_local_cluster_and_scheduler_address(tmp_path):
     np.testing.assert_array_equal(t3.values, ref.values)
 
 
+def test_local_workers_settings_are_dask_settings():
+    """The keys of LOCAL_WORKER_CONFIG are Dask's own (a renamed key would silently do
+    nothing): the nanny's environment of its workers (a None value is left unset, Dask's
+    distributed.yaml) and the worker's profiler switch."""
+    import dask
+    import distributed  # noqa: F401  (loads the distributed.* defaults)
+
+    for key in table_mod.LOCAL_WORKER_CONFIG:
+        parent, _, leaf = key.rpartition(".")
+        assert leaf in dask.config.get(parent), key
+    with dask.config.set(table_mod.LOCAL_WORKER_CONFIG):
+        environ = dask.config.get("distributed.nanny.pre-spawn-environ")
+        assert environ["MALLOC_TRIM_THRESHOLD_"] is None
+        assert dask.config.get("distributed.worker.profile.enabled") is False
+
+
 def test_cli(tmp_path, capsys):
     assert (
         main(["simulate", "--theta-i", "30", "--theta-r", "0", "--sigma", "0", "--albedo", "0.5"])

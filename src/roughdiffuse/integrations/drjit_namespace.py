@@ -3,7 +3,8 @@
 The models' formulas (:meth:`roughdiffuse.models.base.Model.kernel`) and samplers
 (:mod:`roughdiffuse.models.sampling`) are written once against an array namespace ``xp``:
 ``xp.where``, ``xp.sqrt``, ``xp.atan2``, ``xp.sin``, ``xp.cos``, ``xp.exp``, ``xp.log``,
-``xp.abs``, ``xp.sum`` and Python operators.
+``xp.abs``, ``xp.sum`` and Python operators; a tabulated model (``VCavity``) also reads its
+table with ``xp.floor``, ``xp.astype(..., xp.int32)`` and ``xp.take`` (a gather).
 This module gives that handful of functions for Dr.Jit values (``mi.Float``, ``mi.Color3f``
 in every Mitsuba variant: plain Python floats in ``scalar_rgb``, traced JIT arrays with
 automatic differentiation in ``llvm_ad_rgb``), so a Mitsuba plugin calls the same code as
@@ -15,7 +16,9 @@ Two wrappers carry the values:
   ``ndim == 0`` (a kernel sees one lane) and ``x[..., None]`` returns ``x`` unchanged.
 * :class:`Nodes` is a short trailing axis of constants, e.g. the Gauss–Legendre nodes the
   Gaussian facet distribution integrates over (``xp.asarray(numpy_array)``); operations map
-  over it elementwise and ``xp.sum(..., axis=-1)`` adds it up.
+  over it elementwise and ``xp.sum(..., axis=-1)`` adds it up. ``xp.take(nodes, index)``
+  reads it as a table instead: one entry per lane, chosen by a Dr.Jit integer ``index``
+  (``dr.gather`` from a Dr.Jit array of the constants, built once per :class:`Nodes`).
 
 Wrap every input with :func:`wrap` (Dr.Jit's operators reject foreign types, so a raw Dr.Jit
 value must never meet a wrapper) and take results back with :func:`unwrap`.
@@ -106,9 +109,10 @@ class DrArray:
 
 
 class Nodes:
-    """A short trailing axis (a Python list of floats or :class:`DrArray`)."""
+    """A short trailing axis (a Python list of floats or :class:`DrArray`), or a table of
+    constants that :meth:`_DrJitNamespace.take` gathers from (see module docstring)."""
 
-    __slots__ = ("items",)
+    __slots__ = ("items", "_buffers")
     __array_ufunc__ = None
     __hash__ = None  # type: ignore[assignment]
     ndim = 1
@@ -116,6 +120,17 @@ class Nodes:
 
     def __init__(self, items: list[Any]) -> None:
         self.items = items
+        self._buffers: dict[type, Any] = {}
+
+    def buffer(self, array_type: type) -> Any:
+        """The constants as a Dr.Jit array of ``array_type`` (cached), for ``dr.gather``."""
+        buf = self._buffers.get(array_type)
+        if buf is None:
+            if not all(isinstance(v, float) for v in self.items):
+                raise TypeError("take reads a table of constants, not of Dr.Jit values")
+            buf = array_type(np.asarray(self.items, dtype=np.float32))
+            self._buffers[array_type] = buf
+        return buf
 
     @property
     def shape(self) -> tuple[int]:
@@ -208,6 +223,46 @@ class _DrJitNamespace:
     atan = staticmethod(_unary(dr.atan))
     acos = staticmethod(_unary(dr.acos))
     log1p = staticmethod(_unary(lambda v: dr.log(1.0 + v)))
+    asin = staticmethod(_unary(dr.asin))
+    floor = staticmethod(_unary(dr.floor))
+    int32 = "int32"
+
+    @staticmethod
+    def astype(x: Any, dtype: Any) -> Any:
+        """``xp.astype(x, xp.int32)``: a Dr.Jit float to the integer of its variant (a
+        Python ``int`` in the scalar variants), rounding towards zero."""
+        if dtype != "int32":
+            raise TypeError(f"the Dr.Jit namespace casts to int32 only (got {dtype!r})")
+        if isinstance(x, Nodes):
+            return x._map(lambda a: _DrJitNamespace.astype(a, dtype))
+        v = _raw(x)
+        return DrArray(dr.int32_array_t(type(v))(v))
+
+    @staticmethod
+    def take(x: Any, indices: Any, axis: int = 0) -> DrArray:
+        """``x[indices]`` per lane: the entry of the constants ``x`` (:class:`Nodes`, from
+        ``xp.asarray`` of a 1-D NumPy array) at each lane's Dr.Jit integer index, by
+        ``dr.gather`` (a list lookup in the scalar variants). Out-of-range indices are a bug
+        of the caller (Dr.Jit reads 0 there)."""
+        if axis != 0 or not isinstance(x, Nodes):
+            raise TypeError("take reads a 1-D table of constants (xp.asarray) along axis 0")
+        i = _raw(indices)
+        if isinstance(i, int):  # scalar variants: one lane, a Python int
+            return DrArray(x.items[i])
+        value_type = dr.float32_array_t(type(i))  # Mitsuba's Float of the variant
+        return DrArray(dr.gather(value_type, x.buffer(value_type), dr.uint32_array_t(type(i))(i)))
+
+    @staticmethod
+    def broadcast_arrays(*xs: Any) -> list[Any]:
+        """Per-lane values broadcast already (one number per lane each)."""
+        return list(xs)
+
+    @staticmethod
+    def reshape(x: Any, shape: Any) -> Any:
+        """A per-lane value has no axes to reshape: returned as it is."""
+        if isinstance(x, Nodes):
+            raise TypeError("the Dr.Jit namespace cannot reshape a Nodes axis")
+        return x
 
     @staticmethod
     def atan2(y: Any, x: Any) -> Any:
@@ -247,7 +302,7 @@ class _DrJitNamespace:
             return float(arr)
         if arr.ndim != 1:
             raise ValueError(f"the Dr.Jit namespace holds 1-D constants only (got {arr.shape})")
-        return Nodes([float(v) for v in arr])
+        return Nodes(arr.tolist())
 
     @staticmethod
     def zeros_like(x: Any) -> Any:

@@ -13,7 +13,9 @@ is called) becomes the plugin ``roughdiffuse_<id with underscores>``: ``roughdif
 ``roughdiffuse_oren_nayar``, ``roughdiffuse_oren_nayar_full``, ``roughdiffuse_fujii``,
 ``roughdiffuse_eon``, ``roughdiffuse_torrance_sparrow``,
 ``roughdiffuse_torrance_sparrow_beckmann``, ``roughdiffuse_mix``,
-``roughdiffuse_lommel_seeliger``, ``roughdiffuse_lunar_lambert``, ...
+``roughdiffuse_lommel_seeliger``, ``roughdiffuse_lunar_lambert``, ``roughdiffuse_v_cavity``
+(the exact V-cavity surface, read from its table by ``dr.gather``), ... (every model whose
+class has ``mitsuba = True``: not a Monte Carlo simulation such as ``SmithDiffuse``).
 ``roughdiffuse models`` lists them with their parameters. The plugin's parameters are the
 model's declared ones (:class:`~roughdiffuse.models.declaration.Param`), named as in
 roughdiffuse:
@@ -42,7 +44,10 @@ components for a Mix) has Mitsuba's ``GlossyReflection`` flag, the others
 Float parameters are ``mi.Float`` values listed by ``mi.traverse`` as differentiable (a
 texture as ``albedo.value`` and so on); in the ``llvm_ad_*``/``cuda_ad_*`` variants they can
 be changed in place and differentiated. In ``scalar_*`` variants they are plain floats: load
-a new BSDF to change them.
+a new BSDF to change them. A model's static numbers (fields not in its ``array_fields``:
+``VCavity``'s σ and ρ, which select its table) are fixed when the BSDF is loaded: plain
+floats, not listed by ``mi.traverse``; ``roughdiffuse_v_cavity`` computes its table then
+(the first load of a (σ, ρ) takes a few seconds, :func:`roughdiffuse.models.vcavity.vcavity_table`).
 
 The ``llvm`` variants need libLLVM 15 or newer (Debian: ``apt-get install libllvm19``, then
 ``export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``).
@@ -50,6 +55,7 @@ The ``llvm`` variants need libLLVM 15 or newer (Debian: ``apt-get install libllv
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from typing import Any
 
@@ -70,9 +76,10 @@ def plugin_name(model_id: str) -> str:
 
 
 def plugins() -> dict[str, registry.Entry]:
-    """Plugin name -> registry entry, for every model the registry holds now that is a formula
-    (a simulation such as ``SmithDiffuse``, ``traceable = False``, cannot run on Dr.Jit)."""
-    return {plugin_name(e.id): e for e in registry.entries() if e.cls.closed_form}
+    """Plugin name -> registry entry, for every model the registry holds now that runs on
+    Dr.Jit (class attribute ``mitsuba``: the closed forms and the tabulated ``VCavity``; a
+    simulation such as ``SmithDiffuse`` cannot)."""
+    return {plugin_name(e.id): e for e in registry.entries() if e.cls.mitsuba}
 
 
 def _factory(cls: type[Model]) -> Callable[..., Model]:
@@ -101,6 +108,8 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
     textures = [p for p in cls.params if p.channels and not p.categorical]
     numbers = [p for p in cls.params if not p.channels and not p.categorical]
     plugin = plugin_name(entry.id)
+    fields = {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()
+    static = {p.name for p in numbers if p.name in fields and p.name not in cls.array_fields}
 
     def channel_mean(c: Any) -> Any:
         return (c[0] + c[1] + c[2]) * (1.0 / 3.0)
@@ -129,7 +138,14 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
             self.rd_model = factory(**choices, **given, **constant)  # ValueError if out of range
             self.rd_choices = choices
             self.rd_numbers: list[str] = []
+            self.rd_static = {  # fixed now (a table's σ, ρ): plain floats
+                name: float(getattr(self.rd_model, name)) for name in static
+            }
+            if self.rd_static:
+                self.rd_model.brdf_cosines(1.0, 1.0, 1.0)  # build the table now, not mid-render
             for p in numbers:  # the numbers this instance has (e.g. sigma or alpha)
+                if p.name in static:
+                    continue
                 value = getattr(self.rd_model, p.name, _MISSING)
                 if value is _MISSING:  # built by from_params: the declared parameter itself
                     if not p.applies(choices):
@@ -165,7 +181,7 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
         def _model(self, si: Any, active: Any, mean: bool = False) -> Model:
             """The model with this BSDF's Dr.Jit values (textures evaluated at ``si``; their
             channel mean where ``mean``: sampling needs one number per lane)."""
-            kwargs: dict[str, Any] = dict(self.rd_choices)
+            kwargs: dict[str, Any] = {**self.rd_choices, **self.rd_static}
             for name in self.rd_numbers:
                 kwargs[name] = wrap(getattr(self, name))
             for name in self.rd_textures:

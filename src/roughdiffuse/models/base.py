@@ -105,10 +105,18 @@ class Model:
         it cannot be traced by ``jax.jit`` (the renderer, fits).
     closed_form : bool
         True for a formula of elementwise operations on the three cosines with its numeric
-        parameters as inputs: what the compiled fast path, the Mitsuba plugins (Dr.Jit),
+        parameters as inputs: what the compiled fast path (Numba traces it with scalars),
         ``compare_models`` and the interface-wide tests need. False for a simulation
         (``SmithDiffuse``) and for a model tabulated from a solver (``VCavity``, which still
         runs under ``jax.jit``).
+    mitsuba : bool
+        Whether the model is a Mitsuba 3 plugin (:mod:`roughdiffuse.integrations.mitsuba`):
+        its ``_kernel`` runs on the Dr.Jit namespace (elementwise functions, and gathers
+        from a table of constants with ``xp.take``), and a numeric parameter that is not in
+        ``array_fields`` (static: it selects a table) is fixed when the BSDF is loaded.
+        Defaults to ``closed_form`` unless the class (or a base other than ``Model``)
+        declares it: every closed form is a plugin, a simulation is not, ``VCavity`` (a
+        table) sets it True.
     array_fields : tuple of str
         Numeric parameters (JAX pytree leaves, differentiable); derived from ``params``.
         Other fields are static.
@@ -125,12 +133,15 @@ class Model:
     glsl: ClassVar[bool] = False
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True
+    mitsuba: ClassVar[bool] = True
     array_fields: ClassVar[tuple[str, ...]] = ()
     channel_fields: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         MODEL_CLASSES[cls.__name__] = cls
+        if not any("mitsuba" in c.__dict__ for c in cls.__mro__ if c is not Model):
+            cls.mitsuba = cls.closed_form  # a closed form is a plugin unless it says otherwise
         if "params" in cls.__dict__:
             if "array_fields" not in cls.__dict__:
                 cls.array_fields = tuple(p.name for p in cls.params if not p.categorical)

@@ -119,10 +119,12 @@ class VCavity(Model):
     and, beyond 89°, equals its value at 89°.
 
     The interpolation is array-API code (gathers), so the model runs on NumPy, JAX (also
-    under ``jax.jit``, as the renderer calls it) and PyTorch. σ and ρ are static, not
+    under ``jax.jit``, as the renderer calls it), PyTorch and Dr.Jit: the Mitsuba 3 plugin
+    ``roughdiffuse_v_cavity`` (:mod:`roughdiffuse.integrations.mitsuba`, class attribute
+    ``mitsuba = True``) reads the same table with ``dr.gather``. σ and ρ are static, not
     differentiable: gradients with respect to them do not exist here. The compiled fast
     path (:mod:`roughdiffuse.fastpath`) refuses it with a ``TypeError`` (class attribute
-    ``closed_form = False``).
+    ``closed_form = False``: its scalar Numba code has no gather).
 
     Parameters
     ----------
@@ -181,7 +183,11 @@ class VCavity(Model):
     )
     glsl: ClassVar[bool] = False
     closed_form: ClassVar[bool] = False
-    """A table, not a closed form: not for the compiled fast path or the Mitsuba plugins."""
+    """A table, not a closed form: the compiled fast path (scalar Numba code) cannot trace
+    its gathers, and ``compare_models`` leaves it out."""
+    mitsuba: ClassVar[bool] = True
+    """A Mitsuba plugin all the same: the Dr.Jit namespace gathers from the table
+    (``xp.take``), σ and ρ are fixed when the BSDF is loaded."""
     array_fields: ClassVar[tuple[str, ...]] = ()
     """No pytree leaves: σ and ρ select a table, they are static under ``jax.jit``."""
 

@@ -539,6 +539,19 @@ class _TableLock:
             self.fd = None
 
 
+LOCAL_WORKER_CONFIG: dict[str, Any] = {
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+    "distributed.worker.profile.enabled": False,
+}
+"""Dask settings of the local cluster (``workers > 1``). Dask's nanny sets
+``MALLOC_TRIM_THRESHOLD_=65536`` in its workers, so glibc hands every freed NumPy temporary
+back to the kernel and faults it in again: the solver then spends about as long in the kernel
+as in NumPy (measured: 363 instead of 704 values per CPU second, bench/RESULTS.md); None
+leaves glibc's default. The statistical profiler, sampling the computing thread every
+10 ms, cost about a fifth of each worker's CPU time. Workers of a ``scheduler`` of your own
+take their settings from their own Dask configuration (set the same two keys there)."""
+
+
 def _run_chunks(todo, chunk_dir: Path, workers: int, scheduler, progress: bool, total: int) -> None:
     from tqdm.auto import tqdm
 
@@ -551,17 +564,19 @@ def _run_chunks(todo, chunk_dir: Path, workers: int, scheduler, progress: bool, 
                 _write_chunk(chunk_dir, spec, compute_chunk(spec))
                 bar.update()
             return
+        import dask
         from distributed import Client, LocalCluster, as_completed
 
         cluster = None
         if scheduler is None:
-            cluster = LocalCluster(
-                n_workers=workers,
-                threads_per_worker=1,
-                processes=True,
-                host="127.0.0.1",
-                dashboard_address=None,
-            )
+            with dask.config.set(LOCAL_WORKER_CONFIG):
+                cluster = LocalCluster(
+                    n_workers=workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    host="127.0.0.1",
+                    dashboard_address=None,
+                )
             client = Client(cluster)
         else:
             client = Client(scheduler)
