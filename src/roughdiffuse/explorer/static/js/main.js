@@ -22,7 +22,7 @@ const state = {
   csv: null, // {name, samples}
   // view options: the plots column's view, log scale, ground truth shown and its bounces,
   // the 3-D lobe's turn (radians)
-  view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.6, pitch: 1.1 },
+  view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.5, pitch: 0.35 },
 };
 let tables = {}; // the data each view plots, for the CSV export
 let presetShown = null; // the state the chosen preset set, to tell when it becomes "custom"

@@ -44,7 +44,7 @@ function decodeSlot(text) {
       s[k] = clamp(raw[k], q.lo, q.hi);
     }
   }
-  return s;
+  return Object.assign(s, BY_KEY[raw.model].fixed); // a choice the id fixes, as main.js readPanel
 }
 
 /** The state a hash describes (only the parts it gives validly), or null for no state. */

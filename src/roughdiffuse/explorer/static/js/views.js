@@ -39,7 +39,8 @@ function lobeValues(evaluator, params, light) {
   return grid.map(([t, p, wo], k) => ({ t, p, wo, L: mean3(f, k) * lum }));
 }
 
-/** The lobe as a wireframe, orthographic, turned by view.yaw (about the normal) and view.pitch. */
+/** The lobe as a wireframe, orthographic, turned by view.yaw (about the normal) and tilted by
+ *  view.pitch (0: seen from the side, π/2: from above). */
 export function drawLobe(canvas, evaluator, slots, light, view) {
   const ctx = canvas.getContext("2d");
   const W = canvas.width, H = canvas.height;
@@ -50,12 +51,12 @@ export function drawLobe(canvas, evaluator, slots, light, view) {
   let lmax = 0;
   for (const l of lobes) for (const q of l.v) if (Number.isFinite(q.L)) lmax = Math.max(lmax, q.L);
   if (!(lmax > 0)) lmax = 1;
-  const scale = 0.42 * Math.min(W, H * 1.4);
+  const scale = 0.58 * Math.min(W / 2, H);
   const cy = Math.cos(view.yaw), sy = Math.sin(view.yaw), cp = Math.cos(view.pitch), sp = Math.sin(view.pitch);
   const project = ([x, y, z], r) => {
     const u = cy * x - sy * y, w = sy * x + cy * y; // turn about the normal
-    const depthY = cp * w - sp * z, up = sp * w + cp * z; // tilt towards the viewer
-    return [W / 2 + (u * r * scale) / lmax, H * 0.78 - (up * r * scale) / lmax, depthY];
+    const depthY = cp * w - sp * z, up = sp * w + cp * z; // tilt: the far side rises
+    return [W / 2 + (u * r * scale) / lmax, H * 0.72 - (up * r * scale) / lmax, depthY];
   };
   // the surface: a disc of radius lmax, its axes and the normal
   ctx.strokeStyle = "#ccc";
@@ -267,6 +268,7 @@ export function readoutAt(canvas, x, y) {
     }
     return `${p.xmin < 0 ? "θr" : "θo"} = ${xv.toFixed(1)}°: ${parts.join("; ")}`;
   }
+  if (canvas.id === "plot-lobe") return "3-D lobe: drag to turn it";
   const sl = canvas.rdSlice;
   if (sl) {
     for (const b of sl.boxes) {
