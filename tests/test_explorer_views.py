@@ -234,7 +234,8 @@ def test_layout_keeps_status_errors_and_data_in_view(browser, explorer_url, size
     log = open_page(browser, explorer_url, w, h)
     p = log.page
     p.select_option("#mode", "1")
-    p.evaluate("() => { const e = document.getElementById('error'); e.hidden = false; e.textContent = 'x'; }")
+    show = "{hidden: false, textContent: 'x'}"
+    p.evaluate(f"() => Object.assign(document.getElementById('error'), {show})")
     p.evaluate("() => { document.getElementById('gt-status').textContent = 'status'; }")
     frames(p)
     ids = ["error", "light-readout", "gt-status", "readout", "csv-status", "dropzone", "label-a",
