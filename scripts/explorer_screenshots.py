@@ -41,6 +41,20 @@ def csv_text() -> str:
     return "\n".join(lines) + "\n"
 
 
+def drop_csv(page, text: str) -> None:
+    """Drop a CSV file on the page, as a user would."""
+    page.evaluate(
+        """(text) => {
+            const dt = new DataTransfer();
+            dt.items.add(new File([text], "rough-samples.csv", { type: "text/csv" }));
+            document.getElementById("dropzone").dispatchEvent(
+                new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
+        }""",
+        text,
+    )
+    page.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
+
+
 def small_png(data: bytes, path: Path) -> None:
     """Save a screenshot with a 256-colour palette (a third of the bytes, no visible loss)."""
     import io
@@ -51,16 +65,17 @@ def small_png(data: bytes, path: Path) -> None:
 
 
 def windows(browser, url: str, out: Path) -> None:
-    """The page at 1280 × 720 (A and B side by side, the plane of incidence with the one-bounce
-    V-cavity ground truth) and at 1920 × 1080 (the difference of A and B with its colour
-    scale, the 3-D lobe)."""
+    """The page at 1280 × 720 (A and B side by side, CSV samples, the plane of incidence with
+    the one-bounce V-cavity ground truth) and at 1920 × 1080 (the difference of A and B with
+    its colour scale, the 3-D lobe)."""
     page = browser.new_page(viewport={"width": 1280, "height": 720})
     page.goto(url)
     page.wait_for_selector("body[data-ready='1']", state="attached")
     page.select_option("#a-model", "oren-nayar-full")
     page.locator("#a-sigma").fill("30")
     page.select_option("#mode", "1")
-    page.locator("#light-theta").fill("50")
+    drop_csv(page, csv_text())
+    page.locator("#light-theta").fill("60")
     page.check("#gt-show")
     page.check("#gt-bounces-1")
     page.wait_for_function(

@@ -192,7 +192,7 @@ def test_csv_drop_plots_points_against_the_model(page):
     drop_csv(p, text, "samples.csv")
     p.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
     frames(p)
-    status = p.locator("#csv-status")
+    status = p.locator("#data-status")
     assert "samples.csv: 29 samples" in status.inner_text()
     assert "RMS relative difference to model A: 0.0%" in status.inner_text()
     assert "error" not in (status.get_attribute("class") or "")
@@ -248,8 +248,8 @@ def test_bad_csv_shows_its_message_and_the_page_keeps_working(page, text, messag
         assert message.startswith(f"line {py_line.group(1)}:"), (str(exc.value), message)
     p = page.page
     drop_csv(p, text, "bad.csv")
-    status = p.locator("#csv-status")
-    p.wait_for_function("() => document.getElementById('csv-status').textContent !== ''")
+    status = p.locator("#data-status")
+    p.wait_for_function("() => document.getElementById('data-status').textContent !== ''")
     assert message in status.inner_text(), status.inner_text()
     assert "error" in status.get_attribute("class")
     assert p.locator("#error").is_hidden()
@@ -257,7 +257,7 @@ def test_bad_csv_shows_its_message_and_the_page_keeps_working(page, text, messag
     good = "theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n0,0,0,0.2\n0,40,0,0.2\n"
     drop_csv(p, good, "good.csv")
     p.wait_for_function(
-        "() => document.getElementById('csv-status').textContent.startsWith('good.csv')"
+        "() => document.getElementById('data-status').textContent.startsWith('good.csv')"
     )
     before = canvas_pixels(p)
     p.locator("#a-sigma").fill("70")

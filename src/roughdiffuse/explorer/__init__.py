@@ -2,8 +2,9 @@
 
 The page (``static/``: HTML, ES modules, GLSL) renders a lit sphere with the models in GLSL
 (``static/glsl/brdf.glsl``, the one other copy of each formula, checked against the Python
-models by the test suite), plots radiance in the plane of incidence, and overlays measured
-samples from a CSV file. ``roughdiffuse explore`` starts the server
+models by the test suite), plots radiance in the plane of incidence or a Δφ slice, and
+overlays measured data (a MERL file or a CSV of samples) that the server fits
+(:mod:`roughdiffuse.explorer.datasets`). ``roughdiffuse explore`` starts the server
 (:func:`roughdiffuse.explorer.server.make_server`).
 """
 

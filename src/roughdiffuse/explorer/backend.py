@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
+from .datasets import MAX_CSV_BYTES, MAX_MERL_BYTES
 from .params import model_from_params
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "Unavailable",
     "ground_truth",
     "info",
+    "number",
     "params_from_query",
     "vase_png",
 ]
@@ -100,6 +102,11 @@ VASE_VARIANTS = CompiledVariants()
 
 class Unavailable(Exception):
     """The part of roughdiffuse an endpoint needs is not installed or has no data."""
+
+
+def number(q: dict[str, str], key: str, default: float) -> float:
+    """The finite number ``q[key]`` (``default`` when absent); ``ValueError`` naming ``key``."""
+    return _float(q, key, default)
 
 
 def _float(q: dict[str, str], key: str, default: float) -> float:
@@ -246,6 +253,7 @@ def info() -> dict[str, Any]:
         "version": __version__,
         "vase": _render_vase() is not None,
         "groundtruth": _solver() is not None,
+        "upload_bytes": {"merl": MAX_MERL_BYTES, "csv": MAX_CSV_BYTES},
     }
 
 

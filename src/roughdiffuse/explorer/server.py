@@ -11,6 +11,29 @@ It serves the static page in ``static/`` and four small JSON/PNG endpoints under
   the plane of incidence, one bounce or all, computed by :mod:`roughdiffuse.simulate` on
   request.
 
+and, for measured data (:mod:`roughdiffuse.explorer.datasets`; JSON answers, errors as
+``{"error": message}`` with a 4xx status):
+
+* ``POST /api/data?format=merl|csv&name=…``: the body is a MERL ``.binary`` file or a CSV of
+  BRDF samples (at most :data:`~roughdiffuse.explorer.datasets.MAX_MERL_BYTES` or
+  :data:`~roughdiffuse.explorer.datasets.MAX_CSV_BYTES` bytes: larger gets 413 unread, no
+  ``Content-Length`` 411, a malformed file 400 naming what is wrong). It is parsed by
+  :mod:`roughdiffuse.fit` and kept in memory (the last
+  :data:`~roughdiffuse.explorer.datasets.DATASETS_KEPT` datasets); the answer is its summary
+  (``id``, ``theta_i`` angles, sample counts, the models a fit may use).
+* ``GET /api/data/slice?id=…&theta_i=…&dphi=…``: a MERL dataset's BRDF (RGB) along
+  θr = −89°…89° at azimuth Δφ (θr > 0) and Δφ + 180° (θr < 0) from the light.
+* ``POST /api/fit`` with ``{"dataset": id, "model": registry id}``: the fit of that model
+  (values, standard errors, RMS, BIC) on at most
+  :data:`~roughdiffuse.explorer.datasets.FIT_SAMPLES` samples.
+* ``POST /api/rank`` with ``{"dataset": id, "models": [ids]}``: those models (at most
+  :data:`~roughdiffuse.explorer.datasets.RANK_MODELS_AT_ONCE`) fitted and ranked by BIC.
+
+One fit runs at a time (another gets 503 at once); at most :data:`UPLOADS_AT_ONCE` uploads
+are read at once (more get 503), each within :data:`UPLOAD_SECONDS`. A POST carries the same
+``Host`` and ``Origin`` checks as a GET, so another web page cannot post to the server
+(its browser sends its own ``Origin``: 403).
+
 It serves only its own files: a path with a ``..`` or ``.`` segment, an empty segment (``//``),
 a backslash, a NUL, or anything that resolves outside ``static/`` gets 404; so does every
 path that is not a regular file there (no directory listings). It binds to 127.0.0.1 unless
@@ -40,11 +63,14 @@ from typing import Any
 from urllib.parse import parse_qs, unquote, urlsplit
 
 from .. import __version__
-from . import backend
+from . import backend, datasets
 
 __all__ = [
     "IDLE_TIMEOUT",
     "MAX_THREADS",
+    "UPLOADS_AT_ONCE",
+    "UPLOAD_SECONDS",
+    "UPLOAD_SLOTS",
     "STATIC_DIR",
     "ExplorerHandler",
     "ExplorerServer",
@@ -57,6 +83,18 @@ IDLE_TIMEOUT = 15.0
 
 MAX_THREADS = 32
 """Requests served at once; a connection beyond them gets 503 and is closed."""
+
+UPLOADS_AT_ONCE = 2
+"""Upload bodies read at once (each up to 36 MB in memory); more get 503."""
+
+UPLOAD_SECONDS = 120.0
+"""Seconds an upload may take to arrive in full (a trickling client is cut off: 408)."""
+
+JSON_BODY_BYTES = 10_000
+"""Largest JSON body of ``/api/fit`` and ``/api/rank``."""
+
+UPLOAD_SLOTS = threading.BoundedSemaphore(UPLOADS_AT_ONCE)
+"""Taken while an upload is read and parsed."""
 
 STATIC_DIR = Path(__file__).resolve().parent / "static"
 """The page's files (shipped as package data)."""
@@ -101,7 +139,8 @@ def resolve_static(url_path: str, root: Path = STATIC_DIR) -> Path | None:
 
 
 class ExplorerHandler(BaseHTTPRequestHandler):
-    """GET and HEAD for the static page and the ``/api/`` endpoints; nothing else."""
+    """GET and HEAD for the static page and the ``/api/`` endpoints, POST for the measured
+    data endpoints; nothing else."""
 
     server_version = f"roughdiffuse-explorer/{__version__}"
     quiet = True
@@ -132,6 +171,145 @@ class ExplorerHandler(BaseHTTPRequestHandler):
 
     def do_GET(self) -> None:  # noqa: N802 - stdlib name
         self._get(head=False)
+
+    def _error(self, status: int, message: str) -> None:
+        """A JSON error; the connection is closed (an unread body must not be parsed as the
+        next request)."""
+        self.close_connection = True
+        self._json(status, {"error": message})
+
+    def do_POST(self) -> None:  # noqa: N802 - stdlib name
+        if self._refused(False):
+            self.close_connection = True
+            return
+        try:
+            url = urlsplit(self.path)
+        except ValueError:
+            self._error(HTTPStatus.NOT_FOUND, "no such endpoint")
+            return
+        q = {k: v[-1] for k, v in parse_qs(url.query).items()}
+        if url.path == "/api/data":
+            self._upload(q)
+        elif url.path in ("/api/fit", "/api/rank"):
+            self._fit(url.path)
+        else:
+            self._error(HTTPStatus.NOT_FOUND, "no such endpoint")
+
+    def _length(self, limit: int, what: str) -> int | None:
+        """The body's announced length, or None after answering 411/413."""
+        if self.headers.get("Transfer-Encoding"):
+            self._error(HTTPStatus.LENGTH_REQUIRED, "send the body with a Content-Length")
+            return None
+        text = self.headers.get("Content-Length")
+        try:
+            n = int(text) if text is not None else -1
+        except ValueError:
+            n = -1
+        if n < 0:
+            self._error(HTTPStatus.LENGTH_REQUIRED, "a Content-Length header is required")
+            return None
+        if n > limit:
+            self._error(
+                HTTPStatus.REQUEST_ENTITY_TOO_LARGE,
+                f"{what} is too large: {n} bytes, at most {limit} are accepted",
+            )
+            return None
+        return n
+
+    def _body(self, n: int) -> bytes | None:
+        """Read ``n`` bytes within :data:`UPLOAD_SECONDS`, or answer 408/400 and None."""
+        import time
+
+        deadline = time.monotonic() + UPLOAD_SECONDS
+        chunks: list[bytes] = []
+        got = 0
+        try:
+            while got < n:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise TimeoutError
+                self.connection.settimeout(min(IDLE_TIMEOUT, left))
+                chunk = self.rfile.read1(min(n - got, 1 << 20))
+                if not chunk:
+                    self._error(HTTPStatus.BAD_REQUEST, f"the body ended after {got} of {n} bytes")
+                    return None
+                chunks.append(chunk)
+                got += len(chunk)
+        except TimeoutError:
+            self._error(
+                HTTPStatus.REQUEST_TIMEOUT,
+                f"the upload did not arrive within {UPLOAD_SECONDS:g} s ({got} of {n} bytes)",
+            )
+            return None
+        finally:
+            self.connection.settimeout(IDLE_TIMEOUT)
+        return b"".join(chunks)
+
+    def _upload(self, q: dict[str, str]) -> None:
+        kind = q.get("format", "")
+        limits = {"merl": datasets.MAX_MERL_BYTES, "csv": datasets.MAX_CSV_BYTES}
+        if kind not in limits:
+            self._error(HTTPStatus.BAD_REQUEST, f"format must be 'merl' or 'csv' (got {kind!r})")
+            return
+        name = q.get("name", "") or f"data.{'binary' if kind == 'merl' else 'csv'}"
+        what = "a MERL file" if kind == "merl" else "a CSV file"
+        n = self._length(limits[kind], f"{name} ({what})")
+        if n is None:
+            return
+        if not UPLOAD_SLOTS.acquire(blocking=False):
+            self._error(HTTPStatus.SERVICE_UNAVAILABLE, "other uploads are being read; try again")
+            return
+        try:
+            body = self._body(n)
+            if body is None:
+                return
+            try:
+                ds = datasets.parse_upload(kind, name, body)
+            except ValueError as exc:
+                self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc)})
+                return
+            del body
+        finally:
+            UPLOAD_SLOTS.release()
+        self._json(HTTPStatus.OK, ds.summary())
+
+    def _fit(self, path: str) -> None:
+        n = self._length(JSON_BODY_BYTES, "the request")
+        if n is None:
+            return
+        body = self._body(n)
+        if body is None:
+            return
+        try:
+            req = json.loads(body.decode("utf-8"))
+            if not isinstance(req, dict):
+                raise ValueError("the body must be a JSON object")
+        except (ValueError, UnicodeDecodeError) as exc:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": f"the body is not JSON: {exc}"})
+            return
+        try:
+            ds = datasets.STORE.get(str(req.get("dataset")))
+        except KeyError:
+            self._json(
+                HTTPStatus.NOT_FOUND,
+                {
+                    "error": "no such dataset here (the server keeps "
+                    f"the last {datasets.DATASETS_KEPT}): load the file again"
+                },
+            )
+            return
+        try:
+            if path == "/api/fit":
+                out = datasets.fit_model(ds, req.get("model"))
+            else:
+                out = datasets.rank_models(ds, req.get("models"))
+        except datasets.Busy as exc:
+            self._json(HTTPStatus.SERVICE_UNAVAILABLE, {"error": str(exc)})
+            return
+        except ValueError as exc:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc)})
+            return
+        self._json(HTTPStatus.OK, out)
 
     def _refused(self, head: bool) -> bool:
         """Answer 421 (foreign Host) or 403 (foreign Origin) and return True, or False."""
@@ -194,6 +372,15 @@ class ExplorerHandler(BaseHTTPRequestHandler):
                 self._send(HTTPStatus.OK, backend.vase_png(q), "image/png", head)
             elif path == "/api/groundtruth.json":
                 self._json(HTTPStatus.OK, backend.ground_truth(q), head)
+            elif path == "/api/data/slice":
+                try:
+                    ds = datasets.STORE.get(q.get("id", ""))
+                except KeyError:
+                    raise backend.Unavailable("no such dataset here: load the file again") from None
+                out = datasets.slice_points(
+                    ds, backend.number(q, "theta_i", 0.0), backend.number(q, "dphi", 0.0)
+                )
+                self._json(HTTPStatus.OK, out, head)
             else:
                 self._not_found(head)
         except backend.Unavailable as exc:
@@ -287,8 +474,7 @@ class ExplorerServer(ThreadingHTTPServer):
         if isinstance(exc, ConnectionError | TimeoutError):
             host, port = client_address[:2]
             print(
-                f"roughdiffuse explorer: client {host}:{port} went away "
-                f"({type(exc).__name__})",
+                f"roughdiffuse explorer: client {host}:{port} went away ({type(exc).__name__})",
                 file=sys.stderr,
                 flush=True,
             )

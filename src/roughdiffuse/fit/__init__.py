@@ -16,17 +16,19 @@ from .._lazy import attach
 
 if TYPE_CHECKING:  # for type checkers; at run time each name is imported on first use
     from .compare import CANDIDATES, Comparison, compare_models
-    from .csv_samples import read_csv, samples_from_table, write_csv
+    from .csv_samples import csv_from_text, read_csv, samples_from_table, write_csv
     from .images import image_measurements, read_image, read_normals, shape_normals
     from .least_squares import DEFAULT_BOUNDS, DegenerateDataWarning, FitResult, fit
     from .measurements import Measurements
     from .merl import (
+        MERL_FILE_SIZE,
         MERL_SCALE,
         MERL_SHAPE,
         MERLBRDF,
         directions_from_half_diff,
         half_diff_from_directions,
         merl_cell_index,
+        merl_from_bytes,
         read_merl,
         write_merl,
     )
@@ -35,6 +37,7 @@ _SUBMODULE = {
     "CANDIDATES": "compare",
     "Comparison": "compare",
     "compare_models": "compare",
+    "csv_from_text": "csv_samples",
     "read_csv": "csv_samples",
     "samples_from_table": "csv_samples",
     "write_csv": "csv_samples",
@@ -47,12 +50,14 @@ _SUBMODULE = {
     "FitResult": "least_squares",
     "fit": "least_squares",
     "Measurements": "measurements",
+    "MERL_FILE_SIZE": "merl",
     "MERL_SCALE": "merl",
     "MERL_SHAPE": "merl",
     "MERLBRDF": "merl",
     "directions_from_half_diff": "merl",
     "half_diff_from_directions": "merl",
     "merl_cell_index": "merl",
+    "merl_from_bytes": "merl",
     "read_merl": "merl",
     "write_merl": "merl",
 }
@@ -65,6 +70,7 @@ __all__ = [
     "CANDIDATES",
     "DEFAULT_BOUNDS",
     "MERLBRDF",
+    "MERL_FILE_SIZE",
     "MERL_SCALE",
     "MERL_SHAPE",
     "Comparison",
@@ -72,11 +78,13 @@ __all__ = [
     "FitResult",
     "Measurements",
     "compare_models",
+    "csv_from_text",
     "directions_from_half_diff",
     "fit",
     "half_diff_from_directions",
     "image_measurements",
     "merl_cell_index",
+    "merl_from_bytes",
     "read_csv",
     "read_image",
     "read_merl",

@@ -30,7 +30,7 @@ import numpy as np
 from ..io.atomic import atomic_open
 from .measurements import Measurements
 
-__all__ = ["read_csv", "samples_from_table", "write_csv"]
+__all__ = ["csv_from_text", "read_csv", "samples_from_table", "write_csv"]
 
 _UNIT = re.compile(
     r"^\s*(?P<name>[a-z_]+?)\s*(?:_|\s|\[|\()\s*(?P<unit>deg|degs|degree|degrees|rad|rads|"
@@ -215,9 +215,24 @@ def read_csv(path: str | os.PathLike[str], *, irradiance: float | None = None) -
         value, or the missing column.
     """
     path = os.fspath(path)
-    name = os.path.basename(path)
     with open(path, newline="", encoding="utf-8-sig") as fh:
         text = fh.read()
+    return csv_from_text(text, name=os.path.basename(path), irradiance=irradiance)
+
+
+def csv_from_text(
+    text: str, *, name: str = "data.csv", irradiance: float | None = None
+) -> Measurements:
+    """BRDF samples from the text of a CSV file (e.g. an upload), as :func:`read_csv` reads
+    a file; ``name`` is used in messages and as the source.
+
+    Raises
+    ------
+    ValueError
+        As :func:`read_csv`.
+    """
+    if text.startswith("\ufeff"):
+        text = text[1:]
     lines = text.splitlines()
     header: list[str] | None = None
     rows: list[list[str]] = []

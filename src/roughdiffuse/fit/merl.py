@@ -33,12 +33,14 @@ from ..models import Model
 from .measurements import Measurements
 
 __all__ = [
+    "MERL_FILE_SIZE",
     "MERL_SCALE",
     "MERL_SHAPE",
     "MERLBRDF",
     "directions_from_half_diff",
     "half_diff_from_directions",
     "merl_cell_index",
+    "merl_from_bytes",
     "read_merl",
     "write_merl",
 ]
@@ -51,6 +53,9 @@ MERL_SCALE = np.array([1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0])
 
 _HEADER = 3 * 4
 _N = MERL_SHAPE[0] * MERL_SHAPE[1] * MERL_SHAPE[2]
+
+MERL_FILE_SIZE = _HEADER + 3 * _N * 8
+"""Bytes of a MERL file: the 12-byte header and three blocks of float64 (34 992 012)."""
 
 
 def _rot_y(x: np.ndarray, y: np.ndarray, z: np.ndarray, a: Any) -> tuple[np.ndarray, ...]:
@@ -233,9 +238,21 @@ def read_merl(path: str | os.PathLike[str]) -> MERLBRDF:
         are not 90 × 90 × 180, or an entry is NaN or infinite.
     """
     path = os.fspath(path)
-    name = os.path.basename(path)
     with open(path, "rb") as fh:
         blob = fh.read()
+    return merl_from_bytes(blob, os.path.basename(path))
+
+
+def merl_from_bytes(blob: bytes, name: str = "MERL data") -> MERLBRDF:
+    """A MERL ``.binary`` file's content (e.g. an upload), checked as :func:`read_merl` checks
+    a file; ``name`` is used in messages and as the source.
+
+    Raises
+    ------
+    ValueError
+        If the content is shorter or longer than its header says, the dimensions are not
+        90 × 90 × 180, or an entry is NaN or infinite.
+    """
     if len(blob) < _HEADER:
         raise ValueError(f"{name}: truncated MERL file ({len(blob)} bytes, no 12-byte header)")
     dims = tuple(int(d) for d in np.frombuffer(blob[:_HEADER], dtype="<i4"))
@@ -244,14 +261,15 @@ def read_merl(path: str | os.PathLike[str]) -> MERLBRDF:
             f"{name}: MERL dimensions must be 90 x 90 x 180 (θh, θd, φd); the header says "
             f"{dims[0]} x {dims[1]} x {dims[2]}"
         )
-    expected = _HEADER + 3 * _N * 8
+    expected = MERL_FILE_SIZE
     if len(blob) != expected:
         what = "truncated" if len(blob) < expected else "too long"
         raise ValueError(
             f"{name}: {what} MERL file: {len(blob)} bytes, expected {expected} "
             "(12-byte header + 3 x 90 x 90 x 180 float64)"
         )
-    raw = np.frombuffer(blob[_HEADER:], dtype="<f8").reshape(3, *MERL_SHAPE).astype(np.float64)
+    raw = np.frombuffer(blob, dtype="<f8", offset=_HEADER).reshape(3, *MERL_SHAPE)
+    raw = raw.astype(np.float64)
     _check_finite(raw, name)
     return MERLBRDF(raw, source=name)
 

@@ -1,7 +1,8 @@
 // The explorer page: two model slots (A, B), a lit sphere, plane-of-incidence plots, presets,
-// a CSV overlay of measured samples and (when the server has one) ground truth.
+// measured data with fits (data.js, fitpanel.js) and (when the server has one) ground truth.
 
-import { CsvError, parseBrdfCsv } from "./csv.js";
+import { channelValue, dataSeries, drawScatterOf, onLight, selection, setupData, sliceCosines, sliceLabel } from "./data.js";
+import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
 import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
@@ -19,7 +20,6 @@ const state = {
   mode: 0,
   light: { theta: 0, phi: 0 }, // degrees
   exposure: 0, // EV
-  csv: null, // {name, samples}
   // view options: the plots column's view, log scale, ground truth shown and its bounces,
   // the 3-D lobe's turn (radians)
   view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.5, pitch: 0.35 },
@@ -155,6 +155,7 @@ function setLight(theta, phi) {
   state.light.phi = phi;
   $("light-theta").value = state.light.theta;
   $("light-phi").value = phi;
+  onLight(state.light.theta);
   refresh();
   gtSoon();
 }
@@ -228,6 +229,7 @@ function viewSlots(a, b) {
 
 /** Draw the plots column's current view (the plane views are drawn by drawPlots). */
 function drawView(a, b) {
+  if (state.view.tab === "scatter" && $("tab-scatter").hidden) state.view.tab = "plane"; // no CSV data
   const tab = state.view.tab;
   for (const v of VIEWS) $(`plot-${v === "plane" ? "cartesian" : v}`).hidden = v !== tab;
   for (const el of document.querySelectorAll("#view-tabs button")) el.setAttribute("aria-selected", String(el.dataset.view === tab));
@@ -254,18 +256,12 @@ function drawDiffLegend() {
   $("diff-hi").textContent = `+${m.toPrecision(2)} (A brighter)`;
 }
 
-/** Radiance L = f E0 cos θi in the plane of incidence, θr from -90° to 90° (> 0: light's side). */
+/** Radiance L = f E0 cos θi in the slice of data.js (Δφ = 0: the plane of incidence), θr from
+ *  -90° to 90° (> 0: at Δφ, the light's side), in the channel data.js selects (or the mean). */
 function planeCurve(params, thetaIDeg, thetaRDeg) {
-  const ti = thetaIDeg * DEG;
-  const cos = new Float32Array(3 * thetaRDeg.length);
-  thetaRDeg.forEach((tr, k) => {
-    cos[3 * k] = Math.cos(ti);
-    cos[3 * k + 1] = Math.cos(Math.abs(tr) * DEG);
-    cos[3 * k + 2] = Math.cos(ti - tr * DEG);
-  });
-  const f = evaluator.evaluate(params, cos);
-  const lum = Math.max(Math.cos(ti), 0) * E0;
-  return thetaRDeg.map((_, k) => ((f[3 * k] + f[3 * k + 1] + f[3 * k + 2]) / 3) * lum);
+  const f = evaluator.evaluate(params, sliceCosines(thetaIDeg, thetaRDeg));
+  const lum = Math.max(Math.cos(thetaIDeg * DEG), 0) * E0;
+  return thetaRDeg.map((_, k) => channelValue(f, k) * lum);
 }
 
 function drawPlots(a, b) {
@@ -278,86 +274,18 @@ function drawPlots(a, b) {
   if (state.mode !== 0) {
     series.push({ label: label("b"), color: "#d35400", dash: true, x: xs, y: lit ? planeCurve(b, thetaI, xs) : xs.map(() => 0) });
   }
-  if (gtSeries && lit) series.push(gtSeries);
-  let csvDrawn = 0;
-  if (state.csv) {
-    const near = state.csv.samples.filter(
-      (s) => Math.abs(s.thetaI / DEG - thetaI) <= 2.5 && Math.abs(Math.sin(s.deltaPhi)) <= Math.sin(5 * DEG),
-    );
-    const x = near.map((s) => (Math.cos(s.deltaPhi) >= 0 ? 1 : -1) * (s.thetaR / DEG));
-    const y = near.map((s) => ((s.value[0] + s.value[1] + s.value[2]) / 3) * Math.cos(s.thetaI) * E0);
-    series.push({ label: `data, θi ≈ ${thetaI.toFixed(0)}° (${near.length} points)`, color: "#c0392b", points: true, x, y });
-  }
-  const title = lit ? `radiance in the plane of incidence, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
-  csvDrawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: "L (E0 = π, mean of RGB)", log: state.view.log });
+  if (gtSeries && lit && selection.dphi === 0) series.push(gtSeries); // solved in the plane only
+  const data = lit ? dataSeries(thetaI) : null;
+  if (data) series.push(data);
+  const slice = sliceLabel();
+  const title = lit ? `radiance ${slice.where}, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
+  const drawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: `L (E0 = π, ${slice.channel})`, log: state.view.log });
   const rows = [];
   for (const s of series) s.x.forEach((x, k) => rows.push([s.label, x, s.y[k]]));
   tables.plane = tables.polar = { columns: ["series", "theta_r_deg", "radiance"], rows };
   drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null });
-  document.body.dataset.csvPoints = String(csvDrawn);
-  if (state.csv) drawCsvScatter(a);
-}
-
-function drawCsvScatter(a) {
-  const smp = state.csv.samples;
-  const cos = new Float32Array(3 * smp.length);
-  smp.forEach((s, k) => {
-    cos[3 * k] = Math.cos(s.thetaI);
-    cos[3 * k + 1] = Math.cos(s.thetaR);
-    cos[3 * k + 2] = Math.cos(s.thetaI) * Math.cos(s.thetaR) + Math.sin(s.thetaI) * Math.sin(s.thetaR) * Math.cos(s.deltaPhi);
-  });
-  const f = evaluator.evaluate(a, cos);
-  const model = smp.map((_, k) => (f[3 * k] + f[3 * k + 1] + f[3 * k + 2]) / 3);
-  const measured = smp.map((s) => (s.value[0] + s.value[1] + s.value[2]) / 3);
-  let se = 0, n = 0;
-  model.forEach((m, k) => { if (m > 0) { se += ((measured[k] - m) / m) ** 2; n++; } });
-  const canvas = $("plot-scatter");
-  canvas.hidden = false;
-  const drawn = drawScatter(canvas, model, measured, { title: `${state.csv.name}: measured (vertical) against model A (all ${smp.length} samples)` });
-  document.body.dataset.csvScatter = String(drawn);
-  const rms = n ? Math.sqrt(se / n) * 100 : NaN;
-  setCsvStatus(`${state.csv.name}: ${smp.length} samples; RMS relative difference to model A: ${rms.toFixed(1)}%. ` +
-    "The plane-of-incidence plot shows the samples with θi within 2.5° of the light and Δφ within 5° of 0° or 180°.", false);
-}
-
-// ------------------------------------------------------------------ CSV
-function setCsvStatus(text, isError) {
-  const el = $("csv-status");
-  el.textContent = text;
-  el.classList.toggle("error", isError);
-}
-
-async function loadCsv(file) {
-  const text = await file.text();
-  try {
-    const { samples } = parseBrdfCsv(text);
-    state.csv = { name: file.name || "data.csv", samples };
-    setLight(samples[0].thetaI / DEG, state.light.phi);
-  } catch (err) {
-    if (!(err instanceof CsvError)) throw err;
-    state.csv = null;
-    $("plot-scatter").hidden = true;
-    document.body.dataset.csvScatter = "0";
-    setCsvStatus(`${file.name || "file"}: ${err.message}. The file was not loaded.`, true);
-    refresh();
-  }
-}
-
-function setupCsv() {
-  const zone = $("dropzone");
-  const stop = (ev) => { ev.preventDefault(); ev.stopPropagation(); };
-  for (const t of ["dragenter", "dragover"]) document.addEventListener(t, (ev) => { stop(ev); zone.classList.add("over"); });
-  document.addEventListener("dragleave", (ev) => { stop(ev); zone.classList.remove("over"); });
-  document.addEventListener("drop", (ev) => {
-    stop(ev);
-    zone.classList.remove("over");
-    const file = ev.dataTransfer && ev.dataTransfer.files[0];
-    if (file) loadCsv(file).catch(showError);
-  });
-  $("csv-file").addEventListener("change", (ev) => {
-    const file = ev.target.files[0];
-    if (file) loadCsv(file).catch(showError);
-  });
+  document.body.dataset.csvPoints = String(data ? drawn : 0);
+  drawScatterOf(drawScatter);
 }
 
 // ------------------------------------------------------------------ presets, vase, ground truth
@@ -553,7 +481,16 @@ async function start() {
   const c = $("sphere");
   c.addEventListener("pointerdown", (ev) => { c.setPointerCapture(ev.pointerId); pointerToLight(ev); });
   c.addEventListener("pointermove", (ev) => { if (ev.buttons & 1) pointerToLight(ev); });
-  setupCsv();
+  setupData({
+    setLight: (theta) => setLight(theta, state.light.phi),
+    refresh,
+    lightTheta: () => state.light.theta,
+    evaluateA: (cos) => evaluator.evaluate(gpuParams(state.a), cos),
+  }, info);
+  setupFit({
+    modelA: () => state.a.model,
+    applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
+  });
   document.addEventListener("input", gtSoon);
   document.addEventListener("change", gtSoon);
   $("gt-row").hidden = !info.groundtruth;

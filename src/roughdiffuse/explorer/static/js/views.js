@@ -9,7 +9,7 @@ import { drawCartesian } from "./plot.js";
 
 const DEG = Math.PI / 180;
 const E0 = Math.PI; // irradiance, as in sphere.frag and main.js
-export const VIEWS = ["plane", "polar", "lobe", "albedo", "slice"];
+export const VIEWS = ["plane", "polar", "lobe", "albedo", "slice", "scatter"]; // scatter: data.js
 const COLORS = { a: "#1f5fa8", b: "#d35400" };
 
 const mean3 = (f, k) => (f[3 * k] + f[3 * k + 1] + f[3 * k + 2]) / 3;
