@@ -82,8 +82,8 @@ def test_each_view_draws_reads_out_and_takes_log_scale(page):
             assert "drag" in text
         else:
             assert re.search(r"\d\.\d{3}", text), (view, text)
-    # the log scale redraws the plane plot and the albedo plot with other pixels
-    for view in ("plane", "albedo"):
+    # the log scale redraws the plane, polar and albedo plots with other pixels
+    for view in ("plane", "polar", "albedo"):
         show_view(p, view)
         linear = canvas_rgb(p, CANVAS[view])
         p.check("#log-scale")

@@ -283,7 +283,7 @@ function drawPlots(a, b) {
   const rows = [];
   for (const s of series) s.x.forEach((x, k) => rows.push([s.label, x, s.y[k]]));
   tables.plane = tables.polar = { columns: ["series", "theta_r_deg", "radiance"], rows };
-  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null });
+  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null, log: state.view.log });
   document.body.dataset.csvPoints = String(data ? drawn : 0);
   drawScatterOf(drawScatter);
 }

@@ -123,13 +123,16 @@ export function drawCartesian(canvas, series, {
 }
 
 /** Polar plot: the normal points up, theta_r > 0 towards the right (the light's side). */
-export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) {
+export function drawPolar(canvas, series, { title = "", lightDeg = null, log = false } = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
   const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 90); // legend room above
-  const ymax = yMax(series);
+  const ax = yAxis(series, log);
+  const ymax = ax.hi;
+  // log: the radius runs over the decades from ax.lo (centre) to ax.hi (outer ring)
+  const radius = (v) => (log ? Math.max(Math.log10(Math.max(v, ax.lo) / ax.lo) / Math.log10(ax.hi / ax.lo), 0) : Math.max(v, 0) / ymax);
   const pt = (deg, v) => {
-    const a = (deg * Math.PI) / 180, r = (Math.max(v, 0) / ymax) * R;
+    const a = (deg * Math.PI) / 180, r = radius(v) * R;
     return [cx + r * Math.sin(a), cy - r * Math.cos(a)];
   };
   ctx.strokeStyle = "#ddd";
@@ -143,7 +146,7 @@ export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) 
     ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(x, y); ctx.stroke();
     ctx.fillText(`${d}°`, x - 10 + 8 * Math.sin((d * Math.PI) / 180), y - 4);
   }
-  ctx.fillText(`outer ring ${ymax.toPrecision(2)}`, 6, H - 6);
+  ctx.fillText(log ? `log scale: centre ${ax.lo.toExponential(0)}, outer ring ${ymax.toExponential(0)}` : `outer ring ${ymax.toPrecision(2)}`, 6, H - 6);
   if (lightDeg !== null) {
     const [x, y] = pt(lightDeg, ymax);
     ctx.strokeStyle = "#d9a400";
