@@ -12,6 +12,7 @@
 //   channelValue(f, k)      the selected channel (or the mean) of the k-th RGB triple of f
 //   dataSeries(thetaI)      the points to draw at the light's θi (a plot series), or null
 //   onDataset(fn)           call fn(dataset) whenever a dataset is loaded or dropped
+//   setSelection({dphi, channel})  set the slice controls (e.g. from the URL) and redraw
 
 import { CsvError, parseBrdfCsv } from "./csv.js";
 
@@ -172,7 +173,17 @@ class UploadError extends Error {
   }
 }
 
+/** A file was not loaded: say why, and drop the previous dataset (its points would mislead). */
 function failed(file, message) {
+  if (dataset) {
+    dataset = null;
+    slice = null;
+    $("data-controls").hidden = true;
+    $("plot-scatter").hidden = true;
+    document.body.dataset.csvScatter = "0";
+    for (const fn of listeners) fn(null);
+    hooks.refresh();
+  }
   setStatus(`${file.name || "file"}: ${message.replace(new RegExp(`^${escapeRe(file.name || "")}: `), "")} The file was not loaded.`, true);
   document.body.dataset.dataLoaded = "error";
 }
@@ -260,6 +271,21 @@ export function drawScatterOf(drawScatter) {
   const rms = n ? Math.sqrt(se / n) * 100 : NaN;
   setStatus(`${dataset.name}: ${smp.length} samples; RMS relative difference to model A: ${rms.toFixed(1)}%. ` +
     "The plot shows the samples with θi within 2.5° of the light and Δφ within 5° of the slice." + dataset.note, false);
+}
+
+/** Set Δφ (degrees, 0–180) and/or the channel ("mean", 0, 1, 2), controls included. */
+export function setSelection({ dphi, channel } = {}) {
+  if (dphi !== undefined) {
+    const d = Math.min(180, Math.max(0, Math.round(Number(dphi)) || 0));
+    selection.dphi = d;
+    $("data-dphi").value = String(d);
+    $("data-dphi-out").textContent = `${d}°`;
+  }
+  if (channel !== undefined && ["mean", 0, 1, 2, "0", "1", "2"].includes(channel)) {
+    selection.channel = channel === "mean" ? "mean" : Number(channel);
+    $("data-channel").value = String(selection.channel);
+  }
+  if (hooks) hooks.refresh();
 }
 
 /** Wire the drop zone, the file chooser and the slice controls. */
