@@ -125,6 +125,18 @@ def test_url_state_round_trips(page, browser):  # noqa: F811 - fixture
     p.locator("#exposure").fill("1.5")
     show_view(p, "albedo")
     p.check("#log-scale")
+    # the data slice (data.js), set as its controls would be: Δφ = 30°, the green channel
+    p.evaluate(
+        """() => {
+            const set = (id, v, type) => {
+                const el = document.getElementById(id);
+                el.value = v;
+                el.dispatchEvent(new Event(type, { bubbles: true }));
+            };
+            set("data-dphi", "30", "input");
+            set("data-channel", "1", "change");
+        }"""
+    )
     frames(p)
     keys = "({a, b, mode, light, exposure, view}) => ({a, b, mode, light, exposure, view})"
     before = p.evaluate(f"() => ({keys})(window.rdExplorer.state)")
@@ -144,6 +156,8 @@ def test_url_state_round_trips(page, browser):  # noqa: F811 - fixture
     assert q.locator("#a-roughness").input_value() == "0.7"
     assert q.locator("#mode").input_value() == "2"
     assert q.locator("#log-scale").is_checked()
+    assert q.locator("#data-dphi").input_value() == "30"
+    assert q.locator("#data-channel").input_value() == "1"
     assert q.evaluate("() => document.body.dataset.view") == "albedo"
     assert not other.errors, other.errors
     q.close()

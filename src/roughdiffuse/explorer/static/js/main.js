@@ -1,7 +1,7 @@
 // The explorer page: two model slots (A, B), a lit sphere, plane-of-incidence plots, presets,
 // measured data with fits (data.js, fitpanel.js) and (when the server has one) ground truth.
 
-import { channelValue, dataSeries, drawScatterOf, onLight, selection, setupData, sliceCosines, sliceLabel } from "./data.js";
+import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
 import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
@@ -216,7 +216,8 @@ function draw() {
 /** What the URL keeps and a preset sets. */
 function sharedState() {
   const model = { a: state.a, b: state.b, mode: state.mode, light: state.light, exposure: state.exposure };
-  return { ...model, view: state.view, model };
+  // the data slice's Δφ and channel (data.js) belong to the view as well
+  return { ...model, view: { ...state.view, dphi: selection.dphi, channel: selection.channel }, model };
 }
 
 /** The slots the extra views draw: A, and B unless the page shows A only. */
@@ -487,6 +488,7 @@ async function start() {
     lightTheta: () => state.light.theta,
     evaluateA: (cos) => evaluator.evaluate(gpuParams(state.a), cos),
   }, info);
+  if (restored?.view) setSelection({ dphi: restored.view.dphi, channel: restored.view.channel });
   setupFit({
     modelA: () => state.a.model,
     applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
