@@ -267,7 +267,7 @@ def test_layout_keeps_status_errors_and_data_in_view(browser, explorer_url, size
     p.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
     frames(p)
     ids = ["error", "light-readout", "gt-status", "readout", "data-status", "dropzone", "label-a",
-           "label-b", "export-csv", "data", "data-controls", "fit-run", "tab-scatter"]
+           "label-b", "export-csv", "data", "data-controls", "fit-panel", "tab-scatter"]
     for el in ids:
         box = p.locator(f"#{el}").bounding_box()
         assert box is not None, el
