@@ -1,5 +1,9 @@
 """Screenshots of the explorer for the README (docs/images/explorer-*.png).
 
+Besides the two full-page images, one window each at 1280 × 720 and 1920 × 1080
+(explorer-1280x720.png, explorer-1920x1080.png), as a user sees it without scrolling, saved
+with a 256-colour palette to stay small.
+
 Run from the repository root: ``python scripts/explorer_screenshots.py``. Needs Chromium
 (/usr/bin/chromium) and Playwright, as the explorer tests do.
 """
@@ -37,6 +41,65 @@ def csv_text() -> str:
     return "\n".join(lines) + "\n"
 
 
+def drop_csv(page, text: str) -> None:
+    """Drop a CSV file on the page, as a user would."""
+    page.evaluate(
+        """(text) => {
+            const dt = new DataTransfer();
+            dt.items.add(new File([text], "rough-samples.csv", { type: "text/csv" }));
+            document.getElementById("dropzone").dispatchEvent(
+                new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
+        }""",
+        text,
+    )
+    page.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
+
+
+def small_png(data: bytes, path: Path) -> None:
+    """Save a screenshot with a 256-colour palette (a third of the bytes, no visible loss)."""
+    import io
+
+    from PIL import Image
+
+    Image.open(io.BytesIO(data)).convert("RGB").quantize(256).save(path, optimize=True)
+
+
+def windows(browser, url: str, out: Path) -> None:
+    """The page at 1280 × 720 (A and B side by side, CSV samples, the plane of incidence with
+    the one-bounce V-cavity ground truth) and at 1920 × 1080 (the difference of A and B with
+    its colour scale, the 3-D lobe)."""
+    page = browser.new_page(viewport={"width": 1280, "height": 720})
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']", state="attached")
+    page.select_option("#a-model", "oren-nayar-full")
+    page.locator("#a-sigma").fill("30")
+    page.select_option("#mode", "1")
+    drop_csv(page, csv_text())
+    page.locator("#light-theta").fill("60")
+    page.check("#gt-show")
+    page.check("#gt-bounces-1")
+    page.wait_for_function(
+        "() => document.getElementById('gt-status').textContent.includes('one bounce')",
+        timeout=120_000,
+    )
+    page.wait_for_timeout(500)
+    box = page.locator("#plot-cartesian").bounding_box()
+    page.mouse.move(box["x"] + 0.7 * box["width"], box["y"] + 0.5 * box["height"])
+    small_png(page.screenshot(), out / "explorer-1280x720.png")
+    page.close()
+    page = browser.new_page(viewport={"width": 1920, "height": 1080})
+    page.goto(url)
+    page.wait_for_selector("body[data-ready='1']", state="attached")
+    page.select_option("#preset", "eon-vs-on")
+    page.select_option("#mode", "2")
+    page.locator("#exposure").fill("1")
+    page.click("#view-tabs button[data-view=lobe]")
+    page.wait_for_function("() => document.body.dataset.view === 'lobe'")
+    page.wait_for_timeout(500)
+    small_png(page.screenshot(), out / "explorer-1920x1080.png")
+    page.close()
+
+
 def main() -> None:
     out = ROOT / "docs" / "images"
     out.mkdir(parents=True, exist_ok=True)
@@ -70,6 +133,8 @@ def main() -> None:
         page.wait_for_function("() => document.body.dataset.gtPoints === '45'", timeout=120_000)
         page.wait_for_timeout(500)
         page.screenshot(path=str(out / "explorer-on-vs-lambert.png"), full_page=True)
+        page.close()
+        windows(browser, url_of(server), out)
         browser.close()
     server.shutdown()
 

@@ -169,7 +169,7 @@ def test_vase_with_a_non_finite_image_is_refused(server):
 def test_ground_truth_validates_the_values_it_uses(monkeypatch, query, used):
     calls = []
 
-    def fake(sigma, theta_i, albedo):
+    def fake(sigma, theta_i, albedo, bounces):
         calls.append((sigma, theta_i, albedo))
         return tuple(0.1 for _ in backend.THETA_R_DEG)
 
@@ -184,7 +184,13 @@ def test_ground_truth_validates_the_values_it_uses(monkeypatch, query, used):
 
 
 def test_ground_truth_still_refuses_out_of_range_values():
-    for q in ({"sigma": "1.5708"}, {"sigma": "0"}, {"theta_i": "90"}, {"albedo": "1.01"}):
+    for q in (
+        {"sigma": "1.5708"},
+        {"sigma": "0"},
+        {"theta_i": "90"},
+        {"albedo": "1.01"},
+        {"bounces": "3"},
+    ):
         with pytest.raises(ValueError, match=next(iter(q))):
             backend.ground_truth({**{"sigma": "0.3"}, **q})
 

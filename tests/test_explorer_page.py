@@ -188,7 +188,7 @@ def test_csv_drop_plots_points_against_the_model(page):
     p = page.page
     in_plane = [(30, tr, dp) for dp in (0, 180) for tr in range(0, 90, 10)]  # 18
     off_plane = [(30, tr, 90) for tr in range(0, 90, 10)] + [(60, 40, 0), (60, 50, 180)]  # 11
-    text = _csv_of_model(OrenNayar(0.8, math.radians(20)), in_plane + off_plane)
+    text = _csv_of_model(OrenNayar(0.8, math.radians(20), "full"), in_plane + off_plane)
     drop_csv(p, text, "samples.csv")
     p.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
     frames(p)

@@ -156,6 +156,7 @@ def test_ground_truth_is_lambert_for_a_nearly_flat_surface(server):
         ("sigma=0.3&theta_i=90", "theta_i"),
         ("sigma=0.3&albedo=2", "albedo"),
         ("sigma=x", "sigma"),
+        ("sigma=0.3&bounces=2", "bounces"),
     ):
         status, _, body = get(server, f"/api/groundtruth.json?{query}")
         assert status == 400 and name in json.loads(body)["error"], query

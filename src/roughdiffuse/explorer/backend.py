@@ -3,7 +3,7 @@
 Both depend on other parts of roughdiffuse (:mod:`roughdiffuse.render`,
 :mod:`roughdiffuse.simulate`); when a part is missing, :func:`info` says so and the page hides
 what needs it. No table of ground truth ships with the package: the server runs the solver for
-the plane of incidence on request (about 2 s, cached).
+the plane of incidence on request (0.1–0.3 s for a new σ, cached).
 
 What a request may cost is bounded: the vase comes in the sizes of :data:`VASE_SIZES` only,
 and at most :data:`VASE_COMPILED` compiled renderers are kept (:class:`CompiledVariants`);
@@ -229,12 +229,21 @@ _SOLVER_LOCK = threading.Lock()  # one solver run at a time: the machine may hav
 
 
 @functools.lru_cache(maxsize=GROUND_TRUTH_CACHED)
-def _plane_of_incidence(sigma: float, theta_i_deg: float, albedo: float) -> tuple[float, ...]:
+def _plane_of_incidence(
+    sigma: float, theta_i_deg: float, albedo: float, bounces: str = "all"
+) -> tuple[float, ...]:
     brdf = _solver()
     tr = np.radians(np.abs(THETA_R_DEG))
     dphi = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
     with _SOLVER_LOCK:
-        f = brdf(math.radians(theta_i_deg), tr, dphi, sigma=sigma, albedo=albedo, bounces="all")
+        f = brdf(
+            math.radians(theta_i_deg),
+            tr,
+            dphi,
+            sigma=sigma,
+            albedo=albedo,
+            bounces="all" if bounces == "all" else int(bounces),
+        )
     return tuple(float(v) for v in np.asarray(f))
 
 
@@ -260,14 +269,16 @@ def vase_png(q: dict[str, str]) -> bytes:
 
 
 def ground_truth(q: dict[str, str]) -> dict[str, Any]:
-    """V-cavity radiance in the plane of incidence, from the solver (all bounces).
+    """V-cavity radiance in the plane of incidence, from the solver (one or all bounces).
 
-    Query: ``sigma`` (radians, (0, π/2]), ``theta_i`` (degrees, [0, 90)), ``albedo`` ([0, 1]).
+    Query: ``sigma`` (radians, (0, π/2]), ``theta_i`` (degrees, [0, 90)), ``albedo`` ([0, 1]),
+    ``bounces`` (``"1"``: shadowing and masking only, the single-scattering part Oren and
+    Nayar's direct term models; ``"all"``: with every interreflection, the default).
     The values are put on a grid (σ to 1e-4 rad, θi to 0.1°, ρ to 0.001) so that small
     slider moves hit the cache; the grid value is kept inside the range (σ ≥ 1e-4 and
     ≤ π/2, θi ≤ 89.9°), and it is the one validated, used and returned. Computed on demand
-    by :func:`roughdiffuse.simulate.surface.brdf` with its default
-    settings (about 2 s for the 45 angles; cached), at θr = −88°, −84°, …, 88°.
+    by :func:`roughdiffuse.simulate.surface.brdf` with its default settings (0.1–0.3 s for
+    the 45 angles on a quiet core, any σ; cached), at θr = −88°, −84°, …, 88°.
 
     Returns
     -------
@@ -280,6 +291,9 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
     sigma = _float(q, "sigma", 0.3)
     theta_i = _float(q, "theta_i", 0.0)
     albedo = _float(q, "albedo", 0.8)
+    bounces = q.get("bounces", "all")
+    if bounces not in ("1", "all"):
+        raise ValueError(f"bounces must be '1' or 'all' (got {bounces!r})")
     if not 0.0 < sigma <= math.pi / 2:
         raise ValueError(f"sigma must be in (0, π/2] radians (got {sigma!r})")
     if not 0.0 <= theta_i < 90.0:
@@ -292,7 +306,7 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
     albedo = round(albedo, 3)
     if not (0.0 < sigma <= math.pi / 2 and 0.0 <= theta_i < 90.0 and 0.0 <= albedo <= 1.0):
         raise AssertionError(f"grid values out of range: {sigma!r}, {theta_i!r}, {albedo!r}")
-    f = _plane_of_incidence(sigma, theta_i, albedo)
+    f = _plane_of_incidence(sigma, theta_i, albedo, bounces)
     e_cos = math.pi * math.cos(math.radians(theta_i))
     return {
         "theta_r": list(THETA_R_DEG),
@@ -301,9 +315,10 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
         "sigma": sigma,
         "theta_i": theta_i,
         "albedo": albedo,
-        "bounces": "all",
+        "bounces": bounces,
         "note": (
-            f"V-cavity ground truth (roughdiffuse.simulate, all bounces, default settings): "
+            f"V-cavity ground truth (roughdiffuse.simulate, "
+            f"{'all bounces' if bounces == 'all' else 'one bounce'}, default settings): "
             f"σ = {math.degrees(sigma):.1f}°, θi = {theta_i:.1f}°, ρ = {albedo:.3f} "
             "(model A's green albedo)."
         ),

@@ -7,8 +7,9 @@ It serves the static page in ``static/`` and four small JSON/PNG endpoints under
 * ``/api/models``: every model of :mod:`roughdiffuse.registry`, the same JSON as
   ``roughdiffuse models --json``; the page builds its menus and sliders from it.
 * ``/api/vase.png?model=…&albedo=…``: the vase preset, rendered by :mod:`roughdiffuse.render`.
-* ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…``: V-cavity radiance in the plane of
-  incidence, computed by :mod:`roughdiffuse.simulate` on request.
+* ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…&bounces=1|all``: V-cavity radiance in
+  the plane of incidence, one bounce or all, computed by :mod:`roughdiffuse.simulate` on
+  request.
 
 and, for measured data (:mod:`roughdiffuse.explorer.datasets`; JSON answers, errors as
 ``{"error": message}`` with a 4xx status):

@@ -241,7 +241,7 @@ function setDataset(ds) {
   const input = $("data-theta-i");
   input.max = String(ds.thetaI.length - 1);
   $("data-controls").hidden = false;
-  $("plot-scatter").hidden = ds.kind !== "csv";
+  $("tab-scatter").hidden = ds.kind !== "csv"; // a view of the plots column (views.js)
   if (ds.kind === "merl") {
     setStatus(`${ds.name}: MERL BRDF, ${ds.total} cells present; drawn from the nearest cell at each θr, fitted on ${ds.fit_samples} random cells.`, false);
   }

@@ -1,11 +1,14 @@
 // The explorer page: two model slots (A, B), a lit sphere, plane-of-incidence plots, presets,
 // measured data with fits (data.js, fitpanel.js) and (when the server has one) ground truth.
 
-import { channelValue, dataSeries, drawScatterOf, onLight, selection, setupData, sliceCosines, sliceLabel } from "./data.js";
+import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
 import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
+import { canvasBlob, download, toCsv } from "./export.js";
+import { decodeState, encodeState } from "./urlstate.js";
+import { VIEWS, drawAlbedo, drawLobe, drawSlice, setupHover, setupLobeDrag } from "./views.js";
 
 const $ = (id) => document.getElementById(id);
 const DEG = Math.PI / 180;
@@ -17,7 +20,12 @@ const state = {
   mode: 0,
   light: { theta: 0, phi: 0 }, // degrees
   exposure: 0, // EV
+  // view options: the plots column's view, log scale, ground truth shown and its bounces,
+  // the 3-D lobe's turn (radians)
+  view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.5, pitch: 0.35 },
 };
+let tables = {}; // the data each view plots, for the CSV export
+let presetShown = null; // the state the chosen preset set, to tell when it becomes "custom"
 
 let evaluator, sphere, info = { vase: false, groundtruth: false };
 const panels = {};
@@ -191,7 +199,62 @@ function draw() {
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
   $("panel-b").classList.toggle("disabled", state.mode === 0);
+  $("label-a").hidden = $("label-b").hidden = state.mode !== 1;
+  $("diff-legend").hidden = state.mode !== 2;
+  if (state.mode === 2) drawDiffLegend();
   drawPlots(a, b);
+  drawView(a, b);
+  const shared = sharedState();
+  if (presetShown !== null && JSON.stringify(shared.model) !== presetShown) {
+    presetShown = null;
+    $("preset").value = "custom";
+  }
+  const hash = encodeState(shared);
+  if (location.hash !== hash) history.replaceState(null, "", hash);
+}
+
+/** What the URL keeps and a preset sets. */
+function sharedState() {
+  const model = { a: state.a, b: state.b, mode: state.mode, light: state.light, exposure: state.exposure };
+  // the data slice's Δφ and channel (data.js) belong to the view as well
+  return { ...model, view: { ...state.view, dphi: selection.dphi, channel: selection.channel }, model };
+}
+
+/** The slots the extra views draw: A, and B unless the page shows A only. */
+function viewSlots(a, b) {
+  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].short}`;
+  const slots = [{ label: label("a"), color: "#1f5fa8", params: a }];
+  if (state.mode !== 0) slots.push({ label: label("b"), color: "#d35400", dash: true, params: b });
+  return slots;
+}
+
+/** Draw the plots column's current view (the plane views are drawn by drawPlots). */
+function drawView(a, b) {
+  if (state.view.tab === "scatter" && $("tab-scatter").hidden) state.view.tab = "plane"; // no CSV data
+  const tab = state.view.tab;
+  for (const v of VIEWS) $(`plot-${v === "plane" ? "cartesian" : v}`).hidden = v !== tab;
+  for (const el of document.querySelectorAll("#view-tabs button")) el.setAttribute("aria-selected", String(el.dataset.view === tab));
+  const slots = viewSlots(a, b);
+  if (tab === "lobe") tables.lobe = drawLobe($("plot-lobe"), evaluator, slots, lightVector(), state.view);
+  else if (tab === "albedo") tables.albedo = drawAlbedo($("plot-albedo"), evaluator, slots, state.view.log);
+  else if (tab === "slice") tables.slice = drawSlice($("plot-slice"), evaluator, slots, state.view.log);
+  document.body.dataset.view = tab;
+}
+
+/** The colour scale of the difference view, as sphere.frag maps A − B (after the exposure). */
+function drawDiffLegend() {
+  const c = $("diff-scale");
+  const ctx = c.getContext("2d");
+  const srgb = (v) => { v = Math.min(Math.max(v, 0), 1); return 255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * Math.pow(v, 1 / 2.4) - 0.055); };
+  for (let x = 0; x < c.width; x++) {
+    const s = (2 * (x + 0.5)) / c.width - 1; // -1 .. 1 after the exposure
+    const rgb = s > 0 ? [s, 0.25 * s, 0] : [0, -0.4 * s, -s];
+    ctx.fillStyle = `rgb(${rgb.map(srgb).join(",")})`;
+    ctx.fillRect(x, 0, 1, c.height);
+  }
+  const m = 1 / Math.pow(2, state.exposure);
+  $("diff-lo").textContent = `−${m.toPrecision(2)} (B brighter)`;
+  $("diff-hi").textContent = `+${m.toPrecision(2)} (A brighter)`;
 }
 
 /** Radiance L = f E0 cos θi in the slice of data.js (Δφ = 0: the plane of incidence), θr from
@@ -217,8 +280,11 @@ function drawPlots(a, b) {
   if (data) series.push(data);
   const slice = sliceLabel();
   const title = lit ? `radiance ${slice.where}, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
-  const drawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: `L (E0 = π, ${slice.channel})` });
-  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null });
+  const drawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: `L (E0 = π, ${slice.channel})`, log: state.view.log });
+  const rows = [];
+  for (const s of series) s.x.forEach((x, k) => rows.push([s.label, x, s.y[k]]));
+  tables.plane = tables.polar = { columns: ["series", "theta_r_deg", "radiance"], rows };
+  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null, log: state.view.log });
   document.body.dataset.csvPoints = String(data ? drawn : 0);
   drawScatterOf(drawScatter);
 }
@@ -256,6 +322,7 @@ function applyPreset(name) {
   writePanel("a");
   writePanel("b");
   setLight(p.light[0], p.light[1]);
+  presetShown = JSON.stringify(sharedState().model);
   $("vase").hidden = name !== "vase";
   if (name === "vase") loadVase();
 }
@@ -299,7 +366,7 @@ async function loadGroundTruth() {
   gtController = null;
   const s = state.a;
   const reason = !info.groundtruth ? "this server has no V-cavity solver"
-    : !$("gt-show").checked ? ""
+    : !state.view.gt ? ""
     : !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets)"
     : !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
     : !(state.light.theta < 90) ? "the light is below the horizon" : null;
@@ -308,7 +375,9 @@ async function loadGroundTruth() {
     if (gtSeries) { gtSeries = null; refresh(); }
     return;
   }
-  const q = new URLSearchParams({ sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]) });
+  const q = new URLSearchParams({
+    sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]), bounces: state.view.bounces,
+  });
   const controller = (gtController = new AbortController());
   status.textContent = "computing the V-cavity ground truth…";
   let gt;
@@ -324,10 +393,46 @@ async function loadGroundTruth() {
     return;
   }
   if (controller !== gtController) return;
-  gtSeries = { label: `V-cavity, all bounces (σ = ${(gt.sigma / DEG).toFixed(1)}°)`, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
+  const bounces = gt.bounces === "all" ? "all bounces" : "one bounce";
+  gtSeries = { label: `V-cavity, ${bounces} (σ = ${(gt.sigma / DEG).toFixed(1)}°)`, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
   status.textContent = gt.note;
   document.body.dataset.gtPoints = String(gt.theta_r.length);
   refresh();
+}
+
+// ------------------------------------------------------------------ views, export, URL
+/** View options from a shared URL, each checked. */
+function restoreView(v) {
+  const view = state.view;
+  if (VIEWS.includes(v.tab)) view.tab = v.tab;
+  if (typeof v.log === "boolean") view.log = v.log;
+  if (typeof v.gt === "boolean") view.gt = v.gt;
+  if (["1", "all"].includes(v.bounces)) view.bounces = v.bounces;
+  for (const k of ["yaw", "pitch"]) if (Number.isFinite(v[k])) view[k] = v[k];
+  view.pitch = Math.min(Math.PI / 2, Math.max(0, view.pitch));
+}
+
+function setupViews() {
+  for (const el of document.querySelectorAll("#view-tabs button")) {
+    el.addEventListener("click", () => { state.view.tab = el.dataset.view; refresh(); });
+  }
+  $("log-scale").checked = state.view.log;
+  $("log-scale").addEventListener("change", (ev) => { state.view.log = ev.target.checked; refresh(); });
+  $("gt-show").checked = state.view.gt;
+  $("gt-show").addEventListener("change", (ev) => { state.view.gt = ev.target.checked; });
+  $(`gt-bounces-${state.view.bounces}`).checked = true;
+  for (const b of ["1", "all"]) $(`gt-bounces-${b}`).addEventListener("change", (ev) => { if (ev.target.checked) state.view.bounces = b; });
+  setupHover(VIEWS.map((v) => $(`plot-${v === "plane" ? "cartesian" : v}`)), $("readout"));
+  setupLobeDrag($("plot-lobe"), state.view, refresh);
+  const base = () => `roughdiffuse-${state.view.tab}-${state.a.model}`;
+  $("export-png").addEventListener("click", async () => {
+    const tab = state.view.tab;
+    download(await canvasBlob($(`plot-${tab === "plane" ? "cartesian" : tab}`)), `${base()}.png`);
+  });
+  $("export-csv").addEventListener("click", () => {
+    const t = tables[state.view.tab];
+    if (t) download(new Blob([toCsv(t)], { type: "text/csv" }), `${base()}.csv`);
+  });
 }
 
 // ------------------------------------------------------------------ start
@@ -348,10 +453,22 @@ async function start() {
   } catch { /* a static copy of the page without the server: no vase, no ground truth */ }
   $("preset-vase").hidden = !info.vase;
   await loadModels();
-  state.a = defaultState("oren-nayar");
+  // the full Oren–Nayar model (with its interreflection term) by default: the fair comparison
+  // with the V-cavity ground truth, which has every bounce
+  state.a = defaultState("oren-nayar-full");
   state.b = defaultState("lambert");
+  const restored = decodeState(location.hash);
+  if (restored) {
+    for (const k of ["a", "b", "mode", "exposure"]) if (k in restored) state[k] = restored[k];
+    if (restored.view) restoreView(restored.view);
+  }
   buildPanel("a");
   buildPanel("b");
+  $("mode").value = String(state.mode);
+  $("exposure").value = state.exposure;
+  $("exposure-out").textContent = `${state.exposure.toFixed(1)} EV`;
+  setupViews();
+  if (restored?.light) setLight(restored.light.theta, restored.light.phi);
   $("mode").addEventListener("change", (ev) => { state.mode = Number(ev.target.value); refresh(); });
   $("exposure").addEventListener("input", (ev) => {
     state.exposure = Number(ev.target.value);
@@ -359,7 +476,7 @@ async function start() {
     refresh();
   });
   $("vase-render").addEventListener("click", loadVase);
-  $("preset").addEventListener("change", (ev) => { if (ev.target.value) applyPreset(ev.target.value); });
+  $("preset").addEventListener("change", (ev) => { if (ev.target.value in PRESETS) applyPreset(ev.target.value); });
   $("light-theta").addEventListener("input", (ev) => setLight(Number(ev.target.value), state.light.phi));
   $("light-phi").addEventListener("input", (ev) => setLight(state.light.theta, Number(ev.target.value)));
   const c = $("sphere");
@@ -371,6 +488,7 @@ async function start() {
     lightTheta: () => state.light.theta,
     evaluateA: (cos) => evaluator.evaluate(gpuParams(state.a), cos),
   }, info);
+  if (restored?.view) setSelection({ dphi: restored.view.dphi, channel: restored.view.channel });
   setupFit({
     modelA: () => state.a.model,
     applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
@@ -386,6 +504,7 @@ async function start() {
     evaluate: (params, cosines) => Array.from(evaluator.evaluate(gpuParams(params), Float32Array.from(cosines))),
     setLight,
     refresh,
+    tables: () => tables,
   };
   await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
   document.body.dataset.ready = "1";

@@ -50,31 +50,54 @@ function legend(ctx, series, x, y) {
   });
 }
 
-/** Cartesian plot; returns the number of points (markers) drawn. */
-export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) {
+/** The y axis: linear from 0, or log10 over at most `decades` decades below the largest value. */
+function yAxis(series, log, decades = 4) {
+  const ymax = yMax(series);
+  if (!log) return { log, lo: 0, hi: ymax, ticks: [0, 1, 2, 3, 4].map((k) => (ymax * k) / 4) };
+  let lo = Infinity;
+  for (const s of series) for (const y of s.y) if (y > 0 && Number.isFinite(y)) lo = Math.min(lo, y);
+  const hi = Math.pow(10, Math.ceil(Math.log10(ymax) - 1e-9));
+  lo = Math.max(Math.pow(10, Math.floor(Math.log10(Number.isFinite(lo) ? lo : hi / 10))), hi / Math.pow(10, decades));
+  if (!(lo < hi)) lo = hi / 10;
+  const ticks = [];
+  for (let t = lo; t <= hi * 1.0001; t *= 10) ticks.push(t);
+  return { log, lo, hi, ticks };
+}
+
+/**
+ * Cartesian plot; returns the number of points (markers) drawn. Options: x range and label
+ * (default θr from -90° to 90°), `log` for a log10 y axis. The mapping from pixels to data is
+ * kept on the canvas (`canvas.rdPlot`) for the hover readout (views.js).
+ */
+export function drawCartesian(canvas, series, {
+  title = "", ylabel = "", log = false, xmin = -90, xmax = 90, xstep = 30,
+  xlabel = "θr (degrees; > 0 on the light's side)",
+} = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
   const L = 58, R = 24, T = 26, B = 40;
-  const ymax = yMax(series);
-  const px = (x) => L + ((x + 90) / 180) * (W - L - R);
-  const py = (y) => H - B - (y / ymax) * (H - T - B);
+  const ax = yAxis(series, log);
+  const px = (x) => L + ((x - xmin) / (xmax - xmin)) * (W - L - R);
+  const frac = (y) => (log ? (Math.log10(Math.max(y, ax.lo * 1e-3)) - Math.log10(ax.lo)) / Math.log10(ax.hi / ax.lo) : y / ax.hi);
+  const py = (y) => H - B - Math.min(Math.max(frac(y), -0.05), 1.05) * (H - T - B);
   ctx.strokeStyle = "#ddd";
   ctx.fillStyle = "#444";
   ctx.lineWidth = 1;
-  for (let x = -90; x <= 90; x += 30) {
+  for (let x = xmin; x <= xmax; x += xstep) {
     ctx.beginPath(); ctx.moveTo(px(x), T); ctx.lineTo(px(x), H - B); ctx.stroke();
     ctx.fillText(`${x}°`, px(x) - 10, H - B + 15);
   }
-  for (let k = 0; k <= 4; k++) {
-    const y = (ymax * k) / 4;
+  for (const y of ax.ticks) {
     ctx.beginPath(); ctx.moveTo(L, py(y)); ctx.lineTo(W - R, py(y)); ctx.stroke();
-    ctx.fillText(y.toPrecision(2), 4, py(y) + 4);
+    ctx.fillText(log ? y.toExponential(0) : y.toPrecision(2), 4, py(y) + 4);
   }
-  ctx.fillText("θr (degrees; > 0 on the light's side)", L + 40, H - 6);
-  ctx.save(); ctx.translate(12, T + 120); ctx.rotate(-Math.PI / 2); ctx.restore();
+  ctx.fillText(xlabel, L + 40, H - 6);
   ctx.fillStyle = "#222";
   ctx.fillText(title, L, 16);
-  if (ylabel) ctx.fillText(ylabel, W - R - ctx.measureText(ylabel).width, 16);
+  const yl = log ? `${ylabel} (log scale)` : ylabel;
+  if (yl) ctx.fillText(yl, W - R - ctx.measureText(yl).width, 16);
+  ctx.save();
+  ctx.beginPath(); ctx.rect(L, T - 4, W - L - R, H - T - B + 8); ctx.clip();
   let drawn = 0;
   for (const s of series) {
     ctx.strokeStyle = ctx.fillStyle = s.color;
@@ -82,7 +105,7 @@ export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) 
     if (s.points) {
       s.x.forEach((x, k) => {
         if (!Number.isFinite(s.y[k])) return;
-        ctx.beginPath(); ctx.arc(px(x), py(Math.min(s.y[k], ymax)), 3, 0, 2 * Math.PI); ctx.fill();
+        ctx.beginPath(); ctx.arc(px(x), py(Math.min(s.y[k], ax.hi)), 3, 0, 2 * Math.PI); ctx.fill();
         drawn++;
       });
     } else {
@@ -93,18 +116,23 @@ export function drawCartesian(canvas, series, { title = "", ylabel = "" } = {}) 
       ctx.setLineDash([]);
     }
   }
+  ctx.restore();
   legend(ctx, series, L + 8, T + 14);
+  canvas.rdPlot = { series, xmin, xmax, left: L, right: W - R, top: T, bottom: H - B, log, title };
   return drawn;
 }
 
 /** Polar plot: the normal points up, theta_r > 0 towards the right (the light's side). */
-export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) {
+export function drawPolar(canvas, series, { title = "", lightDeg = null, log = false } = {}) {
   const ctx = prepare(canvas);
   const W = canvas.width, H = canvas.height;
   const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 90); // legend room above
-  const ymax = yMax(series);
+  const ax = yAxis(series, log);
+  const ymax = ax.hi;
+  // log: the radius runs over the decades from ax.lo (centre) to ax.hi (outer ring)
+  const radius = (v) => (log ? Math.max(Math.log10(Math.max(v, ax.lo) / ax.lo) / Math.log10(ax.hi / ax.lo), 0) : Math.max(v, 0) / ymax);
   const pt = (deg, v) => {
-    const a = (deg * Math.PI) / 180, r = (Math.max(v, 0) / ymax) * R;
+    const a = (deg * Math.PI) / 180, r = radius(v) * R;
     return [cx + r * Math.sin(a), cy - r * Math.cos(a)];
   };
   ctx.strokeStyle = "#ddd";
@@ -118,7 +146,7 @@ export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) 
     ctx.beginPath(); ctx.moveTo(cx, cy); ctx.lineTo(x, y); ctx.stroke();
     ctx.fillText(`${d}°`, x - 10 + 8 * Math.sin((d * Math.PI) / 180), y - 4);
   }
-  ctx.fillText(`outer ring ${ymax.toPrecision(2)}`, 6, H - 6);
+  ctx.fillText(log ? `log scale: centre ${ax.lo.toExponential(0)}, outer ring ${ymax.toExponential(0)}` : `outer ring ${ymax.toPrecision(2)}`, 6, H - 6);
   if (lightDeg !== null) {
     const [x, y] = pt(lightDeg, ymax);
     ctx.strokeStyle = "#d9a400";
@@ -152,6 +180,7 @@ export function drawPolar(canvas, series, { title = "", lightDeg = null } = {}) 
   }
   const widest = Math.max(...series.map((s) => ctx.measureText(s.label).width));
   legend(ctx, series, W - widest - 30, 20);
+  canvas.rdPolar = { cx, cy, R, series };
 }
 
 /** Scatter of measured against model values with the identity line; returns points drawn. */
