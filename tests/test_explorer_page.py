@@ -204,6 +204,15 @@ def test_csv_drop_plots_points_against_the_model(page):
     img = np.asarray(Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGB"))
     red = (img[..., 0] > 170) & (img[..., 1] < 90) & (img[..., 2] < 90)
     assert red.sum() > 18 * 10
+    # the "data vs A" view's CSV export: every sample, with the model's value beside it
+    table = p.evaluate("() => window.rdExplorer.tables().scatter")
+    columns = ["theta_i_deg", "theta_r_deg", "delta_phi_deg", "measured", "model_a"]
+    assert table["columns"] == columns
+    rows = np.array(table["rows"], dtype=float)
+    np.testing.assert_allclose(rows[:, :3], np.array(in_plane + off_plane, float), atol=1e-4)
+    measured = [float(line.split(",")[3]) for line in text.splitlines()[2:]]
+    np.testing.assert_allclose(rows[:, 3], measured, rtol=1e-6)
+    np.testing.assert_allclose(rows[:, 4], measured, rtol=1e-4, atol=1e-7)  # GLSL's float32 bound
     assert not page.errors, page.errors
 
 

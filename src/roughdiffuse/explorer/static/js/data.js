@@ -251,9 +251,10 @@ function setDataset(ds) {
   hooks.refresh();
 }
 
-/** A CSV dataset: its samples against model A, all of them (main.js calls this after drawing). */
+/** A CSV dataset: its samples against model A, all of them (main.js calls this after drawing).
+ * Returns the plotted table {columns, rows} for the CSV export, or null without CSV data. */
 export function drawScatterOf(drawScatter) {
-  if (!dataset || dataset.kind !== "csv") return;
+  if (!dataset || dataset.kind !== "csv") return null;
   const smp = dataset.samples;
   const cos = new Float32Array(3 * smp.length);
   smp.forEach((s, k) => {
@@ -271,6 +272,11 @@ export function drawScatterOf(drawScatter) {
   const rms = n ? Math.sqrt(se / n) * 100 : NaN;
   setStatus(`${dataset.name}: ${smp.length} samples; RMS relative difference to model A: ${rms.toFixed(1)}%. ` +
     "The plot shows the samples with θi within 2.5° of the light and Δφ within 5° of the slice." + dataset.note, false);
+  const deg = 180 / Math.PI;
+  return {
+    columns: ["theta_i_deg", "theta_r_deg", "delta_phi_deg", "measured", "model_a"],
+    rows: smp.map((s, k) => [s.thetaI * deg, s.thetaR * deg, s.deltaPhi * deg, measured[k], model[k]]),
+  };
 }
 
 /** Set Δφ (degrees, 0–180) and/or the channel ("mean", 0, 1, 2), controls included. */

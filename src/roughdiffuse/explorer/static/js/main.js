@@ -286,7 +286,7 @@ function drawPlots(a, b) {
   tables.plane = tables.polar = { columns: ["series", "theta_r_deg", "radiance"], rows };
   drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null, log: state.view.log });
   document.body.dataset.csvPoints = String(data ? drawn : 0);
-  drawScatterOf(drawScatter);
+  tables.scatter = drawScatterOf(drawScatter);
 }
 
 // ------------------------------------------------------------------ presets, vase, ground truth
