@@ -9,7 +9,7 @@ PIP    := $(PY) -m pip
 # libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
 export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
 
-.PHONY: figures test docs install install-test install-docs system-deps lint bench clean
+.PHONY: figures test docs install install-test test-all install-docs system-deps lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -42,7 +42,12 @@ system-deps:
 figures: install
 	$(VENV)/bin/roughdiffuse figures
 
+# `make test` leaves out the tests marked slow (pyproject.toml); `make test-all` runs every one
 test: install-test system-deps
+	$(PY) -m ruff check src tests $(wildcard bench examples)
+	$(PY) -m pytest -m "not slow"
+
+test-all: install-test system-deps
 	$(PY) -m ruff check src tests $(wildcard bench examples)
 	$(PY) -m pytest
 

@@ -15,6 +15,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.slow
 def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
     monkeypatch.setenv("ROUGHDIFFUSE_CACHE_DIR", str(tmp_path / "cache"))
     cmd = [
@@ -61,6 +62,7 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
     assert "## Fit" not in text and "## V-cavity solver" not in text
 
 
+@pytest.mark.slow
 def test_bench_run_fit_and_solver_sections_at_tiny_scale(tmp_path, monkeypatch):
     monkeypatch.setenv("ROUGHDIFFUSE_CACHE_DIR", str(tmp_path / "cache"))
     cmd = [

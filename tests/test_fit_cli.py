@@ -34,6 +34,7 @@ def test_fit_csv_prints_table_and_writes_report(samples_csv, tmp_path, capsys) -
     assert "data:image/png;base64," in html and "albedo" in html
 
 
+@pytest.mark.slow
 def test_fit_compare(samples_csv, capsys) -> None:  # noqa: ANN001
     assert main(["fit", str(samples_csv), "--compare"]) == 0
     out = capsys.readouterr().out

@@ -100,7 +100,7 @@ def _outgoing_flux(ta: float, pa: float, wi: np.ndarray, k: int) -> float:
 
 
 @pytest.mark.filterwarnings("ignore::scipy.integrate.IntegrationWarning")
-@pytest.mark.parametrize("k", [4, 16])
+@pytest.mark.parametrize("k", [4, pytest.param(16, marks=pytest.mark.slow)])
 def test_energy_conserved_per_cavity_at_unit_albedo(k):
     # what enters the opening (E0 cos θi per unit width) leaves it, to 1e-6
     rng = np.random.default_rng(3)

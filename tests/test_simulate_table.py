@@ -161,6 +161,7 @@ def test_cli(tmp_path, capsys):
     assert "Traceback" not in err and "--step" in err
 
 
+@pytest.mark.slow
 def test_report_quick(tmp_path):
     assert main(["simulate", "--report", "--quick", "-o", str(tmp_path), "--no-progress"]) == 0
     text = (tmp_path / "index.md").read_text()
