@@ -119,16 +119,7 @@ def main() -> None:
         page.wait_for_timeout(300)
         page.screenshot(path=str(out / "explorer-vase.png"), full_page=True)
         page.select_option("#preset", "on-vs-lambert")
-        page.evaluate(
-            """(text) => {
-                const dt = new DataTransfer();
-                dt.items.add(new File([text], "rough-samples.csv", { type: "text/csv" }));
-                document.getElementById("dropzone").dispatchEvent(
-                    new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
-            }""",
-            csv_text(),
-        )
-        page.wait_for_function("() => document.body.dataset.csvScatter !== undefined")
+        drop_csv(page, csv_text())
         page.check("#gt-show")
         page.wait_for_function("() => document.body.dataset.gtPoints === '45'", timeout=120_000)
         page.wait_for_timeout(500)
