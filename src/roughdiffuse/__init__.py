@@ -11,34 +11,13 @@ against the array API standard, so they run on NumPy, JAX and PyTorch arrays.
 
 from typing import Any
 
-from . import _lazy, roughness
-from ._dispatch import fastpath_enabled, use_fastpath
-from .frames import spherical_to_vector, vector_to_spherical
-from .models import (
-    EON,
-    BSDFSample,
-    Burley,
-    Burley2015,
-    BurleyRenormalized,
-    Chan,
-    Fujii,
-    Hammon,
-    Hapke,
-    Lambert,
-    LambertSphere,
-    LommelSeeliger,
-    LunarLambert,
-    Minnaert,
-    Mix,
-    Model,
-    OrenNayar,
-    SmithDiffuse,
-    TorranceSparrow,
-    VCavity,
-    oren_nayar,
-)
-from .models.declaration import Param
-from .registry import register_model
+from . import _lazy
+from . import roughness as roughness
+from ._dispatch import fastpath_enabled as fastpath_enabled
+from ._dispatch import use_fastpath as use_fastpath
+from .frames import spherical_to_vector as spherical_to_vector
+from .frames import vector_to_spherical as vector_to_spherical
+from .registry import register_model as register_model
 
 SUBMODULES = (
     "bench",
@@ -56,7 +35,13 @@ SUBMODULES = (
 roughdiffuse`` stays light (NumPy and the models), JAX, SciPy, matplotlib, Numba and Mitsuba
 are imported by the code that needs them."""
 
-_submodule, __dir__ = _lazy.attach(__name__, SUBMODULES)
+_submodule, _dir = _lazy.attach(__name__, SUBMODULES)
+
+
+def _models() -> Any:
+    from . import models
+
+    return models
 
 
 def __getattr__(name: str) -> Any:
@@ -69,37 +54,30 @@ def __getattr__(name: str) -> Any:
             value = "0.0.0+unknown"
         globals()["__version__"] = value
         return value
+    if name == "__all__":
+        return sorted(_OWN + _models().__all__)
+    if name in SUBMODULES:
+        return _submodule(name)
+    models = _models()
+    if name in models.__all__ and name not in ("builtin_classes", "register_pytree"):
+        value = getattr(models, name)
+        globals()[name] = value
+        return value
     return _submodule(name)
 
 
-__all__ = [
-    "EON",
-    "BSDFSample",
-    "Burley",
-    "Burley2015",
-    "BurleyRenormalized",
-    "Chan",
-    "Fujii",
-    "Hammon",
-    "Hapke",
-    "Lambert",
-    "LambertSphere",
-    "LommelSeeliger",
-    "LunarLambert",
-    "Minnaert",
-    "Mix",
-    "Model",
-    "OrenNayar",
-    "Param",
-    "SmithDiffuse",
-    "TorranceSparrow",
-    "VCavity",
+def __dir__() -> list[str]:
+    return sorted(set(_dir()) | set(__getattr__("__all__")))
+
+
+_OWN = [
     "__version__",
     "fastpath_enabled",
-    "oren_nayar",
     "register_model",
     "roughness",
     "spherical_to_vector",
     "use_fastpath",
     "vector_to_spherical",
 ]
+"""Names defined here; the models (``rd.OrenNayar``...), ``Model``, ``Param``, ``BSDFSample``
+and the helper functions of :mod:`roughdiffuse.models` are served from it on first use."""

@@ -34,13 +34,10 @@ from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
 from .sampling import COSINE, Strategy
 
-__all__ = ["BSDFSample", "Model", "MODEL_CLASSES"]
+__all__ = ["BSDFSample", "Model"]
 
 LOBES: tuple[str, ...] = ("diffuse", "glossy")
 """The lobe types a model may declare (Mitsuba 3's DiffuseReflection, GlossyReflection)."""
-
-MODEL_CLASSES: dict[str, type[Model]] = {}
-"""Every concrete model class by name (filled as classes are defined)."""
 
 
 class BSDFSample(NamedTuple):
@@ -98,8 +95,22 @@ class Model:
         The importance-sampling strategy (:mod:`.sampling`): ``COSINE``, ``CLTC``, ...
     reference : str
         The source paper.
-    glsl : bool
-        Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
+    glsl : dict
+        Registry id -> the model number ``brdf.glsl`` dispatches on, for each id the explorer's
+        GLSL holds a copy of (``{}``: none; the explorer then leaves the model out).
+    glsl_keys : dict
+        Declared parameter name -> its field in the GLSL's ``RDParams`` record, where the two
+        differ (``{"limb_darkening": "limb"}``).
+    order : int
+        Where the model's ids come in the registry (``roughdiffuse models``): classes are
+        sorted by ``order``, then module name, then definition order. Default 1000 (after
+        the package's first models).
+    test_points : dict
+        Registry id -> parameter sets (keyword arguments of ``registry.get(id).create``) that
+        the interface-wide tests run besides each parameter's ``example``.
+    glsl_test_points : dict
+        Registry id -> parameter sets the GLSL copy is checked at (float32 edge cases);
+        default: the ``example`` point and ``test_points``.
     traceable : bool
         False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
         it cannot be traced by ``jax.jit`` (the renderer, fits).
@@ -130,7 +141,11 @@ class Model:
     lobe: ClassVar[str] = "diffuse"
     sampling: ClassVar[Strategy] = COSINE
     reference: ClassVar[str] = ""
-    glsl: ClassVar[bool] = False
+    glsl: ClassVar[dict[str, int]] = {}
+    glsl_keys: ClassVar[dict[str, str]] = {}
+    order: ClassVar[int] = 1000
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True
     mitsuba: ClassVar[bool] = True
@@ -139,7 +154,6 @@ class Model:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        MODEL_CLASSES[cls.__name__] = cls
         if not any("mitsuba" in c.__dict__ for c in cls.__mro__ if c is not Model):
             cls.mitsuba = cls.closed_form  # a closed form is a plugin unless it says otherwise
         if "params" in cls.__dict__:

@@ -181,7 +181,7 @@ class VCavity(Model):
         "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994 "
         "(Sec. 3-4); solved exactly by roughdiffuse.simulate"
     )
-    glsl: ClassVar[bool] = False
+    order: ClassVar[int] = 170
     closed_form: ClassVar[bool] = False
     """A table, not a closed form: the compiled fast path (scalar Numba code) cannot trace
     its gathers, and ``compare_models`` leaves it out."""

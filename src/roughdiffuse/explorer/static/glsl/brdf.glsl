@@ -15,7 +15,7 @@ const float RD_SUM_FLOOR = 1e-6;   // lunar._SUM_FLOOR
 const float RD_K1 = 0.5 - 2.0 / (3.0 * RD_PI);            // fujii.K1
 const float RD_K2 = 2.0 / 3.0 - 28.0 / (15.0 * RD_PI);    // fujii.K2
 
-// model ids: the same numbers as MODEL_IDS in roughdiffuse/explorer/params.py
+// model ids: the numbers each model class declares in its `glsl` attribute (roughdiffuse/models/)
 const int RD_LAMBERT = 0;
 const int RD_ON_QUALITATIVE = 1;
 const int RD_ON_FULL = 2;
