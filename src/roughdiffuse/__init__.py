@@ -13,17 +13,18 @@ from typing import Any
 
 from . import _lazy
 from . import roughness as roughness
-from ._dispatch import fastpath_enabled as fastpath_enabled
-from ._dispatch import use_fastpath as use_fastpath
+from .engine.dispatch import fastpath_enabled as fastpath_enabled
+from .engine.dispatch import use_fastpath as use_fastpath
 from .frames import spherical_to_vector as spherical_to_vector
 from .frames import vector_to_spherical as vector_to_spherical
 from .registry import register_model as register_model
 
 SUBMODULES = (
+    "accuracy",
     "bench",
     "energy",
+    "engine",
     "explorer",
-    "fastpath",
     "figures",
     "fit",
     "integrations",
@@ -45,19 +46,19 @@ def _models() -> Any:
 
 
 def __getattr__(name: str) -> Any:
-    if name == "__version__":  # importlib.metadata costs about 0.1 s: read on first use
-        from importlib.metadata import PackageNotFoundError, version
+    if name == "__version__":  # importlib.metadata is imported on first use
+        from ._version import version
 
-        try:
-            value = version("roughdiffuse")
-        except PackageNotFoundError:  # pragma: no cover - running from a source tree
-            value = "0.0.0+unknown"
-        globals()["__version__"] = value
-        return value
+        globals()["__version__"] = version()
+        return globals()["__version__"]
     if name == "__all__":
         return sorted(_OWN + _models().__all__)
     if name in SUBMODULES:
         return _submodule(name)
+    if name == "fastpath":  # the compiled engine's public face
+        from .engine import fastpath
+
+        return fastpath
     models = _models()
     if name in models.__all__ and name not in ("builtin_classes", "register_pytree"):
         value = getattr(models, name)
@@ -67,7 +68,7 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(_dir()) | set(__getattr__("__all__")))
+    return sorted(set(_dir()) | set(__getattr__("__all__")) | {"fastpath"})
 
 
 _OWN = [

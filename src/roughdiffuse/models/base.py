@@ -28,8 +28,8 @@ from .._array import (
     namespace,
     result_dtype,
 )
-from .._dispatch import compiled
 from .._lazy import when_imported
+from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
 from .sampling import COSINE, Strategy
@@ -264,7 +264,7 @@ class Model:
 
         This is the entry point of renderers and tables that already hold cosines. Output
         shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
-        NumPy inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+        NumPy inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
         if fast is not None:
@@ -298,7 +298,7 @@ class Model:
         array (...) or (..., C)
             In the namespace of the inputs (NumPy, JAX, PyTorch); a channel axis is added
             for an RGB albedo. 0 where either direction is below the horizon. Large NumPy
-            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+            inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         fast = compiled(self, "brdf", wi, wo)
         if fast is not None:
@@ -327,7 +327,7 @@ class Model:
         -------
         array (...) or (..., C)
             Radiance; 0 where the point faces away from the light or the viewer. Large NumPy
-            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+            inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         _check_irradiance(irradiance)
         fast = compiled(self, "radiance", n, l, v, irradiance=irradiance)
@@ -356,7 +356,7 @@ class Model:
         φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
         override this.
         """
-        from ._quadrature import hemisphere_albedo
+        from ._hemisphere_albedo import hemisphere_albedo
 
         return hemisphere_albedo(self, wo)
 

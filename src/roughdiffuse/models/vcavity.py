@@ -123,7 +123,7 @@ class VCavity(Model):
     ``roughdiffuse_v_cavity`` (:mod:`roughdiffuse.integrations.mitsuba`, class attribute
     ``mitsuba = True``) reads the same table with ``dr.gather``. σ and ρ are static, not
     differentiable: gradients with respect to them do not exist here. The compiled fast
-    path (:mod:`roughdiffuse.fastpath`) refuses it with a ``TypeError`` (class attribute
+    path (:mod:`roughdiffuse.engine.fastpath`) refuses it with a ``TypeError`` (class attribute
     ``closed_form = False``: its scalar Numba code has no gather).
 
     Parameters
@@ -205,7 +205,7 @@ class VCavity(Model):
         σ, ρ, bounces and measure are static (no pytree leaves: the table is computed from
         their concrete values). The fast path's scalar tracer has no ``take`` and is refused.
         """
-        from .._trace import TraceNamespace
+        from ..engine.trace import TraceNamespace
 
         if isinstance(xp, TraceNamespace) or not hasattr(xp, "take"):
             raise TypeError(

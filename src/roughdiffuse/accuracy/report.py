@@ -13,10 +13,10 @@ Comparisons (Oren & Nayar 1994, Secs. 3–4; docs/accuracy.md):
   against all bounces (FON: against one bounce, as it is a single-scattering model), and
   prints it.
 * The slope-measure question: Oren–Nayar's L1 against one bounce under both readings.
-* A second ground truth (:mod:`.report_smith`): the Smith microsurface's checks, and
+* A second ground truth (:mod:`.smith_checks`): the Smith microsurface's checks, and
   rendered Gaussian heightfields against both solvers; and every registry model against the
   V-cavity, Smith-Beckmann and Smith-GGX surfaces at ρ = 0.5 and 0.9
-  (:mod:`.report_models`).
+  (:mod:`.model_scores`).
 
 L1 is taken from the model code, not re-derived: the full model is f = a ρ + b ρ², so
 L1(ρ) = a ρ = 4 f(ρ/2) − f(ρ).
@@ -29,10 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import registry
+from .._version import version
 from ..io.atomic import atomic_write, write_text
-from ..models import EON, Fujii, Lambert, OrenNayar
-from .surface import Settings
-from .table import compute_table, load_table
+from ..simulate.surface import Settings
+from ..simulate.table import compute_table, load_table
 
 __all__ = ["SIGMAS", "write_report"]
 
@@ -46,28 +47,29 @@ def _cosines(ti, tr, dp):
 
 def _label(model_id: str, suffix: str = "") -> str:
     """The registry's label of a model (:mod:`roughdiffuse.registry`), plus ``suffix``."""
-    from .. import registry
-
     return registry.get(model_id).label + suffix
 
 
-def model_values(name: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
-    """BRDF of a named comparison model at angle arrays (1/sr)."""
+L1 = "oren-nayar-full:L1"
+"""The full Oren–Nayar model's direct term alone (not a registry model): L1(ρ) = 4 f(ρ/2) − f(ρ)."""
+
+
+def model_values(model_id: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
+    """BRDF (1/sr) at angle arrays of the registry model ``model_id`` (its σ or its roughness
+    r, whichever it takes), or of :data:`L1`."""
     mi, mo, c = _cosines(ti, tr, dp)
-    if name == "lambert":
-        return Lambert(albedo).brdf_cosines(mi, mo, c)
-    if name == "on-qualitative":
-        return OrenNayar(albedo, sigma, "qualitative").brdf_cosines(mi, mo, c)
-    if name == "on-full":
-        return OrenNayar(albedo, sigma, "full").brdf_cosines(mi, mo, c)
-    if name == "on-L1":
-        half = OrenNayar(albedo / 2, sigma, "full").brdf_cosines(mi, mo, c)
-        return 4.0 * half - OrenNayar(albedo, sigma, "full").brdf_cosines(mi, mo, c)
-    if name == "fujii":
-        return Fujii(albedo, r).brdf_cosines(mi, mo, c)
-    if name == "eon":
-        return EON(albedo, r).brdf_cosines(mi, mo, c)
-    raise ValueError(f"unknown model {name!r}")
+    if model_id == L1:
+        full = registry.get("oren-nayar-full")
+        half = full.create(albedo=albedo / 2, sigma=sigma).brdf_cosines(mi, mo, c)
+        return 4.0 * half - full.create(albedo=albedo, sigma=sigma).brdf_cosines(mi, mo, c)
+    entry = registry.get(model_id)
+    takes = {p.name for p in entry.parameters}
+    kw = {"albedo": albedo}
+    if "sigma" in takes:
+        kw["sigma"] = sigma
+    if "roughness" in takes:
+        kw["roughness"] = r
+    return entry.create(**kw).brdf_cosines(mi, mo, c)
 
 
 def _errors(model: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -141,6 +143,7 @@ def write_report(
             scheduler=scheduler,
             progress=progress,
             force=True,  # a table of this report's other grid (checked above) is replaced
+            package_version=version(),
         )
 
     one = {m: table(m, 1) for m in ("angle", "solid-angle")}
@@ -170,7 +173,7 @@ def write_report(
         "| --- | --- | --- |",
     ]
     rms_measure = {"angle": [], "solid-angle": []}
-    l1 = [model_values("on-L1", *g, s, ALBEDO) for s in sigmas]
+    l1 = [model_values(L1, *g, s, ALBEDO) for s in sigmas]
     for k, s in enumerate(sigmas):
         row = []
         for m in ("angle", "solid-angle"):
@@ -204,11 +207,11 @@ def write_report(
     truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
     comparisons = [
         (_label("lambert"), "lambert", "all bounces"),
-        (_label("oren-nayar"), "on-qualitative", "1 bounce"),
-        (_label("oren-nayar"), "on-qualitative", "all bounces"),
-        ("Oren–Nayar L1", "on-L1", "1 bounce"),
-        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "2 bounces"),
-        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "all bounces"),
+        (_label("oren-nayar"), "oren-nayar", "1 bounce"),
+        (_label("oren-nayar"), "oren-nayar", "all bounces"),
+        ("Oren–Nayar L1", L1, "1 bounce"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "oren-nayar-full", "2 bounces"),
+        (_label("oren-nayar-full", " (L1 + L2)"), "oren-nayar-full", "all bounces"),
         (_label("fujii", ", best r"), "fujii", "1 bounce"),
         (_label("eon", ", best r"), "eon", "all bounces"),
     ]
@@ -246,10 +249,10 @@ def write_report(
 
 
 def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
-    """The Smith microsurface's checks and the rendered heightfields (:mod:`.report_smith`),
-    and every registry model against the three all-bounce truths (:mod:`.report_models`)."""
-    from .report_models import model_score_lines
-    from .report_smith import heightfield_lines, smith_check_lines
+    """The Smith microsurface's checks and the rendered heightfields (:mod:`.smith_checks`),
+    and every registry model against the three all-bounce truths (:mod:`.model_scores`)."""
+    from .model_scores import model_score_lines
+    from .smith_checks import heightfield_lines, smith_check_lines
 
     return (
         smith_check_lines(quick)
@@ -260,7 +263,7 @@ def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
 
 def _convergence_lines(quick: bool) -> list[str]:
     """Relative change of f when each quadrature rule (and K) is doubled."""
-    from .surface import quadrature_convergence
+    from ..simulate.surface import quadrature_convergence
 
     g = np.radians([[0, 0, 0], [30, 45, 0], [60, 60, 180], [80, 85, 90], [89, 30, 30]])
     if quick:
@@ -289,7 +292,7 @@ def _convergence_lines(quick: bool) -> list[str]:
 
 
 def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: bool, workers: int):
-    from .surface import brdf
+    from ..simulate.surface import brdf
 
     figs = []
     theta_i = math.radians(60.0)
@@ -306,7 +309,7 @@ def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: boo
         truth = brdf(ti, xs, dps, s, ALBEDO, "all", st)
         ax.plot(np.degrees(x), truth * math.pi, "k-", lw=2, label="V-cavity, all bounces")
         ax.plot(np.degrees(x), truth1 * math.pi, "k--", lw=1, label="V-cavity, 1 bounce")
-        for name, style in (("on-full", "C0-"), ("on-qualitative", "C1-"), ("lambert", "C2:")):
+        for name, style in (("oren-nayar-full", "C0-"), ("oren-nayar", "C1-"), ("lambert", "C2:")):
             ax.plot(
                 np.degrees(x),
                 model_values(name, ti, xs, dps, s, ALBEDO) * math.pi,
@@ -325,7 +328,7 @@ def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: boo
     a, b = np.meshgrid(ang, ang, indexing="ij")
     s = 0.3
     truth = brdf(a, b, 0.0, s, ALBEDO, "all", Settings(measure=measure))
-    names = ("on-full", "on-qualitative", "lambert")
+    names = ("oren-nayar-full", "oren-nayar", "lambert")
     fig, axes = subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
     for ax, name in zip(axes[0], names, strict=True):
         e = _errors(model_values(name, a, b, 0.0, s, ALBEDO), truth)
@@ -364,8 +367,8 @@ def _pixels_figure(subplots, mi, out: Path, quick: bool) -> None:
 def _pixels_render(subplots, mi, out: Path, quick: bool) -> None:
     import tempfile
 
-    from .cavity import cavity_radiance
-    from .grooves import render_grooves, write_groove_ply
+    from ..simulate.cavity import cavity_radiance
+    from ..simulate.grooves import render_grooves, write_groove_ply
 
     theta_a, theta_i, rho = 0.6, math.radians(50.0), 0.8
     wi = np.array([math.sin(theta_i), 0.0, math.cos(theta_i)])

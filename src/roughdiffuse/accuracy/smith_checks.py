@@ -1,6 +1,6 @@
 """The accuracy report's sections on the Smith microsurface and the rendered heightfields.
 
-Called by :func:`roughdiffuse.simulate.report.write_report`; each function returns Markdown
+Called by :func:`roughdiffuse.accuracy.report.write_report`; each function returns Markdown
 lines (and writes its figures into the report folder).
 
 * :func:`smith_check_lines` — the Smith solver's own checks: white furnace and one bounce by
@@ -23,9 +23,9 @@ import numpy as np
 from scipy import integrate, optimize
 
 from ..io import atomic_write
-from . import smith
-from .surface import SIGMA_MAX, Settings
-from .surface import brdf as cavity_brdf
+from ..simulate import smith
+from ..simulate.surface import SIGMA_MAX, Settings
+from ..simulate.surface import brdf as cavity_brdf
 
 __all__ = ["heightfield_lines", "matching_sigma", "smith_check_lines"]
 
@@ -115,7 +115,7 @@ def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str
         return ["", "## Smith and the heightfields", "", "(skipped: Mitsuba 3 is not installed)"]
     from tqdm import tqdm
 
-    from .heightfield import HeightfieldSettings, heightfield_brdf
+    from ..simulate.heightfield import HeightfieldSettings, heightfield_brdf
 
     settings = (
         HeightfieldSettings(n=64, res=64, spp=8, realisations=3) if quick else HeightfieldSettings()
@@ -201,7 +201,7 @@ def _convergence_lines(base) -> list[str]:
     """The change of the rendered f with mesh resolution, patch size and samples."""
     from dataclasses import replace
 
-    from .heightfield import heightfield_brdf
+    from ..simulate.heightfield import heightfield_brdf
 
     ti, tr, dp, alpha = math.radians(60), math.radians(60), math.pi, 0.7
     variants = [
@@ -231,7 +231,7 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
     import mitsuba as mi
 
     from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
-    from .heightfield import (
+    from ..simulate.heightfield import (
         gaussian_heightfield,
         heightfield_mesh,
         render_heightfield,

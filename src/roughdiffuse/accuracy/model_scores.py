@@ -3,7 +3,7 @@
 Truths (all bounces, facet albedo ρ = 0.5 and 0.9), on one grid of (θi, θr, Δφ):
 
 * the V-cavity surface (:mod:`.surface`, ``Settings()``), at the σ whose mean square slope
-  angle equals that of the Beckmann surface of each α (:func:`.report_smith.matching_sigma`);
+  angle equals that of the Beckmann surface of each α (:func:`.smith_checks.matching_sigma`);
 * the Smith microsurface with Lambertian facets, Beckmann slopes of roughness α;
 * the same with GGX slopes (:mod:`.smith`, random walk; the Monte Carlo error is printed).
 
@@ -25,10 +25,11 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize
 
-from . import smith
-from .report_smith import matching_sigma
-from .surface import Settings
-from .surface import brdf as cavity_brdf
+from .. import registry
+from ..simulate import smith
+from ..simulate.surface import Settings
+from ..simulate.surface import brdf as cavity_brdf
+from .smith_checks import matching_sigma
 
 __all__ = ["SCORES_FILE", "model_score_lines"]
 
@@ -77,8 +78,6 @@ def _truths(quick: bool, progress: bool):
 
 
 def _entries():
-    from .. import registry
-
     chosen = []
     for e in registry.entries():
         if e.lobe != "diffuse" or not e.cls.closed_form or e.id == "mix":

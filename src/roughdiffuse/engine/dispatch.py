@@ -1,8 +1,8 @@
 """When ``brdf``, ``brdf_cosines`` and ``radiance`` run compiled: the fast path by default.
 
 :class:`~roughdiffuse.models.base.Model` asks :func:`compiled` first; it answers with the
-compiled result (:mod:`roughdiffuse.fastpath`) or ``None`` for the array-API path. This module
-imports nothing heavy: Numba is imported only when a kernel is first needed.
+compiled result (:mod:`roughdiffuse.engine.fastpath`) or ``None`` for the array-API path.
+This module imports nothing heavy: Numba is imported only when a kernel is first needed.
 
 The rule (the measurements behind the two thresholds are in their docstrings):
 
@@ -71,7 +71,7 @@ class use_fastpath:  # noqa: N801 - used as a function
     ----------
     enabled : bool
         ``False``: every call takes the array-API reference path (as
-        ``ROUGHDIFFUSE_FASTPATH=0`` does). :func:`roughdiffuse.fastpath.evaluate` stays
+        ``ROUGHDIFFUSE_FASTPATH=0`` does). :func:`roughdiffuse.engine.fastpath.evaluate` stays
         available either way.
 
     Examples

@@ -271,7 +271,7 @@ def _traced(*xs: Any) -> bool:
 class TraceNamespace:
     """The array namespace of traced values: records symbolic operations, evaluates the rest."""
 
-    __name__ = "roughdiffuse._trace"
+    __name__ = "roughdiffuse.engine.trace"
     float32 = np.dtype("float32")
     float64 = np.dtype("float64")
     bool = np.dtype("bool")
