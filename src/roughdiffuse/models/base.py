@@ -14,7 +14,7 @@ no cosine in it (pbrt's convention); it is 0 when either direction is below the 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, ClassVar, NamedTuple
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -32,30 +32,12 @@ from .._lazy import when_imported
 from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
-from .sampling import COSINE, Strategy
+from .sampling import COSINE, BSDFSample, Strategy
 
 __all__ = ["BSDFSample", "Model"]
 
 LOBES: tuple[str, ...] = ("diffuse", "glossy")
 """The lobe types a model may declare (Mitsuba 3's DiffuseReflection, GlossyReflection)."""
-
-
-class BSDFSample(NamedTuple):
-    """A sampled incident direction.
-
-    Attributes
-    ----------
-    wi : array (..., 3)
-        Sampled direction towards the light (local frame).
-    pdf : array (...)
-        Its probability density per unit solid angle.
-    weight : array (...) or (..., C)
-        ``brdf(wi, wo) * cos θi / pdf`` (0 where the sample is invalid).
-    """
-
-    wi: Array
-    pdf: Array
-    weight: Array
 
 
 _JITTED: dict[str, Any] = {}
