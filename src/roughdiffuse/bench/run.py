@@ -156,8 +156,8 @@ def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     if proc.returncode != 0:
         return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
     # Idle OpenMP threads spin (libgomp's default), and spinning after each C call took a
-    # core from the variant timed next: the fast path ran at 0.57 of C interleaved with it,
-    # 0.81 with passive waiting. Passive waiting cost C itself nothing measurable.
+    # core from the variant timed next (bench/RESULTS.md). Passive waiting cost C itself
+    # nothing measurable.
     os.environ.setdefault("OMP_WAIT_POLICY", "passive")
     version = subprocess.run([gcc, "--version"], capture_output=True, text=True).stdout
     line = version.splitlines()[0] if version else "gcc"

@@ -70,12 +70,11 @@ DEFAULT_CHUNK = 1 << 18
 """Rows per unit of work when inputs must be converted (another dtype, not contiguous): one
 chunk of buffers per thread (about 10 MB in float32). Inputs read in place are split in one
 contiguous part per thread instead, like OpenMP's static schedule: each chunk costs Python
-overhead and a GIL hand-over, and on 2^22 rows chunks of 2^16, 2^18, 2^20 and 2^21 rows ran
-at 380, 510, 575 and 590 million rows/s here (two direct halves: 620)."""
+overhead and a GIL hand-over, so fewer, larger chunks run faster (bench/RESULTS.md)."""
 
 ROWS_PER_THREAD = 1 << 15
-"""Fewest rows worth a thread of their own (by default): a hand-over to a pool thread costs
-tens of µs, hundreds on a loaded machine, and 2^15 rows take 50-150 µs on one core."""
+"""Fewest rows worth a thread of their own (by default): below it, handing rows over to a
+pool thread costs about as much as computing them on one core (bench/RESULTS.md)."""
 
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 _LOCK = threading.Lock()
@@ -433,7 +432,7 @@ def _run(
         bad = [work(s) for s in starts]
     elif len(starts) <= threads:
         # one chunk per thread: the calling thread computes the first itself, a hand-over
-        # less (64 rows on 2 threads: 53 instead of 70 µs a call here)
+        # less
         futures = [_pool(threads).submit(work, s) for s in starts[1:]]
         try:
             first = work(starts[0])

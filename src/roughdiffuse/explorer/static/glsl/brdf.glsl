@@ -229,7 +229,7 @@ vec3 rd_lunar_lambert(float mu_i, float mu_o, vec3 albedo, float limb) {
   return albedo / RD_PI * ((1.0 - limb) + limb * ls);
 }
 
-// ---------------------------------------------------------------- production diffuse (issue 17)
+// ---------------------------------------------------------------- production diffuse
 // burley.schlick_weight: (1 - mu)^5
 float rd_schlick_weight(float mu) { float m = 1.0 - mu; float m2 = m * m; return m2 * m2 * m; }
 
