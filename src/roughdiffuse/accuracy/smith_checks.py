@@ -107,22 +107,13 @@ HF_GEOMETRIES = ((0, 0, 0), (40, 30, 150), (60, 60, 0), (60, 60, 180), (75, 20, 
 HF_ALPHAS = (0.3, 0.7)
 
 
-def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str]:
-    """Heightfield renders against both solvers; convergence; an image to look at."""
-    try:
-        import mitsuba  # noqa: F401
-    except ImportError:
-        return ["", "## Smith and the heightfields", "", "(skipped: Mitsuba 3 is not installed)"]
+def _heightfield_rows(alphas, geoms, settings, samples: int, progress: bool) -> list[tuple]:
+    """(α, σ, geometry, bounces, heightfield f, its s.e., Smith, its s.e., V-cavity) for every
+    α and geometry, and 1, 2 and all bounces."""
     from tqdm import tqdm
 
-    from ..simulate.heightfield import HeightfieldSettings, heightfield_brdf
+    from ..simulate.heightfield import heightfield_brdf
 
-    settings = (
-        HeightfieldSettings(n=64, res=64, spp=8, realisations=3) if quick else HeightfieldSettings()
-    )
-    geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
-    alphas = (0.5,) if quick else HF_ALPHAS
-    samples = 5_000 if quick else 100_000
     bounces = (1, 2, "all")
     rows = []
     todo = [(a, g) for a in alphas for g in geoms]
@@ -145,6 +136,25 @@ def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str
             v = float(cavity_brdf(ti, tr, dp, sigma, ALBEDO, b, Settings()))
             f, se = rendered[b]
             rows.append((alpha, sigma, (gi, gr, gp), b, f, se, s, sse, v))
+    return rows
+
+
+def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str]:
+    """Heightfield renders against both solvers; convergence; an image to look at."""
+    try:
+        import mitsuba  # noqa: F401
+    except ImportError:
+        return ["", "## Smith and the heightfields", "", "(skipped: Mitsuba 3 is not installed)"]
+    from ..simulate.heightfield import HeightfieldSettings
+
+    settings = (
+        HeightfieldSettings(n=64, res=64, spp=8, realisations=3) if quick else HeightfieldSettings()
+    )
+    geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
+    alphas = (0.5,) if quick else HF_ALPHAS
+    samples = 5_000 if quick else 100_000
+    bounces = (1, 2, "all")
+    rows = _heightfield_rows(alphas, geoms, settings, samples, progress)
     lines = [
         "",
         "## Smith and the heightfields: a rendered arbiter",
