@@ -114,3 +114,17 @@ def test_the_command_line_knows_the_new_model(package_copy):
     line = next(x for x in out.stdout.splitlines() if x.startswith("brdf"))
     expected = 0.6 / math.pi * (math.cos(math.radians(60)) * math.cos(math.radians(30))) ** -0.2
     assert float(line.split(":")[1]) == pytest.approx(expected, rel=1e-5)
+
+
+def test_the_package_serves_every_model_class_from_the_scan():
+    import roughdiffuse as rd
+    from roughdiffuse import models, registry
+
+    classes = {e.cls for e in registry.entries() if e.source == "roughdiffuse"}
+    assert classes == set(models.builtin_classes())
+    for cls in classes:  # rd.<Name> and roughdiffuse.models.<Name> are the registry's class
+        assert getattr(rd, cls.__name__) is cls is getattr(models, cls.__name__)
+        assert cls.__name__ in rd.__all__ and cls.__name__ in dir(rd)
+    for name in rd.__all__:  # every listed name resolves ("from roughdiffuse import *")
+        getattr(rd, name)
+    assert callable(rd.oren_nayar) and rd.fastpath.evaluate is not None

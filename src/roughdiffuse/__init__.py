@@ -45,6 +45,12 @@ def _models() -> Any:
     return models
 
 
+def _from_models() -> list[str]:
+    """The names of :mod:`roughdiffuse.models` served here: its models, ``Model``, ``Param``,
+    ``BSDFSample`` and helper functions (not its registry plumbing)."""
+    return [n for n in _models().__all__ if n not in ("builtin_classes", "register_pytree")]
+
+
 def __getattr__(name: str) -> Any:
     if name == "__version__":  # importlib.metadata is imported on first use
         from ._version import version
@@ -52,16 +58,15 @@ def __getattr__(name: str) -> Any:
         globals()["__version__"] = version()
         return globals()["__version__"]
     if name == "__all__":
-        return sorted(_OWN + _models().__all__)
+        return sorted(_OWN + _from_models())
     if name in SUBMODULES:
         return _submodule(name)
     if name == "fastpath":  # the compiled engine's public face
         from .engine import fastpath
 
         return fastpath
-    models = _models()
-    if name in models.__all__ and name not in ("builtin_classes", "register_pytree"):
-        value = getattr(models, name)
+    if name in _from_models():
+        value = getattr(_models(), name)
         globals()[name] = value
         return value
     return _submodule(name)
