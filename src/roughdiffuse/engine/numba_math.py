@@ -89,9 +89,9 @@ def erfinv(y: Any) -> Any:  # pragma: no cover - compiled by Numba
 
     Giles' single-precision approximation (M. Giles 2010, "Approximating the erfinv
     function", GPU Computing Gems Jade, Ch. 10; relative error below 4e-7 for
-    1 − |y| > 1e-7, extrapolated beyond) refined by Halley steps (f = erf x − |y|,
+    1 − abs(y) > 1e-7, extrapolated beyond) refined by Halley steps (f = erf x − abs(y),
     f' = 2/√π e^{−x²}, f'' = −2x f': x ← x − f / (f' + x f); the error is cubed) until a step
-    is below 1e-15 x, with f from ``math.erfc`` where |y| ≥ 1/2 so that the tail keeps its
+    is below 1e-15 x, with f from ``math.erfc`` where abs(y) ≥ 1/2 so that the tail keeps its
     precision (one or two steps, up to five in the far tail): float64 accuracy
     (tests/test_smith_walk_compiled.py compares with SciPy's ``erfinv``).
     """
