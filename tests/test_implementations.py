@@ -309,3 +309,102 @@ def test_the_numbers_in_docs_implementations_md():
     for name, row in DOC_TABLE.items():
         for key, expected in row.items():
             assert values[name][key] == pytest.approx(expected, abs=5e-5), (name, key)
+
+
+# ----------------------------------------------------------------------------- game engines
+def _pow5(x):
+    return x * x * x * x * x
+
+
+def unreal_diffuse_burley(nv, nl, lv, roughness, color):
+    """Unreal ``Engine/Shaders/Private/BRDF.ush``, ``Diffuse_Burley`` (VoH² = (1 + L·V)/2)."""
+    voh2 = 0.5 * (1.0 + lv)
+    fd90 = 0.5 + 2 * voh2 * roughness
+    fdv = 1 + (fd90 - 1) * _pow5(1 - nv)
+    fdl = 1 + (fd90 - 1) * _pow5(1 - nl)
+    return color * ((1 / PI) * fdv * fdl)
+
+
+def filament_fd_burley(nv, nl, lv, perceptual_roughness, color):
+    """Filament ``shaders/src/brdf.fs``, ``Fd_Burley(roughness, NoV, NoL, LoH)`` with
+    roughness = perceptualRoughness² (``getRoughness``), times the diffuse colour."""
+    roughness = perceptual_roughness * perceptual_roughness
+    loh2 = 0.5 * (1.0 + lv)
+    f90 = 0.5 + 2.0 * roughness * loh2
+    light = 1.0 + (f90 - 1.0) * _pow5(1.0 - nl)
+    view = 1.0 + (f90 - 1.0) * _pow5(1.0 - nv)
+    return color * light * view * (1.0 / PI)
+
+
+def unity_diffuse_ggx(nv, nl, lv, roughness, albedo):
+    """Unity ``ShaderLibrary/BSDF.hlsl``, ``DiffuseGGX`` = ``DiffuseGGXNoPI``/π, times the
+    diffuse colour (N·H = (N·L + N·V)/|l + v|)."""
+    nh = (nl + nv) / np.sqrt(2.0 + 2.0 * lv)
+    facing = 0.5 + 0.5 * lv
+    rough = facing * (0.9 - 0.4 * facing) * (0.5 / nh + 1)
+    transmit_l, transmit_v = 1 - _pow5(1 - nl), 1 - _pow5(1 - nv)
+    smooth = transmit_l * transmit_v * 1.05
+    single = smooth + (rough - smooth) * roughness
+    multiple = roughness * (0.1159 * PI)
+    return albedo * (single + albedo * multiple) / PI
+
+
+def _variant(model_id, **params):
+    return rd.registry.get(model_id).create(**params)
+
+
+VARIANT_CASES = [
+    # id, params, transcription (nv, nl, lv) -> f, rtol
+    ("cycles-diffuse", {"albedo": 0.5, "roughness": 0.6},
+     lambda nv, nl, lv: cycles_oren_nayar(nv, nl, lv, 0.6, 0.5)),
+    ("cycles-principled", {"albedo": 0.8, "roughness": 1.0},
+     lambda nv, nl, lv: cycles_oren_nayar(nv, nl, lv, 1.0, 0.8)),
+    ("materialx-eon", {"albedo": 0.8, "roughness": 0.7},
+     lambda nv, nl, lv: mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.7, 0.8, True)),
+    ("materialx-oren-nayar", {"albedo": 0.8, "roughness": 0.5},
+     lambda nv, nl, lv: mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, False)),
+    ("mitsuba06-roughdiffuse-fast", {"albedo": 0.8, "alpha": 0.7},
+     lambda nv, nl, lv: mitsuba06_roughdiffuse(nv, nl, lv, 0.7, 0.8, fast=True)),
+    ("mitsuba06-roughdiffuse", {"albedo": 0.8, "alpha": 0.7},
+     lambda nv, nl, lv: mitsuba06_roughdiffuse(nv, nl, lv, 0.7, 0.8, fast=False)),
+    ("pbrt3-oren-nayar", {"albedo": 0.8, "sigma_deg": 28.65},
+     lambda nv, nl, lv: pbrt3_oren_nayar(nv, nl, lv, 28.65, 0.8)),
+    ("unreal-burley", {"albedo": 0.8, "roughness": 0.6},
+     lambda nv, nl, lv: unreal_diffuse_burley(nv, nl, lv, 0.6, 0.8)),
+    ("filament-burley", {"albedo": 0.8, "roughness": 0.6},
+     lambda nv, nl, lv: filament_fd_burley(nv, nl, lv, 0.6, 0.8)),
+    ("unity-diffuse-ggx", {"albedo": 0.8, "roughness": 0.4},
+     lambda nv, nl, lv: unity_diffuse_ggx(nv, nl, lv, 0.4, 0.8)),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("model_id, params, reference", VARIANT_CASES, ids=lambda c: str(c)[:30])
+def test_each_renderer_variant_agrees_with_its_transcription(rng, model_id, params, reference):
+    nv, nl, lv = _random_cosines(rng)
+    model = _variant(model_id, **params)
+    assert model.reference  # the other project's file and function
+    rtol = 1e-9 if model_id == "mitsuba06-roughdiffuse" else 1e-12
+    np.testing.assert_allclose(_ours(model, nv, nl, lv), reference(nv, nl, lv), rtol=rtol)
+
+
+def test_variants_that_are_a_conversion_equal_their_base_model(rng):
+    nv, nl, lv = _random_cosines(rng)
+    pairs = [
+        (_variant("openpbr-diffuse", albedo=0.7, roughness=0.4), rd.EON(0.7, 0.4)),
+        (_variant("unreal-chan", albedo=0.7, roughness=0.6), rd.Chan(0.7, 0.36)),
+        (_variant("pbrt3-oren-nayar", albedo=0.7, sigma_deg=90.0), rd.OrenNayar(0.7, PI / 2)),
+    ]
+    for variant, base in pairs:
+        np.testing.assert_allclose(_ours(variant, nv, nl, lv), _ours(base, nv, nl, lv), rtol=1e-14)
+
+
+def test_cycles_variant_albedo_is_eon_with_the_lobe_times_rho():
+    """Closed form vs the midpoint rule on the transcription (error about 1e-5)."""
+    for mu in (1.0, 0.5):
+        wo = np.array([math.sqrt(1 - mu * mu), 0.0, mu])
+        got = float(_variant("cycles-diffuse", albedo=0.5, roughness=1.0).directional_albedo(wo))
+        ref = _albedo(lambda nv, nl, lv: cycles_oren_nayar(nv, nl, lv, 1.0, 0.5), mu)
+        assert got == pytest.approx(ref, abs=1e-4)
+    n = np.array([0.0, 0.0, 1.0])
+    cycles = float(_variant("cycles-diffuse", albedo=0.5, roughness=1.0).directional_albedo(n))
+    assert cycles == pytest.approx(0.414, abs=5e-4)  # the page's number (EON: 0.439)

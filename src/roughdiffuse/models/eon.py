@@ -24,12 +24,20 @@ from .declaration import Param
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
 from .sampling import CLTC, Strategy
 
-__all__ = ["EON"]
+__all__ = ["EON", "eon_albedo", "multiple_scattering"]
 
 
 def _rho_ms(albedo: Array, e_avg: Array) -> Array:
     """Multiple-scattering albedo ρ² Ē_F / (1 − ρ (1 − Ē_F)) (paper Eq. 12)."""
     return albedo * albedo * e_avg / (1.0 - albedo * (1.0 - e_avg))
+
+
+def multiple_scattering(xp: Any, mu_i: Array, mu_o: Array, albedo: Array, r: Array) -> Array:
+    """EON's multiple-scattering lobe f_ms = ρ_ms/π (1 − E_F(μo))(1 − E_F(μi))/(1 − Ē_F)
+    (paper Eq. 11–13); 0 at r = 0, where no energy is lost to give back."""
+    e_avg = fon_average_albedo(r)
+    lobe = (1.0 - fon_albedo(xp, mu_o, r)) * (1.0 - fon_albedo(xp, mu_i, r))
+    return _rho_ms(albedo, e_avg) / math.pi * safe_div(xp, lobe, 1.0 - e_avg + 0.0 * lobe)
 
 
 @register_pytree
@@ -95,19 +103,19 @@ class EON(Model):
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
     ) -> Array:
-        r = roughness
-        f_ss = albedo / math.pi * fon_lobe(xp, mu_i, mu_o, cos_io, r)
-        e_avg = fon_average_albedo(r)
-        lobe = (1.0 - fon_albedo(xp, mu_o, r)) * (1.0 - fon_albedo(xp, mu_i, r))
-        # r = 0: E_F = Ē_F = 1 and the lobe is 0/0 -> 0 (no energy is lost to give back)
-        f_ms = _rho_ms(albedo, e_avg) / math.pi * safe_div(xp, lobe, 1.0 - e_avg + 0.0 * lobe)
-        return f_ss + f_ms
+        f_ss = albedo / math.pi * fon_lobe(xp, mu_i, mu_o, cos_io, roughness)
+        return f_ss + multiple_scattering(xp, mu_i, mu_o, albedo, roughness)
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form ρ E_F(μo) + ρ_ms (1 − E_F(μo)) (paper Eq. 14)."""
 
-        def closed(xp: Any, mu: Array, albedo: Array, roughness: Array) -> Array:
-            e = fon_albedo(xp, mu, roughness)
-            return albedo * e + _rho_ms(albedo, fon_average_albedo(roughness)) * (1.0 - e)
+        return self._closed_form_albedo(wo, eon_albedo)
 
-        return self._closed_form_albedo(wo, closed)
+
+def eon_albedo(
+    xp: Any, mu: Array, albedo: Array, roughness: Array, ms_weight: Array | float = 1.0
+) -> Array:
+    """ρ E_F(μ) + w ρ_ms (1 − E_F(μ)): EON's directional albedo (paper Eq. 14) with the
+    multiple-scattering part weighted by ``w`` (1 for EON)."""
+    e = fon_albedo(xp, mu, roughness)
+    return albedo * e + ms_weight * _rho_ms(albedo, fon_average_albedo(roughness)) * (1.0 - e)
