@@ -291,7 +291,9 @@ class Pbrt3OrenNayar(Alias):
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"pbrt3-oren-nayar": {}}
     labels: ClassVar[dict[str, str]] = {"pbrt3-oren-nayar": "pbrt-v3 OrenNayar"}
-    reference: ClassVar[str] = "pbrt-v3, src/core/reflection.cpp, OrenNayar::f (and its constructor)"
+    reference: ClassVar[str] = (
+        "pbrt-v3, src/core/reflection.cpp, OrenNayar::f (and its constructor)"
+    )
     order: ClassVar[int] = _ORDER + 50
     base: ClassVar[type[Model]] = OrenNayar
     base_fixed: ClassVar[dict[str, Any]] = {"variant": "qualitative"}
@@ -310,7 +312,10 @@ class UnrealBurley(Alias):
     albedo: float | Array = 1.0
     roughness: float | Array = 0.0
 
-    params: ClassVar[tuple[Param, ...]] = (_colour("DiffuseColor ρ"), _unit("roughness", "Roughness"))
+    params: ClassVar[tuple[Param, ...]] = (
+        _colour("DiffuseColor ρ"),
+        _unit("roughness", "Roughness"),
+    )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"unreal-burley": {}}
     labels: ClassVar[dict[str, str]] = {"unreal-burley": "Unreal Diffuse_Burley"}
     reference: ClassVar[str] = "Unreal Engine, Engine/Shaders/Private/BRDF.ush, Diffuse_Burley"

@@ -1,0 +1,74 @@
+"""``roughdiffuse export``: write a model or a fit result as a Mitsuba, MaterialX or Blender
+material."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from . import UsageError
+from ._common import add_model_arguments, model_from_args
+
+EXAMPLES = """\
+examples:
+  roughdiffuse export --model oren-nayar-full --param sigma=20 --to blender -o mat.py
+  roughdiffuse export --model eon --roughness 0.5 --to materialx -o mat.mtlx --openpbr
+  roughdiffuse export --from fit.json --to mitsuba -o scene.xml
+  roughdiffuse export --from stereo_out/params.json --to materialx -o mat.mtlx
+
+Where the target has no exact counterpart the parameters are converted (roughdiffuse convert)
+and the conversion error is printed and written in the file's comments.
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "export",
+        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material",
+        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx or a Blender .py "
+        "for a model (--model, --param) or a fit result (--from fit JSON or stereo params.json).",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_model_arguments(p)
+    p.add_argument("--from", dest="source", metavar="FILE.json", help="a fit result instead")
+    p.add_argument("--to", required=True, metavar="TARGET", help="mitsuba, materialx or blender")
+    p.add_argument("-o", "--output", required=True, metavar="FILE", help="the file to write")
+    p.add_argument(
+        "--openpbr",
+        action="store_true",
+        help="MaterialX: an open_pbr_surface (base_diffuse_roughness)",
+    )
+    p.add_argument(
+        "--principled", action="store_true", help="Blender: a Principled BSDF (Diffuse Roughness)"
+    )
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..export import TARGETS, export, load_result
+    from ..export.blender import write as write_blender
+
+    if args.to not in TARGETS:
+        raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
+    out = Path(args.output)
+    if not out.parent.is_dir():
+        raise UsageError(f"--output: folder {str(out.parent)!r} does not exist")
+    if args.source:
+        try:
+            model = load_result(args.source)
+        except ValueError as exc:
+            raise UsageError(f"--from: {exc}") from None
+    else:
+        model = model_from_args(args)
+    try:
+        if args.to == "blender" and args.principled:
+            result = write_blender(model, out, principled=True)
+        else:
+            result = export(model, args.to, out, openpbr=args.openpbr)
+    except ValueError as exc:
+        raise UsageError(f"--to {args.to}: {exc}") from None
+    except OSError as exc:
+        raise UsageError(f"--output: cannot write {str(out)!r}: {exc.strerror or exc}") from None
+    print(result.summary())
+    return 0

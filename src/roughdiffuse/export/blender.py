@@ -1,0 +1,64 @@
+"""A Blender script that builds a model's material: Diffuse BSDF (or Principled BSDF).
+
+Cycles computes roughdiffuse's ``cycles-diffuse`` (Fujii's single scattering plus ρ times
+EON's multiple-scattering lobe, ``intern/cycles/kernel/closure/bsdf_oren_nayar.h``); the
+Principled BSDF's "Diffuse Roughness" builds the same closure (``cycles-principled``). Any
+other model is converted to it (:func:`roughdiffuse.convert.convert`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from ..models.base import Model
+from . import Export, error_lines, material_for, write_files
+
+__all__ = ["script", "write"]
+
+
+def script(params: dict[str, Any], comments: list[str], principled: bool = False) -> str:
+    """Python for Blender (``bpy``): a material ``roughdiffuse`` with these parameters,
+    assigned to the active object if there is one."""
+    albedo = params.get("albedo", 1.0)
+    rgb = albedo if isinstance(albedo, list) else [albedo] * 3
+    colour = "(" + ", ".join(f"{float(x):.9g}" for x in rgb) + ", 1.0)"
+    rough = f"{float(params['roughness']):.9g}"
+    notes = "\n".join(f"# {c}" for c in comments)
+    if principled:
+        node = f"""bsdf = nodes.new("ShaderNodeBsdfPrincipled")
+bsdf.inputs["Base Color"].default_value = {colour}
+bsdf.inputs["Diffuse Roughness"].default_value = {rough}
+bsdf.inputs["Specular IOR Level"].default_value = 0.0  # no specular: the diffuse alone"""
+    else:
+        node = f"""bsdf = nodes.new("ShaderNodeBsdfDiffuse")
+bsdf.inputs["Color"].default_value = {colour}
+bsdf.inputs["Roughness"].default_value = {rough}"""
+    return f'''"""Material written by roughdiffuse export: run in Blender (or with the bpy module).
+
+Colours are linear (scene-referred) RGB.
+"""
+{notes}
+import bpy
+
+material = bpy.data.materials.new("roughdiffuse")
+material.use_nodes = True
+nodes = material.node_tree.nodes
+nodes.clear()
+output = nodes.new("ShaderNodeOutputMaterial")
+{node}
+material.node_tree.links.new(bsdf.outputs["BSDF"], output.inputs["Surface"])
+obj = bpy.context.active_object
+if obj is not None and obj.type == "MESH":
+    obj.data.materials.clear()
+    obj.data.materials.append(material)
+'''
+
+
+def write(model: Model, path: Path, principled: bool = False) -> Export:
+    """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed)."""
+    target = "cycles-principled" if principled else "cycles-diffuse"
+    params, conversion = material_for(model, target)
+    comments = [f"Cycles computes this as roughdiffuse's {target!r}."] + error_lines(conversion)
+    text = script(params, comments, principled)
+    return Export("blender", write_files({path: text}), target, params, conversion)

@@ -1,0 +1,81 @@
+"""A MaterialX document of a model: ``oren_nayar_diffuse_bsdf`` or ``open_pbr_surface``.
+
+MaterialX evaluates both through its node ``oren_nayar_diffuse_bsdf``
+(``libraries/pbrlib/genglsl/mx_oren_nayar_diffuse_bsdf.glsl``): the qualitative Oren–Nayar
+model with ``energy_compensation`` false (roughdiffuse's ``materialx-oren-nayar``: exact for
+``oren-nayar`` and its aliases, roughness = σ in radians), else EON with its L·V clamp
+(``materialx-eon``; ``open_pbr_surface`` sets ``energy_compensation`` true in
+``libraries/bxdf/open_pbr_surface.mtlx``). Any other model is converted to ``materialx-eon``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .. import registry
+from ..models.base import Model
+from . import Export, error_lines, material_for, write_files
+
+__all__ = ["document", "write"]
+
+VERSION = "1.39"
+
+
+def _is_qualitative_oren_nayar(model: Model) -> bool:
+    base = getattr(model, "base_model", None)
+    model = base() if base is not None else model
+    return registry.id_of(model) == "oren-nayar"
+
+
+def _colour(albedo: Any) -> str:
+    values = albedo if isinstance(albedo, list) else [albedo] * 3
+    return ", ".join(f"{float(x):.9g}" for x in values)
+
+
+def document(
+    params: dict[str, Any], compensated: bool, comments: list[str], openpbr: bool = False
+) -> str:
+    """The ``.mtlx`` text of a material with these ``materialx-*`` parameters."""
+    notes = "\n".join(f"  {c.replace('--', '-')}" for c in comments)
+    colour, rough = _colour(params.get("albedo", 1.0)), f"{float(params['roughness']):.9g}"
+    if openpbr:
+        shader = f"""  <open_pbr_surface name="surface" type="surfaceshader">
+    <input name="base_weight" type="float" value="1" />
+    <input name="base_color" type="color3" value="{colour}" />
+    <input name="base_diffuse_roughness" type="float" value="{rough}" />
+    <input name="specular_weight" type="float" value="0" />
+  </open_pbr_surface>"""
+    else:
+        flag = "true" if compensated else "false"
+        shader = f"""  <oren_nayar_diffuse_bsdf name="diffuse_bsdf" type="BSDF">
+    <input name="color" type="color3" value="{colour}" />
+    <input name="roughness" type="float" value="{rough}" />
+    <input name="energy_compensation" type="boolean" value="{flag}" />
+  </oren_nayar_diffuse_bsdf>
+  <surface name="surface" type="surfaceshader">
+    <input name="bsdf" type="BSDF" nodename="diffuse_bsdf" />
+  </surface>"""
+    return f"""<?xml version="1.0"?>
+<materialx version="{VERSION}">
+  <!-- written by roughdiffuse export
+{notes}
+  -->
+{shader}
+  <surfacematerial name="roughdiffuse_material" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="surface" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def write(model: Model, path: Path, openpbr: bool = False) -> Export:
+    """Write the ``.mtlx`` document of ``model`` (converted where MaterialX cannot hold it)."""
+    if _is_qualitative_oren_nayar(model) and not openpbr:
+        target = "materialx-oren-nayar"
+    else:
+        target = "materialx-eon"
+    params, conversion = material_for(model, target)
+    comments = [f"MaterialX evaluates this as roughdiffuse's {target!r}."] + error_lines(conversion)
+    text = document(params, target == "materialx-eon", comments, openpbr)
+    return Export("materialx", write_files({path: text}), target, params, conversion)

@@ -1,0 +1,163 @@
+"""Mitsuba 3 scenes of a model: XML and a Python dict, with roughdiffuse's plugin.
+
+The scene: a unit sphere, a directional light of irradiance 1 from (θ, φ) = (50°, 0°), an
+orthographic camera on the normal framing the sphere with a 4 % margin (as
+:class:`roughdiffuse.render.OrthographicCamera`), the ``path`` integrator with ``max_depth`` 2
+(direct light only, as roughdiffuse's renderer). Loading either needs the plugins registered
+first (``roughdiffuse.integrations.mitsuba.register()``). Lambert is also written with
+Mitsuba's own ``diffuse``, Burley 2015 with its ``principled`` (``specular`` 0), both exact.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from .. import registry
+from ..integrations.mitsuba import plugin_name
+from ..models.base import Model
+from . import Export, _params_of, error_lines, write_files
+
+__all__ = ["LIGHT", "MARGIN", "SIZE", "bsdf_dict", "scene_dict", "scene_xml", "write"]
+
+LIGHT = (50.0, 0.0)
+"""Direction towards the light, (θ, φ) in degrees."""
+MARGIN = 0.04
+SIZE = 64
+
+_BUILTIN = {"lambert": "diffuse", "burley-2015": "principled"}
+
+
+def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
+    """The BSDF: the model's roughdiffuse plugin, or (``builtin``) Mitsuba's own counterpart."""
+    model_id = registry.id_of(model)
+    if model_id is None:
+        raise ValueError(f"{type(model).__name__} is not a registry model; Mitsuba cannot hold it")
+    params = _params_of(model, model_id)
+    albedo = params.get("albedo", 1.0)
+    colour = {"type": "rgb", "value": albedo if isinstance(albedo, list) else [albedo] * 3}
+    if builtin:
+        kind = _BUILTIN.get(model_id)
+        if kind == "diffuse":
+            return {"type": "diffuse", "reflectance": colour}
+        if kind == "principled":
+            return {
+                "type": "principled",
+                "base_color": colour,
+                "roughness": params["roughness"],
+                "specular": 0.0,
+            }
+        raise ValueError(f"Mitsuba has no built-in BSDF equal to {model_id!r}")
+    out: dict[str, Any] = {"type": plugin_name(model_id)}
+    for name, value in params.items():
+        out[name] = colour if isinstance(value, list) or name == "albedo" else value
+    return out
+
+
+def _direction(theta_deg: float, phi_deg: float) -> list[float]:
+    t, p = math.radians(theta_deg), math.radians(phi_deg)
+    return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
+
+
+def scene_dict(bsdf: dict[str, Any], size: int = SIZE, spp: int = 256) -> dict[str, Any]:
+    """The scene as a dict of plain values (``to_world`` as a 4×4 list), for ``mi.load_dict``
+    after ``to_world`` is wrapped: :func:`load_dict` does it."""
+    l = _direction(*LIGHT)
+    half = 1.0 + 2.0 * MARGIN
+    # look_at from (0, 0, 10) to the origin, up (0, 1, 0), times scale(half, half, 1):
+    # camera x = -world x, camera z = -world z (Mitsuba's look_at: x = up × dir)
+    to_world = [[-half, 0, 0, 0], [0, half, 0, 0], [0, 0, -1, 10], [0, 0, 0, 1]]
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 2},
+        "sensor": {
+            "type": "orthographic",
+            "to_world": to_world,
+            "film": {
+                "type": "hdrfilm",
+                "width": size,
+                "height": size,
+                "rfilter": {"type": "box"},
+                "pixel_format": "rgb",
+            },
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+        "light": {"type": "directional", "direction": [-x for x in l], "irradiance": 1.0},
+        "sphere": {"type": "sphere", "bsdf": bsdf},
+    }
+
+
+def load_dict(mi: Any, scene: dict[str, Any]) -> Any:
+    """``mi.load_dict`` of :func:`scene_dict` (its ``to_world`` made a transform)."""
+    s = {**scene, "sensor": {**scene["sensor"]}}
+    s["sensor"]["to_world"] = mi.ScalarTransform4f(s["sensor"]["to_world"])
+    return mi.load_dict(s)
+
+
+def _xml_value(name: str, value: Any) -> str:
+    if isinstance(value, dict) and value.get("type") == "rgb":
+        v = ", ".join(f"{x:.17g}" for x in value["value"])
+        return f'<rgb name="{name}" value="{v}"/>'
+    if isinstance(value, str):
+        return f'<string name="{name}" value="{value}"/>'
+    return f'<float name="{name}" value="{float(value):.17g}"/>'
+
+
+def scene_xml(bsdf: dict[str, Any], comments: list[str], size: int = SIZE, spp: int = 256) -> str:
+    """The scene of :func:`scene_dict` as Mitsuba 3 XML."""
+    scene = scene_dict(bsdf, size, spp)
+    m = scene["sensor"]["to_world"]
+    matrix = " ".join(f"{x:g}" for row in m for x in row)
+    d = ", ".join(f"{x:.17g}" for x in scene["light"]["direction"])
+    inner = "\n".join(f"        {_xml_value(k, v)}" for k, v in bsdf.items() if k != "type")
+    notes = "\n".join(f"     {c}" for c in comments)
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<!-- written by roughdiffuse export
+{notes}
+     Load after roughdiffuse.integrations.mitsuba.register() (the roughdiffuse_* plugins). -->
+<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+    <sensor type="orthographic">
+        <transform name="to_world"><matrix value="{matrix}"/></transform>
+        <film type="hdrfilm">
+            <integer name="width" value="{size}"/>
+            <integer name="height" value="{size}"/>
+            <rfilter type="box"/>
+            <string name="pixel_format" value="rgb"/>
+        </film>
+        <sampler type="independent"><integer name="sample_count" value="{spp}"/></sampler>
+    </sensor>
+    <emitter type="directional">
+        <vector name="direction" value="{d}"/>
+        <float name="irradiance" value="1"/>
+    </emitter>
+    <shape type="sphere">
+        <bsdf type="{bsdf["type"]}">
+{inner}
+        </bsdf>
+    </shape>
+</scene>
+"""
+
+
+def write(model: Model, path: Path) -> Export:
+    """Write the XML scene to ``path`` and the dict to ``path`` with suffix ``.py``."""
+    bsdf = bsdf_dict(model)
+    comments = error_lines(None)
+    files = {path: scene_xml(bsdf, comments)}
+    py = path.with_suffix(".py")
+    files[py] = (
+        "# Mitsuba 3 scene written by roughdiffuse export (exact: roughdiffuse's plugin)\n"
+        "import mitsuba as mi\n\n"
+        "from roughdiffuse.export.mitsuba import load_dict\n"
+        "from roughdiffuse.integrations.mitsuba import register\n\n"
+        "mi.set_variant('scalar_rgb')\nregister()\n"
+        f"SCENE = {scene_dict(bsdf)!r}\nscene = load_dict(mi, SCENE)\n"
+    )
+    model_id = bsdf["type"]
+    mid = registry.id_of(model) or model_id
+    if mid in _BUILTIN:
+        builtin = path.with_name(path.stem + "_builtin.xml")
+        files[builtin] = scene_xml(bsdf_dict(model, builtin=True), comments)
+    return Export("mitsuba", write_files(files), mid, _params_of(model, mid), None)

@@ -1,0 +1,75 @@
+"""roughdiffuse.convert: parameters of one model that best reproduce another.
+
+References independent of the code under test: a model converted to itself returns its own
+parameters; pbrt-v3's σ in degrees is Oren–Nayar's σ in radians times 180/π and Mitsuba 0.6's
+α is √2 σ (exact identities: the residual is 0); the MaterialX node differs from EON only
+where L·V < 0 (so the conversion finds r and ρ close to EON's, with a small residual); a
+target whose albedo cannot reach the source's is refused.
+"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import pytest
+
+import roughdiffuse as rd
+from roughdiffuse.convert import convert
+
+
+@pytest.mark.parametrize(
+    "model, target",
+    [(rd.EON(0.8, 0.5), "eon"), (rd.OrenNayar(0.6, 0.4, "full"), "oren-nayar-full")],
+)
+def test_a_model_converted_to_itself_keeps_its_parameters(model, target):
+    r = convert(model, target=target)
+    assert r.params["albedo"] == pytest.approx(model.albedo, abs=1e-7)
+    name = "roughness" if target == "eon" else "sigma"
+    assert r.params[name] == pytest.approx(getattr(model, name), abs=1e-7)
+    assert r.rms_f < 1e-7 and r.max_f < 1e-6 and r.max_albedo < 1e-7
+
+
+def test_pbrt3_degrees_and_mitsuba06_alpha_are_exact_identities():
+    sigma = math.radians(25.0)
+    r = convert(rd.OrenNayar(0.7, sigma), target="pbrt3-oren-nayar")
+    assert r.params["sigma_deg"] == pytest.approx(25.0, abs=1e-5)
+    assert r.max_f < 1e-7
+    r = convert(rd.OrenNayar(0.7, sigma, "full"), target="mitsuba06-roughdiffuse")
+    assert r.params["alpha"] == pytest.approx(math.sqrt(2.0) * sigma, abs=1e-6)
+    assert r.max_f < 1e-6
+
+
+def test_eon_to_the_materialx_node_stays_close():
+    """The node differs from EON only where L·V < 0 (its clamp), where it is brighter."""
+    r = convert(rd.EON(0.8, 0.5), target="materialx-eon")
+    assert 0.0 < r.rms_f < 0.1
+    assert r.params["roughness"] == pytest.approx(0.5, abs=0.2)
+
+
+def test_a_target_that_cannot_reach_the_source_albedo_is_refused():
+    # Burley at roughness 1 and ρ = 1 reflects more than it receives at grazing: EON cannot
+    with pytest.raises(ValueError, match="cannot represent the source's albedo"):
+        convert(rd.Burley(1.0, 1.0), target="eon")
+
+
+def test_rgb_albedo_is_converted_per_channel():
+    r = convert(rd.EON([0.8, 0.5, 0.2], 0.5), target="openpbr-diffuse")
+    assert r.params["albedo"] == pytest.approx([0.8, 0.5, 0.2], abs=1e-6)
+    assert r.params["roughness"] == pytest.approx(0.5, abs=1e-5)
+
+
+def test_cli_prints_parameters_differences_and_snippet():
+    run = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "convert", "--model", "oren-nayar",
+         "--param", "sigma=20", "--to", "pbrt3-oren-nayar"],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    assert "sigma_deg = 20" in run.stdout
+    assert 'rd.registry.create("pbrt3-oren-nayar"' in run.stdout
+    bad = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "convert", "--model", "eon", "--to", "nope"],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
