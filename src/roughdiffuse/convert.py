@@ -10,11 +10,12 @@ azimuth difference Δφ on [0, π] (the models are isotropic and symmetric in ±
 dω = dμ dφ, the weights approximate the integral over both hemispheres in solid angle. The
 residual is the difference of f cos θi at these pairs, divided by the root mean square of the
 source's f cos θi, plus the difference of the directional albedos at the ``n`` values of μo
-(weight ``albedo_weight``), divided by the source's mean albedo.
+(by the same rule; weight ``albedo_weight``), divided by the source's mean albedo.
 
 Reported: the root-mean-square and the largest relative difference of f cos θi (relative to
-the source's RMS f cos θi, so that a zero of the source does not blow up a ratio), and the RMS
-and largest relative difference of the directional albedo over μo.
+the source's RMS f cos θi, so that a zero of the source does not blow up a ratio) at the pairs,
+and the RMS and largest relative difference of the directional albedo (each model's own
+``directional_albedo``) at the μo nodes.
 
 >>> import roughdiffuse as rd
 >>> r = convert(rd.OrenNayar(0.8, 0.349), target="pbrt3-oren-nayar")
@@ -196,16 +197,24 @@ def convert(
         out.update({p.name: float(v) for p, v in zip(shape, x[len(colour) * reps :], strict=True)})
         return out
 
+    def grid_albedo(f_cos: np.ndarray) -> np.ndarray:
+        # ∫ f cos θi dωi at each μo node by the same rule (Δφ in [0, π] counted twice)
+        w = 2.0 * weight.reshape(n, n, n) / wmu[np.newaxis, :, np.newaxis]
+        cube = (f_cos.reshape(n, n, n, -1) * w[..., np.newaxis]).sum(axis=(0, 2))
+        return cube if channels else cube[:, 0]
+
+    y_a = grid_albedo(y if channels else y[:, None])
+
     def residual(x: np.ndarray) -> np.ndarray:
         m = entry.create(**fixed, **unpack(x))
         with use_fastpath(False):
             f = np.asarray(m.brdf_cosines(mi, mo, cio), dtype=np.float64)
-            a = _albedos(m, mu)
         f = f * (mi[:, None] if channels else mi)
+        a = grid_albedo(f if channels else f[:, None])
         return np.concatenate(
             [
                 (sqrt_wf * (f - y) / scale_f).ravel(),
-                (albedo_weight * sqrt_wa * (a - a_src) / scale_a).ravel(),
+                (albedo_weight * sqrt_wa * (a - y_a) / scale_a).ravel(),
             ]
         )
 
