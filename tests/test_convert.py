@@ -1,4 +1,4 @@
-"""roughdiffuse.convert: parameters of one model that best reproduce another.
+"""roughdiffuse.conversion: parameters of one model that best reproduce another.
 
 References independent of the code under test: a model converted to itself returns its own
 parameters; pbrt-v3's σ in degrees is Oren–Nayar's σ in radians times 180/π and Mitsuba 0.6's
@@ -16,7 +16,7 @@ import sys
 import pytest
 
 import roughdiffuse as rd
-from roughdiffuse.convert import convert
+from roughdiffuse import convert
 
 
 @pytest.mark.parametrize(

@@ -19,8 +19,8 @@ import pytest
 
 import roughdiffuse as rd
 from roughdiffuse import registry
-from roughdiffuse.export import export, load_result
-from roughdiffuse.export.mitsuba import LIGHT, MARGIN, SIZE, load_dict, scene_dict
+from roughdiffuse.materials import export, load_result
+from roughdiffuse.materials.mitsuba import LIGHT, MARGIN, SIZE, load_dict, scene_dict
 
 ALBEDO = [0.8, 0.6, 0.4]
 
@@ -64,7 +64,7 @@ def test_mitsuba_xml_renders_as_the_dict_and_as_roughdiffuse(mi, tmp_path):
     result = export(model, "mitsuba", tmp_path / "scene.xml")
     assert result.conversion is None
     from_xml = _render(mi, mi.load_file(str(tmp_path / "scene.xml")))
-    from roughdiffuse.export.mitsuba import bsdf_dict
+    from roughdiffuse.materials.mitsuba import bsdf_dict
 
     from_dict = _render(mi, load_dict(mi, scene_dict(bsdf_dict(model))))
     np.testing.assert_allclose(from_xml, from_dict, rtol=1e-5, atol=1e-7)

@@ -28,7 +28,7 @@ FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),
     ("registry", frozenset({"registry"})),
-    ("services", frozenset(("accuracy convert data energy export figures fit integrations "
+    ("services", frozenset(("accuracy conversion data energy figures fit integrations materials "
                             "plots render stereo").split())),  # fmt: skip
     ("applications", frozenset("roughdiffuse __main__ bench cli commands explorer".split())),
 )

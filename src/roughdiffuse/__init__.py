@@ -61,6 +61,12 @@ def __getattr__(name: str) -> Any:
         return sorted(_OWN + _from_models())
     if name in SUBMODULES:
         return _submodule(name)
+    if name in _FUNCTIONS:  # rd.convert, rd.export: a function of a submodule
+        from importlib import import_module
+
+        value = getattr(import_module(f"{__name__}.{_FUNCTIONS[name]}"), name)
+        globals()[name] = value
+        return value
     if name == "fastpath":  # the compiled engine's public face
         from .engine import fastpath
 
@@ -76,8 +82,13 @@ def __dir__() -> list[str]:
     return sorted(set(_dir()) | set(__getattr__("__all__")) | {"fastpath"})
 
 
+_FUNCTIONS = {"convert": "conversion", "export": "materials"}
+"""Functions served here from the submodule that holds them (imported on first use)."""
+
 _OWN = [
     "__version__",
+    "convert",
+    "export",
     "fastpath_enabled",
     "register_model",
     "roughness",

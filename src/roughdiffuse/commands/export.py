@@ -46,8 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..export import TARGETS, export, load_result
-    from ..export.blender import write as write_blender
+    from ..materials import TARGETS, export, load_result
+    from ..materials.blender import write as write_blender
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")

@@ -12,7 +12,7 @@ Targets (:data:`TARGETS`):
   ``bpy``.
 
 Where the target cannot hold the model exactly, the parameters are converted
-(:func:`roughdiffuse.convert.convert`) and the conversion error is written into the file's
+(:func:`roughdiffuse.conversion.convert`) and the conversion error is written into the file's
 comments and returned. A ``UsdPreviewSurface`` is not offered: its diffuse lobe has no
 roughness, so any rough model would be exported wrong.
 """
@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from .. import registry
-from ..convert import Conversion, convert
+from ..conversion import Conversion, convert
 from ..io.atomic import write_text
 from ..models.base import Model
 
@@ -76,7 +76,7 @@ def error_lines(conversion: Conversion | None) -> list[str]:
     if conversion is None:
         return ["exact: the target computes this model (no conversion)"]
     return [
-        f"converted from {conversion.source} by least squares (roughdiffuse.convert):",
+        f"converted from {conversion.source} by least squares (roughdiffuse.conversion):",
         f"f cos theta_i differs by {100 * conversion.rms_f:.3g} % RMS, "
         f"{100 * conversion.max_f:.3g} % at most (relative to the source's RMS);",
         f"directional albedo differs by {100 * conversion.rms_albedo:.3g} % RMS, "
