@@ -23,11 +23,13 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
 sys.path.insert(0, str(DOCS / "_ext"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+import rd_implementations  # noqa: E402
 import rd_lecture  # noqa: E402
 import rd_pages  # noqa: E402
 
 rd_pages.generate(DOCS)
 rd_lecture.generate(DOCS)
+rd_implementations.generate(DOCS)
 
 project = "roughdiffuse"
 author = "roughdiffuse developers"

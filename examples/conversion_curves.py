@@ -55,7 +55,9 @@ def main(out: str = "docs/images/conversion-curves.png") -> None:
     top.grid(alpha=0.3)
     bottom.set_xlabel("Oren–Nayar σ (degrees)")
     bottom.set_ylabel("RMS difference (%)")
-    bottom.set_title("solid: f cos θi (relative to its RMS); dashed: directional albedo", fontsize=9)
+    bottom.set_title(
+        "solid: f cos θi (relative to its RMS); dashed: directional albedo", fontsize=9
+    )
     bottom.grid(alpha=0.3)
     fig.tight_layout()
     atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
