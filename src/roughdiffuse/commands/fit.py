@@ -84,6 +84,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    p.add_argument(
+        "--json",
+        metavar="OUT.json",
+        help="write the best fit as {model, params} (for roughdiffuse export --from)",
+    )
     g = p.add_argument_group("samples and MERL files")
     g.add_argument("--irradiance", type=finite_float, default=None, help="E0 for radiance data")
     g.add_argument(
@@ -259,4 +264,19 @@ def run(args: argparse.Namespace) -> int:
     if args.report:
         write_report(args.report, data, results, comparison)
         print(f"wrote {args.report}")
+    if args.json:
+        _write_json(args.json, results[0].model)
     return 0
+
+
+def _write_json(path: str, model: object) -> None:
+    import json
+
+    from ..io.atomic import write_text
+    from ..materials import model_record
+
+    try:
+        write_text(path, json.dumps(model_record(model), indent=2) + "\n")
+    except OSError as exc:
+        raise UsageError(f"--json: cannot write {path!r}: {exc.strerror or exc}") from None
+    print(f"wrote {path}")

@@ -31,7 +31,7 @@ from ..conversion import Conversion, convert
 from ..io.atomic import write_text
 from ..models.base import Model
 
-__all__ = ["TARGETS", "Export", "export", "load_result", "material_for"]
+__all__ = ["TARGETS", "Export", "export", "load_result", "material_for", "model_record"]
 
 TARGETS: dict[str, tuple[str, str]] = {
     # target -> (file suffix, the registry id of what the renderer computes)
@@ -96,6 +96,15 @@ def _params_of(model: Model, model_id: str) -> dict[str, Any]:
         arr = [float(x) for x in np.ravel(value)]
         out[p.name] = arr if len(arr) > 1 else arr[0]
     return out
+
+
+def model_record(model: Model) -> dict[str, Any]:
+    """``{"model": id, "params": {...}}``: what ``fit --json`` writes and :func:`load_result`
+    reads (``ValueError`` for a model the registry does not name)."""
+    model_id = registry.id_of(model)
+    if model_id is None:
+        raise ValueError(f"{type(model).__name__} is not a registry model")
+    return {"model": model_id, "params": _params_of(model, model_id)}
 
 
 def material_for(model: Model, target_id: str) -> tuple[dict[str, Any], Conversion | None]:
