@@ -48,9 +48,18 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
-exclude_patterns = ["_build", "_ext", "gallery/README.txt", "**/.ipynb_checkpoints",
-                    "auto_gallery/*.ipynb", "auto_gallery/*.py", "auto_gallery/*.zip",
-                    "auto_gallery/*.json", "auto_gallery/*.md5", "auto_gallery/*.codeobj.json"]
+exclude_patterns = [
+    "_build",
+    "_ext",
+    "gallery/README.txt",
+    "**/.ipynb_checkpoints",
+    "auto_gallery/*.ipynb",
+    "auto_gallery/*.py",
+    "auto_gallery/*.zip",
+    "auto_gallery/*.json",
+    "auto_gallery/*.md5",
+    "auto_gallery/*.codeobj.json",
+]
 
 # --- autodoc / napoleon (NumPy-style docstrings; napoleon rather than numpydoc because it
 # keeps the custom "Class Attributes" section of roughdiffuse.models.base.Model)

@@ -212,3 +212,20 @@ def test_cli_bad_input_is_one_line_and_status_2(tmp_path):
         assert len(run.stderr.strip().splitlines()) == 1, run.stderr
     ok = _cli("--model", "eon", "--to", "mitsuba", "-o", str(tmp_path / "s.xml"))
     assert ok.returncode == 0 and "exact" in ok.stdout
+
+
+def test_fit_json_feeds_export(tmp_path):
+    """fit --json writes {model, params}; export --from reads it and converts for Blender."""
+    from roughdiffuse.data import path
+
+    out = tmp_path / "fit.json"
+    run = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "fit", str(path("samples.csv")),
+         "--model", "oren-nayar-full", "--json", str(out)],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    record = json.loads(out.read_text())
+    assert record["model"] == "oren-nayar-full" and set(record["params"]) == {"albedo", "sigma"}
+    done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"))
+    assert done.returncode == 0 and "cycles-diffuse" in done.stdout

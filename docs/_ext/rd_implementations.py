@@ -48,9 +48,11 @@ def _formula(entry) -> str:
 
 def _cosines(ti: float, tr: float, dp: float) -> tuple[float, float, float]:
     ti, tr, dp = (math.radians(x) for x in (ti, tr, dp))
-    return math.cos(ti), math.cos(tr), math.cos(ti) * math.cos(tr) + math.sin(ti) * math.sin(
-        tr
-    ) * math.cos(dp)
+    return (
+        math.cos(ti),
+        math.cos(tr),
+        math.cos(ti) * math.cos(tr) + math.sin(ti) * math.sin(tr) * math.cos(dp),
+    )
 
 
 def _point(entry) -> dict:
