@@ -11,9 +11,6 @@ from __future__ import annotations
 import functools
 import html.parser
 import http.server
-import os
-import subprocess
-import sys
 import threading
 import urllib.parse
 from collections.abc import Iterator
@@ -25,24 +22,15 @@ pytest.importorskip("sphinx")
 pytest.importorskip("myst_nb")
 pytest.importorskip("sphinx_gallery")
 
-from explorer_browser import browser  # noqa: E402,F401 - fixture
-
 pytestmark = pytest.mark.docs
 ROOT = Path(__file__).resolve().parent.parent
-SRC = ROOT / "src"
 
 
 @pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A fresh build of the site (as ``make docs``: -W --keep-going), its HTML folder."""
-    out = tmp_path_factory.mktemp("site")
-    path = os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])
-    env = {**os.environ, "PYTHONPATH": path}
-    cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
-           "-d", str(out / "doctrees"), str(ROOT / "docs"), str(out / "html")]
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
-    assert proc.returncode == 0, f"sphinx failed:\n{proc.stderr[-4000:]}"
-    return out / "html"
+def site(docs_site: Path) -> Path:
+    """A fresh build of the site (as ``make docs``: -W --keep-going), its HTML folder: built
+    once per test run (``conftest.docs_site``) and shared by every test that needs it."""
+    return docs_site
 
 
 def test_site_has_the_generated_pages(site: Path) -> None:

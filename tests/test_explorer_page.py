@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 from roughdiffuse import OrenNayar
 
 RADIUS_FRACTION = 0.46  # sphere.frag: radius = 0.46 min(width, height)
@@ -24,6 +24,15 @@ RADIUS_FRACTION = 0.46  # sphere.frag: radius = 0.46 min(width, height)
 
 @pytest.fixture()
 def page(browser, explorer_url):  # noqa: F811 - fixtures
+    log = open_page(browser, explorer_url)
+    yield log
+    log.page.close()
+
+
+@pytest.fixture(scope="module")
+def untouched_page(browser, explorer_url):  # noqa: F811 - fixtures
+    """One page for the tests that only read from it (its scripts), never change its state:
+    loading the page costs seconds of SwiftShader shader compilation each time."""
     log = open_page(browser, explorer_url)
     yield log
     log.page.close()
@@ -317,7 +326,7 @@ GOOD_CSVS = {
 
 
 @pytest.mark.parametrize("name", list(GOOD_CSVS))
-def test_browser_csv_parser_agrees_with_fit_read_csv(page, name, tmp_path):
+def test_browser_csv_parser_agrees_with_fit_read_csv(untouched_page, name, tmp_path):
     """The page's parser and roughdiffuse.fit.read_csv (written separately) read one file alike."""
     from roughdiffuse.fit import read_csv
 
@@ -325,6 +334,7 @@ def test_browser_csv_parser_agrees_with_fit_read_csv(page, name, tmp_path):
     path = tmp_path / "s.csv"
     path.write_text(text)
     m = read_csv(path)
+    page = untouched_page
     js = page.page.evaluate(
         """async (text) => {
             const { parseBrdfCsv } = await import("./js/csv.js");
