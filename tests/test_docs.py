@@ -140,7 +140,8 @@ def site_url(site: Path) -> Iterator[str]:
     server.server_close()
 
 
-def test_every_page_loads_cleanly(site: Path, site_url: str, browser) -> None:  # noqa: F811
+@pytest.mark.slow  # about a minute: every page in Chromium (links are checked above, fast)
+def test_every_page_loads_cleanly(site: Path, site_url: str, browser) -> None:
     pages = sorted(
         p.relative_to(site).as_posix()
         for p in site.rglob("*.html")
