@@ -2,8 +2,9 @@
 headless Chromium without a console error, a missing image, a broken internal link or a
 request to another host.
 
-Marked ``docs`` (deselect with ``-m "not docs"``): the build runs the gallery and the
-notebooks, a few minutes on 2 cores.
+Marked ``docs`` (deselect with ``-m "not docs"``) and ``slow``: the build runs the gallery and
+the notebooks, about two minutes of one core, so ``make test`` leaves this file out and
+``make test SLOW=1`` (CI), ``make test-all`` and ``make docs`` build the site.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ pytest.importorskip("sphinx")
 pytest.importorskip("myst_nb")
 pytest.importorskip("sphinx_gallery")
 
-pytestmark = pytest.mark.docs
+pytestmark = [pytest.mark.docs, pytest.mark.slow]
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -140,7 +141,6 @@ def site_url(site: Path) -> Iterator[str]:
     server.server_close()
 
 
-@pytest.mark.slow  # about a minute: every page in Chromium (links are checked above, fast)
 def test_every_page_loads_cleanly(site: Path, site_url: str, browser) -> None:
     pages = sorted(
         p.relative_to(site).as_posix()
