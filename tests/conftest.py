@@ -21,6 +21,21 @@ from explorer_browser import browser, explorer_url  # noqa: F401 - session fixtu
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """JAX's persistent compilation cache in pytest's cache folder (``.pytest_cache``), shared
+    by the xdist workers and kept from one run to the next: the fits compile a few programs per
+    model, and reading them back instead cut the fit tests' CPU time about fourfold. JAX keys
+    each entry by the program, its compile options and the JAX/XLA versions. Nothing is cached
+    under ``-p no:cacheprovider``."""
+    cache = getattr(config, "cache", None)
+    if cache is None:
+        return
+    import jax
+
+    jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation")))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+
+
 def random_hemisphere(rng: np.random.Generator, n: int) -> np.ndarray:
     """Uniform random unit vectors with z >= 0, shape (n, 3)."""
     v = rng.normal(size=(n, 3))
