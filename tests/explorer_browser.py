@@ -5,7 +5,7 @@ The fixtures are session-scoped and made available to every test module by ``con
 process (per xdist worker), shared by the explorer and docs tests. A test opens its own page
 (:func:`open_page`, a new browser context) and closes it.
 Debian's Chromium through Playwright (``playwright install`` cannot download browsers here),
-WebGL2 through SwiftShader (software), flags as in issue 8.
+WebGL2 through SwiftShader (software).
 """
 
 from __future__ import annotations
