@@ -57,6 +57,16 @@ def _fmt_value(p: Any, v: float) -> str:
     return f"{p.name} = {v:.3g}"
 
 
+def _title(entry: Any, values: dict[str, Any]) -> str:
+    """``label: name = value, ...`` with numbers rounded (σ = 0.349 rad (20°), not its repr)."""
+    parts = []
+    for p in entry.parameters:
+        if p.name in values and p.name not in entry.fixed:
+            v = values[p.name]
+            parts.append(f"{p.name} = {v}" if isinstance(v, str) else _fmt_value(p, v))
+    return f"{entry.label}: " + ", ".join(parts) if parts else entry.label
+
+
 def _start(entry: Any) -> dict[str, Any]:
     """Parameters the pictures use: each one's example value (else its default)."""
     out = {}
@@ -83,7 +93,7 @@ def _figures(entry: Any, folder: Path) -> dict[str, str]:
         image = np.asarray(image, dtype=np.float64)
         show_radiance(ax, image, float(np.nanmax(image)) or 1.0,
                       f"light at θ = {math.degrees(theta):.0f}°")
-    fig.suptitle(repr(model), fontsize="small")
+    fig.suptitle(_title(entry, start), fontsize="small")
     fig.tight_layout()
     names["sphere"] = f"{entry.id}-sphere.png"
     fig.savefig(folder / names["sphere"], dpi=90)
@@ -232,6 +242,39 @@ def _param_table(entry: Any) -> list[str]:
     return lines
 
 
+NOTATION = (
+    "{math}`\\theta_i, \\theta_r`: angles of the light and the viewer from the normal "
+    "({math}`\\mu_i = \\cos\\theta_i`, {math}`\\mu_o = \\cos\\theta_r`); "
+    "{math}`\\phi_r - \\phi_i`: their azimuth difference; {math}`\\omega_i, \\omega_o`: "
+    "the unit vectors towards them, n the normal, h the half vector; {math}`f_r` in 1/sr, the "
+    "radiance {math}`L = f_r E_0 \\cos\\theta_i` for irradiance {math}`E_0` (the package's "
+    "{mod}`roughdiffuse.frames`)."
+)
+
+
+def formula_of(entry: Any) -> str:
+    """The formula text a registry entry's class declares (``Model.formula``), dedented."""
+    text = entry.cls.formula
+    if isinstance(text, dict):
+        text = text.get(entry.id, "")
+    return textwrap.dedent(text).strip()
+
+
+def _formula_section(entry: Any) -> list[str]:
+    """"The formula" of a model page: the declared LaTeX, the symbols of the declared
+    parameters, the common notation."""
+    text = formula_of(entry)
+    if not text:
+        return ["## The formula", "", "This model declares no formula (`Model.formula`).", ""]
+    rows = ["| symbol | parameter | meaning |", "| --- | --- | --- |"]
+    for p in entry.parameters:
+        symbol = entry.cls.symbols.get(p.name)
+        if symbol and p.name not in entry.fixed:
+            rows.append(f"| {{math}}`{symbol}` | `{p.name}` | {p.description} |")
+    return ["## The formula", "", text, "", *(rows if len(rows) > 2 else []), "",
+            NOTATION, ""]
+
+
 def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
                 accuracy: list[str]) -> str:
     cls = entry.cls
@@ -251,6 +294,7 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
         "",
         f"**Paper:** {entry.reference}",
         "",
+        *_formula_section(entry),
         "## The model",
         "",
         "```{eval-rst}",
@@ -344,7 +388,11 @@ def generate_models(docs: Path) -> list[str]:
         cache = json.loads(cache_file.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         cache = {}
-    generator = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    # the pictures are redrawn when what draws them changes, not on any edit of this file
+    drawing = (_figures, _title, _fmt_value, _varied, _start)
+    generator = hashlib.sha256(
+        "".join(inspect.getsource(fn) for fn in drawing).encode()
+    ).hexdigest()
     for entry in registry.entries():
         source = inspect.getsource(inspect.getmodule(entry.cls))
         key = hashlib.sha256(
@@ -475,5 +523,4 @@ def generate(docs: Path) -> None:
     generate_api(docs)
 
 
-__all__ = ["generate", "generate_api", "generate_models", "public_modules"]
-del textwrap
+__all__ = ["formula_of", "generate", "generate_api", "generate_models", "public_modules"]

@@ -666,5 +666,6 @@ def make_figures(
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
+        _figure.release(fig)  # drawn by a public plotting function: known to pyplot
     out.append(_write_index(folder))
     return out

@@ -98,6 +98,14 @@ class Model:
         The importance-sampling strategy (:mod:`.sampling`): ``COSINE``, ``CLTC``, ...
     reference : str
         The source paper.
+    formula : str or dict
+        The BRDF as the model's page states it: MyST Markdown (indented as it likes: it is
+        dedented) with ```` ```{math} ```` blocks of LaTeX carrying the paper's equation
+        numbers, and the conventions of the implementation (floors, clamps, limits); a dict
+        id -> text when the ids of a class differ. The site's model pages show it
+        (docs/_ext/rd_pages.py).
+    symbols : dict
+        Parameter name -> its LaTeX symbol in ``formula`` (``{"albedo": r"\\rho"}``).
     glsl : bool
         Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
     traceable : bool
@@ -130,6 +138,8 @@ class Model:
     lobe: ClassVar[str] = "diffuse"
     sampling: ClassVar[Strategy] = COSINE
     reference: ClassVar[str] = ""
+    formula: ClassVar[str | dict[str, str]] = ""
+    symbols: ClassVar[dict[str, str]] = {}
     glsl: ClassVar[bool] = False
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True

@@ -109,6 +109,21 @@ class Burley(Model):
         "B. Burley, Physically-Based Shading at Disney, SIGGRAPH 2012 course notes, Eq. 3"
     )
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\bigl(1 + (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 +
+        (F_{D90}-1)(1-\mu_o)^5\bigr),\qquad F_{D90} = 0.5 + 2r\cos^2\theta_d \tag{Eq. 3}
+        ```
+
+        Burley (SIGGRAPH 2012 course notes, Sec. 5.3). {math}`\cos\theta_d = \omega_i\cdot h`
+        with h the half vector, computed as {math}`\cos^2\theta_d =
+        (1+\omega_i\cdot\omega_o)/2`. r is Disney's roughness, not squared. Not
+        energy-conserving.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -157,6 +172,21 @@ class BurleyRenormalized(Model):
         " SIGGRAPH 2014 course notes, Listing 1"
     )
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\Bigl(1 - r\bigl(1 - \tfrac{1}{1.51}\bigr)\Bigr)\bigl(1 +
+        (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 + (F_{D90}-1)(1-\mu_o)^5\bigr),\qquad F_{D90} =
+        0.5\,r + 2r\cos^2\theta_d
+        ```
+
+        Lagarde and de Rousiers (SIGGRAPH 2014 course notes, Listing 1); {math}`\cos^2\theta_d
+        = (1+\omega_i\cdot\omega_o)/2`. At r = 0 it is the product of two Schlick
+        transmissions, not Lambert.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -212,6 +242,22 @@ class Burley2015(Model):
         "SIGGRAPH 2015 course notes, Eq. 4-5"
     )
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\Bigl[\bigl(1-\tfrac{F_L}{2}\bigr)\bigl(1-\tfrac{F_V}{2}\bigr) +
+        R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr],\quad F_L = (1-\mu_i)^5,\ F_V =
+        (1-\mu_o)^5,\ R_R = 2r\cos^2\theta_d \tag{Eq. 4–5}
+        ```
+
+        Burley (SIGGRAPH 2015 course notes, Sec. 5.3), the diffuse of Mitsuba 3's
+        ``principled`` without sheen and flatness; {math}`\cos^2\theta_d =
+        (1+\omega_i\cdot\omega_o)/2`. Expanded, it is Burley 2012 with {math}`F_{D90} =
+        \tfrac12 + R_R`.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

@@ -84,6 +84,33 @@ class EON(Model):
         "JCGT 2025"
     )
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = f_{ss} + f_{ms},\qquad f_{ss} = \frac{\rho}{\pi}A_F\Bigl(1 +
+        r\,\frac{s}{t}\Bigr),\qquad f_{ms} =
+        \frac{\rho_{ms}}{\pi}\,\frac{\bigl(1-E_F(\mu_o)\bigr)\bigl(1-E_F(\mu_i)\bigr)}{1-\bar
+        E_F} \tag{Eq. 11–13}
+        ```
+        ```{math}
+        \rho_{ms} = \frac{\rho^2\,\bar E_F}{1-\rho\,(1-\bar E_F)},\qquad A_F = \frac{1}{1+K_1
+        r},\qquad K_1 = \frac12 - \frac{2}{3\pi}
+        ```
+        ```{math}
+        E_F(\mu) = A_F + \frac{r A_F}{\pi}\,G(\mu),\quad G(\mu) = S\,(\arccos\mu - S\mu) +
+        \frac23\Bigl[\frac{S}{\mu}(1-S^3) - S\Bigr],\quad S = \sqrt{1-\mu^2} \tag{Eq. 8}
+        ```
+        ```{math}
+        \bar E_F = A_F\,(1 + K_2 r),\qquad K_2 = \frac23 - \frac{28}{15\pi}
+        ```
+
+        Portsmouth, Kutz and Hill (JCGT 2025): s and t as in {doc}`fujii`. With ρ = 1 the
+        directional albedo is 1 at every angle. {math}`(S/\mu)(1-S^3)` is evaluated as
+        {math}`S\mu(1+S+S^2)/(1+S)`, finite at μ = 0; at r = 0 the 0/0 of f_ms is 0.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

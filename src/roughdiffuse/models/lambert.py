@@ -40,6 +40,17 @@ class Lambert(Model):
     labels: ClassVar[dict[str, str]] = {"lambert": "Lambert"}
     reference: ClassVar[str] = "J. H. Lambert, Photometria (1760)"
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}
+        ```
+
+        Lambert (1760): the same radiance in every direction. The directional albedo is ρ at
+        every angle.
+        """
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         return albedo / math.pi + 0.0 * mu_i

@@ -74,6 +74,19 @@ class Minnaert(Model):
         "M. Minnaert, The reciprocity principle in lunar photometry, ApJ 93 (1941) 403"
     )
     glsl: ClassVar[bool] = True
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "k": r"k",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\,(\mu_i\,\mu_o)^{k-1}
+        ```
+
+        Minnaert (1941), Eq. 1, as the radiance factor {math}`I/F = \rho\,\mu_i^k\mu_o^{k-1}`
+        divided by {math}`\pi\mu_i`. k = 1 is Lambert; each cosine is floored at 10⁻⁶ (k < 1
+        diverges at the limb).
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, k: Array
