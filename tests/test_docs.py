@@ -301,3 +301,24 @@ def test_formulas_render_offline_in_chromium(site: Path, site_url: str, browser)
     assert rendered >= 6, rendered  # L1, C1, C2, C3, L2, f and the inline symbols
     assert errors == 0
     assert not outside, outside
+
+
+def test_api_reference_is_organised_by_task(site: Path) -> None:
+    """The API index has one section per task, keeps the command-line and benchmark modules
+    on the internals page, and ``roughdiffuse.fit`` documents ``fit()`` itself."""
+    import re
+
+    index = (site / "api" / "index.html").read_text(encoding="utf-8")
+    headings = re.findall(r"<h2>([^<]+)<a", index)
+    assert headings[:4] == ["Models", "Evaluation", "Rendering and plots", "Fitting"], headings
+    assert {"Ground truth", "Photometric stereo", "Integrations"} <= set(headings), headings
+    for internal in ("roughdiffuse.bench", "roughdiffuse.commands", "roughdiffuse.cli"):
+        assert f'href="{internal}.html"' not in index, internal
+    internals = (site / "api" / "internals.html").read_text(encoding="utf-8")
+    assert 'href="roughdiffuse.commands.fit.html"' in internals
+    fit_page = (site / "api" / "roughdiffuse.fit.html").read_text(encoding="utf-8")
+    assert re.search(r'<dt class="sig sig-object py"[^>]*>\s*<span class="sig-prename[^>]*>'
+                     r'<span class="pre">roughdiffuse\.fit\.least_squares\.</span></span>'
+                     r'<span class="sig-name descname"><span class="pre">fit</span>', fit_page)
+    for page in site.rglob("*.html"):
+        assert "the issue" not in page.read_text(encoding="utf-8").lower(), page

@@ -193,7 +193,7 @@ def bench_simulate(
 
 
 BASELINE_REVISION = "1c092a6"
-"""The solver before issue 15 (per-cavity element radiosity): the "old" column of
+"""The solver at this revision (per-cavity element radiosity): the "old" column of
 :func:`bench_versus`."""
 
 
