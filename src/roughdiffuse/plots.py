@@ -115,7 +115,7 @@ def plot_cross_section(
     ax.set_xlabel(
         "position across the image (−1 left edge, 1 right edge)"
         if x is None
-        else "x along the image's horizontal axis (object units)"
+        else "x across the image (object units)"
     )
     ax.set_ylabel("radiance / centre radiance" if normalize else "radiance (E0 = 1)")
     ax.set_ylim(bottom=0)
