@@ -322,3 +322,18 @@ def test_api_reference_is_organised_by_task(site: Path) -> None:
                      r'<span class="sig-name descname"><span class="pre">fit</span>', fit_page)
     for page in site.rglob("*.html"):
         assert "the issue" not in page.read_text(encoding="utf-8").lower(), page
+
+
+def test_navigation_bar_is_one_row_at_1280(site: Path, site_url: str, browser) -> None:  # noqa: F811
+    """At 1280 px the header's links (and its "More" menu) sit on one row."""
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    page = context.new_page()
+    page.goto(f"{site_url}/index.html", wait_until="load")
+    tops = page.evaluate(
+        "() => Array.from(document.querySelectorAll('.bd-header .navbar-nav > li'))"
+        ".filter(li => li.offsetParent !== null)"
+        ".map(li => Math.round(li.getBoundingClientRect().top))"
+    )
+    context.close()
+    assert len(tops) >= 4, tops
+    assert len(set(tops)) == 1, tops
