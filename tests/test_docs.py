@@ -230,7 +230,7 @@ def test_pages_that_make_figures_show_them(site: Path) -> None:
         text = page.read_text(encoding="utf-8")
         images = [s for s in re.findall(r'<img[^>]+src="([^"]+)"', text)
                   if s.endswith(".png") and "_thumb" not in s]
-        if len(images) < wanted:
+        if len(images) != wanted:  # fewer: a figure not shown; more: one leaked from elsewhere
             short.append(f"{name}: {len(images)} image(s) for {wanted} plt.show()")
         for src in images:
             assert (page.parent / src).resolve().is_file(), f"{name}: {src}"

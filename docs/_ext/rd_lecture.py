@@ -269,6 +269,8 @@ FIGURES: dict[str, Callable[[], Figure]] = {
 
 def generate(docs: Path) -> list[Path]:
     """Draw the figures missing from ``docs/lecture/figures/`` or made by another version."""
+    import matplotlib.pyplot as plt
+
     import roughdiffuse
 
     folder = docs / "lecture" / "figures"
@@ -288,6 +290,9 @@ def generate(docs: Path) -> list[Path]:
             continue
         fig = draw()
         fig.savefig(path, dpi=90)
+        # a figure of a public plotting function is known to pyplot: forgotten here, or the
+        # gallery's first example would show it as its own
+        plt.close(fig)
         done[name] = key
     stamp.write_text(json.dumps(done, indent=1), encoding="utf-8")
     return out
