@@ -100,7 +100,7 @@ class Model:
         The source paper.
     formula : str or dict
         The BRDF as the model's page states it: MyST Markdown (indented as it likes: it is
-        dedented) with ```` ```{math} ```` blocks of LaTeX carrying the paper's equation
+        dedented) with MyST ``math`` directive blocks of LaTeX carrying the paper's equation
         numbers, and the conventions of the implementation (floors, clamps, limits); a dict
         id -> text when the ids of a class differ. The site's model pages show it
         (docs/_ext/rd_pages.py).

@@ -9,8 +9,7 @@ Every file is written whole or not at all (the image writers of
 ``depth.ply``        the depth as a triangle mesh
 ``params.json``      model, fitted global parameters with standard errors, error statistics
 ``*.png``, ``*.exr`` normal, albedo, roughness (per-pixel fits) and residual maps
-``report.html``      the inputs and their lights, every map with a colour bar, the
-                     Lambertian result beside the rough one on one scale, statistics
+``report.html``      inputs, lights, maps with colour bars (Lambertian and rough on one scale)
 """
 
 from __future__ import annotations
