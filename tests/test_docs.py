@@ -336,4 +336,4 @@ def test_navigation_bar_is_one_row_at_1280(site: Path, site_url: str, browser) -
     )
     context.close()
     assert len(tops) >= 4, tops
-    assert len(set(tops)) == 1, tops
+    assert max(tops) - min(tops) <= 4, tops  # a second row would be ~40 px lower
