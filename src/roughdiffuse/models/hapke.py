@@ -141,7 +141,7 @@ class Hapke(Model):
         ```{math}
         f_r = \frac{I/F}{\pi\mu_i},\qquad \frac{I}{F} =
         \frac{w}{4}\,\frac{\mu_{0e}}{\mu_{0e}+\mu_e}\Bigl[\bigl(1+B(g)\bigr)p(g) - 1 +
-        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g) \tag{Eq. 9.40, 12.55}
+        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g;\bar\theta) \tag{Eq. 9.40, 12.55}
         ```
         ```{math}
         B(g) = \frac{B_0}{1+\tan(g/2)/h},\qquad p(g) = \frac{1-\xi^2}{(1+2\xi\cos

@@ -152,7 +152,7 @@ class TorranceSparrow(Model):
     formula: ClassVar[str | dict[str, str]] = {
         "torrance-sparrow": r"""
             ```{math}
-            f_r = \frac{F(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
+            f_r = \frac{F_\eta(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
             D(\theta_h) = \frac{e^{-\theta_h^2/2\sigma^2}}{N(\sigma)},\quad \int D\,(n\cdot
             h)\,\mathrm{d}\omega_h = 1
             ```
@@ -170,7 +170,7 @@ class TorranceSparrow(Model):
             """,
         "torrance-sparrow-beckmann": r"""
             ```{math}
-            f_r = \frac{F(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
+            f_r = \frac{F_\eta(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
             D(\theta_h) = \frac{e^{-\tan^2\theta_h/\alpha^2}}{\pi\alpha^2\cos^4\theta_h}
             ```
             ```{math}
