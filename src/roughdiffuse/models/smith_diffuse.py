@@ -102,6 +102,7 @@ class SmithDiffuse(Model):
         with a fixed seed (standard error ∝ 1/√samples). α = 0 is Lambert.
         """
 
+    order: ClassVar[int] = 160
     def __post_init__(self) -> None:
         super().__post_init__()
         for name, lo in (("samples", 2), ("seed", 0)):
