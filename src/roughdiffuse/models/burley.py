@@ -121,7 +121,10 @@ class Burley(Model):
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
         f_r = \frac{\rho}{\pi}\bigl(1 + (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 +
-        (F_{D90}-1)(1-\mu_o)^5\bigr),\qquad F_{D90} = 0.5 + 2r\cos^2\theta_d \tag{Eq. 3}
+        (F_{D90}-1)(1-\mu_o)^5\bigr), \tag{Eq. 3}
+        ```
+        ```{math}
+        F_{D90} = 0.5 + 2r\cos^2\theta_d
         ```
 
         Burley (SIGGRAPH 2012 course notes, Sec. 5.3). {math}`\cos\theta_d = \omega_i\cdot h`
@@ -191,8 +194,10 @@ class BurleyRenormalized(Model):
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
         f_r = \frac{\rho}{\pi}\Bigl(1 - r\bigl(1 - \tfrac{1}{1.51}\bigr)\Bigr)\bigl(1 +
-        (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 + (F_{D90}-1)(1-\mu_o)^5\bigr),\qquad F_{D90} =
-        0.5\,r + 2r\cos^2\theta_d
+        (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 + (F_{D90}-1)(1-\mu_o)^5\bigr),
+        ```
+        ```{math}
+        F_{D90} = 0.5\,r + 2r\cos^2\theta_d
         ```
 
         Lagarde and de Rousiers (SIGGRAPH 2014 course notes, Listing 1); {math}`\cos^2\theta_d
@@ -267,9 +272,11 @@ class Burley2015(Model):
     }
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
-        f_r = \frac{\rho}{\pi}\Bigl[\bigl(1-\tfrac{F_L}{2}\bigr)\bigl(1-\tfrac{F_V}{2}\bigr) +
-        R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr],\quad F_L = (1-\mu_i)^5,\ F_V =
-        (1-\mu_o)^5,\ R_R = 2r\cos^2\theta_d \tag{Eq. 4–5}
+        f_r = \frac{\rho}{\pi}\Bigl[\bigl(1-\tfrac{F_L}{2}\bigr)\bigl(1-\tfrac{F_V}{2}\bigr)
+        + R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr], \tag{Eq. 4–5}
+        ```
+        ```{math}
+        F_L = (1-\mu_i)^5,\ F_V = (1-\mu_o)^5,\ R_R = 2r\cos^2\theta_d
         ```
 
         Burley (SIGGRAPH 2015 course notes, Sec. 5.3), the diffuse of Mitsuba 3's

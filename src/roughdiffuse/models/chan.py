@@ -97,14 +97,16 @@ class Chan(Model):
         f_r = \frac{\rho}{\pi}\,(F_d + F_b)
         ```
         ```{math}
-        F_d = \operatorname{lerp}\Bigl(\omega_i\cdot h + (1-\omega_i\cdot h)^5,\
-        \bigl(1-0.75(1-\mu_i)^5\bigr)\bigl(1-0.75(1-\mu_o)^5\bigr),\
+        F_d &= \operatorname{lerp}\Bigl(\omega_i\cdot h + (1-\omega_i\cdot h)^5,\ \\
+        &\qquad \bigl(1-0.75(1-\mu_i)^5\bigr)\bigl(1-0.75(1-\mu_o)^5\bigr),\
         \operatorname{sat}(2.2g-0.5)\Bigr)
         ```
         ```{math}
         F_b = \bigl((34.5g-59)g+24.5\bigr)\,(\omega_i\cdot h)\;2^{-\max(73.2g-21.2,\
-        8.9)\sqrt{n\cdot h}},\qquad g =
-        \operatorname{sat}\Bigl(\frac{\log_2(2/\alpha^2-1)}{18}\Bigr)
+        8.9)\sqrt{n\cdot h}},
+        ```
+        ```{math}
+        g = \operatorname{sat}\Bigl(\frac{\log_2(2/\alpha^2-1)}{18}\Bigr)
         ```
 
         Chan (SIGGRAPH 2018, "Material Advances in Call of Duty: WWII", Sec. 5), as Unreal

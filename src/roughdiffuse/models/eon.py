@@ -97,21 +97,39 @@ class EON(Model):
     }
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
-        f_r = f_{ss} + f_{ms},\qquad f_{ss} = \frac{\rho}{\pi}A_F\Bigl(1 +
-        r\,\frac{s}{t}\Bigr),\qquad f_{ms} =
+        f_r = f_{ss} + f_{ms}, \tag{Eq. 11–13}
+        ```
+        ```{math}
+        f_{ss} = \frac{\rho}{\pi}A_F\Bigl(1 + r\,\frac{s}{t}\Bigr),
+        ```
+        ```{math}
+        f_{ms} =
         \frac{\rho_{ms}}{\pi}\,\frac{\bigl(1-E_F(\mu_o)\bigr)\bigl(1-E_F(\mu_i)\bigr)}{1-\bar
-        E_F} \tag{Eq. 11–13}
+        E_F}
         ```
         ```{math}
-        \rho_{ms} = \frac{\rho^2\,\bar E_F}{1-\rho\,(1-\bar E_F)},\qquad A_F = \frac{1}{1+K_1
-        r},\qquad K_1 = \frac12 - \frac{2}{3\pi}
+        \rho_{ms} = \frac{\rho^2\,\bar E_F}{1-\rho\,(1-\bar E_F)},
         ```
         ```{math}
-        E_F(\mu) = A_F + \frac{r A_F}{\pi}\,G(\mu),\quad G(\mu) = S\,(\arccos\mu - S\mu) +
-        \frac23\Bigl[\frac{S}{\mu}(1-S^3) - S\Bigr],\quad S = \sqrt{1-\mu^2} \tag{Eq. 8}
+        A_F = \frac{1}{1+K_1 r},
         ```
         ```{math}
-        \bar E_F = A_F\,(1 + K_2 r),\qquad K_2 = \frac23 - \frac{28}{15\pi}
+        K_1 = \frac12 - \frac{2}{3\pi}
+        ```
+        ```{math}
+        E_F(\mu) = A_F + \frac{r A_F}{\pi}\,G(\mu), \tag{Eq. 8}
+        ```
+        ```{math}
+        G(\mu) = S\,(\arccos\mu - S\mu) + \frac23\Bigl[\frac{S}{\mu}(1-S^3) - S\Bigr],
+        ```
+        ```{math}
+        S = \sqrt{1-\mu^2}
+        ```
+        ```{math}
+        \bar E_F = A_F\,(1 + K_2 r),
+        ```
+        ```{math}
+        K_2 = \frac23 - \frac{28}{15\pi}
         ```
 
         Portsmouth, Kutz and Hill (JCGT 2025): s and t as in {doc}`fujii`. With ρ = 1 the

@@ -115,7 +115,10 @@ class Fujii(Model):
         0,\end{cases}
         ```
         ```{math}
-        A = \frac{1}{\pi + (\pi/2 - 2/3)\,r},\qquad B = r\,A
+        A = \frac{1}{\pi + (\pi/2 - 2/3)\,r},
+        ```
+        ```{math}
+        B = r\,A
         ```
 
         Fujii (2012); the same as {math}`f_r = \frac{\rho}{\pi}A_F\bigl(1 + r\,s/t\bigr)`,

@@ -95,9 +95,16 @@ class Hammon(Model):
         f_{\mathrm{rough}}\bigr] + \rho^2 f_{\mathrm{multi}}
         ```
         ```{math}
-        f_{\mathrm{smooth}} = 1.05\bigl(1-(1-\mu_i)^5\bigr)\bigl(1-(1-\mu_o)^5\bigr),\quad
-        f_{\mathrm{rough}} = F\,(0.9-0.4F)\,\frac{0.5 + n\cdot h}{n\cdot h},\quad F =
-        \frac{1+\omega_i\cdot\omega_o}{2},\quad f_{\mathrm{multi}} = 0.1159\,\alpha
+        f_{\mathrm{smooth}} = 1.05\bigl(1-(1-\mu_i)^5\bigr)\bigl(1-(1-\mu_o)^5\bigr),
+        ```
+        ```{math}
+        f_{\mathrm{rough}} = F\,(0.9-0.4F)\,\frac{0.5 + n\cdot h}{n\cdot h},
+        ```
+        ```{math}
+        F = \frac{1+\omega_i\cdot\omega_o}{2},
+        ```
+        ```{math}
+        f_{\mathrm{multi}} = 0.1159\,\alpha
         ```
 
         Hammon (GDC 2017, slide 113), a fit to Lambertian facets on a GGX–Smith microsurface;

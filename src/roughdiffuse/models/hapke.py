@@ -153,13 +153,24 @@ class Hapke(Model):
     }
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
-        f_r = \frac{I/F}{\pi\mu_i},\qquad \frac{I}{F} =
-        \frac{w}{4}\,\frac{\mu_{0e}}{\mu_{0e}+\mu_e}\Bigl[\bigl(1+B(g)\bigr)p(g) - 1 +
-        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g;\bar\theta) \tag{Eq. 9.40, 12.55}
+        f_r = \frac{I/F}{\pi\mu_i}, \tag{Eq. 9.40, 12.55}
         ```
         ```{math}
-        B(g) = \frac{B_0}{1+\tan(g/2)/h},\qquad p(g) = \frac{1-\xi^2}{(1+2\xi\cos
-        g+\xi^2)^{3/2}},\qquad H(x) = \frac{1+2x}{1+2\gamma x},\quad \gamma = \sqrt{1-w}
+        \frac{I}{F} =
+        \frac{w}{4}\,\frac{\mu_{0e}}{\mu_{0e}+\mu_e}\Bigl[\bigl(1+B(g)\bigr)p(g) - 1 +
+        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g;\bar\theta)
+        ```
+        ```{math}
+        B(g) = \frac{B_0}{1+\tan(g/2)/h},
+        ```
+        ```{math}
+        p(g) = \frac{1-\xi^2}{(1+2\xi\cos g+\xi^2)^{3/2}},
+        ```
+        ```{math}
+        H(x) = \frac{1+2x}{1+2\gamma x},
+        ```
+        ```{math}
+        \gamma = \sqrt{1-w}
         ```
 
         Hapke (2012; roughness after Hapke 1984, Eq. 46–51), as USGS ISIS's ``HapkeHen``: g is

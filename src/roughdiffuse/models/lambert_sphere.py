@@ -212,21 +212,27 @@ class LambertSphere(Model):
     formula: ClassVar[str | dict[str, str]] = {
         "lambert-sphere": r"""
             ```{math}
-            f_r = \max\Bigl(0,\ c\,f_1 + f_0(\mu_i,\mu_o,c) - c\,f_{0,1}(\mu_i,\mu_o) +
+            f_r &= \max\Bigl(0,\ c\,f_1 + f_0(\mu_i,\mu_o,c) - c\,f_{0,1}(\mu_i,\mu_o) \\ &\qquad +
             f_{1m}(\mu_i,\mu_o,c)\,\sin\theta_i\sin\theta_o\cos\phi\Bigr)\quad(\text{variant
             full})
             ```
             ```{math}
-            f_1 = \frac{P(u)}{\mu_i+\mu_o},\qquad P(u) = \frac{2\bigl(\sqrt{1-u^2} - u\arccos
-            u\bigr)}{3\pi^2},\qquad u = -\,\omega_i\cdot\omega_o
+            f_1 = \frac{P(u)}{\mu_i+\mu_o},
+            ```
+            ```{math}
+            P(u) = \frac{2\bigl(\sqrt{1-u^2} - u\arccos u\bigr)}{3\pi^2},
+            ```
+            ```{math}
+            u = -\,\omega_i\cdot\omega_o
             ```
             ```{math}
             c = \frac{1-(1-k_d)^{2.73556}}{1-0.184096\,(1-k_d)^{2.48423}} \tag{Eq. 46}
             ```
             ```{math}
-            f_r = \max\Bigl(0,\ 0.995917\,c\,f_1 +
+            f_r &= \max\Bigl(0,\ 0.995917\,c\,f_1 \\ &\qquad +
             0.0684744\Bigl[\frac{(\phi+\sqrt{\mu_i\mu_o})(c-0.249978)\,S}{4.50996\,(\arccos S +
-            0.113706\,S)} + (1.94208\,k_d)^{1.85432}\Bigr]\Bigr)\quad(\text{variant fast})
+            0.113706\,S)} \\ &\qquad + (1.94208\,k_d)^{1.85432}\Bigr]\Bigr)
+            \quad(\text{variant fast})
             ```
 
             d'Eon (EGSR 2021): a half-space of spherical Lambertian particles with the

@@ -184,8 +184,15 @@ class OrenNayar(Model):
             B\,\max\bigl(0,\cos(\phi_r-\phi_i)\bigr)\,\sin\alpha\,\tan\beta\Bigr) \tag{Eq. 30}
             ```
             ```{math}
-            A = 1 - 0.5\,\frac{\sigma^2}{\sigma^2+0.33},\qquad B =
-            0.45\,\frac{\sigma^2}{\sigma^2+0.09},\qquad \alpha = \max(\theta_i,\theta_r),\quad
+            A = 1 - 0.5\,\frac{\sigma^2}{\sigma^2+0.33},
+            ```
+            ```{math}
+            B = 0.45\,\frac{\sigma^2}{\sigma^2+0.09},
+            ```
+            ```{math}
+            \alpha = \max(\theta_i,\theta_r),
+            ```
+            ```{math}
             \beta = \min(\theta_i,\theta_r)
             ```
 

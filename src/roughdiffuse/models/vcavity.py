@@ -200,7 +200,9 @@ class VCavity(Model):
         L_{\mathrm{cavity}}(\theta_a,\phi_a;\omega_i,\omega_o,\rho)\,\mathrm{d}\phi_a\;P(\theta_a)\,\mathrm{d}\theta_a
         ```
         ```{math}
-        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\ (\text{measure angle}),\qquad
+        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\ (\text{measure angle}),
+        ```
+        ```{math}
         P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\sin\theta_a\ (\text{measure
         solid-angle})
         ```
