@@ -469,7 +469,8 @@ TASKS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
      ("roughdiffuse.registry", "roughdiffuse.models")),
     ("Evaluation", "Evaluating a model: directions and angles, the compiled fast path, "
      "directional albedo and the white furnace, sampling, quadrature, roughness conversions.",
-     ("roughdiffuse", "roughdiffuse.frames", "roughdiffuse.fastpath", "roughdiffuse.engine",
+     ("roughdiffuse", "roughdiffuse.frames", "roughdiffuse.fastpath",
+      "roughdiffuse.engine.fastpath",
       "roughdiffuse.energy", "roughdiffuse.quadrature", "roughdiffuse.roughness",
       "roughdiffuse.models.sampling", "roughdiffuse.models.photometry",
       "roughdiffuse.models.microfacet", "roughdiffuse.models.declaration",
@@ -491,6 +492,7 @@ TASKS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
 """The API reference's sections: title, what it is for, module prefixes (longest match wins)."""
 
 INTERNALS = ("roughdiffuse.bench", "roughdiffuse.commands", "roughdiffuse.cli",
+             "roughdiffuse.engine",
              "roughdiffuse.deprecation", "roughdiffuse.io.atomic",
              "roughdiffuse.integrations.drjit_namespace", "roughdiffuse.simulate.smith_walk_numba")
 """Modules for the package's own commands and machinery: on the internals page only."""
