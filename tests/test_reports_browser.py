@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
-from explorer_browser import browser  # noqa: F401 - fixture
 from roughdiffuse import stereo
 from roughdiffuse.fit import Measurements, compare_models, fit
 from roughdiffuse.fit.report import write_report
@@ -28,7 +27,7 @@ READ_PAGE = """() => ({
 })"""
 
 
-def _open(browser, path: Path) -> dict:  # noqa: F811
+def _open(browser, path: Path) -> dict:
     page = browser.new_page(viewport={"width": 1280, "height": 900})
     outside: list[str] = []
     page.route("**/*", lambda r: r.continue_() if r.request.url.startswith(("file:", "data:"))
@@ -55,7 +54,7 @@ def samples() -> Measurements:
     return Measurements.from_angles(ti, tr, dp, f, source="oren-nayar-full samples")
 
 
-def test_fit_report_in_chromium(browser, samples, tmp_path: Path) -> None:  # noqa: F811
+def test_fit_report_in_chromium(browser, samples, tmp_path: Path) -> None:
     result = fit(rd.OrenNayar, samples, fixed={"variant": "full"})
     path = tmp_path / "fit.html"
     write_report(path, samples, [result])
@@ -67,7 +66,7 @@ def test_fit_report_in_chromium(browser, samples, tmp_path: Path) -> None:  # no
     assert table["rows"][0] == ["parameter", "value", "std. error (1σ)"]
 
 
-def test_fit_compare_report_in_chromium(browser, samples, tmp_path: Path) -> None:  # noqa: F811
+def test_fit_compare_report_in_chromium(browser, samples, tmp_path: Path) -> None:
     ids = ["oren-nayar-full", "oren-nayar", "lambert", "fujii"]
     comparison = compare_models(samples, ids)
     path = tmp_path / "compare.html"
@@ -96,7 +95,7 @@ def stereo_run():
 
 
 @pytest.mark.slow  # the rough stereo fit compiles its Jacobian (about a minute on 2 cores)
-def test_stereo_report_in_chromium(browser, stereo_run, tmp_path: Path) -> None:  # noqa: F811
+def test_stereo_report_in_chromium(browser, stereo_run, tmp_path: Path) -> None:
     data, truth, res, lam, depth = stereo_run
     stereo.write_outputs(tmp_path, data, res, lam, depth, model_id="oren-nayar-full",
                          truth_normals=truth, extra={"truth": {"sigma": 0.45}})
