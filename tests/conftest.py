@@ -62,6 +62,9 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
         rd.LambertSphere(a, "fast"),
         rd.Hapke(a, 0.8, 0.1, -0.3, 0.35),
         rd.Hapke(a, 0.0, 0.0, 0.2, 0.0),
+        rd.Hapke(a, 2.5, 0.05, 0.4, 0.3, 0.7),
+        rd.HapkeLegendre(a, 1.5, 0.06, -0.4, 0.3, 0.3),
+        rd.Hapke2012(a, 1.2, 0.06, 0.5, 0.02, 1.4, -0.3, 0.2, 0.35),
         rd.Minnaert(a, 0.7),
     ]
 

@@ -69,6 +69,7 @@ PARAMETER_SETS: dict[str, list[dict]] = {
         {"albedo": RGB, "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
         {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
         {"albedo": RGB, "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
+        {"albedo": RGB, "b0": 2.5, "h": 0.05, "g": 0.45, "theta_bar": 0.4, "hg2": 0.7},
     ],
     "minnaert": [{"albedo": RGB, "k": k} for k in (0.0, 0.5, 1.0, 1.7)],
 }

@@ -235,6 +235,8 @@ def _register_builtins() -> None:
         Fujii,
         Hammon,
         Hapke,
+        Hapke2012,
+        HapkeLegendre,
         Lambert,
         LambertSphere,
         LommelSeeliger,
@@ -265,6 +267,8 @@ def _register_builtins() -> None:
         LambertSphere,
         Hapke,
         Minnaert,
+        HapkeLegendre,
+        Hapke2012,
         # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
         SmithDiffuse,
         # issue 15: the exact V-cavity surface, tabulated from the solver

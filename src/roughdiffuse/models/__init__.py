@@ -7,7 +7,7 @@ from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
 from .hammon import Hammon
-from .hapke import Hapke
+from .hapke import Hapke, Hapke2012, HapkeLegendre
 from .lambert import Lambert
 from .lambert_sphere import LambertSphere
 from .lunar import LommelSeeliger, LunarLambert
@@ -29,6 +29,8 @@ __all__ = [
     "Fujii",
     "Hammon",
     "Hapke",
+    "Hapke2012",
+    "HapkeLegendre",
     "Lambert",
     "LambertSphere",
     "LommelSeeliger",

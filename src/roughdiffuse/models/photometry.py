@@ -59,7 +59,9 @@ def radiance_factor(model: Any, incidence: Array, emission: Array, phase: Array)
     model : Model
         Any roughdiffuse model.
     incidence, emission, phase : array_like
-        i, e in [0, π/2] and the phase angle g in [|i − e|, i + e] (radians).
+        i, e in [0, π/2] and the phase angle g in [|i − e|, i + e] (radians). At i = π/2
+        the surface is unlit and I/F is 0 (ISIS's photometric functions return 0 there too,
+        where cos(π/2) = 6e-17 would otherwise leave a 0/0 limit).
 
     Examples
     --------
@@ -82,5 +84,5 @@ def radiance_factor(model: Any, incidence: Array, emission: Array, phase: Array)
     )
     mu_i, mu_o, cos_io = angles_to_cosines(np, i, e, np.arccos(cos_phi))
     f = np.asarray(model.brdf_cosines(mu_i, mu_o, cos_io))
-    mu = np.clip(mu_i, 0.0, 1.0)
+    mu = np.where(i < math.pi / 2, np.clip(mu_i, 0.0, 1.0), 0.0)  # unlit at i = 90° (as ISIS)
     return math.pi * f * (mu[..., None] if f.ndim > mu.ndim else mu)
