@@ -69,7 +69,8 @@ def reference_model(model: Any) -> Any:
 
 
 def phototopder(model: Any, phase: Any, inc: Any, ema: Any) -> np.ndarray:
-    """ISIS's ``PhotoModel::PhtTopder``: |∇P| for a 0.04° tilt of the surface (radians in)."""
+    """ISIS's ``PhotoModel::PhtTopder``: |∇P| per degree of tilt of the surface, by central
+    differences over a 0.04° tilt in two directions (angles in radians)."""
     g, i, e = (np.asarray(a, dtype=np.float64) for a in (phase, inc, ema))
     xi, zi = np.sin(i), np.cos(i)
     s = np.sin(i) * np.sin(e)
