@@ -330,8 +330,8 @@ def plot_disk_fit(fit: DiskFit) -> Any:
     fig, axes = subplots(1, 4, figsize=(16, 3.8), layout="constrained")
     deg = np.degrees
     ax = axes[0]
-    ax.scatter(deg(d.phase), d.iof, s=4, c="0.3", label="data")
-    ax.scatter(deg(d.phase), model, s=4, c="tab:red", label=fit.result.model_name)
+    ax.scatter(deg(d.phase), d.iof, s=10, c="0.55", label="data")
+    ax.scatter(deg(d.phase), model, s=2, c="tab:red", label=fit.result.model_name)
     ax.set_xlabel("phase g (°)")
     ax.set_ylabel("I/F")
     ax.legend(fontsize=8)
