@@ -122,8 +122,10 @@ def mosaic() -> None:
         ax.axvline(119.5, color="tab:red", lw=0.6, ls=":")
         ax.set_title(title, fontsize=9)
         ax.set_axis_off()
-    fig.suptitle("Two images of one moon at different phase, normalised to i = e = g = 0 and "
-                 "joined at the dotted line")
+    fig.suptitle(
+        "Two images of one moon at different phase, normalised to i = e = g = 0 and "
+        "joined at the dotted line"
+    )
     fig.savefig(OUT / "planetary-mosaic.png", dpi=80)
 
 
