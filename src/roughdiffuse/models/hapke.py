@@ -127,9 +127,9 @@ def coherent_backscatter(xp: Any, bc0: Array, hc: Array, cos_g: Array) -> Array:
     """B_CB − 1 = B_C0 [1 + (1 − e^(−y))/y]/[2 (1 + y)²], y = tan(g/2)/h_C (Hapke 2002,
     Eq. 31); B_C0 at g = 0, and 0 for h_C = 0."""
     y = _tan_half(xp, cos_g) / maximum(xp, hc, _TINY)
-    small = y < 1e-6
+    small = y < 1e-4  # (1 − e^(−y))/y by its series there (error < y³/24), no cancellation
     ys = xp.where(small, 1.0, y)
-    ratio = xp.where(small, 1.0 - 0.5 * y, -xp.expm1(-ys) / ys)  # (1 − e^(−y))/y
+    ratio = xp.where(small, 1.0 - y / 2.0 + y * y / 6.0, (1.0 - xp.exp(-ys)) / ys)
     bc = (1.0 + ratio) / (2.0 * (1.0 + y) ** 2)
     return xp.where(hc > 0, bc0 * bc, 0.0 * bc)
 
