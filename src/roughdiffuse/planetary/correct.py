@@ -174,14 +174,23 @@ def normalize(
 PLANE_SUFFIXES = (".fits", ".fit", ".fts", ".npy", ".exr")
 
 
+def _astropy_fits() -> Any:
+    try:
+        from astropy.io import fits
+    except ImportError:
+        raise ValueError(
+            "FITS files need astropy: pip install 'roughdiffuse[planetary]' (or use .npy/.exr)"
+        ) from None
+    return fits
+
+
 def read_plane(path: str | os.PathLike[str], nodata: float | None = None) -> np.ndarray:
     """One image plane (H, W) as float64: FITS (astropy; BLANK and NaN are NoData), .npy or
     .exr (first channel). Values equal to ``nodata`` become NaN."""
     p = Path(path)
     ext = p.suffix.lower()
     if ext in (".fits", ".fit", ".fts"):
-        from astropy.io import fits
-
+        fits = _astropy_fits()
         with fits.open(p, memmap=False) as hdul:
             hdu = next((h for h in hdul if getattr(h, "data", None) is not None), None)
             if hdu is None:
@@ -215,8 +224,7 @@ def write_plane(
     p = Path(path)
     ext = p.suffix.lower()
     if ext in (".fits", ".fit", ".fts"):
-        from astropy.io import fits
-
+        fits = _astropy_fits()
         hdu = fits.PrimaryHDU(np.asarray(image, dtype=np.float32))
         for k, v in (header or {}).items():
             hdu.header[k] = v
