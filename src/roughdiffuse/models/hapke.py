@@ -89,7 +89,7 @@ def porosity_factor(filling_factor: float) -> float:
     >>> porosity_factor(0.0)
     1.0
     >>> round(porosity_factor(0.41), 4)
-    1.6492
+    1.6491
     """
     if not 0.0 <= filling_factor < 0.752:
         raise ValueError(f"filling_factor must be in [0, 0.752) (got {filling_factor:g})")
@@ -332,7 +332,30 @@ class Hapke(Model):
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke": {}}
     labels: ClassVar[dict[str, str]] = {"hapke": "Hapke (planetary)"}
     reference: ClassVar[str] = _REFERENCE
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"hapke": 15}
+    order: ClassVar[int] = 140
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke": (
+            {"b0": 0.8, "h": 0.1, "g": -0.3, "theta_bar": 0.35},
+            {"b0": 0.0, "h": 0.0, "g": 0.2, "theta_bar": 0.0},
+            {"b0": 2.5, "h": 0.05, "g": 0.4, "theta_bar": 0.3, "hg2": 0.7},
+        )
+    }
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke": (
+            {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
+            {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
+            {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
+            {
+                "albedo": [0.9, 0.5, 0.05],
+                "b0": 2.5,
+                "h": 0.05,
+                "g": 0.45,
+                "theta_bar": 0.4,
+                "hg2": 0.7,
+            },
+        )
+    }
 
     def _kernel(
         self,
@@ -412,6 +435,10 @@ class HapkeLegendre(Model):
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke-legendre": {}}
     labels: ClassVar[dict[str, str]] = {"hapke-legendre": "Hapke, Legendre phase (planetary)"}
     reference: ClassVar[str] = _REFERENCE
+    order: ClassVar[int] = 141
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke-legendre": ({"b0": 1.5, "h": 0.06, "bh": -0.4, "ch": 0.3, "theta_bar": 0.3},)
+    }
 
     def _kernel(
         self,
@@ -520,6 +547,21 @@ class Hapke2012(Model):
         " H and coherent backscatter: Hapke, Icarus 157 (2002) 523; checked against refmod"
         " (arunoruto/reflectance-models)"
     )
+    order: ClassVar[int] = 142
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke-2012": (
+            {
+                "bs0": 1.2,
+                "h_s": 0.06,
+                "bc0": 0.5,
+                "h_c": 0.02,
+                "porosity": 1.4,
+                "g": -0.3,
+                "hg2": 0.2,
+                "theta_bar": 0.35,
+            },
+        )
+    }
 
     def _kernel(
         self,

@@ -28,8 +28,7 @@ from typing import Any
 import numpy as np
 
 from .._array import Array
-from ..frames import angles_to_cosines
-from ..planetary.conventions import photometric_to_local
+from ..frames import angles_to_cosines, photometric_to_local
 
 __all__ = ["brdf_from_radiance_factor", "radiance_factor"]
 
