@@ -22,24 +22,14 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
-    (
-        "leaves",
-        frozenset(
-            (
-                "_array _figure _lazy _validate _version deprecation frames io quadrature roughness"
-            ).split()
-        ),
-    ),  # fmt: skip
+    ("leaves", frozenset(("_array _figure _lazy _validate _version deprecation frames io "
+                          "quadrature roughness").split())),  # fmt: skip
     ("engine", frozenset({"engine"})),
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),
     ("registry", frozenset({"registry"})),
-    (
-        "services",
-        frozenset(
-            ("accuracy data energy figures fit integrations planetary plots render stereo").split()
-        ),
-    ),  # fmt: skip
+    ("services", frozenset(("accuracy data energy figures fit integrations planetary plots "
+                            "render stereo").split())),  # fmt: skip
     ("applications", frozenset("roughdiffuse __main__ bench cli commands explorer".split())),
 )
 """Bottom first. ``roughdiffuse`` is the package's own ``__init__`` (the facade)."""
