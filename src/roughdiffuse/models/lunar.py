@@ -109,7 +109,9 @@ class LunarLambert(Model):
     albedo : float or array (C,)
         ρ in [0, 1]; L = 0 is Lambert with this albedo.
     limb_darkening : float
-        L in [0, 1], the weight of the Lommel–Seeliger term (0.5–1 for the moon near full).
+        L >= 0, the weight of the Lommel–Seeliger term (0.5–1 for the moon near full). ISIS's
+        ``LunarLambert`` accepts any L (its unit test takes L = 2); for every L >= 0 the I/F
+        μ0 [(1 − L) + 2L/(μ0 + μ)] is positive, as μ0 + μ <= 2. Fits search [0, 1].
         Default 0.5: half Lambert, half Lommel–Seeliger (L = 1 is the ``lommel-seeliger``
         model up to its normalisation).
     """
@@ -129,10 +131,11 @@ class LunarLambert(Model):
         ),
         Param(
             "limb_darkening",
-            "L, weight of the Lommel–Seeliger term",
+            "L, weight of the Lommel–Seeliger term (unbounded above, as ISIS)",
             min=0.0,
-            max=1.0,
+            max=None,
             default=0.5,
+            fit_range=(0.0, 1.0),
         ),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lunar-lambert": {}}
