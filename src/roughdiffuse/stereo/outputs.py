@@ -94,7 +94,7 @@ def _encode_png(linear: np.ndarray, mask: np.ndarray) -> bytes:
 def write_outputs(
     folder: str | os.PathLike[str],
     data: StereoInput,
-    rough: RoughResult,
+    rough: RoughResult | None,
     lambert: LambertianResult,
     depth: np.ndarray,
     *,
@@ -102,7 +102,11 @@ def write_outputs(
     truth_normals: np.ndarray | None = None,
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """Write every output file into ``folder`` (which must exist); return the parameters."""
+    """Write every output file into ``folder`` (which must exist); return the parameters.
+
+    With ``rough=None`` the result is Lambertian photometric stereo alone (Woodham 1980):
+    the same files from ``lambert``, with no roughness (``"roughness": null``).
+    """
     from ..io.atomic import write_text
     from ..io.images import write_exr, write_npy, write_png
     from .depth import write_ply
@@ -112,7 +116,7 @@ def write_outputs(
     if not out.is_dir():
         raise ValueError(f"output folder {str(out)!r} does not exist")
     m = data.mask
-    maps = result_maps(data, rough)
+    maps = result_maps(data, lambert if rough is None else rough)
     lmaps = result_maps(data, lambert)
     write_npy(out / "normals.npy", maps["normals"])
     write_npy(out / "albedo.npy", maps["albedo"])
@@ -128,6 +132,8 @@ def write_outputs(
         write_png(out / f"{key}.png", lin, exposure=0.0, mask=m.astype(np.float64))
         shown[key] = (out / f"{key}.png").read_bytes()
     shown["depth"] = _encode_png(_png_of(depth, "depth"), m & np.isfinite(depth))
+    if rough is None:
+        return _write_params(out, data, lambert, shown, model_id, truth_normals, extra)
     shown["lambertian normals"] = _encode_png(_png_of(lmaps["normals"], "normals"), m)
     shown["lambertian residual"] = _encode_png(_png_of(lmaps["residual"], "residual"), m)
     rough_val = rough.roughness
@@ -169,6 +175,36 @@ def write_outputs(
     return params
 
 
+def _write_params(
+    out: Path,
+    data: StereoInput,
+    lambert: LambertianResult,
+    shown: dict[str, bytes],
+    model_id: str,
+    truth_normals: np.ndarray | None,
+    extra: dict[str, Any] | None,
+) -> dict[str, Any]:
+    """params.json and report.html of Lambertian photometric stereo alone."""
+    from ..io.atomic import write_text
+    from .synthetic import angular_error
+
+    m = data.mask
+    params: dict[str, Any] = {
+        "model": model_id,
+        "images": data.count,
+        "pixels": int(m.sum()),
+        "roughness": None,
+        "lambertian": {"relative_rms_residual": _stats(lambert.residual)},
+    }
+    if truth_normals is not None:
+        err = angular_error(lambert.normals, truth_normals[m])
+        params["lambertian"]["angular_error_deg"] = _stats(err)
+    params.update(extra or {})
+    write_text(out / "params.json", json.dumps(params, indent=2, allow_nan=True) + "\n")
+    write_text(out / "report.html", _report_html(params, shown))
+    return params
+
+
 def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     def img(name: str) -> str:
         b64 = base64.b64encode(images[name]).decode()
@@ -178,7 +214,9 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
         )
 
     r = params["roughness"]
-    if r["per_pixel"]:
+    if r is None:
+        rline = "Lambertian photometric stereo (Woodham 1980): no roughness"
+    elif r["per_pixel"]:
         rline = (
             f"{r['name']} per pixel: median {r['median']:.4g} "
             f"(median standard error {r['median_standard_error']:.2g})"
@@ -187,6 +225,8 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
         rline = f"{r['name']} = {r['value']:.4g} ± {r['standard_error']:.2g} (one for the object)"
     rows = []
     for label, key in (("rough model", "rough"), ("Lambertian", "lambertian")):
+        if key not in params:
+            continue
         s = params[key]
         res = s["relative_rms_residual"]
         ang = s.get("angular_error_deg")
@@ -212,17 +252,19 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     buf.write(f"<h1>Photometric stereo: {html.escape(params['model'])}</h1>")
     buf.write(
         f"<p>{params['images']} images, {params['pixels']} object pixels. {html.escape(rline)}. "
-        f"{params['rough']['iterations']} iterations.</p>"
+        + (f"{params['rough']['iterations']} iterations." if "rough" in params else "")
+        + "</p>"
     )
     buf.write(
         "<table><tr><th>method</th><th>median relative RMS residual</th><th>95th percentile</th>"
         "<th>mean angular error</th><th>median angular error</th></tr>" + "".join(rows) + "</table>"
     )
-    buf.write("<h2>Rough model</h2>")
+    buf.write("<h2>Rough model</h2>" if r is not None else "<h2>Lambertian maps</h2>")
     for name in images:
         if not name.startswith("lambertian"):
             buf.write(img(name))
-    buf.write("<h2>Lambertian photometric stereo</h2>")
+    if any(name.startswith("lambertian") for name in images):
+        buf.write("<h2>Lambertian photometric stereo</h2>")
     for name in images:
         if name.startswith("lambertian"):
             buf.write(img(name))
