@@ -187,14 +187,11 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
         models at once pass False: the flag applies to the models that take it).
     """
     from .. import registry
-
     from ._inputs import known_id
 
     entry = registry.get(known_id(args.model, registry.ids()))
     taken = {p.name: p for p in entry.parameters}
-    values: dict[str, Any] = {
-        p.name: p.example for p in entry.parameters if p.example is not None
-    }
+    values: dict[str, Any] = {p.name: p.example for p in entry.parameters if p.example is not None}
     for dest, name in SHORTHANDS.items():
         value = getattr(args, dest, None)
         if value is None:

@@ -26,8 +26,9 @@ Brand and McMillan, SIGGRAPH 2003) are not redistributed here: see the documenta
 "Getting started" page for where they come from.
 
 >>> from roughdiffuse import data
->>> data.names()
-['lights.json', 'oren-nayar.binary', 'samples.csv', 'sphere.json', 'sphere.npy', 'sphere_normals.npy']
+>>> data.names()  # doctest: +NORMALIZE_WHITESPACE
+['lights.json', 'oren-nayar.binary', 'samples.csv', 'sphere.json', 'sphere.npy',
+ 'sphere_normals.npy']
 >>> data.path("samples.csv").name
 'samples.csv'
 """
