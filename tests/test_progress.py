@@ -39,22 +39,18 @@ def test_early_end_says_why_and_reaches_100_percent() -> None:
     assert bar.n == bar.total == 30
 
 
-@pytest.fixture
-def fake_tty_stderr(monkeypatch):  # noqa: ANN001, ANN201
-    stream = FakeTTY()
-    monkeypatch.setattr(sys, "stderr", stream)
-    return stream
-
-
 def _fit_compare(*extra: str) -> int:
     from roughdiffuse.cli import main
 
     return main(["fit", "data:samples.csv", "--compare", "--models", "lambert,oren-nayar", *extra])
 
 
-def test_fit_compare_counts_models_on_a_terminal(fake_tty_stderr) -> None:  # noqa: ANN001
+def test_fit_compare_counts_models_on_a_terminal(monkeypatch) -> None:  # noqa: ANN001
+    tty = FakeTTY()
+    # in the test's body: pytest puts its own capture back on sys.stderr after the fixtures
+    monkeypatch.setattr(sys, "stderr", tty)
     assert _fit_compare() == 0
-    text = fake_tty_stderr.getvalue().strip().split("\r")[-1]
+    text = tty.getvalue().strip().split("\r")[-1]
     assert "fitting models" in text and "2/2" in text and "100%" in text
 
 

@@ -143,7 +143,7 @@ def geometry_arguments(
     for flag, what, default, rng in (
         ("--theta-i", "incidence angle θi", theta_i, "[0, 90]"),
         ("--theta-r", "viewing angle θr", theta_r, "[0, 90]"),
-        ("--delta-phi", "azimuth Δφ = φr − φi", delta_phi, "any"),
+        ("--delta-phi", "azimuth Δφ = φr − φi", delta_phi, "(any)"),
     ):
         g.add_argument(
             flag,

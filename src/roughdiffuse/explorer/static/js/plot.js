@@ -91,7 +91,7 @@ export function drawCartesian(canvas, series, {
   const { W, H } = canvasSize(canvas);
   // the legend goes beside the plot (or above it on a narrow canvas), never over the data
   const lw = legendWidth(ctx, series);
-  const beside = W - lw - 58 >= 360;
+  const beside = W - lw - 74 >= 0.68 * W; // a wide canvas: the plot keeps 2/3 of it
   const L = 58, R = beside ? lw + 16 : 24, B = 40;
   const T = beside ? 26 : 30 + 16 * series.length;
   const ax = yAxis(series, log);
