@@ -17,7 +17,9 @@ import pytest
 from roughdiffuse.cli import build_parser, main
 
 PARSE_ONLY = {"explore", "bench"}
-SLOW = {"stereo", "simulate", "figures"}
+SLOW = {"", "render", "plot", "figures", "fit", "albedo", "simulate", "stereo"}
+"""Commands whose examples render, fit or solve (seconds to minutes each): run by
+``make test-all``; the quick ones (eval, models, data) run in every test run."""
 
 
 def _examples(text: str) -> list[list[str]]:
@@ -29,7 +31,7 @@ def _examples(text: str) -> list[list[str]]:
             if not s.endswith("\\"):
                 lines.append(current)
                 current = ""
-        elif s.startswith("roughdiffuse ") and "<" not in s:
+        elif s.startswith("roughdiffuse ") and "<" not in s and "`" not in s:
             if s.endswith("\\"):
                 current = s.rstrip("\\").strip()
             else:

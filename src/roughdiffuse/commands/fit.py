@@ -27,8 +27,8 @@ examples:
 
 Data by suffix: .csv/.txt (BRDF samples; header names the columns and the angle unit, e.g.
 theta_i_deg, theta_r_deg, delta_phi_deg, brdf), .binary (MERL), .npy/.exr/.png (a linear
-image; give --normals or --shape, and --light). data:NAME reads a file shipped with
-roughdiffuse (`roughdiffuse data` lists them). Angles on the command line are in DEGREES, or
+image; give --normals or --shape, and --light). data:NAME reads a file shipped with the
+package (`roughdiffuse data` lists them). Angles on the command line are in DEGREES, or
 with a unit (30deg, 0.52rad); the fitted σ is printed in radians and degrees. The noise model
 is relative (errors proportional to the value), as in Python's fit() and the explorer.
 """

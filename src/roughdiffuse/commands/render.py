@@ -22,7 +22,6 @@ examples:
       --light 70,180,0.5 --bits 16 -o two-lights.png
   roughdiffuse render --model oren-nayar-full --sigma 0.4rad --size 96 \\
       --lights data:lights.json -o stack/
-  roughdiffuse stereo stack/*.npy --lights stack/lights.json -o stereo-out/
 
 --lights FILE renders one image per light of a lights.json file (the format `stereo`
 reads) in one process, into the folder -o names (light-00.npy, light-01.npy, ... and
