@@ -174,18 +174,6 @@ def geometry_used(args: argparse.Namespace) -> str:
     return ", ".join(parts)
 
 
-def parameters_defaulted(args: argparse.Namespace) -> list[str]:
-    """The parameters of ``args.model`` the user did not give (they start from the
-    declaration's example or default), for the echo of ``eval``."""
-    from .. import registry
-    from ._common import SHORTHANDS
-
-    given = {n for n, _ in getattr(args, "param", None) or []}
-    given |= {name for dest, name in SHORTHANDS.items() if getattr(args, dest, None) is not None}
-    entry = registry.get(args.model)
-    return [p.name for p in entry.parameters if p.name not in given]
-
-
 def angle_pair(text: str) -> tuple[float, float]:
     """argparse type of ``THETA,PHI``: two angles (degrees or with ``rad``/``deg``); PHI
     defaults to 0. Returns degrees."""

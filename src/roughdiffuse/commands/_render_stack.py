@@ -9,9 +9,9 @@ and ``lights.json`` (the directions as unit vectors, the intensities) is written
 them, so that ``roughdiffuse stereo stack/*.npy --lights stack/lights.json`` reads the stack
 back.
 
-The stack is written whole or not at all: into a temporary folder beside the target, renamed
-to it at the end (a new folder), or file by file, each atomically, into an existing folder
-with ``--force``.
+Each file is written whole or not at all (:mod:`roughdiffuse.io.atomic`), the images first
+and ``lights.json`` last: a folder with ``lights.json`` holds a finished stack. A folder that
+already holds files is written into only with ``--force``.
 """
 
 from __future__ import annotations
@@ -19,10 +19,8 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
-import shutil
-import tempfile
-from pathlib import Path
+from collections.abc import Callable
+from typing import Any
 
 from . import UsageError
 from ._checks import output_folder, require_finite
@@ -46,8 +44,9 @@ def _lights(path: str) -> list[tuple[float, float, float | tuple[float, ...]]]:
     return out
 
 
-def render_stack(args: argparse.Namespace) -> int:
-    """Render the stack the arguments describe; returns the exit status."""
+def render_stack(args: argparse.Namespace, shape: Any, check_memory: Callable[[int], None]) -> int:
+    """Render the stack the arguments describe (``shape`` the --shape, ``check_memory(channels)``
+    refusing a --size/--spp that does not fit); returns the exit status."""
     import numpy as np
 
     from ..io.atomic import write_text
@@ -55,7 +54,6 @@ def render_stack(args: argparse.Namespace) -> int:
     from ..progress import progress, progress_enabled
     from ..render import DistantLight, OrthographicCamera, render
     from ._common import model_from_args
-    from .render import check_render_memory, make_shape
 
     if args.light:
         raise UsageError("--lights FILE and --light THETA,PHI cannot be combined")
@@ -70,63 +68,43 @@ def render_stack(args: argparse.Namespace) -> int:
         raise UsageError(f"-o {str(folder)!r} is a folder that holds files; --force writes into it")
     lights = _lights(args.lights_file)
     model = model_from_args(args)
-    shape = make_shape(args.shape)
     rgb = model.channels > 1 or any(isinstance(e, tuple) for *_, e in lights)
-    check_render_memory(args, channels=3 if rgb else 1)
+    check_memory(3 if rgb else 1)
     camera = OrthographicCamera(0.0, 0.0)
-    target = (
-        folder
-        if existing
-        else Path(
-            tempfile.mkdtemp(
-                prefix=f".{folder.name}.rdtmp-", dir=folder.parent if str(folder.parent) else "."
-            )
-        )
-    )
+    folder.mkdir(exist_ok=True)
     names = []
-    try:
-        with progress(
-            len(lights), "render --lights", unit="image", enabled=progress_enabled()
-        ) as bar:
-            for k, (theta, phi, e0) in enumerate(lights):
-                image, _ = render(
-                    model,
-                    shape,
-                    DistantLight(theta, phi, e0),
-                    camera,
-                    args.size,
-                    samples_per_pixel=args.spp,
-                    shadows=not args.no_shadows,
-                )
-                require_finite(image, "the image", "this model and the light's E0")
-                name = f"light-{k:02d}.{args.format}"
-                write_image(
-                    target / name,
-                    np.asarray(image),
-                    exposure=args.exposure,
-                    bits=args.bits,
-                    metadata={"roughdiffuse:model": repr(model)},
-                )
-                names.append(name)
-                bar.update(1)
-        spec = {
-            "directions": [
-                [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
-                for t, p, _ in lights
-            ],
-            "intensities": [list(e) if isinstance(e, tuple) else e for *_, e in lights],
-            "images": names,
-            "model": repr(model),
-            "shape": args.shape,
-        }
-        write_text(target / "lights.json", json.dumps(spec, indent=2))
-        if target is not folder:
-            if folder.exists():  # an empty folder: replaced by the finished stack
-                folder.rmdir()
-            os.replace(target, folder)
-    except BaseException:
-        if target is not folder:
-            shutil.rmtree(target, ignore_errors=True)
-        raise
+    with progress(len(lights), "render --lights", unit="image", enabled=progress_enabled()) as bar:
+        for k, (theta, phi, e0) in enumerate(lights):
+            image, _ = render(
+                model,
+                shape,
+                DistantLight(theta, phi, e0),
+                camera,
+                args.size,
+                samples_per_pixel=args.spp,
+                shadows=not args.no_shadows,
+            )
+            require_finite(image, "the image", "this model and the light's E0")
+            name = f"light-{k:02d}.{args.format}"
+            write_image(
+                folder / name,
+                np.asarray(image),
+                exposure=args.exposure,
+                bits=args.bits,
+                metadata={"roughdiffuse:model": repr(model)},
+            )
+            names.append(name)
+            bar.update(1)
+    spec = {
+        "directions": [
+            [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
+            for t, p, _ in lights
+        ],
+        "intensities": [list(e) if isinstance(e, tuple) else e for *_, e in lights],
+        "images": names,
+        "model": repr(model),
+        "shape": args.shape,
+    }
+    write_text(folder / "lights.json", json.dumps(spec, indent=2))  # last: the stack is whole
     print(f"wrote {len(names)} images and lights.json into {folder}/ ({model!r}, {args.shape})")
     return 0

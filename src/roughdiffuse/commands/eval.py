@@ -7,8 +7,8 @@ import math
 
 from . import UsageError
 from ._checks import require_finite
-from ._common import add_model_arguments, model_from_args
-from ._inputs import geometry_arguments, geometry_used, parameters_defaulted
+from ._common import SHORTHANDS, add_model_arguments, model_from_args
+from ._inputs import geometry_arguments, geometry_used
 
 EXAMPLES = """\
 examples:
@@ -35,6 +35,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     geometry_arguments(p, 0.0, 0.0, 0.0)
     p.set_defaults(func=run)
+
+
+def parameters_defaulted(args: argparse.Namespace) -> list[str]:
+    """The parameters of ``args.model`` the user did not give (they start from the
+    declaration's example or default), for the echo of ``eval``."""
+    from .. import registry
+
+    given = {n for n, _ in getattr(args, "param", None) or []}
+    given |= {name for dest, name in SHORTHANDS.items() if getattr(args, dest, None) is not None}
+    entry = registry.get(args.model)
+    return [p.name for p in entry.parameters if p.name not in given]
 
 
 def run(args: argparse.Namespace) -> int:

@@ -257,7 +257,11 @@ def run(args: argparse.Namespace) -> int:
     if args.lights_file is not None:
         from ._render_stack import render_stack
 
-        return render_stack(args)
+        return render_stack(
+            args,
+            make_shape(args.shape),
+            lambda channels: check_render_memory(args, channels=channels),
+        )
     out = check_output(args.output, (".png", ".npy", ".exr"), args.force)
     model = model_from_args(args)
     shape = make_shape(args.shape)
