@@ -174,7 +174,14 @@ def test_export_png_2x_svg_legend_off_data_and_names(page, tmp_path):
         "A: Oren–Nayar qualitative, σ = 30.0°",
         "B: Oren–Nayar qualitative, σ = 10.0°",
     ], labels
-    assert len(list(root.iter(f"{ns}path"))) > 20
+    # the two curves, 181 points each (θr = -90°, ..., 90°), in A's and B's colours
+    for colour in ("#1f5fa8", "#d35400"):
+        curves = [
+            e
+            for e in root.iter(f"{ns}path")
+            if e.get("stroke") == colour and e.get("d").count("L") >= 180
+        ]
+        assert curves, colour
     plot = p.evaluate(
         "() => { const r = document.getElementById('plot-cartesian').rdPlot; "
         "return {left: r.left, right: r.right, top: r.top, bottom: r.bottom}; }"
