@@ -274,7 +274,9 @@ function fitPlots() {
   let changed = false;
   for (const v of VIEWS) {
     const c = $(`plot-${v === "plane" ? "cartesian" : v}`);
-    if (c.width !== w || c.height !== h) { c.width = w; c.height = h; changed = true; }
+    // a change below 24 px is left alone: a scroll bar that comes and goes with the page's
+    // height (about 15 px) must not resize the plots back and forth for ever
+    if (Math.abs(c.width - w) >= 24 || Math.abs(c.height - h) >= 24) { c.width = w; c.height = h; changed = true; }
   }
   if (changed && evaluator) refresh();
 }
