@@ -70,7 +70,8 @@ def test_plots_grow_with_the_window(browser, explorer_url, size):  # noqa: F811
     canvas = p.evaluate("() => [document.getElementById('plot-cartesian').width, "
                         "document.getElementById('plot-cartesian').height]")  # fmt: skip
     assert plot["width"] >= (700 if w >= 1920 else 500), plot
-    assert abs(canvas[0] - plot["width"]) <= 2  # drawn at its size on screen, not stretched
+    # drawn at about its size on screen (main.js resizes for changes of 24 px or more)
+    assert abs(canvas[0] - plot["width"]) < 24
     # no half-empty screen: the plots column reaches the window's right edge
     assert column["x"] + column["width"] >= w - 40
     assert plot["y"] + plot["height"] <= h
