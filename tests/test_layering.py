@@ -23,7 +23,7 @@ SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("leaves", frozenset(("_array _figure _lazy _validate _version deprecation frames io "
-                          "quadrature roughness").split())),  # fmt: skip
+                          "progress quadrature roughness").split())),  # fmt: skip
     ("engine", frozenset({"engine"})),
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),

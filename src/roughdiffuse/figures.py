@@ -406,9 +406,9 @@ def _eon_fitted_to(truth: VCavity) -> tuple[float, float]:
     t = np.radians(np.arange(0.0, 81.0, 10.0))
     ti, tr, dp = np.meshgrid(t, t, np.radians(np.arange(0.0, 181.0, 30.0)), indexing="ij")
     wi = np.stack([np.sin(ti), 0 * ti, np.cos(ti)], axis=-1).reshape(-1, 3)
-    wo = np.stack(
-        [np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], axis=-1
-    ).reshape(-1, 3)
+    wo = np.stack([np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], axis=-1).reshape(
+        -1, 3
+    )
     f = np.asarray(truth.brdf(wi, wo))
 
     def cost(x: np.ndarray) -> float:
@@ -638,7 +638,7 @@ def make_figures(
         Redraw figures whose PNG exists (otherwise they are kept, so an interrupted run
         resumes where it stopped).
     progress : bool
-        Show a tqdm progress bar.
+        Show a progress bar (:func:`roughdiffuse.progress.progress`, on standard error).
     only : list of str, optional
         Names (or leading numbers) of the figures to draw.
 
@@ -647,7 +647,7 @@ def make_figures(
     list of Path
         The PNG files and index.html.
     """
-    from tqdm import tqdm
+    from .progress import progress as progress_bar
 
     folder = Path(folder)
     if not folder.parent.is_dir():
@@ -657,9 +657,10 @@ def make_figures(
     if only and not chosen:
         raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
     out = []
-    bar = tqdm(chosen, desc="figures", unit="fig", disable=not progress)
-    for f in bar:
+    bar = progress_bar(len(chosen), "figures", unit="fig", enabled=progress)
+    for f in chosen:
         bar.set_postfix_str(f.name)
+        bar.update(1)
         path = folder / f"{f.name}.png"
         out.append(path)
         if path.exists() and not force:
@@ -668,5 +669,6 @@ def make_figures(
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
         _figure.release(fig)  # drawn by a public plotting function: known to pyplot
+    bar.close()
     out.append(_write_index(folder))
     return out

@@ -837,6 +837,37 @@ def main(
         return 2
 
 
+def _bench_rest(args: argparse.Namespace, extra: dict[str, Any], bar: Any) -> None:
+    """The benchmarks after the models': start-up, first call, renderer, fit, solver, memory
+    (each one step of ``bar``)."""
+    stages: list[tuple[str, bool, Callable[[], dict[str, Any]]]] = [
+        ("startup", bool(args.startup_repeat), lambda: startup(args.startup_repeat)),
+        ("first_call", not args.no_first_call, first_call),
+        ("render", not args.no_render, lambda: bench_render(args.repeat)),
+        ("fit", not args.no_fit, lambda: bench_fit(args.fit_repeat, args.fit_size)),
+        (
+            "simulate",
+            not args.no_simulate,
+            lambda: bench_simulate(
+                args.simulate_repeat,
+                args.simulate_cavities,
+                args.simulate_geometries,
+                args.simulate_cases,
+            ),
+        ),
+        ("memory", bool(args.memory_log2), lambda: memory(args.memory_log2)),
+    ]
+    said = {"startup": "start-up", "first_call": "first call"}
+    for key, wanted, job in stages:
+        if not wanted:
+            continue
+        bar.set_postfix_str(said.get(key, key))
+        extra[key] = job()
+        if key != "fit":
+            print(f"{said.get(key, key)}: {json.dumps(extra[key])}", flush=True)
+        bar.update(1)
+
+
 def run(args: argparse.Namespace, command: str) -> int:
     """Run the benchmarks the parsed options ask for; ``command`` is recorded in RESULTS.md."""
     try:
@@ -874,41 +905,37 @@ def run(args: argparse.Namespace, command: str) -> int:
     models = [m for m in bench_models() if wanted in m.label.lower() or wanted in m.id]
     if not models:
         raise ValueError(f"--models {args.models!r} matches no model")
+    from roughdiffuse.progress import progress, progress_enabled
+
+    later = [
+        bool(args.startup_repeat),
+        not args.no_first_call,
+        not args.no_render,
+        not args.no_fit,
+        not args.no_simulate,
+        bool(args.memory_log2),
+    ]
+    stages = len(sizes) + 2 * len(brdf_sizes) + sum(later)
+    bar = progress(stages, "bench", unit="stage", enabled=progress_enabled())
     with tempfile.TemporaryDirectory() as tmp:
         lib, c_note = (None, "skipped (--no-c)") if args.no_c else build_c(Path(tmp))
         print(f"C reference: {c_note}", flush=True)
         results = []
         for s in sizes:
+            bar.set_postfix_str(f"models, 2^{s} rows")
             results += bench_size(s, args.repeat, lib, models, not args.no_numpy)
+            bar.update(1)
         brdf_rows = []
         for s in brdf_sizes:
             for dtype in (np.float32, np.float64):
+                bar.set_postfix_str(f"brdf, 2^{s} {np.dtype(dtype).name}")
                 brdf_rows += bench_brdf(s, args.repeat, lib, models, dtype)
+                bar.update(1)
     extra: dict[str, Any] = {}
+    _bench_rest(args, extra, bar)
+    bar.close()
     if brdf_rows:
         extra["brdf"] = brdf_rows
-    if args.startup_repeat:
-        extra["startup"] = startup(args.startup_repeat)
-        print(f"start-up: {json.dumps(extra['startup'])}", flush=True)
-    if not args.no_first_call:
-        extra["first_call"] = first_call()
-        print(f"first call: {json.dumps(extra['first_call'])}", flush=True)
-    if not args.no_render:
-        extra["render"] = bench_render(args.repeat)
-        print(f"render: {json.dumps(extra['render'])}", flush=True)
-    if not args.no_fit:
-        extra["fit"] = bench_fit(args.fit_repeat, args.fit_size)
-    if not args.no_simulate:
-        extra["simulate"] = bench_simulate(
-            args.simulate_repeat,
-            args.simulate_cavities,
-            args.simulate_geometries,
-            args.simulate_cases,
-        )
-        print(f"simulate: {json.dumps(extra['simulate'])}", flush=True)
-    if args.memory_log2:
-        extra["memory"] = memory(args.memory_log2)
-        print(f"memory: {json.dumps(extra['memory'])}", flush=True)
     meta = {
         "command": command,
         "date": dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),

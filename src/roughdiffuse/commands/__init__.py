@@ -17,6 +17,7 @@ COMMANDS: list[str] = [
     "stereo",
     "bench",
     "photometry",
+    "data",
 ]
 
 

@@ -14,6 +14,7 @@ from typing import Any
 from ..models import Model
 from ..models.declaration import Param
 from . import UsageError
+from ._inputs import angle
 
 SHORTHANDS: dict[str, str] = {
     "albedo": "albedo",
@@ -112,9 +113,9 @@ def add_model_arguments(parser: argparse.ArgumentParser, default: str = "oren-na
     )
     g.add_argument(
         "--sigma",
-        type=float,
+        type=angle,
         default=None,
-        help=f"roughness σ in DEGREES, 0 to 90 (default: {_start('sigma')})",
+        help=f"roughness σ in DEGREES, 0 to 90, or 0.35rad (default: {_start('sigma')})",
     )
     g.add_argument(
         "--roughness",
@@ -186,15 +187,11 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
         models at once pass False: the flag applies to the models that take it).
     """
     from .. import registry
+    from ._inputs import known_id
 
-    try:
-        entry = registry.get(args.model)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    entry = registry.get(known_id(args.model, registry.ids()))
     taken = {p.name: p for p in entry.parameters}
-    values: dict[str, Any] = {
-        p.name: p.example for p in entry.parameters if p.example is not None
-    }
+    values: dict[str, Any] = {p.name: p.example for p in entry.parameters if p.example is not None}
     for dest, name in SHORTHANDS.items():
         value = getattr(args, dest, None)
         if value is None:

@@ -10,6 +10,7 @@ from typing import Any
 from . import UsageError
 from ._checks import finite_float
 from ._common import float_list
+from ._inputs import angle_list
 
 EXAMPLES = """\
 examples:
@@ -53,9 +54,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--sigma",
-        type=float_list,
+        type=angle_list,
         default=[0.0, 15.0, 30.0, 45.0, 60.0],
-        help="roughness σ in DEGREES, 0 to 90, comma-separated (default: 0,15,30,45,60)",
+        help="roughness σ in DEGREES (or 0.2rad), 0 to 90, comma-separated "
+        "(default: 0,15,30,45,60)",
     )
     p.add_argument(
         "--roughness",
@@ -98,13 +100,13 @@ def _sweep(entry: Any, args: argparse.Namespace) -> tuple[str, str, list[Any]] |
 
 def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
     from .. import registry
+    from ._inputs import known_id
 
     names = [n.strip() for n in args.model.split(",") if n.strip()]
     if not names:
         raise UsageError("--model must name at least one model")
     for n in names:
-        if n not in registry.ids():
-            raise UsageError(f"unknown model {n!r}; choose from: {', '.join(registry.ids())}")
+        known_id(n, registry.ids())
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")

@@ -7,7 +7,8 @@ import copy
 import math
 
 from . import UsageError
-from ._common import add_model_arguments, float_list, model_from_args, model_ids
+from ._common import add_model_arguments, model_from_args, model_ids
+from ._inputs import angle_list, known_id
 from .render import (
     add_output_arguments,
     add_scene_arguments,
@@ -45,12 +46,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "model":
             action.help = f"comma-separated ids from: {', '.join(model_ids())}"
         if action.dest == "sigma":
-            action.type = float_list
+            action.type = angle_list
             action.default = [20.0]
-            action.help = "roughness σ in DEGREES, 0 to 90, comma-separated (default: 20)"
+            action.help = "σ in DEGREES (or 0.3rad), 0 to 90, comma-separated (default: 20)"
     p.add_argument(
         "--theta-i",
-        type=float_list,
+        type=angle_list,
         default=[30.0, 60.0],
         help="plane/polar: incidence angles θi, degrees [0, 90], comma-separated (default 30,60)",
     )
@@ -69,10 +70,7 @@ def _models(args: argparse.Namespace, sigma_list: list[float] | None = None) -> 
 
     models = {}
     for name in names:
-        try:
-            uses_sigma = "sigma" in registry.get(name).defaults()
-        except ValueError as exc:
-            raise UsageError(str(exc)) from None
+        uses_sigma = "sigma" in registry.get(known_id(name, registry.ids())).defaults()
         for s in sigmas if uses_sigma else sigmas[:1]:
             a = copy.copy(args)
             a.model, a.sigma = name, s if uses_sigma else None

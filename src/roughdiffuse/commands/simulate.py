@@ -7,9 +7,10 @@ import math
 import os
 
 from .._version import version
+from ..progress import progress_enabled
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
-from ._common import float_list
+from ._inputs import GEOMETRY_HELP, angle, angle_list, geometry_arguments, geometry_used
 
 MAX_BOUNCES = 100
 """Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
@@ -22,17 +23,23 @@ MAX_ELEMENTS = 128
 machine K = 64 took 32 s where 16 took 19 s, and 200 more than two minutes); see
 :func:`_solver_bytes` for its memory."""
 
-EXAMPLES = """\
+EXAMPLES = (
+    """\
 examples:
   roughdiffuse simulate --theta-i 40 --theta-r 60 --delta-phi 0 --sigma 20 --bounces all
-  roughdiffuse simulate --table gt.npz --step 10 --delta-phi-step 45 --sigma 10,20,30 --workers 2
-  roughdiffuse simulate --table gt.npz ... --scheduler tcp://127.0.0.1:8786
-  roughdiffuse simulate --report -o report/
+  roughdiffuse simulate --theta-i 0.7rad --sigma 0.35rad --bounces 1
+  roughdiffuse simulate --table gt.npz --step 45 --delta-phi-step 90 --sigma 10,20
+  roughdiffuse simulate --report --quick -o report/
 
-A table run writes finished chunks to FILE.chunks/; run the same command again to resume.
+A table run writes finished chunks to FILE.chunks/; run the same command again to resume
+(--workers N for a local Dask cluster, --scheduler tcp://HOST:PORT for a distributed one).
 A finished FILE is kept: the same command returns it at once; other settings need --force.
-Angles in DEGREES.
 """
+    + GEOMETRY_HELP
+    + """
+Defaults: θi = 30, θr = 30, Δφ = 0, σ = 20, ρ = 0.8; the values used are printed.
+"""
+)
 
 
 def _bounces(text: str) -> int | str:
@@ -63,18 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument(
-        "--theta-i", type=finite_float, default=30.0, help="incidence angle, degrees [0, 90]"
-    )
-    p.add_argument(
-        "--theta-r", type=finite_float, default=30.0, help="viewing angle, degrees [0, 90]"
-    )
-    p.add_argument("--delta-phi", type=finite_float, default=0.0, help="azimuth φr − φi, degrees")
+    geometry_arguments(p, 30.0, 30.0, 0.0)
     p.add_argument(
         "--sigma",
-        type=float_list,
+        type=angle_list,
         default=[20.0],
-        help="roughness σ in DEGREES (list for tables)",
+        help="roughness σ in DEGREES or with a unit, 0.35rad (list for tables; default 20)",
     )
     p.add_argument(
         "--albedo", type=finite_float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
@@ -105,10 +106,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="replace a finished --table FILE (or chunks of other settings) by a new run",
     )
     p.add_argument(
-        "--step", type=finite_float, default=10.0, help="table step of θi and θr, degrees"
+        "--step", type=angle, default=10.0, help="table step of θi and θr, degrees (default 10)"
     )
     p.add_argument(
-        "--delta-phi-step", type=finite_float, default=30.0, help="table step of Δφ, degrees"
+        "--delta-phi-step", type=angle, default=30.0, help="table step of Δφ, degrees (default 30)"
     )
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
     p.add_argument(
@@ -165,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
         out = write_report(
             args.output,
             quick=args.quick,
-            progress=not args.no_progress,
+            progress=progress_enabled() and not args.no_progress,
             workers=args.workers,
             scheduler=args.scheduler,
         )
@@ -190,7 +191,7 @@ def run(args: argparse.Namespace) -> int:
             settings,
             workers=args.workers,
             scheduler=args.scheduler,
-            progress=not args.no_progress,
+            progress=progress_enabled() and not args.no_progress,
             backend=args.backend,
             force=args.force,
             package_version=version(),
@@ -207,6 +208,7 @@ def run(args: argparse.Namespace) -> int:
             "(before Richardson extrapolation, which the values have)"
         )
         return 0
+    geometry = geometry_used(args)
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)
         if not 0.0 <= val <= 90.0:
@@ -224,6 +226,11 @@ def run(args: argparse.Namespace) -> int:
         return_difference=True,
     )
     require_finite([f, d], "the BRDF", f"--sigma {args.sigma[0]:g} --albedo {args.albedo:g}")
+    print(f"geometry: {geometry}")
+    print(
+        f"surface: σ = {args.sigma[0]:g}°, facet albedo ρ = {args.albedo:g}, "
+        f"bounces: {args.bounces}, measure: {args.measure}"
+    )
     print(f"brdf (1/sr): {float(f):.8g}")
     print(f"f * pi / albedo: {float(f) * math.pi / max(args.albedo, 1e-300):.8g}")
     print(f"element change f(K) - f(2K): {float(d):.2e} (K = {args.elements}, extrapolated)")

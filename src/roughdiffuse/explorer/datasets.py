@@ -255,26 +255,6 @@ def slice_points(ds: Dataset, theta_i_deg: float, dphi_deg: float) -> dict[str, 
     }
 
 
-def _finite(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
-
-
-def _result_json(model_id: str, r: Any) -> dict[str, Any]:
-    return {
-        "model": model_id,
-        "names": list(r.names),
-        "values": [_finite(v) for v in r.values],
-        "errors": [_finite(v) for v in r.errors],
-        "on_bound": [bool(b) for b in r.on_bound],
-        "rms": _finite(r.rms),
-        "rms_relative": _finite(r.rms_relative),
-        "residuals": int(r.n_samples),
-        "aic": _finite(r.aic),
-        "bic": _finite(r.bic),
-        "warnings": list(r.warnings),
-    }
-
-
 def _model_id(model: Any) -> str:
     from ..fit.compare import CANDIDATES
 
@@ -284,13 +264,16 @@ def _model_id(model: Any) -> str:
 
 
 def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
-    """Fit one registry model to the dataset (:func:`roughdiffuse.fit.fit`, the model's
-    declared parameters and bounds, as :func:`roughdiffuse.fit.compare.candidate` gives
-    them). Raises :class:`Busy` when another fit runs."""
+    """Fit one registry model to the dataset (:func:`roughdiffuse.fit.fit` with its default,
+    relative noise, as ``roughdiffuse fit``; the model's declared parameters and bounds, as
+    :func:`roughdiffuse.fit.compare.candidate` gives them). The result is
+    :func:`roughdiffuse.fit.summary.result_json`: no standard error at a bound or where it is
+    not determined. Raises :class:`Busy` when another fit runs."""
     import warnings
 
     from ..fit.compare import candidate
-    from ..fit.least_squares import DegenerateDataWarning, fit
+    from ..fit.least_squares import DegenerateDataWarning, NoiseModelWarning, fit
+    from ..fit.summary import result_json
 
     model_id = _model_id(model)
     c = candidate(model_id)
@@ -299,19 +282,22 @@ def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegenerateDataWarning)
+            warnings.simplefilter("ignore", NoiseModelWarning)  # said in r.warnings
             r = fit(c.model, ds.data, c.params, c.bounds, fixed=c.fixed)
     finally:
         FIT_LOCK.release()
-    out = _result_json(model_id, r)
+    out = result_json(model_id, r)
     out.update(dataset=ds.id, fit_samples=int(ds.data.size), samples=ds.total)
     return out
 
 
 def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     """Fit ``models`` (registry ids, at most :data:`RANK_MODELS_AT_ONCE`) and rank them by
-    BIC with :func:`roughdiffuse.fit.compare_models`. Raises :class:`Busy` when another fit
+    BIC with :func:`roughdiffuse.fit.compare_models` (relative noise, its default, as
+    ``roughdiffuse fit --compare``). Raises :class:`Busy` when another fit
     runs."""
     from ..fit.compare import compare_models
+    from ..fit.summary import result_json
 
     if not isinstance(models, list) or not 1 <= len(models) <= RANK_MODELS_AT_ONCE:
         raise ValueError(
@@ -327,5 +313,5 @@ def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     return {
         "dataset": ds.id,
         "fit_samples": int(ds.data.size),
-        "ranking": [_result_json(n, r) for n, r in zip(cmp.names, cmp.results, strict=True)],
+        "ranking": [result_json(n, r) for n, r in zip(cmp.names, cmp.results, strict=True)],
     }

@@ -31,8 +31,17 @@ from scipy.optimize import least_squares
 from ..models import Model
 from ..models.declaration import Param
 from .measurements import Measurements
+from .summary import AT_BOUND, at_bound, error_notes
 
-__all__ = ["DEFAULT_BOUNDS", "DegenerateDataWarning", "FitResult", "fit"]
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "DEFAULT_NOISE",
+    "DegenerateDataWarning",
+    "FitResult",
+    "NoiseModelWarning",
+    "fit",
+    "noise_model",
+]
 
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "albedo": (0.0, 1.0),
@@ -60,9 +69,39 @@ count as zero: the data do not constrain that combination of parameters."""
 
 Noise = Literal["absolute", "relative"]
 
+DEFAULT_NOISE: Noise = "relative"
+"""The noise model of every fit unless told otherwise: :func:`fit`, :func:`~roughdiffuse.fit.
+compare_models`, ``roughdiffuse fit`` and the explorer. Measured BRDF values carry an error
+proportional to the value (detector gain, calibration of the light and the reference, speckle),
+and they span orders of magnitude from normal to grazing angles: with absolute residuals the
+brightest samples decide the fit alone. BIC ranks models by the likelihood of the residuals, so
+it is only meaningful under the noise model the data have; relative noise is that model for
+reflectance measurements. Data with a value <= 0 fall back to absolute noise (with a
+:class:`NoiseModelWarning`)."""
+
 
 class DegenerateDataWarning(UserWarning):
     """The data cannot identify some parameters (e.g. every sample at one geometry)."""
+
+
+class NoiseModelWarning(UserWarning):
+    """Relative noise was asked for, but some values are <= 0: absolute noise is used."""
+
+
+def noise_model(data: Measurements, noise: str = DEFAULT_NOISE) -> tuple[str, str]:
+    """The noise model a fit of ``data`` uses, and a note when it is not the one asked for.
+
+    Relative noise needs every value > 0; otherwise absolute noise is used and the note says
+    why. ``ValueError`` for a name other than ``"absolute"`` or ``"relative"``.
+    """
+    if noise not in ("absolute", "relative"):
+        raise ValueError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
+    if noise == "relative" and np.any(data.value <= 0):
+        return "absolute", (
+            f"{int(np.sum(data.value <= 0))} values are <= 0, which relative noise cannot "
+            "weigh: absolute noise used"
+        )
+    return noise, ""
 
 
 @dataclass(frozen=True)
@@ -98,6 +137,8 @@ class FitResult:
         Human-readable notes (degenerate data, values on bounds, …).
     model_name : str
         Name of the fitted model.
+    noise : {"relative", "absolute"}
+        The noise model used (see :func:`noise_model`).
     """
 
     model: Model
@@ -118,6 +159,7 @@ class FitResult:
     nfev: int = 0
     starts: int = 0
     predict: Callable[[Measurements], np.ndarray] | None = field(default=None, repr=False)
+    noise: str = DEFAULT_NOISE
 
     @property
     def params(self) -> dict[str, float]:
@@ -130,21 +172,22 @@ class FitResult:
         return dict(zip(self.names, (float(v) for v in self.errors), strict=True))
 
     def table(self) -> str:
-        """A plain-text table: parameter, value, standard error, flags."""
+        """A plain-text table: parameter, value, standard error, flags (the rules of
+        :func:`~roughdiffuse.fit.summary.error_notes`: no error at a bound, "not determined"
+        for an unusable one)."""
         lines = [
-            f"{self.model_name}: {self.n_samples} residuals, RMS {self.rms:.4g} "
-            f"({100 * self.rms_relative:.3g}% of the data), AIC {self.aic:.1f}, "
-            f"BIC {self.bic:.1f}"
+            f"{self.model_name}: {self.n_samples} residuals, {self.noise} noise, "
+            f"RMS {self.rms:.4g} ({100 * self.rms_relative:.3g}% of the data), "
+            f"AIC {self.aic:.1f}, BIC {self.bic:.1f}"
         ]
-        lines.append(f"  {'parameter':<16}{'value':>12}{'std. error':>14}  note")
-        for k, name in enumerate(self.names):
-            err = self.errors[k]
-            err_s = "not identif." if not np.isfinite(err) else f"{err:.3g}"
-            note = "on bound" if self.on_bound[k] else ""
+        lines.append(f"  {'parameter':<16}{'value':>12}{'std. error':>16}  note")
+        for k, (name, note) in enumerate(zip(self.names, error_notes(self), strict=True)):
+            err_s = "–" if note == AT_BOUND else note or f"{self.errors[k]:.3g}"
+            note = note if note == AT_BOUND else ""
             extra = ""
             if name.startswith("sigma"):
                 extra = f"  ({math.degrees(self.values[k]):.2f}°)"
-            lines.append(f"  {name:<16}{self.values[k]:>12.5g}{err_s:>14}  {note}{extra}")
+            lines.append(f"  {name:<16}{self.values[k]:>12.5g}{err_s:>16}  {note}{extra}")
         lines.extend(f"  warning: {w}" for w in self.warnings)
         return "\n".join(lines)
 
@@ -412,11 +455,6 @@ def _noise_weights(data: Measurements, noise: str) -> np.ndarray:
     if noise == "absolute":
         return np.ones_like(data.value)
     if noise == "relative":
-        if np.any(data.value <= 0):
-            raise ValueError(
-                "noise='relative' needs every value > 0 "
-                f"({int(np.sum(data.value <= 0))} are 0); use noise='absolute'"
-            )
         return 1.0 / data.value
     raise ValueError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
 
@@ -487,7 +525,7 @@ def fit(
     n_starts: int = 4,
     loss: str = "linear",
     f_scale: float = 1.0,
-    noise: Noise = "absolute",
+    noise: Noise = DEFAULT_NOISE,
     multistart_samples: int = 20_000,
     seed: int = 0,
 ) -> FitResult:
@@ -519,11 +557,14 @@ def fit(
         "cauchy", "arctan") and its scale (in units of the weighted residual). With a robust
         loss the noise level in the error bars is 1.4826 × the median absolute deviation of
         the residuals, so that outliers do not inflate them.
-    noise : {"absolute", "relative"}
-        Noise model: residuals in data units, or relative (constant relative noise, e.g.
-        1% of the value): residuals divided by the model value, by iteratively reweighted
-        least squares (weights from the previous fit, held fixed in each inner fit), which
-        avoids the bias of dividing by the noisy data. Affects weights and error bars.
+    noise : {"relative", "absolute"}
+        Noise model (default ``"relative"``, :data:`DEFAULT_NOISE`, as on the command line
+        and in the explorer): relative (constant relative noise, e.g. 1% of the value):
+        residuals divided by the model value, by iteratively reweighted least squares
+        (weights from the previous fit, held fixed in each inner fit), which avoids the bias
+        of dividing by the noisy data; or absolute: residuals in data units. Affects
+        weights, error bars and AIC/BIC. Data with a value <= 0 are fitted with absolute
+        noise (:class:`NoiseModelWarning`).
     multistart_samples : int
         Larger data sets are explored from every start on a random subset of this size;
         the best start is then refined on all the data.
@@ -540,6 +581,8 @@ def fit(
     DegenerateDataWarning
         When the data cannot identify some parameter (every sample at one geometry, only
         θi = θr = 0, …); its error is then ``inf``.
+    NoiseModelWarning
+        When relative noise is asked for but some values are <= 0.
     """
     if not isinstance(data, Measurements):
         raise ValueError(f"data must be a Measurements object (got {type(data).__name__})")
@@ -550,6 +593,9 @@ def fit(
     box = _bounds(layout, bounds)
     names = layout.names
     npar = len(names)
+    noise, noise_note = noise_model(data, noise)
+    if noise_note:
+        warnings.warn(noise_note, NoiseModelWarning, stacklevel=2)
     w = _noise_weights(data, noise)
     m = data.value.size
     if m < npar:
@@ -639,7 +685,7 @@ def fit(
             res = np.asarray(fns["residual"](x, *arrays))[: data.value.size]
             robust_s2 = (1.4826 * float(np.median(np.abs(res - np.median(res))))) ** 2
 
-    notes: list[str] = []
+    notes: list[str] = [noise_note] if noise_note else []
     dof = m - npar
     s2 = rss / dof if dof > 0 else math.inf
     if robust_s2 is not None and dof > 0:
@@ -677,8 +723,7 @@ def fit(
             f"{which}: the model does not change with it at the optimum "
             "(e.g. σ = 0); linearised error bar infinite"
         )
-    tol = 1e-6 * (box[:, 1] - box[:, 0])
-    on_bound = (x <= box[:, 0] + tol) | (x >= box[:, 1] - tol)
+    on_bound = at_bound(x, box)
     for k in np.flatnonzero(on_bound):
         notes.append(f"{names[k]} = {x[k]:.4g} is on its bound")
     if not success:
@@ -716,4 +761,5 @@ def fit(
         nfev=nfev,
         starts=len(starts),
         predict=predict,
+        noise=noise,
     )

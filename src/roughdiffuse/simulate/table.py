@@ -552,9 +552,11 @@ take their settings from their own Dask configuration (set the same two keys the
 
 
 def _run_chunks(todo, chunk_dir: Path, workers: int, scheduler, progress: bool, total: int) -> None:
-    from tqdm.auto import tqdm
+    from ..progress import progress as progress_bar
 
-    bar = tqdm(total=total, initial=total - len(todo), unit="chunk", disable=not progress)
+    bar = progress_bar(
+        total, "V-cavity table", unit="chunk", enabled=progress, initial=total - len(todo)
+    )
     try:
         if not todo:
             return

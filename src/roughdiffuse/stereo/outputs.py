@@ -84,7 +84,7 @@ def _png_of(image: np.ndarray, kind: str) -> np.ndarray:
 def write_outputs(
     folder: str | os.PathLike[str],
     data: StereoInput,
-    rough: RoughResult,
+    rough: RoughResult | None,
     lambert: LambertianResult,
     depth: np.ndarray,
     *,
@@ -92,7 +92,11 @@ def write_outputs(
     truth_normals: np.ndarray | None = None,
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """Write every output file into ``folder`` (which must exist); return the parameters."""
+    """Write every output file into ``folder`` (which must exist); return the parameters.
+
+    With ``rough=None`` the result is Lambertian photometric stereo alone (Woodham 1980):
+    the same files from ``lambert``, with no roughness (``"roughness": null``).
+    """
     from ..io.atomic import write_text
     from ..io.images import write_exr, write_npy, write_png
     from .depth import write_ply
@@ -102,7 +106,7 @@ def write_outputs(
     if not out.is_dir():
         raise ValueError(f"output folder {str(out)!r} does not exist")
     m = data.mask
-    maps = result_maps(data, rough)
+    maps = result_maps(data, lambert if rough is None else rough)
     lmaps = result_maps(data, lambert)
     write_npy(out / "normals.npy", maps["normals"])
     write_npy(out / "albedo.npy", maps["albedo"])
@@ -112,6 +116,9 @@ def write_outputs(
         write_exr(out / f"{key}.exr", np.nan_to_num(image))
         lin = _png_of(image, key)
         write_png(out / f"{key}.png", lin, exposure=0.0, mask=m.astype(np.float64))
+    if rough is None:
+        shown = report_pngs(data, maps, None, depth, model_id, None)
+        return _write_params(out, data, lambert, shown, model_id, truth_normals, extra)
     shown = report_pngs(data, maps, lmaps, depth, model_id,
                         rough.roughness_name if np.ndim(rough.roughness) else None)
     rough_val = rough.roughness
@@ -153,6 +160,36 @@ def write_outputs(
     return params
 
 
+def _write_params(
+    out: Path,
+    data: StereoInput,
+    lambert: LambertianResult,
+    shown: dict[str, bytes],
+    model_id: str,
+    truth_normals: np.ndarray | None,
+    extra: dict[str, Any] | None,
+) -> dict[str, Any]:
+    """params.json and report.html of Lambertian photometric stereo alone."""
+    from ..io.atomic import write_text
+    from .synthetic import angular_error
+
+    m = data.mask
+    params: dict[str, Any] = {
+        "model": model_id,
+        "images": data.count,
+        "pixels": int(m.sum()),
+        "roughness": None,
+        "lambertian": {"relative_rms_residual": _stats(lambert.residual)},
+    }
+    if truth_normals is not None:
+        err = angular_error(lambert.normals, truth_normals[m])
+        params["lambertian"]["angular_error_deg"] = _stats(err)
+    params.update(extra or {})
+    write_text(out / "params.json", json.dumps(params, indent=2, allow_nan=True) + "\n")
+    write_text(out / "report.html", _report_html(params, shown))
+    return params
+
+
 def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     def img(name: str) -> str:
         b64 = base64.b64encode(images[name]).decode()
@@ -164,8 +201,10 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
 
     r = params["roughness"]
     truth = params.get("truth") or {}
-    true_value = truth.get(r["name"])
-    if r["per_pixel"]:
+    true_value = truth.get(r["name"]) if r is not None else None
+    if r is None:
+        rline = "Lambertian photometric stereo (Woodham 1980): no roughness"
+    elif r["per_pixel"]:
         rline = (
             f"{r['name']} per pixel: median {r['median']:.4g} "
             f"(median standard error {r['median_standard_error']:.2g})"
@@ -179,6 +218,8 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
             rline += f" ({off:.1f} standard errors away)"
     rows = []
     for label, key in (("rough model", "rough"), ("Lambertian", "lambertian")):
+        if key not in params:
+            continue
         s = params[key]
         res = s["relative_rms_residual"]
         ang = s.get("angular_error_deg")
@@ -192,7 +233,7 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
             )
             + "</tr>"
         )
-    angles = any(params[k].get("angular_error_deg") for k in ("rough", "lambertian"))
+    angles = any(params.get(k, {}).get("angular_error_deg") for k in ("rough", "lambertian"))
     buf = io.StringIO()
     buf.write(
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>"
@@ -206,7 +247,8 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     buf.write(f"<h1>Photometric stereo: {html.escape(params['model'])}</h1>")
     buf.write(
         f"<p>{params['images']} images, {params['pixels']} object pixels. {html.escape(rline)}. "
-        f"{params['rough']['iterations']} iterations.</p>"
+        + (f"{params['rough']['iterations']} iterations." if "rough" in params else "")
+        + "</p>"
     )
     buf.write(
         "<table><tr><th>method</th><th>median relative RMS residual</th><th>95th percentile</th>"
@@ -214,7 +256,8 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
            else "")
         + "</tr>" + "".join(rows) + "</table>"
     )
-    buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>")
+    buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>" if r is not None
+              else "<h2>Lambertian photometric stereo</h2>")
     for name in images:
         buf.write(img(name))
     buf.write("</body></html>\n")

@@ -87,6 +87,33 @@ def _normal_rgb(normals: np.ndarray) -> np.ndarray:
     return np.concatenate([rgb, valid[..., None].astype(float)], axis=-1)
 
 
+def _normal_key(ax: Any) -> None:
+    """The colour key of the normal maps: the hemisphere seen from the camera."""
+    u = np.linspace(-1.0, 1.0, 101)
+    x, y = np.meshgrid(u, -u)
+    z = np.sqrt(np.clip(1.0 - x * x - y * y, 0.0, None))
+    key = np.stack([x, y, z], axis=-1)
+    key[x * x + y * y > 1.0] = np.nan
+    ax.imshow(_normal_rgb(key), extent=(-1, 1, -1, 1))
+    ax.set_title("key: normal (nx, ny)", fontsize=9)
+    ax.set_xlabel("nx", fontsize=8)
+    ax.set_ylabel("ny", fontsize=8)
+    ax.tick_params(labelsize=7)
+
+
+def lambert_normals_figure(normals: np.ndarray) -> Any:
+    """The normal map of Lambertian photometric stereo alone, with its colour key."""
+    from .._figure import figure
+
+    fig = figure(figsize=(6.4, 3.6), layout="constrained")
+    axes = fig.subplots(1, 2, width_ratios=[1, 0.75])
+    axes[0].imshow(_normal_rgb(normals))
+    axes[0].set_title("normals, Lambertian", fontsize=9)
+    _pixel_axes(axes[0])
+    _normal_key(axes[1])
+    return fig
+
+
 def normals_figure(rough: np.ndarray, lambert: np.ndarray, rough_label: str) -> Any:
     """Both normal maps in one colour encoding, with its key (the hemisphere seen from the
     camera, axes in normal components) and the angle between the two maps (colour bar)."""
@@ -99,16 +126,7 @@ def normals_figure(rough: np.ndarray, lambert: np.ndarray, rough_label: str) -> 
         ax.imshow(_normal_rgb(n))
         ax.set_title(title, fontsize=9)
         _pixel_axes(ax)
-    u = np.linspace(-1.0, 1.0, 101)
-    x, y = np.meshgrid(u, -u)
-    z = np.sqrt(np.clip(1.0 - x * x - y * y, 0.0, None))
-    key = np.stack([x, y, z], axis=-1)
-    key[x * x + y * y > 1.0] = np.nan
-    axes[2].imshow(_normal_rgb(key), extent=(-1, 1, -1, 1))
-    axes[2].set_title("key: normal (nx, ny)", fontsize=9)
-    axes[2].set_xlabel("nx", fontsize=8)
-    axes[2].set_ylabel("ny", fontsize=8)
-    axes[2].tick_params(labelsize=7)
+    _normal_key(axes[2])
     dot = np.clip(np.sum(np.nan_to_num(rough) * np.nan_to_num(lambert), axis=-1), -1.0, 1.0)
     valid = np.all(np.isfinite(rough), axis=-1) & np.all(np.isfinite(lambert), axis=-1)
     angle = np.where(valid, np.degrees(np.arccos(dot)), np.nan)
@@ -155,24 +173,32 @@ def single_figure(image: np.ndarray, what: str, unit: str, cmap: str = "viridis"
 def report_pngs(
     data: StereoInput,
     maps: dict[str, np.ndarray],
-    lambert_maps: dict[str, np.ndarray],
+    lambert_maps: dict[str, np.ndarray] | None,
     depth: np.ndarray,
     rough_label: str,
     roughness_name: str | None,
 ) -> dict[str, bytes]:
-    """Every picture of the report, as PNG bytes, by caption."""
+    """Every picture of the report, as PNG bytes, by caption.
+
+    With ``lambert_maps=None``, ``maps`` is Lambertian photometric stereo alone: each map
+    is drawn once, with no rough model beside it.
+    """
     from .._figure import release
 
-    figs = {
-        "the input images and their lights": inputs_figure(data),
-        "normals": normals_figure(maps["normals"], lambert_maps["normals"], rough_label),
-        "albedo (one scale for both)": pair_figure(
+    figs = {"the input images and their lights": inputs_figure(data)}
+    if lambert_maps is None:
+        figs["normals"] = lambert_normals_figure(maps["normals"])
+        figs["albedo"] = single_figure(maps["albedo"], "albedo", "fraction", "gray")
+        figs["relative RMS residual"] = single_figure(
+            maps["residual"], "relative RMS residual", "fraction of the data", "magma")
+    else:
+        figs["normals"] = normals_figure(maps["normals"], lambert_maps["normals"], rough_label)
+        figs["albedo (one scale for both)"] = pair_figure(
             maps["albedo"], lambert_maps["albedo"], "albedo", "fraction", rough_label,
-            cmap="gray"),
-        "relative RMS residual (one scale for both)": pair_figure(
+            cmap="gray")
+        figs["relative RMS residual (one scale for both)"] = pair_figure(
             maps["residual"], lambert_maps["residual"], "relative RMS residual",
-            "fraction of the data", rough_label, cmap="magma"),
-    }
+            "fraction of the data", rough_label, cmap="magma")
     if roughness_name and roughness_name in maps:
         unit = "radians" if roughness_name in ("sigma", "alpha") else "model units"
         figs[f"{roughness_name} per pixel"] = single_figure(maps[roughness_name],

@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..models.base import Model
+from ..progress import finish
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 
@@ -419,6 +420,8 @@ def rough(
                 sub_state = {k: v[pick].copy() for k, v in state.items()}
                 s0, _ = _fit_roughness(sub, steps["local"], sub_state, s0, hi, tol, iterations)
             g, done = _fit_roughness(chunks, steps["local"], state, s0, hi, tol, iterations, bar)
+            if done < iterations:
+                finish(bar, f"converged after {done} of {iterations} iterations")
         bar.close()
         sch, _, costs, a_diag = chunks.pieces(steps["pieces"], state, g)
     theta, n0 = state["theta"].astype(np.float64), state["n0"].astype(np.float64)
@@ -519,9 +522,9 @@ def _upper_bound(model: Model, name: str) -> float:
 
 
 def _progress(total: int, show: bool) -> Any:
-    from tqdm.auto import tqdm
+    from ..progress import progress
 
-    return tqdm(total=total, desc="rough photometric stereo", unit="it", disable=not show)
+    return progress(total, "rough photometric stereo", unit="it", enabled=show)
 
 
 class _Chunks:

@@ -37,6 +37,14 @@ export function onDataset(fn) {
   listeners.push(fn);
 }
 
+/** The sentence that says the light was moved on loading data ("" when it stays). */
+function lightMoveNote(from, to, why) {
+  if (Math.abs(from - to) < 0.05) return "";
+  const text = ` The light moved from θ = ${from.toFixed(1)}° to ${to.toFixed(1)}° (${why}).`;
+  document.body.dataset.lightMoved = text.trim();
+  return text;
+}
+
 function setStatus(text, isError) {
   const el = $("data-status");
   el.textContent = text;
@@ -217,8 +225,10 @@ export async function loadFile(file) {
       note = ` Not fitted: ${err.message}`;
     }
     const thetaI = [...new Set(samples.map((s) => Math.round((s.thetaI / DEG) * 10) / 10))].sort((a, b) => a - b);
+    const to = samples[0].thetaI / DEG;
+    note += lightMoveNote(hooks.lightTheta(), to, "the data's first θi, to show its slice");
     setDataset({ ...(summary ?? {}), name: file.name || "data.csv", kind: "csv", samples, thetaI, total: samples.length, note });
-    hooks.setLight(samples[0].thetaI / DEG);
+    hooks.setLight(to);
   } else {
     setStatus(`${file.name}: uploading ${(file.size / 1e6).toFixed(1)} MB to the server…`, false);
     let summary;
@@ -229,8 +239,9 @@ export async function loadFile(file) {
       failed(file, `${err.message}.`);
       return;
     }
-    setDataset({ ...summary, kind: "merl", thetaI: summary.theta_i, total: summary.samples, note: "" });
     const t = hooks.lightTheta();
+    const note = lightMoveNote(t, t < 90 ? t : 30, "above the horizon, where the data are");
+    setDataset({ ...summary, kind: "merl", thetaI: summary.theta_i, total: summary.samples, note });
     hooks.setLight(t < 90 ? t : 30);
   }
 }
@@ -243,7 +254,7 @@ function setDataset(ds) {
   $("data-controls").hidden = false;
   $("tab-scatter").hidden = ds.kind !== "csv"; // a view of the plots column (views.js)
   if (ds.kind === "merl") {
-    setStatus(`${ds.name}: MERL BRDF, ${ds.total} cells present; drawn from the nearest cell at each θr, fitted on ${ds.fit_samples} random cells.`, false);
+    setStatus(`${ds.name}: MERL BRDF, ${ds.total} cells present; drawn from the nearest cell at each θr, fitted on ${ds.fit_samples} random cells.${ds.note}`, false);
   }
   document.body.dataset.dataLoaded = ds.kind;
   for (const fn of listeners) fn(ds);
