@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ._array import Array, asarray, concrete, namespace, result_dtype, safe_div, safe_sqrt
+from ._validate import ParameterError
 
 __all__ = [
     "angles_to_cosines",
@@ -60,7 +61,7 @@ def _check_real(name: str, w: Any) -> None:
     """Refuse booleans, strings and objects as direction components (NumPy would cast them)."""
     np_dtype = np.asarray(w).dtype if isinstance(w, list | tuple) else getattr(w, "dtype", None)
     if getattr(np_dtype, "kind", "f") not in "iuf":
-        raise ValueError(f"{name} must hold real numbers (got dtype {np_dtype})")
+        raise ParameterError(f"{name} must hold real numbers (got dtype {np_dtype})")
 
 
 def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Array, Array, Array]:
@@ -76,12 +77,12 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
         dtype = result_dtype(xp, w)
     w = asarray(xp, w, dtype)
     if w.ndim < 1 or w.shape[-1] != 3:
-        raise ValueError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
+        raise ParameterError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
     x, y, z = w[..., 0], w[..., 1], w[..., 2]
     n2 = x * x + y * y + z * z
     c = concrete(n2)
     if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
-        raise ValueError(
+        raise ParameterError(
             f"{name} must contain non-zero, finite direction vectors "
             f"({int(np.sum(~np.isfinite(c) | (c == 0)))} are zero, NaN or infinite)"
         )
@@ -95,7 +96,7 @@ def _check_broadcast(names: tuple[str, ...], *arrays: Array) -> None:
         np.broadcast_shapes(*shapes)
     except ValueError:
         listed = ", ".join(f"{n} {tuple(a.shape)}" for n, a in zip(names, arrays, strict=True))
-        raise ValueError(f"direction arrays do not broadcast: {listed}") from None
+        raise ParameterError(f"direction arrays do not broadcast: {listed}") from None
 
 
 def local_cosines(xp: Any, wi: Array, wo: Array, dtype: Any = None) -> tuple[Array, Array, Array]:

@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .options import parser
 from .timing import interleaved, rate_summary, rel_error, summary, write_atomic
 
@@ -811,37 +812,43 @@ def run(args: argparse.Namespace, command: str) -> int:
     try:
         sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     except ValueError:
-        raise ValueError(f"--sizes must be comma-separated integers (got {args.sizes!r})") from None
+        raise ParameterError(
+            f"--sizes must be comma-separated integers (got {args.sizes!r})"
+        ) from None
     if not sizes or any(not 4 <= s <= 28 for s in sizes):
-        raise ValueError(f"--sizes must be log2 sizes in [4, 28] (got {args.sizes!r})")
+        raise ParameterError(f"--sizes must be log2 sizes in [4, 28] (got {args.sizes!r})")
     try:
         brdf_sizes = [int(s) for s in args.brdf_sizes.split(",") if s.strip()]
     except ValueError:
-        raise ValueError(
+        raise ParameterError(
             f"--brdf-sizes must be comma-separated integers (got {args.brdf_sizes!r})"
         ) from None
     if any(not 4 <= s <= 28 for s in brdf_sizes):
-        raise ValueError(f"--brdf-sizes must be log2 sizes in [4, 28] (got {args.brdf_sizes!r})")
+        raise ParameterError(
+            f"--brdf-sizes must be log2 sizes in [4, 28] (got {args.brdf_sizes!r})"
+        )
     if args.startup_repeat < 0:
-        raise ValueError(f"--startup-repeat must be >= 0 (got {args.startup_repeat})")
+        raise ParameterError(f"--startup-repeat must be >= 0 (got {args.startup_repeat})")
     if args.repeat < 1:
-        raise ValueError(f"--repeat must be >= 1 (got {args.repeat})")
+        raise ParameterError(f"--repeat must be >= 1 (got {args.repeat})")
     for name in ("fit_repeat", "simulate_repeat", "simulate_geometries"):
         if getattr(args, name) < 1:
-            raise ValueError(f"--{name.replace('_', '-')} must be >= 1 (got {getattr(args, name)})")
+            raise ParameterError(
+                f"--{name.replace('_', '-')} must be >= 1 (got {getattr(args, name)})"
+            )
     if args.fit_size < 16:
-        raise ValueError(f"--fit-size must be >= 16 pixels (got {args.fit_size})")
+        raise ParameterError(f"--fit-size must be >= 16 pixels (got {args.fit_size})")
     if args.simulate_cavities < 100:
-        raise ValueError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
+        raise ParameterError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
     if args.memory_log2 and not 10 <= args.memory_log2 <= 28:
-        raise ValueError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
+        raise ParameterError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
     import numba
 
     from roughdiffuse.fastpath import cpu_count
 
     models = [m for m in bench_models() if args.models.lower() in m[0].lower()]
     if not models:
-        raise ValueError(f"--models {args.models!r} matches no model")
+        raise ParameterError(f"--models {args.models!r} matches no model")
     with tempfile.TemporaryDirectory() as tmp:
         lib, c_note = (None, "skipped (--no-c)") if args.no_c else build_c(Path(tmp))
         print(f"C reference: {c_note}", flush=True)

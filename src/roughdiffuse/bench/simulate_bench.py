@@ -38,6 +38,8 @@ from __future__ import annotations
 
 import os
 
+from .._validate import ParameterError
+
 if __name__ == "__main__":  # before NumPy is imported; run.py sets them for its subprocess
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -175,7 +177,7 @@ def bench_simulate(
     if only:
         specs = [s for s in specs if any(text in s[0] for text in only)]
         if not specs:
-            raise ValueError(f"no solver case matches {only!r}")
+            raise ParameterError(f"no solver case matches {only!r}")
     jnp = _jax_numpy()
     rows = []
     for name, count, fn, args in specs:

@@ -47,7 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "sigma":
             action.type = float_list
             action.default = [20.0]
-            action.help = "roughness σ in DEGREES, 0 to 90, comma-separated (default: 20)"
+            action.help = f"{action.help.rsplit(' (default', 1)[0]}; comma-separated (default: 20)"
     p.add_argument(
         "--theta-i",
         type=float_list,

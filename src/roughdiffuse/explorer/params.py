@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..models import Model
 
 __all__ = ["MODEL_IDS", "DEFAULTS", "FLAT_KEYS", "model_from_params"]
@@ -90,7 +91,7 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     p = {**DEFAULTS, **params}
     name = p["model"]
     if name not in MODEL_IDS:
-        raise ValueError(f"model must be one of {', '.join(MODEL_IDS)} (got {name!r})")
+        raise ParameterError(f"model must be one of {', '.join(MODEL_IDS)} (got {name!r})")
     if name == "torrance-sparrow" and p.get("distribution") == "beckmann":
         name = "torrance-sparrow-beckmann"
         p = {**p, "alpha": math.sqrt(2.0) * float(p["sigma"])}
@@ -101,7 +102,7 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         if param.channels:
             value = [float(a) for a in value]
             if len(value) != 3:
-                raise ValueError(f"{param.name} must have 3 values (got {len(value)})")
+                raise ParameterError(f"{param.name} must have 3 values (got {len(value)})")
         elif not param.categorical:
             value = float(value)
         kwargs[param.name] = value

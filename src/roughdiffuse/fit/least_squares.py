@@ -28,21 +28,32 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.optimize import least_squares
 
+from .._validate import ParameterError
 from ..models import Model
 from ..models.declaration import Param
 from .measurements import Measurements
 
 __all__ = ["DEFAULT_BOUNDS", "DegenerateDataWarning", "FitResult", "fit"]
 
-DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
-    "albedo": (0.0, 1.0),
-    "sigma": (0.0, math.pi / 2),
-    "roughness": (0.0, 1.0),
-    "eta": (1.0, 3.0),
-    "limb_darkening": (0.0, 1.0),
-}
+def _declared_boxes(names: Sequence[str]) -> dict[str, tuple[float, float]]:
+    """For each name, the fit box (``Param.bounds``) that most built-in models declaring a
+    parameter of that name give (the first such box on a tie)."""
+    from .. import registry
+
+    boxes: dict[str, list[tuple[float, float]]] = {}
+    for entry in registry.entries():
+        for p in entry.parameters:
+            if p.name in names and p.bounds is not None:
+                boxes.setdefault(p.name, []).append(p.bounds)
+    return {n: max(boxes[n], key=boxes[n].count) for n in names if n in boxes}
+
+
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = _declared_boxes(
+    ("albedo", "sigma", "roughness", "eta", "limb_darkening")
+)
 """Bounds for a parameter of a factory *function* the caller gives none for (radians for
-``sigma``). A model class's own parameters take the box its declaration gives
+``sigma``), read from the models' declarations: the box most models declaring a parameter of
+that name give. A model class's own parameters take the box its declaration gives
 (:attr:`roughdiffuse.models.declaration.Param.bounds`)."""
 
 
@@ -189,7 +200,7 @@ def _layout(
     is_class = isinstance(factory, type) and issubclass(factory, Model)
     if params is None:
         if not is_class:
-            raise ValueError("params must name the parameters of a model factory function")
+            raise ParameterError("params must name the parameters of a model factory function")
         params = tuple(factory.array_fields)
         if factory.params:  # those the declaration gives this choice of categorical values
             choices = {p.name: p.default for p in factory.params if p.categorical}
@@ -199,23 +210,23 @@ def _layout(
             )
     params = tuple(params)
     if not params:
-        raise ValueError("params must name at least one parameter to fit")
+        raise ParameterError("params must name at least one parameter to fit")
     if is_class:
         fields = {f.name for f in dataclasses.fields(factory)}
         for p in params:
             if p not in fields:
-                raise ValueError(
+                raise ParameterError(
                     f"{factory.__name__} has no parameter {p!r}; its parameters: "
                     f"{', '.join(sorted(factory.array_fields))}"
                 )
             if p not in factory.array_fields:
-                raise ValueError(f"{factory.__name__}.{p} is not numeric and cannot be fitted")
+                raise ParameterError(f"{factory.__name__}.{p} is not numeric and cannot be fitted")
         chan_fields = factory.channel_fields
     else:
         chan_fields = ("albedo",)
     for p in params:
         if p in fixed:
-            raise ValueError(f"parameter {p!r} is both fitted and fixed")
+            raise ParameterError(f"parameter {p!r} is both fitted and fixed")
     chans = tuple(channels if (channels and p in chan_fields) else 0 for p in params)
     return _Layout(factory, tuple(sorted(fixed.items())), params, chans)
 
@@ -226,14 +237,16 @@ def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
     if not isinstance(bounds, Mapping):
         seq = list(bounds)
         if len(seq) != len(layout.params):
-            raise ValueError(
+            raise ParameterError(
                 f"bounds must give one (low, high) pair per parameter {layout.params} "
                 f"(got {len(seq)})"
             )
         bounds = dict(zip(layout.params, seq, strict=True))
     for key in bounds:
         if key not in layout.params:
-            raise ValueError(f"bounds names {key!r}, which is not fitted (params: {layout.params})")
+            raise ParameterError(
+                f"bounds names {key!r}, which is not fitted (params: {layout.params})"
+            )
     rows = []
     declared = declared_params(layout.factory)
     for p, c in zip(layout.params, layout.channels, strict=True):
@@ -245,11 +258,13 @@ def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
         elif p in DEFAULT_BOUNDS:
             lo, hi = DEFAULT_BOUNDS[p]
         else:
-            raise ValueError(
+            raise ParameterError(
                 f"no default bounds for parameter {p!r}: pass bounds={{{p!r}: (lo, hi)}}"
             )
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-            raise ValueError(f"bounds of {p!r} must be finite with low < high (got ({lo}, {hi}))")
+            raise ParameterError(
+                f"bounds of {p!r} must be finite with low < high (got ({lo}, {hi}))"
+            )
         rows.extend([(lo, hi)] * max(c, 1))
     return np.asarray(rows, dtype=np.float64)
 
@@ -413,12 +428,12 @@ def _noise_weights(data: Measurements, noise: str) -> np.ndarray:
         return np.ones_like(data.value)
     if noise == "relative":
         if np.any(data.value <= 0):
-            raise ValueError(
+            raise ParameterError(
                 "noise='relative' needs every value > 0 "
                 f"({int(np.sum(data.value <= 0))} are 0); use noise='absolute'"
             )
         return 1.0 / data.value
-    raise ValueError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
+    raise ParameterError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
 
 
 def _starts(bounds: np.ndarray, n: int, seed: int) -> np.ndarray:
@@ -542,9 +557,9 @@ def fit(
         θi = θr = 0, …); its error is then ``inf``.
     """
     if not isinstance(data, Measurements):
-        raise ValueError(f"data must be a Measurements object (got {type(data).__name__})")
+        raise ParameterError(f"data must be a Measurements object (got {type(data).__name__})")
     if int(n_starts) < 1:
-        raise ValueError(f"n_starts must be >= 1 (got {n_starts})")
+        raise ParameterError(f"n_starts must be >= 1 (got {n_starts})")
     fixed = dict(fixed or {})
     layout = _layout(model_class, params, fixed, data.channels)
     box = _bounds(layout, bounds)
@@ -553,7 +568,7 @@ def fit(
     w = _noise_weights(data, noise)
     m = data.value.size
     if m < npar:
-        raise ValueError(f"{npar} parameters need at least {npar} values (got {m})")
+        raise ParameterError(f"{npar} parameters need at least {npar} values (got {m})")
 
     starts = _starts(box, int(n_starts), seed)
     if x0 is not None:

@@ -60,6 +60,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..models import Model
 from ..models.declaration import Param
 
@@ -121,7 +122,7 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
             mi.BSDF.__init__(self, props)
             for key in props.keys():
                 if key not in declared:
-                    raise ValueError(
+                    raise ParameterError(
                         f"{plugin} has no parameter {key!r}; its parameters: "
                         f"{', '.join(declared) or 'none'}"
                     )
@@ -272,7 +273,7 @@ def register() -> list[str]:
     import mitsuba as mi
 
     if mi.variant() is None:
-        raise ValueError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
+        raise ParameterError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
     names = []
     for name, entry in plugins().items():
         plugin = _make_plugin_class(mi, dr, entry)

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .._array import Array
+from .._validate import ParameterError
 from ..frames import angles_to_cosines
 
 __all__ = ["brdf_from_radiance_factor", "radiance_factor"]
@@ -72,9 +73,11 @@ def radiance_factor(model: Any, incidence: Array, emission: Array, phase: Array)
     i, e, g = (np.asarray(a, dtype=np.float64) for a in (incidence, emission, phase))
     for name, a, hi in (("incidence", i, math.pi / 2), ("emission", e, math.pi / 2)):
         if not np.all(np.isfinite(a)) or np.any((a < 0) | (a > hi)):
-            raise ValueError(f"{name} must be in [0, π/2] radians")
+            raise ParameterError(f"{name} must be in [0, π/2] radians")
     if not np.all(np.isfinite(g)) or np.any((g < np.abs(i - e) - 1e-12) | (g > i + e + 1e-12)):
-        raise ValueError("phase must be in [|incidence − emission|, incidence + emission] radians")
+        raise ParameterError(
+            "phase must be in [|incidence − emission|, incidence + emission] radians"
+        )
     # cos g = cos i cos e + sin i sin e cos φ: the azimuth difference φ from g
     s = np.sin(i) * np.sin(e)
     cos_phi = np.clip(

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import atomic_write, write_text
 from ..models import EON, Fujii, Lambert, OrenNayar
 from .surface import Settings
@@ -67,7 +68,7 @@ def model_values(name: str, ti, tr, dp, sigma: float, albedo: float, r: float | 
         return Fujii(albedo, r).brdf_cosines(mi, mo, c)
     if name == "eon":
         return EON(albedo, r).brdf_cosines(mi, mo, c)
-    raise ValueError(f"unknown model {name!r}")
+    raise ParameterError(f"unknown model {name!r}")
 
 
 def _errors(model: np.ndarray, truth: np.ndarray) -> np.ndarray:

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import atomic_open, check_output_path, write_text
 from .cavity import Bounces, check_bounces
 from .surface import Settings, brdf
@@ -132,13 +133,13 @@ def load_table(path: str | os.PathLike) -> GroundTruth:
             data = {k: z[k] for k in z.files}
         meta = json.loads(str(data["meta"]))
     except (OSError, ValueError, KeyError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: not a readable roughdiffuse ground-truth table ({exc})"
         ) from None
     if meta.get("format") != FORMAT:
-        raise ValueError(f"{path}: not a roughdiffuse ground-truth table")
+        raise ParameterError(f"{path}: not a roughdiffuse ground-truth table")
     if meta.get("format_version") != FORMAT_VERSION:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: table format version {meta.get('format_version')!r}; this roughdiffuse "
             f"reads version {FORMAT_VERSION} (recompute the table)"
         )
@@ -151,9 +152,9 @@ def load_table(path: str | os.PathLike) -> GroundTruth:
         values = np.asarray(data["values"], dtype=float)
         kdiff = np.asarray(data["k_difference"], dtype=float)
     except (KeyError, TypeError) as exc:
-        raise ValueError(f"{path}: corrupt ground-truth table ({exc})") from None
+        raise ParameterError(f"{path}: corrupt ground-truth table ({exc})") from None
     if values.shape != shape or kdiff.shape != shape:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: corrupt ground-truth table (values shape {values.shape} != {shape})"
         )
     return GroundTruth(*axes, values, kdiff, float(meta["albedo"]), meta["bounces"], settings, meta)
@@ -187,9 +188,9 @@ def compute_chunk(spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
 def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
     a = np.atleast_1d(np.asarray(values, dtype=float))
     if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
+        raise ParameterError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
     if np.any(a < lo) or (hi is not None and np.any(a > hi)):
-        raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
+        raise ParameterError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
     return a
 
 
@@ -260,17 +261,17 @@ def compute_table(
         Another run is computing the same table (its lock file names its process id).
     """
     if backend not in BACKENDS:
-        raise ValueError(f"backend must be one of {BACKENDS} (got {backend!r})")
+        raise ParameterError(f"backend must be one of {BACKENDS} (got {backend!r})")
     if backend == "auto":
         backend = "jax" if workers == 1 and scheduler is None else "numpy"
     if albedo is None or not 0.0 <= float(albedo) <= 1.0:
-        raise ValueError(f"albedo must be in [0, 1] (got {albedo!r})")
+        raise ParameterError(f"albedo must be in [0, 1] (got {albedo!r})")
     bounces = check_bounces(bounces)
     settings = settings or Settings()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
+        raise ParameterError(f"workers must be an integer >= 1 (got {workers!r})")
     if not isinstance(rows_per_chunk, int) or rows_per_chunk < 1:
-        raise ValueError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
+        raise ParameterError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
     axes = {
         "theta_i": _grid("theta_i", theta_i, 0.0, math.pi / 2),
         "theta_r": _grid("theta_r", theta_r, 0.0, math.pi / 2),
@@ -280,7 +281,7 @@ def compute_table(
     path = check_output_path(path, "table")
     chunk_dir = path.with_name(path.name + ".chunks")
     if chunk_dir.exists() and not chunk_dir.is_dir():
-        raise ValueError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
+        raise ParameterError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
     identity = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -373,7 +374,7 @@ def _finished_table(
     except ValueError as exc:
         if force:
             return None
-        raise ValueError(
+        raise ParameterError(
             f"table {str(path)!r} exists and is not a readable table ({exc}); "
             "use --force (force=True) to replace it"
         ) from None
@@ -390,7 +391,7 @@ def _finished_table(
     if force:
         return None
     if differ:
-        raise ValueError(
+        raise ParameterError(
             f"table {str(path)!r} already holds a finished table with another "
             f"{', '.join(differ)}; use --force (force=True) to replace it"
         )
@@ -408,7 +409,7 @@ def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any], force: bool) -
         if isinstance(old, dict) and old.get("key") == manifest["key"]:
             return
         if not force:
-            raise ValueError(
+            raise ParameterError(
                 f"{chunk_dir} holds chunks computed with other settings or grids; refusing to "
                 "mix them (use --force (force=True) to discard them, or delete that folder)"
             )
@@ -454,7 +455,9 @@ def read_chunk(path: Path, spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray
             values = np.asarray(z["values"], dtype=np.float64)
             kdiff = np.asarray(z["k_difference"], dtype=np.float64)
     except KeyError as exc:
-        raise ValueError(f"chunk {path}: no {exc} record (not written by this version)") from None
+        raise ParameterError(
+            f"chunk {path}: no {exc} record (not written by this version)"
+        ) from None
     except (
         OSError,
         ValueError,
@@ -463,23 +466,23 @@ def read_chunk(path: Path, spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray
         zlib.error,
         json.JSONDecodeError,
     ) as exc:
-        raise ValueError(f"chunk {path} is unreadable ({exc})") from None
+        raise ParameterError(f"chunk {path} is unreadable ({exc})") from None
     want = _chunk_identity(spec)
     got = {k: meta.get(k) for k in want} if isinstance(meta, dict) else {}
     if got.get("key") != want["key"]:
-        raise ValueError(f"chunk {path} belongs to a table with other settings or grid")
+        raise ParameterError(f"chunk {path} belongs to a table with other settings or grid")
     if got != want:
-        raise ValueError(
+        raise ParameterError(
             f"chunk {path} holds another slice of the grid "
             f"(σ index {got.get('sigma_index')}, rows from {got.get('row')})"
         )
     shape = (len(spec["theta_i"]), len(spec["theta_r"]), len(spec["delta_phi"]))
     if values.shape != shape or kdiff.shape != shape:
-        raise ValueError(f"chunk {path} has shape {values.shape}, expected {shape}")
+        raise ParameterError(f"chunk {path} has shape {values.shape}, expected {shape}")
     if meta.get("sha256") != _chunk_checksum(values, kdiff):
-        raise ValueError(f"chunk {path} fails its checksum")
+        raise ParameterError(f"chunk {path} fails its checksum")
     if not (np.all(np.isfinite(values)) and np.all(np.isfinite(kdiff))):
-        raise ValueError(f"chunk {path} holds non-finite values")
+        raise ParameterError(f"chunk {path} holds non-finite values")
     return values, kdiff
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .inputs import StereoInput
 
 __all__ = ["render_mitsuba", "vase_mesh"]
@@ -77,7 +78,7 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
     if shape == "sphere":
         return {"type": "sphere", "bsdf": bsdf}
     if shape != "vase":
-        raise ValueError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
+        raise ParameterError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
     v, n, t = vase_mesh()
     mesh = mi.Mesh("vase", len(v), len(t), has_vertex_normals=True)
     params = mi.traverse(mesh)

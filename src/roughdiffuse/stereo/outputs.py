@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .inputs import StereoInput
 from .lambertian import LambertianResult
 from .rough import RoughResult
@@ -110,7 +111,7 @@ def write_outputs(
 
     out = Path(folder)
     if not out.is_dir():
-        raise ValueError(f"output folder {str(out)!r} does not exist")
+        raise ParameterError(f"output folder {str(out)!r} does not exist")
     m = data.mask
     maps = result_maps(data, rough)
     lmaps = result_maps(data, lambert)

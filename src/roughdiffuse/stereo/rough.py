@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..models.base import Model
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
@@ -56,7 +57,7 @@ def roughness_parameter(model: Model) -> str:
     """Name of the model's roughness parameter: its one numeric parameter besides albedo."""
     names = [f for f in model.array_fields if f != "albedo"]
     if "albedo" not in model.array_fields or len(names) != 1:
-        raise ValueError(
+        raise ParameterError(
             f"{type(model).__name__} has no single roughness parameter beside an albedo "
             f"(numeric parameters: {', '.join(model.array_fields) or 'none'}); "
             "name it with roughness=..."
@@ -361,18 +362,18 @@ def rough(
     from .._array import double_precision
 
     if not isinstance(model, Model):
-        raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+        raise ParameterError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     name = roughness or roughness_parameter(model)
     if name not in model.array_fields:
-        raise ValueError(f"{type(model).__name__} has no numeric parameter {name!r}")
+        raise ParameterError(f"{type(model).__name__} has no numeric parameter {name!r}")
     if precision not in ("single", "double"):
-        raise ValueError(f"precision must be 'single' or 'double' (got {precision!r})")
+        raise ParameterError(f"precision must be 'single' or 'double' (got {precision!r})")
     if not isinstance(iterations, int) or iterations < 1:
-        raise ValueError(f"iterations must be a positive integer (got {iterations!r})")
+        raise ParameterError(f"iterations must be a positive integer (got {iterations!r})")
     hi = _upper_bound(model, name)
     s0 = float(initial_roughness) if initial_roughness is not None else min(0.3, 0.25 * hi)
     if not 0.0 <= s0 <= hi:
-        raise ValueError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
+        raise ParameterError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
     start = lambertian(data, shadow=shadow) if start is None else start
     w = observation_weights(data, shadow)  # (K, P)
     m = data.mask
@@ -514,7 +515,7 @@ def _upper_bound(model: Model, name: str) -> float:
     (:attr:`~roughdiffuse.models.declaration.Param.bounds`)."""
     box = next((p.bounds for p in model.params if p.name == name), None)
     if box is None:
-        raise ValueError(f"{type(model).__name__}.{name} has no bounded range to fit in")
+        raise ParameterError(f"{type(model).__name__}.{name} has no bounded range to fit in")
     return box[1]
 
 
