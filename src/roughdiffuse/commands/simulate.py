@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from typing import Any
 
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
@@ -135,10 +136,30 @@ def _grid(step: float, lo: float, hi: float, name: str):
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
+    from ..simulate import Settings
 
-    from ..simulate import Settings, brdf, compute_table
+    _check(args)
+    settings = Settings(measure=args.measure, elements=args.elements)
+    if args.report:
+        from ..simulate.report import write_report
 
+        output_folder(args.output, option="-o")
+        out = write_report(
+            args.output,
+            quick=args.quick,
+            progress=not args.no_progress,
+            workers=args.workers,
+            scheduler=args.scheduler,
+        )
+        print(f"report written to {out}")
+        return 0
+    if args.table:
+        return _run_table(args, settings)
+    return _run_single(args, settings)
+
+
+def _check(args: argparse.Namespace) -> None:
+    """Refuse options out of range before any work (and jobs too large for memory)."""
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     for s in args.sigma:
@@ -156,55 +177,54 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
-    settings = Settings(measure=args.measure, elements=args.elements)
-    if args.report:
-        from ..simulate.report import write_report
 
-        output_folder(args.output, option="-o")
-        out = write_report(
-            args.output,
-            quick=args.quick,
-            progress=not args.no_progress,
-            workers=args.workers,
-            scheduler=args.scheduler,
-        )
-        print(f"report written to {out}")
-        return 0
-    if args.table:
-        ang = _grid(args.step, 0.0, 90.0, "step")
-        dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
-        # checked before any chunk is computed; an existing table is resumed or reused
-        output_file(args.table, option="--table", overwrite=True)
-        chunks = f"{args.table}.chunks"
-        if os.path.exists(chunks) and not os.path.isdir(chunks):
-            raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
-        table = compute_table(
-            args.table,
-            ang,
-            ang,
-            dphi,
-            np.radians(args.sigma),
-            args.albedo,
-            args.bounces,
-            settings,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            progress=not args.no_progress,
-            backend=args.backend,
-            force=args.force,
-        )
-        if table.meta.get("reused"):
-            print(
-                f"kept {args.table}: a finished table of these settings, "
-                f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
-            )
-            return 0
+
+def _run_table(args: argparse.Namespace, settings: Any) -> int:
+    """``--table``: compute (or resume, or reuse) a ground-truth table."""
+    import numpy as np
+
+    from ..simulate import compute_table
+
+    ang = _grid(args.step, 0.0, 90.0, "step")
+    delta_phi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+    # checked before any chunk is computed; an existing table is resumed or reused
+    output_file(args.table, option="--table", overwrite=True)
+    chunks = f"{args.table}.chunks"
+    if os.path.exists(chunks) and not os.path.isdir(chunks):
+        raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
+    table = compute_table(
+        args.table,
+        ang,
+        ang,
+        delta_phi,
+        np.radians(args.sigma),
+        args.albedo,
+        args.bounces,
+        settings,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.no_progress,
+        backend=args.backend,
+        force=args.force,
+    )
+    if table.meta.get("reused"):
         print(
-            f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
-            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
-            "(before Richardson extrapolation, which the values have)"
+            f"kept {args.table}: a finished table of these settings, "
+            f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
         )
         return 0
+    print(
+        f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
+        f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
+        "(before Richardson extrapolation, which the values have)"
+    )
+    return 0
+
+
+def _run_single(args: argparse.Namespace, settings: Any) -> int:
+    """One BRDF value at the angles given, with its element-refinement change."""
+    from ..simulate import brdf
+
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)
         if not 0.0 <= val <= 90.0:

@@ -260,24 +260,10 @@ def compute_table(
     TableBusyError
         Another run is computing the same table (its lock file names its process id).
     """
-    if backend not in BACKENDS:
-        raise ParameterError(f"backend must be one of {BACKENDS} (got {backend!r})")
-    if backend == "auto":
-        backend = "jax" if workers == 1 and scheduler is None else "numpy"
-    if albedo is None or not 0.0 <= float(albedo) <= 1.0:
-        raise ParameterError(f"albedo must be in [0, 1] (got {albedo!r})")
-    bounces = check_bounces(bounces)
-    settings = settings or Settings()
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ParameterError(f"workers must be an integer >= 1 (got {workers!r})")
-    if not isinstance(rows_per_chunk, int) or rows_per_chunk < 1:
-        raise ParameterError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
-    axes = {
-        "theta_i": _grid("theta_i", theta_i, 0.0, math.pi / 2),
-        "theta_r": _grid("theta_r", theta_r, 0.0, math.pi / 2),
-        "delta_phi": _grid("delta_phi", delta_phi, -math.inf, None),
-        "sigma": _grid("sigma", sigma, 0.0, math.pi / 2),
-    }
+    backend, bounces, settings, axes = _check_arguments(
+        theta_i, theta_r, delta_phi, sigma, albedo, bounces, settings, rows_per_chunk, workers,
+        scheduler, backend,
+    )
     path = check_output_path(path, "table")
     chunk_dir = path.with_name(path.name + ".chunks")
     if chunk_dir.exists() and not chunk_dir.is_dir():
@@ -299,61 +285,132 @@ def compute_table(
             if kept is not None:
                 return kept
         _prepare_chunk_dir(chunk_dir, manifest, force)
-        specs = []
-        for s_idx, s in enumerate(axes["sigma"]):
-            for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
-                rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
-                specs.append(
-                    {
-                        "name": f"s{s_idx:03d}_r{r0:04d}.npz",
-                        "key": key,
-                        "sigma_index": s_idx,
-                        "row": r0,
-                        "sigma": float(s),
-                        "theta_i": rows,
-                        "theta_r": axes["theta_r"],
-                        "delta_phi": axes["delta_phi"],
-                        "albedo": float(albedo),
-                        "bounces": bounces,
-                        "settings": asdict(settings),
-                        "backend": backend,
-                    }
-                )
-        todo = []
-        for spec in specs:
-            p = chunk_dir / spec["name"]
-            if not p.exists():
-                todo.append(spec)
-                continue
-            try:
-                read_chunk(p, spec)
-            except ValueError as exc:
-                warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=2)
-                p.unlink(missing_ok=True)
-                todo.append(spec)
+        common = {
+            "key": key,
+            "albedo": float(albedo),
+            "bounces": bounces,
+            "settings": asdict(settings),
+            "backend": backend,
+        }
+        specs = _chunk_specs(axes, rows_per_chunk, common)
+        todo = _chunks_to_do(specs, chunk_dir)
         _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
-        shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
-        values = np.empty(shape)
-        kdiff = np.empty(shape)
-        for spec in specs:
-            v, d = read_chunk(chunk_dir / spec["name"], spec)  # checked again: never adopted
-            rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
-            values[rows, :, :, spec["sigma_index"]] = v
-            kdiff[rows, :, :, spec["sigma_index"]] = d
-        table = GroundTruth(
-            axes["theta_i"],
-            axes["theta_r"],
-            axes["delta_phi"],
-            axes["sigma"],
-            values,
-            kdiff,
-            float(albedo),
-            bounces,
-            settings,
-        )
+        table = _assemble(specs, chunk_dir, axes, float(albedo), bounces, settings)
         table.save(path)
         shutil.rmtree(chunk_dir, ignore_errors=True)
     return table
+
+
+def _check_arguments(
+    theta_i: Any,
+    theta_r: Any,
+    delta_phi: Any,
+    sigma: Any,
+    albedo: float,
+    bounces: Bounces,
+    settings: Settings | None,
+    rows_per_chunk: int,
+    workers: int,
+    scheduler: str | None,
+    backend: str,
+) -> tuple[str, Bounces, Settings, dict[str, np.ndarray]]:
+    """Refuse bad arguments of :func:`compute_table`; the backend ("auto" resolved), bounces,
+    settings and the four axes."""
+    if backend not in BACKENDS:
+        raise ParameterError(f"backend must be one of {BACKENDS} (got {backend!r})")
+    if backend == "auto":
+        backend = "jax" if workers == 1 and scheduler is None else "numpy"
+    if albedo is None or not 0.0 <= float(albedo) <= 1.0:
+        raise ParameterError(f"albedo must be in [0, 1] (got {albedo!r})")
+    bounces = check_bounces(bounces)
+    settings = settings or Settings()
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ParameterError(f"workers must be an integer >= 1 (got {workers!r})")
+    if not isinstance(rows_per_chunk, int) or rows_per_chunk < 1:
+        raise ParameterError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
+    axes = {
+        "theta_i": _grid("theta_i", theta_i, 0.0, math.pi / 2),
+        "theta_r": _grid("theta_r", theta_r, 0.0, math.pi / 2),
+        "delta_phi": _grid("delta_phi", delta_phi, -math.inf, None),
+        "sigma": _grid("sigma", sigma, 0.0, math.pi / 2),
+    }
+    return backend, bounces, settings, axes
+
+
+def _chunk_specs(
+    axes: dict[str, np.ndarray], rows_per_chunk: int, common: dict[str, Any]
+) -> list[dict[str, Any]]:
+    """One chunk per (σ, block of ``rows_per_chunk`` θi rows): its file name, place in the
+    table and what it computes (``common``: key, albedo, bounces, settings, backend)."""
+    specs = []
+    for s_idx, s in enumerate(axes["sigma"]):
+        for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
+            rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
+            specs.append(
+                {
+                    "name": f"s{s_idx:03d}_r{r0:04d}.npz",
+                    "key": common["key"],
+                    "sigma_index": s_idx,
+                    "row": r0,
+                    "sigma": float(s),
+                    "theta_i": rows,
+                    "theta_r": axes["theta_r"],
+                    "delta_phi": axes["delta_phi"],
+                    "albedo": common["albedo"],
+                    "bounces": common["bounces"],
+                    "settings": common["settings"],
+                    "backend": common["backend"],
+                }
+            )
+    return specs
+
+
+def _chunks_to_do(specs: list[dict[str, Any]], chunk_dir: Path) -> list[dict[str, Any]]:
+    """The chunks not on disk yet, and those on disk that fail their checks (removed, with a
+    warning)."""
+    todo = []
+    for spec in specs:
+        p = chunk_dir / spec["name"]
+        if not p.exists():
+            todo.append(spec)
+            continue
+        try:
+            read_chunk(p, spec)
+        except ValueError as exc:
+            warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=3)
+            p.unlink(missing_ok=True)
+            todo.append(spec)
+    return todo
+
+
+def _assemble(
+    specs: list[dict[str, Any]],
+    chunk_dir: Path,
+    axes: dict[str, np.ndarray],
+    albedo: float,
+    bounces: Bounces,
+    settings: Settings,
+) -> GroundTruth:
+    """The table from its chunks, each checked again as it is read (never adopted blindly)."""
+    shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
+    values = np.empty(shape)
+    kdiff = np.empty(shape)
+    for spec in specs:
+        v, d = read_chunk(chunk_dir / spec["name"], spec)
+        rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
+        values[rows, :, :, spec["sigma_index"]] = v
+        kdiff[rows, :, :, spec["sigma_index"]] = d
+    return GroundTruth(
+        axes["theta_i"],
+        axes["theta_r"],
+        axes["delta_phi"],
+        axes["sigma"],
+        values,
+        kdiff,
+        albedo,
+        bounces,
+        settings,
+    )
 
 
 def _digest(data: bytes) -> str:
