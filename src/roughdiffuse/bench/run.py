@@ -99,7 +99,7 @@ def bench_models() -> list[tuple[str, Any, str, tuple[float, ...]]]:
             "rd_torrance_sparrow",
             (1.5, s, norm),
         ),
-        # issue 17: the models production renderers and planetary photometry use
+        # the models production renderers and planetary photometry use
         ("burley", rd.Burley(0.8, 0.5), "rd_burley", (0.8, 0.5)),
         ("frostbite", rd.BurleyRenormalized(0.8, 0.5), "rd_frostbite", (0.8, 0.5)),
         ("burley-2015", rd.Burley2015(0.8, 0.5), "rd_burley_2015", (0.8, 0.5)),

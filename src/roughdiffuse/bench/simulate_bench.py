@@ -26,10 +26,11 @@ interleaved run by run:
 
 If the call with JAX arrays raises, or returns a NumPy array (no JAX path), the row says "not
 available" with the reason. BLAS runs single-threaded here (set before NumPy is imported): the
-solver's matrices are small (2K ≤ 256), and two BLAS threads per process on 2 shared cores ran
-it 3× slower. Run as a script, this file sets ``OPENBLAS_NUM_THREADS=1`` and
-``OMP_NUM_THREADS=1`` (unless set); imported, it changes nothing, so call :func:`bench_simulate`
-in a process started with them (as :mod:`roughdiffuse.bench.run` does). Dask workers
+solver's matrices are small (2K ≤ 256), and BLAS threads per process compete with the
+worker processes for the same cores (slower, see bench/RESULTS.md). Run as a script, this
+file sets ``OPENBLAS_NUM_THREADS=1`` and ``OMP_NUM_THREADS=1`` (unless set); imported, it
+changes nothing, so call :func:`bench_simulate` in a process started with them (as
+:mod:`roughdiffuse.bench.run` does). Dask workers
 (``--workers``) get one BLAS thread each by default; for a single process, set
 ``OPENBLAS_NUM_THREADS=1`` yourself.
 """
@@ -195,7 +196,7 @@ def bench_simulate(
 
 
 BASELINE_REVISION = "1c092a6"
-"""The solver before issue 15 (per-cavity element radiosity): the "old" column of
+"""The solver before its rewrite (per-cavity element radiosity): the "old" column of
 :func:`bench_versus`."""
 
 

@@ -13,14 +13,13 @@ from ._common import float_list
 
 MAX_BOUNCES = 100
 """Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
-node (``simulate.cavity.radiosity_operator``): on a busy 2-core machine 100 bounces took 45 s
-where 'all' took 15–20 s, about 0.3 s a bounce, so a million would take days. The all-bounce
-limit ('all', one matrix inverse) is what many bounces approach."""
+node (``simulate.cavity.radiosity_operator``), so the time grows linearly with N and 100
+bounces already cost more than the all-bounce limit ('all', one matrix inverse), which is
+what many bounces approach."""
 
 MAX_ELEMENTS = 128
-"""Largest --elements K (default 16): the solver's time grows fast with K (on a busy 2-core
-machine K = 64 took 32 s where 16 took 19 s, and 200 more than two minutes); see
-:func:`_solver_bytes` for its memory."""
+"""Largest --elements K (default 16): the solver's time grows fast with K (its matrices are
+2K × 2K per slope node); see :func:`_solver_bytes` for its memory."""
 
 EXAMPLES = """\
 examples:

@@ -606,9 +606,9 @@ LOCAL_WORKER_CONFIG: dict[str, Any] = {
 """Dask settings of the local cluster (``workers > 1``). Dask's nanny sets
 ``MALLOC_TRIM_THRESHOLD_=65536`` in its workers, so glibc hands every freed NumPy temporary
 back to the kernel and faults it in again: the solver then spends about as long in the kernel
-as in NumPy (measured: 363 instead of 704 values per CPU second, bench/RESULTS.md); None
-leaves glibc's default. The statistical profiler, sampling the computing thread every
-10 ms, cost about a fifth of each worker's CPU time. Workers of a ``scheduler`` of your own
+as in NumPy (about half the values per CPU second, bench/RESULTS.md); None leaves glibc's
+default. The statistical profiler, sampling the computing thread, costs a noticeable part of
+each worker's CPU time (off here). Workers of a ``scheduler`` of your own
 take their settings from their own Dask configuration (set the same two keys there)."""
 
 
