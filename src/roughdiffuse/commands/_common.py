@@ -106,20 +106,25 @@ def _range_on_command_line(p: Param) -> str:
     return f"{format_interval(lo, hi, p.min_open)} DEGREES"
 
 
-def shorthand_help(name: str, declared: list[Param], models: list[str]) -> str:
-    """The ``--help`` line of a shorthand, from its declarations: meaning, range, unit, which
-    models take it and where the command line starts it."""
+def parameter_help(name: str, *, channels: bool = True) -> str:
+    """What a parameter is, from its declarations: meaning, range (degrees for an angle) and
+    which models take it, e.g. ``the model's roughness, in [0, 1]; 5 models``.
+    ``channels``: mention that a colour parameter takes R,G,B."""
+    from .. import registry
+
+    declared = shorthands()[name]
+    models = [e.id for e in registry.entries() if any(p.name == name for p in e.parameters)]
     first = declared[0]
     meanings = {p.description for p in declared}
     what = first.description if len(meanings) == 1 else f"the model's {name}"
     ranges = list(dict.fromkeys(_range_on_command_line(p) for p in declared))
     where = "in " + (ranges[0] if len(ranges) == 1 else " or ".join(ranges) + " by model")
-    colour = ", or R,G,B" if first.channels else ""
+    colour = ", or R,G,B" if first.channels and channels else ""
     if len(models) <= 3:
         taken = "model " + ", ".join(models) if len(models) == 1 else "models " + ", ".join(models)
     else:
         taken = f"{len(models)} models"
-    return f"{what}, {where}{colour}; {taken} (default: {_start(name)})"
+    return f"{what}, {where}{colour}; {taken}"
 
 
 def add_model_arguments(
@@ -133,8 +138,6 @@ def add_model_arguments(
     applied (and refused when the model does not take that parameter). ``skip`` names
     parameters that get no shorthand because the command uses that flag for something else.
     """
-    from .. import registry
-
     g = parser.add_argument_group("model", PARAM_HELP)
     g.add_argument(
         "--model",
@@ -154,14 +157,13 @@ def add_model_arguments(
     for name, declared in shorthands().items():
         if name in skip:
             continue
-        models = [e.id for e in registry.entries() if any(p.name == name for p in e.parameters)]
         g.add_argument(
             _flag(name),
             dest=name,
             type=_channel_values(name) if declared[0].channels else float,
             default=None,
             metavar=name.upper(),
-            help=shorthand_help(name, declared, models),
+            help=f"{parameter_help(name)} (default: {_start(name)})",
         )
         added.append(name)
     parser.set_defaults(shorthand_params=tuple(added))

@@ -8,7 +8,13 @@ import math
 from typing import Any
 
 from . import UsageError
-from ._common import add_model_arguments, float_list, model_from_args, model_ids
+from ._common import (
+    add_model_arguments,
+    float_list,
+    model_from_args,
+    model_ids,
+    parameter_help,
+)
 from .render import (
     add_output_arguments,
     add_scene_arguments,
@@ -48,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "sigma":
             action.type = float_list
             action.default = [20.0]
-            action.help = f"{action.help.rsplit(' (default', 1)[0]}; comma-separated (default: 20)"
+            action.help = f"{parameter_help('sigma')}; comma-separated (default: 20)"
     p.add_argument(
         "--theta-i",
         type=float_list,
