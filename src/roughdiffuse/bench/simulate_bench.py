@@ -112,26 +112,11 @@ def _case(
     return row
 
 
-def bench_simulate(
-    repeat: int = 3,
-    n_surface: int = GEOMETRIES,
-    n_cavities: int = CAVITIES,
-    only: list[str] | None = None,
-) -> list[dict[str, Any]]:
-    """Time the cases; one dict per case with evaluations per second (median, min, max).
-
-    Parameters
-    ----------
-    repeat : int
-        Timed runs per variant, after one warm-up call.
-    n_surface : int
-        Random geometries of the surface BRDF cases.
-    n_cavities : int
-        Cavities of the one-bounce case; a quarter of them for the all-bounce cases of one
-        shared slope, a hundredth for all-different slopes.
-    only : list of str, optional
-        Run only the cases whose name contains one of these texts.
-    """
+def _cases(
+    n_surface: int, n_cavities: int
+) -> list[tuple[str, int, Callable[..., Any], tuple[np.ndarray, ...]]]:
+    """The solver cases on seeded random inputs: (name, evaluations, function, its
+    arguments)."""
     from roughdiffuse.simulate import Settings, brdf, cavity_radiance
 
     rng = np.random.default_rng(0)
@@ -175,6 +160,30 @@ def bench_simulate(
                     (ti, tr, dp),
                 )
             )
+    return specs
+
+
+def bench_simulate(
+    repeat: int = 3,
+    n_surface: int = GEOMETRIES,
+    n_cavities: int = CAVITIES,
+    only: list[str] | None = None,
+) -> list[dict[str, Any]]:
+    """Time the cases; one dict per case with evaluations per second (median, min, max).
+
+    Parameters
+    ----------
+    repeat : int
+        Timed runs per variant, after one warm-up call.
+    n_surface : int
+        Random geometries of the surface BRDF cases.
+    n_cavities : int
+        Cavities of the one-bounce case; a quarter of them for the all-bounce cases of one
+        shared slope, a hundredth for all-different slopes.
+    only : list of str, optional
+        Run only the cases whose name contains one of these texts.
+    """
+    specs = _cases(n_surface, n_cavities)
     if only:
         specs = [s for s in specs if any(text in s[0] for text in only)]
         if not specs:

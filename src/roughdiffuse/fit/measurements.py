@@ -206,15 +206,7 @@ class Measurements:
         good = np.zeros(h * w, dtype=bool)
         good[idx[lit]] = True
         good = good.reshape(h, w)
-        for _ in range(int(erode)):
-            inner = good.copy()
-            inner[1:, :] &= good[:-1, :]
-            inner[:-1, :] &= good[1:, :]
-            inner[:, 1:] &= good[:, :-1]
-            inner[:, :-1] &= good[:, 1:]
-            inner[0, :] = inner[-1, :] = False
-            inner[:, 0] = inner[:, -1] = False
-            good = inner
+        good = _erode(good, int(erode))
         keep = good.reshape(-1)[idx]
         idx, mu_i, mu_o, cos_io = idx[keep], mu_i[keep], mu_o[keep], cos_io[keep]
         if idx.size == 0:
@@ -299,3 +291,18 @@ class Measurements:
             image_shape=self.image_shape,
             pixels=None if self.pixels is None else self.pixels[index],
         )
+
+
+def _erode(good: np.ndarray, times: int) -> np.ndarray:
+    """``good`` (H, W) without ``times`` pixels along every edge of its regions (and of the
+    image): a pixel stays if it and its four neighbours are good."""
+    for _ in range(times):
+        inner = good.copy()
+        inner[1:, :] &= good[:-1, :]
+        inner[:-1, :] &= good[1:, :]
+        inner[:, 1:] &= good[:, :-1]
+        inner[:, :-1] &= good[:, 1:]
+        inner[0, :] = inner[-1, :] = False
+        inner[:, 0] = inner[:, -1] = False
+        good = inner
+    return good

@@ -90,6 +90,27 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
     return mesh
 
 
+def _sensor(mi: Any, size: int, spp: int) -> dict[str, Any]:
+    """An orthographic camera on +z looking down at the origin, framing [−1, 1]² plus the
+    margin, ``size`` × ``size`` pixels of ``spp`` independent samples each."""
+    half = 1.0 + 2.0 * MARGIN
+    return {
+        "type": "orthographic",
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
+        )
+        @ mi.ScalarTransform4f().scale([half, half, 1.0]),
+        "film": {
+            "type": "hdrfilm",
+            "width": size,
+            "height": size,
+            "rfilter": {"type": "box"},
+            "pixel_format": "rgb",
+        },
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+
+
 def render_mitsuba(
     bsdf: dict,
     directions: Any,
@@ -135,22 +156,7 @@ def render_mitsuba(
         register()
         dirs = np.asarray(directions, dtype=np.float64)
         dirs = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
-        half = 1.0 + 2.0 * MARGIN
-        sensor = {
-            "type": "orthographic",
-            "to_world": mi.ScalarTransform4f().look_at(
-                origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
-            )
-            @ mi.ScalarTransform4f().scale([half, half, 1.0]),
-            "film": {
-                "type": "hdrfilm",
-                "width": size,
-                "height": size,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        }
+        sensor = _sensor(mi, size, spp)
         obj = _shape(mi, shape, bsdf)
         images = []
         for k, d in enumerate(dirs):
