@@ -87,13 +87,17 @@ def concrete(x: object, *, non_numbers: bool = False) -> np.ndarray | None:
         return None
     if array_api_compat.is_torch_array(x):
         return x.detach().cpu().numpy()  # type: ignore[attr-defined]
+    if (
+        hasattr(x, "__array_namespace__")
+        and not isinstance(x, np.ndarray | np.generic)
+        and not array_api_compat.is_jax_array(x)
+    ):
+        return None  # Dr.Jit values, the fast path's symbolic values: no value here and now
     try:
         arr = np.asarray(x)
     except Exception:  # noqa: BLE001 - a value NumPy cannot read has no value as numbers
         arr = np.asarray(None)
-    if arr.dtype != object:
-        return arr
-    if non_numbers and not hasattr(x, "__array_namespace__"):
+    if arr.dtype != object or non_numbers:
         return arr
     return None
 
