@@ -7,6 +7,7 @@ import math
 import os
 from typing import Any
 
+from .._version import version
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
 from ._common import float_list
@@ -140,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     _check(args)
     settings = Settings(measure=args.measure, elements=args.elements)
     if args.report:
-        from ..simulate.report import write_report
+        from ..accuracy.report import write_report
 
         output_folder(args.output, option="-o")
         out = write_report(
@@ -205,6 +206,7 @@ def _run_table(args: argparse.Namespace, settings: Any) -> int:
         progress=not args.no_progress,
         backend=args.backend,
         force=args.force,
+        package_version=version(),
     )
     if table.meta.get("reused"):
         print(
