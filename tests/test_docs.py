@@ -2,8 +2,9 @@
 headless Chromium without a console error, a missing image, a broken internal link or a
 request to another host.
 
-Marked ``docs`` (deselect with ``-m "not docs"``): the build runs the gallery and the
-notebooks, a few minutes on 2 cores.
+Marked ``docs`` (deselect with ``-m "not docs"``) and ``slow``: the build runs the gallery and
+the notebooks, about two minutes of one core, so ``make test`` leaves this file out and
+``make test SLOW=1`` (CI), ``make test-all`` and ``make docs`` build the site.
 """
 
 from __future__ import annotations
@@ -11,9 +12,6 @@ from __future__ import annotations
 import functools
 import html.parser
 import http.server
-import os
-import subprocess
-import sys
 import threading
 import urllib.parse
 from collections.abc import Iterator
@@ -25,24 +23,15 @@ pytest.importorskip("sphinx")
 pytest.importorskip("myst_nb")
 pytest.importorskip("sphinx_gallery")
 
-from explorer_browser import browser  # noqa: E402,F401 - fixture
-
-pytestmark = pytest.mark.docs
+pytestmark = [pytest.mark.docs, pytest.mark.slow]
 ROOT = Path(__file__).resolve().parent.parent
-SRC = ROOT / "src"
 
 
 @pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A fresh build of the site (as ``make docs``: -W --keep-going), its HTML folder."""
-    out = tmp_path_factory.mktemp("site")
-    path = os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])
-    env = {**os.environ, "PYTHONPATH": path}
-    cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
-           "-d", str(out / "doctrees"), str(ROOT / "docs"), str(out / "html")]
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
-    assert proc.returncode == 0, f"sphinx failed:\n{proc.stderr[-4000:]}"
-    return out / "html"
+def site(docs_site: Path) -> Path:
+    """A fresh build of the site (as ``make docs``: -W --keep-going), its HTML folder: built
+    once per test run (``conftest.docs_site``) and shared by every test that needs it."""
+    return docs_site
 
 
 def test_site_has_the_generated_pages(site: Path) -> None:
@@ -152,7 +141,7 @@ def site_url(site: Path) -> Iterator[str]:
     server.server_close()
 
 
-def test_every_page_loads_cleanly(site: Path, site_url: str, browser) -> None:  # noqa: F811
+def test_every_page_loads_cleanly(site: Path, site_url: str, browser) -> None:
     pages = sorted(
         p.relative_to(site).as_posix()
         for p in site.rglob("*.html")
