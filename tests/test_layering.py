@@ -28,8 +28,8 @@ FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),
     ("registry", frozenset({"registry"})),
-    ("services", frozenset(("accuracy data energy figures fit integrations plots render "
-                            "stereo").split())),  # fmt: skip
+    ("services", frozenset(("accuracy data energy figures fit integrations planetary plots "
+                            "render stereo").split())),  # fmt: skip
     ("applications", frozenset("roughdiffuse __main__ bench cli commands explorer".split())),
 )
 """Bottom first. ``roughdiffuse`` is the package's own ``__init__`` (the facade)."""

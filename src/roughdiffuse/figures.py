@@ -496,11 +496,12 @@ FIGURES: tuple[Figure, ...] = (
     Figure(
         "2-full-moon",
         "The full-moon question",
-        "Three spheres with the moon's albedo, lit from behind the viewer. The Lambertian "
-        "disc darkens towards its edge; the rough Oren–Nayar disc (σ = 0.7 rad) stays much "
-        "brighter there, and the Lommel–Seeliger disc is exactly flat. Each disc is shown "
-        "on its own scale (centre = white) and the profiles are divided by the centre's "
-        "value.",
+        "Five spheres lit from behind the viewer: Lambert, Oren–Nayar full (σ = 0.7 rad), "
+        "Lommel–Seeliger, Hapke with lunar parameters and Minnaert (k = 0.6). The Lambertian "
+        "disc darkens towards its edge; the rough Oren–Nayar disc stays much brighter there, "
+        "the Lommel–Seeliger disc is exactly flat, and Hapke's and Minnaert's, the laws "
+        "planetary photometry fits to the moon, are nearly flat too. Each disc is shown on "
+        "its own scale (centre = white) and the profiles are divided by the centre's value.",
         _full_moon,
     ),
     Figure(
@@ -669,5 +670,6 @@ def make_figures(
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
+        _figure.release(fig)  # drawn by a public plotting function: known to pyplot
     out.append(_write_index(folder))
     return out

@@ -16,6 +16,7 @@ COMMANDS: list[str] = [
     "simulate",
     "stereo",
     "bench",
+    "photometry",
 ]
 
 
