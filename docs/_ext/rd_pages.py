@@ -277,14 +277,23 @@ def _formula_section(entry: Any) -> list[str]:
 
 def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
                 accuracy: list[str]) -> str:
+    """The Markdown of ``docs/models/<id>.md``: header and parameters, pictures, accuracy and
+    speed."""
+    lines = _header_lines(entry)
+    lines += _picture_lines(entry, names)
+    lines += ["## Accuracy", "", *accuracy, "", "## Speed", ""]
+    lines += _speed_lines(speed)
+    lines.append("")
+    return "\n".join(lines)
+
+
+def _header_lines(entry: Any) -> list[str]:
+    """Title, id, class, paper, the class docstring and the parameter table."""
     cls = entry.cls
     qual = f"{cls.__module__}.{cls.__qualname__}"
     fixed = ", ".join(f"{k}={v!r}" for k, v in entry.fixed.items())
     create = f'registry.create("{entry.id}")'
-    doc = inspect.getdoc(cls) or ""
-    summary = doc.split("\n\n", 1)[0].strip()
-    pick, _ = _varied(entry)
-    lines = [
+    return [
         f"# {entry.label}",
         "",
         f"`{entry.id}` · {entry.lobe} · class {{py:class}}`{qual}`"
@@ -316,8 +325,12 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
         + " --param NAME=VALUE` (angles in degrees there).",
         "",
     ]
+
+
+def _picture_lines(entry: Any, names: dict[str, str] | None) -> list[str]:
+    """The sphere, the plane of incidence and the white furnace (none for a simulation)."""
     if names is None:  # a Monte Carlo simulation: no images at build time
-        lines += [
+        return [
             "## Pictures",
             "",
             "This model is a Monte Carlo simulation on concrete values (it cannot be traced "
@@ -325,53 +338,45 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
             "its values against the other surfaces are in {doc}`/accuracy`.",
             "",
         ]
-    else:
-        lines += [
-            "## A sphere",
-            "",
-            f"![{entry.label}: rendered sphere]({names['sphere']})",
-            "",
-            "## Plane of incidence",
-            "",
-            "Radiance against the signed viewing angle θr in the plane of incidence "
-            "(E0 = 1; {func}`roughdiffuse.plots.plot_plane_of_incidence`)"
-            + (f", for three values of `{pick.name}`." if pick else "."),
-            "",
-            f"![{entry.label}: plane of incidence]({names['plane']})",
-            "",
-            "## White furnace",
-            "",
-            "Directional albedo ∫ f cos θi dωi against the viewing angle "
-            "({func}`roughdiffuse.energy.plot_albedo`"
-            + (", albedo 1" if any(p.name == "albedo" for p in entry.parameters) else "")
-            + "): 1 means no energy lost or gained.",
-            "",
-            f"![{entry.label}: white furnace]({names['furnace']})",
-            "",
-        ]
-    lines += [
-        "## Accuracy",
+    pick, _ = _varied(entry)
+    return [
+        "## A sphere",
         "",
-        *accuracy,
+        f"![{entry.label}: rendered sphere]({names['sphere']})",
         "",
-        "## Speed",
+        "## Plane of incidence",
+        "",
+        "Radiance against the signed viewing angle θr in the plane of incidence "
+        "(E0 = 1; {func}`roughdiffuse.plots.plot_plane_of_incidence`)"
+        + (f", for three values of `{pick.name}`." if pick else "."),
+        "",
+        f"![{entry.label}: plane of incidence]({names['plane']})",
+        "",
+        "## White furnace",
+        "",
+        "Directional albedo ∫ f cos θi dωi against the viewing angle "
+        "({func}`roughdiffuse.energy.plot_albedo`"
+        + (", albedo 1" if any(p.name == "albedo" for p in entry.parameters) else "")
+        + "): 1 means no energy lost or gained.",
+        "",
+        f"![{entry.label}: white furnace]({names['furnace']})",
         "",
     ]
-    if speed:
-        lines += [
-            "Million evaluations per second from `bench/results.json` "
-            "({doc}`/benchmarks`; `fast` is {func}`roughdiffuse.engine.fastpath.evaluate`, `C` the "
-            "hand-written reference kernel, `NumPy` `model.radiance`):",
-            "",
-            "| N | fast | C | NumPy | fast/NumPy |",
-            "| --- | --- | --- | --- | --- |",
-            *speed,
-        ]
-    else:
-        lines.append("Not in `bench/results.json` (run `python bench/run.py`).")
-    lines.append("")
-    del summary
-    return "\n".join(lines)
+
+
+def _speed_lines(speed: list[str]) -> list[str]:
+    """The benchmark rows of this model, or a note that there are none."""
+    if not speed:
+        return ["Not in `bench/results.json` (run `python bench/run.py`)."]
+    return [
+        "Million evaluations per second from `bench/results.json` "
+        "({doc}`/benchmarks`; `fast` is {func}`roughdiffuse.engine.fastpath.evaluate`, `C` "
+        "the hand-written reference kernel, `NumPy` `model.radiance`):",
+        "",
+        "| N | fast | C | NumPy | fast/NumPy |",
+        "| --- | --- | --- | --- | --- |",
+        *speed,
+    ]
 
 
 def generate_models(docs: Path) -> list[str]:

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import ParameterError
 from .deprecation import renamed_parameter
 from .frames import spherical_to_vector
 from .io.atomic import write_text
@@ -37,7 +38,7 @@ def albedo_curves(models: Mapping[str, Model], theta_r: Sequence[float]) -> dict
     """
     th = np.asarray(theta_r, dtype=np.float64)
     if th.ndim != 1 or np.any(~np.isfinite(th)) or np.any(th < 0) or np.any(th > math.pi / 2):
-        raise ValueError("theta_r must be a 1-D array of angles in [0, π/2] radians")
+        raise ParameterError("theta_r must be a 1-D array of angles in [0, π/2] radians")
     wo = spherical_to_vector(th, 0.0)
     out = {}
     for label, model in models.items():

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _figure
+from ._validate import ParameterError
 from .io.atomic import atomic_write
 from .models import (
     EON,
@@ -651,11 +652,13 @@ def make_figures(
 
     folder = Path(folder)
     if not folder.parent.is_dir():
-        raise ValueError(f"parent folder {str(folder.parent)!r} does not exist")
+        raise ParameterError(f"parent folder {str(folder.parent)!r} does not exist")
     folder.mkdir(exist_ok=True)
     chosen = [f for f in FIGURES if not only or any(figure_matches(f.name, o) for o in only)]
     if only and not chosen:
-        raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
+        raise ParameterError(
+            f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}"
+        )
     out = []
     bar = progress_bar(len(chosen), "figures", unit="fig", enabled=progress)
     for f in chosen:

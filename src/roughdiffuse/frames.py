@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from ._array import Array, asarray, concrete, namespace, result_dtype, safe_div, safe_sqrt
+from ._validate import ParameterError
 
 __all__ = [
     "angles_to_cosines",
@@ -68,7 +69,7 @@ def _check_real(name: str, w: Any) -> None:
     """Refuse booleans, strings and objects as direction components (NumPy would cast them)."""
     np_dtype = np.asarray(w).dtype if isinstance(w, list | tuple) else getattr(w, "dtype", None)
     if getattr(np_dtype, "kind", "f") not in "iuf":
-        raise ValueError(f"{name} must hold real numbers (got dtype {np_dtype})")
+        raise ParameterError(f"{name} must hold real numbers (got dtype {np_dtype})")
 
 
 def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Array, Array, Array]:
@@ -84,12 +85,12 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
         dtype = result_dtype(xp, w)
     w = asarray(xp, w, dtype)
     if w.ndim < 1 or w.shape[-1] != 3:
-        raise ValueError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
+        raise ParameterError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
     x, y, z = w[..., 0], w[..., 1], w[..., 2]
     n2 = x * x + y * y + z * z
     c = concrete(n2)
     if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
-        raise ValueError(
+        raise ParameterError(
             f"{name} must contain non-zero, finite direction vectors "
             f"({int(np.sum(~np.isfinite(c) | (c == 0)))} are zero, NaN or infinite)"
         )
@@ -103,7 +104,7 @@ def _check_broadcast(names: tuple[str, ...], *arrays: Array) -> None:
         np.broadcast_shapes(*shapes)
     except ValueError:
         listed = ", ".join(f"{n} {tuple(a.shape)}" for n, a in zip(names, arrays, strict=True))
-        raise ValueError(f"direction arrays do not broadcast: {listed}") from None
+        raise ParameterError(f"direction arrays do not broadcast: {listed}") from None
 
 
 def local_cosines(xp: Any, wi: Array, wo: Array, dtype: Any = None) -> tuple[Array, Array, Array]:
@@ -179,7 +180,7 @@ def check_angle(name: str, value: Any, hi: float = math.pi) -> np.ndarray:
     if np.any(bad):
         shown = float(a[bad].flat[0]) if a.ndim else float(a)
         top = "π/2" if hi == math.pi / 2 else "π" if hi == math.pi else f"{hi:g}"
-        raise ValueError(
+        raise ParameterError(
             f"{name} must be in [0, {top}] radians = [0°, {math.degrees(hi):g}°] "
             f"(got {shown:g} rad = {math.degrees(shown):g}°)"
         )
@@ -212,7 +213,7 @@ def photometric_to_local(
     if np.any(bad):
         k = np.flatnonzero(bad.ravel())[0]
         gi, ii, ei = (math.degrees(float(a.ravel()[k])) for a in (g, i, e))
-        raise ValueError(
+        raise ParameterError(
             f"phase must be in [|incidence − emission|, incidence + emission] "
             f"(got phase {gi:g}° with incidence {ii:g}°, emission {ei:g}°)"
         )
@@ -235,7 +236,7 @@ def local_to_photometric(
     tr = check_angle("theta_r", theta_r, math.pi / 2)
     dp = np.asarray(delta_phi, dtype=np.float64)
     if not np.all(np.isfinite(dp)):
-        raise ValueError("delta_phi must be finite")
+        raise ParameterError("delta_phi must be finite")
     ti, tr, dp = np.broadcast_arrays(ti, tr, dp)
     cos_g = np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
     return ti.copy(), tr.copy(), np.arccos(np.clip(cos_g, -1.0, 1.0))

@@ -21,6 +21,7 @@ import matplotlib.ticker
 import numpy as np
 
 from ._figure import pyplot_figure, pyplot_subplots
+from ._validate import ParameterError
 from .models import Model
 from .render import DistantLight, OrthographicCamera, Shape, Sphere, render
 
@@ -63,11 +64,11 @@ def cross_section(
     h, w = img.shape[:2]
     row = h // 2 if row is None else int(row)
     if not 0 <= row < h:
-        raise ValueError(f"row must be in [0, {h - 1}] (got {row})")
+        raise ParameterError(f"row must be in [0, {h - 1}] (got {row})")
     if x is None:
         x = (np.arange(w) + 0.5) / w * 2.0 - 1.0
     elif np.shape(x) != (w,):
-        raise ValueError(f"x must have shape ({w},) (got {np.shape(x)})")
+        raise ParameterError(f"x must have shape ({w},) (got {np.shape(x)})")
     vals = img[row].copy()
     if mask is not None:
         cov = np.asarray(mask, dtype=np.float64)[row]
@@ -137,10 +138,10 @@ def plane_of_incidence(
         Signed viewing angles in radians, [−π/2, π/2]; positive on the light's side.
     """
     if not 0.0 <= theta_i <= math.pi / 2:
-        raise ValueError(f"theta_i must be in [0, π/2] radians (got {theta_i:g})")
+        raise ParameterError(f"theta_i must be in [0, π/2] radians (got {theta_i:g})")
     tr = np.asarray(theta_r, dtype=np.float64)
     if np.any(np.abs(tr) > math.pi / 2 + 1e-12):
-        raise ValueError("theta_r must be in [−π/2, π/2] radians")
+        raise ParameterError("theta_r must be in [−π/2, π/2] radians")
     wi = np.array([math.sin(theta_i), 0.0, math.cos(theta_i)])
     wo = np.stack([np.sin(tr), np.zeros_like(tr), np.cos(tr)], axis=-1)
     f = np.asarray(model.brdf(wi, wo), dtype=np.float64)

@@ -9,7 +9,7 @@ from typing import Any
 
 from . import UsageError
 from ._checks import finite_float
-from ._common import float_list
+from ._common import float_list, parameter_help
 from ._inputs import angle_list
 
 EXAMPLES = """\
@@ -56,25 +56,25 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--sigma",
         type=angle_list,
         default=[0.0, 15.0, 30.0, 45.0, 60.0],
-        help="roughness σ in DEGREES (or 0.2rad), 0 to 90, comma-separated "
-        "(default: 0,15,30,45,60)",
+        help=f"{parameter_help('sigma')}; comma-separated, or 0.2rad (default: 0,15,30,45,60)",
     )
     p.add_argument(
         "--roughness",
         type=float_list,
         default=[0.0, 0.25, 0.5, 0.75, 1.0],
-        help="roughness r in [0, 1] of fujii, eon, burley…, comma-separated "
-        "(default: 0,0.25,0.5,0.75,1)",
+        help=f"{parameter_help('roughness')}; comma-separated (default: 0,0.25,0.5,0.75,1)",
     )
     p.add_argument(
         "--alpha",
         type=float_list,
         default=[0.1, 0.3, 0.5, 0.8],
-        help="roughness α of hammon, chan, smith-diffuse-…, comma-separated, within each "
-        "model's declared range (default: 0.1,0.3,0.5,0.8)",
+        help=f"{parameter_help('alpha')}; comma-separated (default: 0.1,0.3,0.5,0.8)",
     )
     p.add_argument(
-        "--albedo", type=finite_float, default=1.0, help="albedo ρ in [0, 1] (default: 1)"
+        "--albedo",
+        type=finite_float,
+        default=1.0,
+        help=f"{parameter_help('albedo', channels=False)} (default: 1)",
     )
     p.add_argument("-o", "--output", default="albedo.png", help="plot file: .png, .svg or .pdf")
     p.add_argument("--table", metavar="CSV", help="also write the albedo table (CSV) here")

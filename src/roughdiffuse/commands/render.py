@@ -219,7 +219,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_model_arguments(p)
+    add_model_arguments(p, skip=("alpha",))  # --alpha: the PNG's coverage channel here
     add_scene_arguments(p)
     g = p.add_argument_group("output")
     add_output_arguments(g, (".png", ".npy", ".exr"))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from typing import Any
 
 from .._version import version
 from ..progress import progress_enabled
@@ -14,14 +15,13 @@ from ._inputs import GEOMETRY_HELP, angle, angle_list, geometry_arguments, geome
 
 MAX_BOUNCES = 100
 """Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
-node (``simulate.cavity.radiosity_operator``): on a busy 2-core machine 100 bounces took 45 s
-where 'all' took 15–20 s, about 0.3 s a bounce, so a million would take days. The all-bounce
-limit ('all', one matrix inverse) is what many bounces approach."""
+node (``simulate.cavity.radiosity_operator``), so the time grows linearly with N and 100
+bounces already cost more than the all-bounce limit ('all', one matrix inverse), which is
+what many bounces approach."""
 
 MAX_ELEMENTS = 128
-"""Largest --elements K (default 16): the solver's time grows fast with K (on a busy 2-core
-machine K = 64 took 32 s where 16 took 19 s, and 200 more than two minutes); see
-:func:`_solver_bytes` for its memory."""
+"""Largest --elements K (default 16): the solver's time grows fast with K (its matrices are
+2K × 2K per slope node); see :func:`_solver_bytes` for its memory."""
 
 EXAMPLES = (
     """\
@@ -137,10 +137,30 @@ def _grid(step: float, lo: float, hi: float, name: str):
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
+    from ..simulate import Settings
 
-    from ..simulate import Settings, brdf, compute_table
+    _check(args)
+    settings = Settings(measure=args.measure, elements=args.elements)
+    if args.report:
+        from ..accuracy.report import write_report
 
+        output_folder(args.output, option="-o")
+        out = write_report(
+            args.output,
+            quick=args.quick,
+            progress=progress_enabled() and not args.no_progress,
+            workers=args.workers,
+            scheduler=args.scheduler,
+        )
+        print(f"report written to {out}")
+        return 0
+    if args.table:
+        return _run_table(args, settings)
+    return _run_single(args, settings)
+
+
+def _check(args: argparse.Namespace) -> None:
+    """Refuse options out of range before any work (and jobs too large for memory)."""
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     for s in args.sigma:
@@ -158,56 +178,55 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
-    settings = Settings(measure=args.measure, elements=args.elements)
-    if args.report:
-        from ..accuracy.report import write_report
 
-        output_folder(args.output, option="-o")
-        out = write_report(
-            args.output,
-            quick=args.quick,
-            progress=progress_enabled() and not args.no_progress,
-            workers=args.workers,
-            scheduler=args.scheduler,
-        )
-        print(f"report written to {out}")
-        return 0
-    if args.table:
-        ang = _grid(args.step, 0.0, 90.0, "step")
-        dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
-        # checked before any chunk is computed; an existing table is resumed or reused
-        output_file(args.table, option="--table", overwrite=True)
-        chunks = f"{args.table}.chunks"
-        if os.path.exists(chunks) and not os.path.isdir(chunks):
-            raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
-        table = compute_table(
-            args.table,
-            ang,
-            ang,
-            dphi,
-            np.radians(args.sigma),
-            args.albedo,
-            args.bounces,
-            settings,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            progress=progress_enabled() and not args.no_progress,
-            backend=args.backend,
-            force=args.force,
-            package_version=version(),
-        )
-        if table.meta.get("reused"):
-            print(
-                f"kept {args.table}: a finished table of these settings, "
-                f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
-            )
-            return 0
+
+def _run_table(args: argparse.Namespace, settings: Any) -> int:
+    """``--table``: compute (or resume, or reuse) a ground-truth table."""
+    import numpy as np
+
+    from ..simulate import compute_table
+
+    ang = _grid(args.step, 0.0, 90.0, "step")
+    delta_phi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+    # checked before any chunk is computed; an existing table is resumed or reused
+    output_file(args.table, option="--table", overwrite=True)
+    chunks = f"{args.table}.chunks"
+    if os.path.exists(chunks) and not os.path.isdir(chunks):
+        raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
+    table = compute_table(
+        args.table,
+        ang,
+        ang,
+        delta_phi,
+        np.radians(args.sigma),
+        args.albedo,
+        args.bounces,
+        settings,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=progress_enabled() and not args.no_progress,
+        backend=args.backend,
+        force=args.force,
+        package_version=version(),
+    )
+    if table.meta.get("reused"):
         print(
-            f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
-            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
-            "(before Richardson extrapolation, which the values have)"
+            f"kept {args.table}: a finished table of these settings, "
+            f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
         )
         return 0
+    print(
+        f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
+        f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
+        "(before Richardson extrapolation, which the values have)"
+    )
+    return 0
+
+
+def _run_single(args: argparse.Namespace, settings: Any) -> int:
+    """One BRDF value at the angles given, with its element-refinement change."""
+    from ..simulate import brdf
+
     geometry = geometry_used(args)
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)

@@ -38,6 +38,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from .._validate import ParameterError
+
 __all__ = ["MERL_MODEL", "cache_dir", "names", "path"]
 
 _HERE = Path(__file__).resolve().parent
@@ -87,4 +89,4 @@ def path(name: str) -> Path:
         if not target.is_file():
             _make_merl(target)
         return target
-    raise ValueError(f"name must be one of {', '.join(names())} (got {name!r})")
+    raise ParameterError(f"name must be one of {', '.join(names())} (got {name!r})")

@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = [
     "DATASETS_KEPT",
     "FIT_LOCK",
@@ -184,7 +186,7 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
     name = (name or "data")[:200]
     if kind == "merl":
         if len(body) != MERL_FILE_SIZE:
-            raise ValueError(
+            raise ParameterError(
                 f"{name}: not a MERL file: {len(body)} bytes, a MERL .binary file has "
                 f"{MERL_FILE_SIZE} (12-byte header + 3 x 90 x 90 x 180 float64)"
             )
@@ -204,7 +206,7 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
         try:
             text = body.decode("utf-8")
         except UnicodeDecodeError as exc:
-            raise ValueError(f"{name}: not a text (UTF-8) CSV file ({exc.reason})") from None
+            raise ParameterError(f"{name}: not a text (UTF-8) CSV file ({exc.reason})") from None
         full = csv_from_text(text, name=name)
         ti = np.degrees(np.arccos(np.clip(full.mu_i, -1.0, 1.0)))
         ds = Dataset(
@@ -217,26 +219,28 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
             sorted({round(float(t), 1) for t in ti}),
         )
     else:
-        raise ValueError(f"format must be 'merl' or 'csv' (got {kind!r})")
+        raise ParameterError(f"format must be 'merl' or 'csv' (got {kind!r})")
     store.add(ds)
     return ds
 
 
-def slice_points(ds: Dataset, theta_i_deg: float, dphi_deg: float) -> dict[str, Any]:
+def slice_points(ds: Dataset, theta_i_deg: float, delta_phi_deg: float) -> dict[str, Any]:
     """BRDF of a MERL dataset along a slice: θi fixed, the viewing direction at azimuth Δφ
     from the light (θr > 0) and at Δφ + 180° (θr < 0), θr = −89°, …, 89°; each value from
     the nearest cell (:func:`roughdiffuse.fit.merl_cell_index`), ``None`` where missing."""
     from ..fit.merl import MERL_SCALE, half_diff_from_directions, merl_cell_index
 
     if ds.merl is None:
-        raise ValueError(f"{ds.name}: slices are computed on the page for CSV data")
+        raise ParameterError(f"{ds.name}: slices are computed on the page for CSV data")
     if not (math.isfinite(theta_i_deg) and 0.0 <= theta_i_deg < 90.0):
-        raise ValueError(f"theta_i must be in [0, 90) degrees (got {theta_i_deg!r})")
-    if not (math.isfinite(dphi_deg) and -360.0 <= dphi_deg <= 360.0):
-        raise ValueError(f"dphi must be in [-360, 360] degrees (got {dphi_deg!r})")
+        raise ParameterError(f"theta_i must be in [0, 90) degrees (got {theta_i_deg!r})")
+    if not (math.isfinite(delta_phi_deg) and -360.0 <= delta_phi_deg <= 360.0):
+        raise ParameterError(
+            f"delta_phi must be in [-360, 360] degrees (got {delta_phi_deg!r})"
+        )
     tr = np.asarray(SLICE_THETA_R)
     ti = math.radians(theta_i_deg)
-    phi = np.where(tr >= 0, math.radians(dphi_deg), math.radians(dphi_deg) + math.pi)
+    phi = np.where(tr >= 0, math.radians(delta_phi_deg), math.radians(delta_phi_deg) + math.pi)
     a = np.radians(np.abs(tr))
     wi = np.broadcast_to([math.sin(ti), 0.0, math.cos(ti)], (tr.size, 3))
     wo = np.stack([np.sin(a) * np.cos(phi), np.sin(a) * np.sin(phi), np.cos(a)], axis=-1)
@@ -251,7 +255,7 @@ def slice_points(ds: Dataset, theta_i_deg: float, dphi_deg: float) -> dict[str, 
         "theta_r": list(SLICE_THETA_R),
         "brdf": values,
         "theta_i": theta_i_deg,
-        "dphi": dphi_deg,
+        "delta_phi": delta_phi_deg,
     }
 
 
@@ -259,7 +263,7 @@ def _model_id(model: Any) -> str:
     from ..fit.compare import CANDIDATES
 
     if not isinstance(model, str) or model not in CANDIDATES:
-        raise ValueError(f"model must be one of {', '.join(CANDIDATES)} (got {model!r})")
+        raise ParameterError(f"model must be one of {', '.join(CANDIDATES)} (got {model!r})")
     return model
 
 
@@ -300,7 +304,7 @@ def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     from ..fit.summary import result_json
 
     if not isinstance(models, list) or not 1 <= len(models) <= RANK_MODELS_AT_ONCE:
-        raise ValueError(
+        raise ParameterError(
             f"models must be a list of 1 to {RANK_MODELS_AT_ONCE} model ids (got {models!r})"
         )
     ids = [_model_id(m) for m in models]

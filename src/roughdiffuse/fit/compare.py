@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from .._validate import ParameterError
 from .measurements import Measurements
 
 if TYPE_CHECKING:  # least_squares imports JAX and SciPy: only when fitting
@@ -134,7 +135,7 @@ def compare_models(
     names = list(CANDIDATES) if models is None else list(models)
     unknown = [n for n in names if n not in CANDIDATES]
     if unknown or not names:
-        raise ValueError(
+        raise ParameterError(
             f"models must be names from: {', '.join(CANDIDATES)} "
             f"(got {', '.join(unknown) or 'none'})"
         )

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import check_output_path, write_text
 from .compare import Comparison
 from .least_squares import FitResult
@@ -53,7 +54,7 @@ def model_heading(result: FitResult) -> str:
 def residual_image(data: Measurements, result: FitResult) -> np.ndarray:
     """(H, W) relative residual (data − model)/model (channel mean), NaN off the samples."""
     if data.image_shape is None or data.pixels is None:
-        raise ValueError("residual_image needs image data (Measurements.from_image)")
+        raise ParameterError("residual_image needs image data (Measurements.from_image)")
     assert result.predict is not None
     model = _channel(result.predict(data))
     val = _channel(data.value)
@@ -264,7 +265,7 @@ def write_report(
 ) -> None:
     """Write a self-contained HTML report (tables and embedded PNG plot), atomically."""
     if not results:
-        raise ValueError("write_report needs at least one fit result")
+        raise ParameterError("write_report needs at least one fit result")
     path = check_output_path(path, "report")
     fig = plot_fit(data, results)
     png = _fig_png(fig)

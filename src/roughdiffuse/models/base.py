@@ -29,6 +29,7 @@ from .._array import (
     result_dtype,
 )
 from .._lazy import when_imported
+from .._validate import ParameterError
 from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
@@ -183,7 +184,9 @@ class Model:
             if not p.applies(choices):
                 if value is not None:
                     cond = ", ".join(f"{k}={v!r}" for k, v in (p.when or {}).items())
-                    raise ValueError(f"{p.name} applies only with {cond} (got {p.name}={value!r})")
+                    raise ParameterError(
+                        f"{p.name} applies only with {cond} (got {p.name}={value!r})"
+                    )
                 continue
             object.__setattr__(self, p.name, p.check(value))
 

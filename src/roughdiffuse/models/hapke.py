@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
+from .._validate import ParameterError
 from .base import Model, register_pytree
 from .declaration import Param
 from .photometry import brdf_from_radiance_factor
@@ -92,7 +93,7 @@ def porosity_factor(filling_factor: float) -> float:
     1.6491
     """
     if not 0.0 <= filling_factor < 0.752:
-        raise ValueError(f"filling_factor must be in [0, 0.752) (got {filling_factor:g})")
+        raise ParameterError(f"filling_factor must be in [0, 0.752) (got {filling_factor:g})")
     y = 1.209 * filling_factor ** (2.0 / 3.0)
     return 1.0 if y == 0.0 else -math.log1p(-y) / y
 

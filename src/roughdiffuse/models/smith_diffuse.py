@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._array import Array, asarray, concrete
+from .._validate import ParameterError
 from .base import Model, register_pytree
 from .declaration import Param
 
@@ -108,14 +109,14 @@ class SmithDiffuse(Model):
         for name, lo in (("samples", 2), ("seed", 0)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
-                raise ValueError(f"{name} must be an integer >= {lo} (got {v!r})")
+                raise ParameterError(f"{name} must be an integer >= {lo} (got {v!r})")
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array
     ) -> Array:
         values = [concrete(a) for a in (mu_i, mu_o, cos_io, albedo, alpha)]
         if any(v is None for v in values):
-            raise ValueError(
+            raise ParameterError(
                 "SmithDiffuse is a Monte Carlo simulation on concrete values: it cannot be "
                 "traced (jax.jit, grad), compiled by the fast path or written in GLSL"
             )

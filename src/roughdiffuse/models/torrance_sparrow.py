@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
+from .._validate import ParameterError
 from ..frames import unit_components
 from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
@@ -213,7 +214,7 @@ class TorranceSparrow(Model):
         elif self.distribution == "beckmann" and self.alpha is not None:
             sigma_default = isinstance(self.sigma, float | int) and self.sigma == 0.2
             if self.sigma is not None and not sigma_default:
-                raise ValueError("give alpha for the Beckmann distribution, not sigma as well")
+                raise ParameterError("give alpha for the Beckmann distribution, not sigma as well")
             object.__setattr__(self, "sigma", None)
         super().__post_init__()
 

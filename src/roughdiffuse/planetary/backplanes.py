@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = ["Backplanes", "ellipsoid_backplanes"]
 
 
@@ -40,7 +42,7 @@ class Backplanes:
 def _direction(lat_lon_deg: tuple[float, float], name: str) -> np.ndarray:
     lat, lon = lat_lon_deg
     if not (math.isfinite(lat) and -90.0 <= lat <= 90.0 and math.isfinite(lon)):
-        raise ValueError(f"{name} latitude must be in [-90, 90] degrees (got {lat:g})")
+        raise ParameterError(f"{name} latitude must be in [-90, 90] degrees (got {lat:g})")
     la, lo = math.radians(lat), math.radians(lon)
     return np.array([math.cos(la) * math.cos(lo), math.cos(la) * math.sin(lo), math.sin(la)])
 
@@ -75,10 +77,10 @@ def ellipsoid_backplanes(
     """
     h, w = (int(n) for n in shape)
     if h < 1 or w < 1:
-        raise ValueError(f"shape must be positive (got {shape})")
+        raise ParameterError(f"shape must be positive (got {shape})")
     r = np.asarray(radii, dtype=np.float64)
     if r.shape != (3,) or not np.all(np.isfinite(r) & (r > 0)):
-        raise ValueError(f"radii must be three positive numbers (got {radii})")
+        raise ParameterError(f"radii must be three positive numbers (got {radii})")
     s, o = _direction(subsolar, "sub-solar"), _direction(subobserver, "sub-observer")
     up = np.array([0.0, 0.0, 1.0]) if abs(o[2]) < 1.0 - 1e-12 else np.array([1.0, 0.0, 0.0])
     y_img = up - (up @ o) * o

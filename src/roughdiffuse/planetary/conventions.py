@@ -35,6 +35,8 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = [
     "UNITS",
     "check_angle",
@@ -61,7 +63,7 @@ def _factor(unit: str, mu0: np.ndarray) -> np.ndarray | float:
         return math.pi * mu0
     if unit == "reff":
         return math.pi
-    raise ValueError(f"unit must be one of {', '.join(UNITS)} (got {unit!r})")
+    raise ParameterError(f"unit must be one of {', '.join(UNITS)} (got {unit!r})")
 
 
 def convert(value: Any, unit_from: Unit, unit_to: Unit, incidence: Any = 0.0) -> np.ndarray:

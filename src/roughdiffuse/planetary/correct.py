@@ -33,6 +33,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = [
     "METHODS",
     "REFERENCE",
@@ -135,7 +137,7 @@ def normalize(
         The normalised image (NaN where masked).
     """
     if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)} (got {method!r})")
+        raise ParameterError(f"method must be one of {', '.join(METHODS)} (got {method!r})")
     dn = np.asarray(iof, dtype=np.float64)
     i, e, g = (
         np.broadcast_to(np.asarray(a, dtype=np.float64), dn.shape)
@@ -156,7 +158,7 @@ def normalize(
         res[good] = dn[ok][good] * p_ref / psurf[good]
     else:
         if p_ref == 0.0:
-            raise ValueError("the model's I/F at the reference geometry is 0")
+            raise ParameterError("the model's I/F at the reference geometry is 0")
         rhobar = albedo / p_ref
         p_match = float(_psurf(ref, *match))
         pp_ref = float(phototopder(ref, *reference))
@@ -178,7 +180,7 @@ def _astropy_fits() -> Any:
     try:
         from astropy.io import fits
     except ImportError:
-        raise ValueError(
+        raise ParameterError(
             "FITS files need astropy: pip install 'roughdiffuse[planetary]' (or use .npy/.exr)"
         ) from None
     return fits
@@ -194,7 +196,7 @@ def read_plane(path: str | os.PathLike[str], nodata: float | None = None) -> np.
         with fits.open(p, memmap=False) as hdul:
             hdu = next((h for h in hdul if getattr(h, "data", None) is not None), None)
             if hdu is None:
-                raise ValueError(f"{p.name}: no image in the FITS file")
+                raise ParameterError(f"{p.name}: no image in the FITS file")
             data = np.asarray(hdu.data, dtype=np.float64)  # astropy applies BSCALE/BLANK
     elif ext == ".npy":
         data = np.asarray(np.load(p, allow_pickle=False), dtype=np.float64)
@@ -203,12 +205,12 @@ def read_plane(path: str | os.PathLike[str], nodata: float | None = None) -> np.
 
         data = np.asarray(read_image(p)[0], dtype=np.float64)
     else:
-        raise ValueError(f"image file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
+        raise ParameterError(f"image file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
     if data.ndim == 3 and ext != ".fits":
         data = data[..., 0]
     data = np.squeeze(data)
     if data.ndim != 2:
-        raise ValueError(f"{p.name}: expected one image plane (got shape {data.shape})")
+        raise ParameterError(f"{p.name}: expected one image plane (got shape {data.shape})")
     if nodata is not None:
         data = np.where(data == nodata, np.nan, data)
     return data
@@ -237,4 +239,4 @@ def write_plane(
         return write_npy(p, image)
     if ext == ".exr":
         return write_exr(p, image)
-    raise ValueError(f"output file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
+    raise ParameterError(f"output file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")

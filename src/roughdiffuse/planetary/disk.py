@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .conventions import photometric_to_local
 
 __all__ = [
@@ -84,9 +85,11 @@ class DiskData:
         ]
         n = arrs[0].size
         if any(a.size != n for a in arrs):
-            raise ValueError("iof, incidence, emission and phase must have one value per sample")
+            raise ParameterError(
+                "iof, incidence, emission and phase must have one value per sample"
+            )
         if not np.all(np.isfinite(arrs[0])):
-            raise ValueError("iof must be finite")
+            raise ParameterError("iof must be finite")
         photometric_to_local(arrs[1], arrs[2], arrs[3])  # refuses impossible geometry
         for name, a in zip(("iof", "incidence", "emission", "phase"), arrs, strict=True):
             object.__setattr__(self, name, a)
@@ -214,7 +217,7 @@ def fit_disk(
     from ..fit.compare import candidate
 
     if model not in PHOTOMETRIC_MODELS:
-        raise ValueError(
+        raise ParameterError(
             f"model {model!r} has no radiance factor of (i, e, g) here; choose one of: "
             f"{', '.join(PHOTOMETRIC_MODELS)}"
         )
@@ -222,12 +225,12 @@ def fit_disk(
     fixed = dict(fixed or {})
     unknown = set(fixed) - set(c.params)
     if unknown:
-        raise ValueError(
+        raise ParameterError(
             f"{model} has no parameter {sorted(unknown)[0]!r} (it has: {', '.join(c.params)})"
         )
     names = [p for p in (params or c.params) if p not in fixed]
     if data.size < len(names) + 1:
-        raise ValueError(
+        raise ParameterError(
             f"{len(names)} parameters need more than {len(names)} samples (got {data.size})"
         )
     with warnings.catch_warnings():
@@ -264,7 +267,7 @@ def _header(row: Sequence[str], path: str) -> dict[str, int]:
                 found[col] = k
     missing = [c for c in ("i", "e", "g") if c not in found]
     if missing or ("iof" in found) == ("r" in found):
-        raise ValueError(
+        raise ParameterError(
             f"{path}: the header must name the columns i, e, g (degrees) and one of I/F or r "
             f"(optional: band); got {', '.join(row)}"
         )
@@ -282,7 +285,7 @@ def read_photometry_csv(path: str | os.PathLike[str]) -> dict[str | None, DiskDa
     with open(path, newline="", encoding="utf-8") as fh:
         rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
     if len(rows) < 2:
-        raise ValueError(f"{path}: no data rows under the header")
+        raise ParameterError(f"{path}: no data rows under the header")
     cols = _header(rows[0], path)
     value_col = "iof" if "iof" in cols else "r"
     groups: dict[str | None, list[tuple[float, float, float, float]]] = {}
@@ -290,15 +293,15 @@ def read_photometry_csv(path: str | os.PathLike[str]) -> dict[str | None, DiskDa
         try:
             v, i, e, g = (float(row[cols[c]]) for c in (value_col, "i", "e", "g"))
         except (ValueError, IndexError):
-            raise ValueError(f"{path}, line {n}: expected numbers in every column") from None
+            raise ParameterError(f"{path}, line {n}: expected numbers in every column") from None
         for name, a in (("i", i), ("e", e), ("g", g)):
             if not 0.0 <= a <= 180.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{path}, line {n}: {name} must be in [0, 180] degrees (got {a:g})"
                 )
         for name, a in (("i", i), ("e", e)):
             if a > 90.0:
-                raise ValueError(
+                raise ParameterError(
                     f"{path}, line {n}: {name} = {a:g}° is beyond 90° (the point is "
                     f"{'unlit' if name == 'i' else 'not seen'}); drop such rows"
                 )
@@ -307,7 +310,7 @@ def read_photometry_csv(path: str | os.PathLike[str]) -> dict[str | None, DiskDa
     out: dict[str | None, DiskData] = {}
     for band, vals in groups.items():
         if len(vals) < 2:
-            raise ValueError(f"{path}: band {band!r} has a single row; a fit needs more")
+            raise ParameterError(f"{path}: band {band!r} has a single row; a fit needs more")
         a = np.radians(np.array(vals)[:, 1:])
         out[band] = DiskData(
             np.array(vals)[:, 0],

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .inputs import StereoInput
 from .lambertian import LambertianResult
 from .report_figures import NORMAL_KEY, report_pngs
@@ -104,7 +105,7 @@ def write_outputs(
 
     out = Path(folder)
     if not out.is_dir():
-        raise ValueError(f"output folder {str(out)!r} does not exist")
+        raise ParameterError(f"output folder {str(out)!r} does not exist")
     m = data.mask
     maps = result_maps(data, lambert if rough is None else rough)
     lmaps = result_maps(data, lambert)

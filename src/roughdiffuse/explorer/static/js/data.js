@@ -7,12 +7,12 @@
 //
 // The interface other modules use:
 //   dataset                 the loaded dataset (null before): {id, name, kind, thetaI, ...}
-//   selection               {thetaI (degrees, follows the light), dphi (degrees), channel}
+//   selection               {thetaI (degrees, follows the light), deltaPhi (degrees), channel}
 //   sliceCosines(ti, trs)   cosines (mu_i, mu_o, cos_io) of the current slice, for curves
 //   channelValue(f, k)      the selected channel (or the mean) of the k-th RGB triple of f
 //   dataSeries(thetaI)      the points to draw at the light's θi (a plot series), or null
 //   onDataset(fn)           call fn(dataset) whenever a dataset is loaded or dropped
-//   setSelection({dphi, channel})  set the slice controls (e.g. from the URL) and redraw
+//   setSelection({deltaPhi, channel})  set the slice controls (e.g. from the URL) and redraw
 
 import { CsvError, parseBrdfCsv } from "./csv.js";
 
@@ -23,11 +23,11 @@ const $ = (id) => document.getElementById(id);
 /** The loaded dataset, or null. */
 export let dataset = null;
 /** The slice shown: θi of the data nearest the light, Δφ, and the channel ("mean", 0, 1, 2). */
-export const selection = { thetaI: 0, dphi: 0, channel: "mean" };
+export const selection = { thetaI: 0, deltaPhi: 0, channel: "mean" };
 
 let hooks = null; // from main.js: {setLight, refresh, evaluateA, lightTheta}
 let limits = { merl: 36_000_000, csv: 4_000_000 };
-let slice = null; // the last MERL slice: {thetaI, dphi, theta_r, brdf}
+let slice = null; // the last MERL slice: {theta_i, delta_phi, theta_r, brdf}
 let sliceController = null;
 let sliceTimer = null;
 const listeners = [];
@@ -53,7 +53,7 @@ function setStatus(text, isError) {
 
 /** Cosines of the slice for the curves: θr signed (> 0 at Δφ, < 0 at Δφ + 180°). */
 export function sliceCosines(thetaIDeg, thetaRDeg) {
-  const ti = thetaIDeg * DEG, c = Math.cos(selection.dphi * DEG);
+  const ti = thetaIDeg * DEG, c = Math.cos(selection.deltaPhi * DEG);
   const cos = new Float32Array(3 * thetaRDeg.length);
   thetaRDeg.forEach((tr, k) => {
     const a = Math.abs(tr) * DEG;
@@ -72,14 +72,14 @@ export function channelValue(f, k) {
 
 /** How the plots describe the slice and the channel. */
 export function sliceLabel() {
-  const where = selection.dphi === 0 ? "in the plane of incidence" : `at Δφ = ${selection.dphi}° / ${selection.dphi + 180}°`;
+  const where = selection.deltaPhi === 0 ? "in the plane of incidence" : `at Δφ = ${selection.deltaPhi}° / ${selection.deltaPhi + 180}°`;
   const ch = selection.channel === "mean" ? "mean of RGB" : ["red", "green", "blue"][selection.channel];
   return { where, channel: ch };
 }
 
 /** Fold an azimuth difference (radians) into [0°, 180°]. */
-function foldDeg(dphi) {
-  return Math.abs(Math.atan2(Math.sin(dphi), Math.cos(dphi))) / DEG;
+function foldDeg(deltaPhi) {
+  return Math.abs(Math.atan2(Math.sin(deltaPhi), Math.cos(deltaPhi))) / DEG;
 }
 
 /** The data at the light's θi in the current slice, as a plot series; null without data. */
@@ -88,7 +88,7 @@ export function dataSeries(thetaIDeg) {
   const x = [], y = [];
   let label;
   if (dataset.kind === "csv") {
-    const s0 = selection.dphi, s1 = 180 - selection.dphi, tol = 5;
+    const s0 = selection.deltaPhi, s1 = 180 - selection.deltaPhi, tol = 5;
     for (const s of dataset.samples) {
       if (Math.abs(s.thetaI / DEG - thetaIDeg) > 2.5) continue;
       const d = foldDeg(s.deltaPhi);
@@ -98,7 +98,7 @@ export function dataSeries(thetaIDeg) {
     }
     label = `data, θi ≈ ${thetaIDeg.toFixed(0)}° (${x.length} points)`;
   } else {
-    if (!slice || Math.abs(slice.theta_i - thetaIDeg) > 0.05 || slice.dphi !== selection.dphi) {
+    if (!slice || Math.abs(slice.theta_i - thetaIDeg) > 0.05 || slice.delta_phi !== selection.deltaPhi) {
       sliceSoon(thetaIDeg);
       if (!slice) return null;
     }
@@ -125,7 +125,7 @@ async function loadSlice(thetaIDeg) {
   if (sliceController) sliceController.abort();
   const controller = (sliceController = new AbortController());
   const ti = Math.round(thetaIDeg * 10) / 10;
-  const q = new URLSearchParams({ id: dataset.id, theta_i: String(ti), dphi: String(selection.dphi) });
+  const q = new URLSearchParams({ id: dataset.id, theta_i: String(ti), delta_phi: String(selection.deltaPhi) });
   let r, body;
   try {
     r = await fetch(`api/data/slice?${q}`, { signal: controller.signal });
@@ -291,10 +291,10 @@ export function drawScatterOf(drawScatter) {
 }
 
 /** Set Δφ (degrees, 0–180) and/or the channel ("mean", 0, 1, 2), controls included. */
-export function setSelection({ dphi, channel } = {}) {
-  if (dphi !== undefined) {
-    const d = Math.min(180, Math.max(0, Math.round(Number(dphi)) || 0));
-    selection.dphi = d;
+export function setSelection({ deltaPhi, channel } = {}) {
+  if (deltaPhi !== undefined) {
+    const d = Math.min(180, Math.max(0, Math.round(Number(deltaPhi)) || 0));
+    selection.deltaPhi = d;
     $("data-dphi").value = String(d);
     $("data-dphi-out").textContent = `${d}°`;
   }
@@ -329,8 +329,8 @@ export function setupData(h, info = {}) {
     if (dataset) hooks.setLight(dataset.thetaI[Number(ev.target.value)]);
   });
   $("data-dphi").addEventListener("input", (ev) => {
-    selection.dphi = Number(ev.target.value);
-    $("data-dphi-out").textContent = `${selection.dphi}°`;
+    selection.deltaPhi = Number(ev.target.value);
+    $("data-dphi-out").textContent = `${selection.deltaPhi}°`;
     hooks.refresh();
   });
   $("data-channel").addEventListener("change", (ev) => {

@@ -221,7 +221,7 @@ function draw() {
 function sharedState() {
   const model = { a: state.a, b: state.b, mode: state.mode, light: state.light, exposure: state.exposure };
   // the data slice's Δφ and channel (data.js) belong to the view as well
-  return { ...model, view: { ...state.view, dphi: selection.dphi, channel: selection.channel }, model };
+  return { ...model, view: { ...state.view, deltaPhi: selection.deltaPhi, channel: selection.channel }, model };
 }
 
 /** "A: Oren–Nayar full", and when A and B are one model, what tells them apart
@@ -329,7 +329,7 @@ function drawPlots(a, b) {
   if (state.mode !== 0) {
     series.push({ label: label("b"), color: "#d35400", dash: true, x: xs, y: lit ? planeCurve(b, thetaI, xs) : xs.map(() => 0) });
   }
-  if (gtSeries && lit && selection.dphi === 0) series.push(gtSeries); // solved in the plane only
+  if (gtSeries && lit && selection.deltaPhi === 0) series.push(gtSeries); // solved in the plane only
   const data = lit ? dataSeries(thetaI) : null;
   if (data) series.push(data);
   const slice = sliceLabel();
@@ -593,7 +593,8 @@ async function start() {
     lightTheta: () => state.light.theta,
     evaluateA: (cos) => evaluator.evaluate(gpuParams(state.a), cos),
   }, info);
-  if (restored?.view) setSelection({ dphi: restored.view.dphi, channel: restored.view.channel });
+  // links made before the rename keep their Δφ under the old key `dphi`
+  if (restored?.view) setSelection({ deltaPhi: restored.view.deltaPhi ?? restored.view.dphi, channel: restored.view.channel });
   setupFit({
     modelA: () => state.a.model,
     applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
