@@ -56,6 +56,19 @@ def sphere() -> None:
     (OUT / "sphere.json").write_text(json.dumps(meta, indent=1) + "\n", encoding="utf-8")
 
 
+def lights() -> None:
+    from roughdiffuse.stereo import default_lights
+
+    spec = {
+        "directions": [[round(float(x), 12) for x in d] for d in default_lights(8)],
+        "intensities": [1.0] * 8,
+        "note": "8 lights on a 35-degree ring around the view axis (+z); "
+        "made by scripts/make_sample_data.py",
+    }
+    (OUT / "lights.json").write_text(json.dumps(spec, indent=1) + "\n", encoding="utf-8")
+
+
 if __name__ == "__main__":
     samples_csv()
     sphere()
+    lights()

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 from roughdiffuse import OrenNayar
 
 VIEWS = ("plane", "polar", "lobe", "albedo", "slice")
@@ -179,7 +179,10 @@ def test_export_png_and_csv_of_the_plane_plot(page, tmp_path):
     png = tmp_path / "plot.png"
     d.value.save_as(png)
     img = Image.open(png)
-    assert img.format == "PNG" and img.size == (520, 300)
+    w, h = p.evaluate(
+        "() => ['width', 'height'].map(k => document.getElementById('plot-cartesian')[k])"
+    )
+    assert img.format == "PNG" and img.size == (2 * w, 2 * h)  # twice the resolution on screen
     assert coloured_pixels(np.asarray(img.convert("RGB"), dtype=np.int32)) > 300
     with p.expect_download() as d:
         p.click("#export-csv")

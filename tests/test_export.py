@@ -215,17 +215,18 @@ def test_cli_bad_input_is_one_line_and_status_2(tmp_path):
 
 
 def test_fit_json_feeds_export(tmp_path):
-    """fit --json writes {model, params}; export --from reads it and converts for Blender."""
+    """fit --json prints the fit; export --from reads it and converts it for Blender."""
     from roughdiffuse.data import path
 
     out = tmp_path / "fit.json"
     run = subprocess.run(
         [sys.executable, "-m", "roughdiffuse", "fit", str(path("samples.csv")),
-         "--model", "oren-nayar-full", "--json", str(out)],
+         "--model", "oren-nayar-full", "--json"],
         capture_output=True, text=True,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    record = json.loads(out.read_text())
-    assert record["model"] == "oren-nayar-full" and set(record["params"]) == {"albedo", "sigma"}
+    out.write_text(run.stdout)
+    model = load_result(out)
+    assert model.variant == "full" and 0.0 < float(model.sigma) < 1.0
     done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"))
     assert done.returncode == 0 and "cycles-diffuse" in done.stdout

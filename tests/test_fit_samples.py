@@ -14,6 +14,7 @@ from roughdiffuse.fit import (
     DegenerateDataWarning,
     Measurements,
     compare_models,
+    csv_from_text,
     fit,
     read_csv,
     samples_from_table,
@@ -266,3 +267,14 @@ def test_one_channel_model_on_rgb_data() -> None:
     rgb = Measurements(base.mu_i, base.mu_o, base.cos_io, np.stack([f, f, f], -1), base.scale)
     r = fit(rd.TorranceSparrow, rgb, bounds={"eta": (1.0, 3.0), "sigma": (0.05, 1.0)})
     np.testing.assert_allclose(r.values, [1.6, 0.3], rtol=1e-6)
+
+
+@pytest.mark.parametrize("column", ["delta_phi_deg", "dphi_deg", "dphi [deg]"])
+def test_csv_azimuth_column_old_name_is_read(column) -> None:
+    """``dphi`` (the explorer's old name for Δφ) is read as ``delta_phi``: cos_io from the
+    spherical law of cosines, cos θi cos θr + sin θi sin θr cos Δφ."""
+    text = f"theta_i_deg,theta_r_deg,{column},brdf\n30,60,90,0.2\n45,45,180,0.3\n"
+    m = csv_from_text(text)
+    ti, tr, dp = np.radians([30.0, 45.0]), np.radians([60.0, 45.0]), np.radians([90.0, 180.0])
+    want = np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
+    np.testing.assert_allclose(m.cos_io, want, atol=1e-12)

@@ -23,13 +23,13 @@ SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("leaves", frozenset(("_array _figure _lazy _validate _version deprecation frames io "
-                          "quadrature roughness").split())),  # fmt: skip
+                          "progress quadrature roughness").split())),  # fmt: skip
     ("engine", frozenset({"engine"})),
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),
     ("registry", frozenset({"registry"})),
     ("services", frozenset(("accuracy conversion data energy figures fit integrations materials "
-                            "plots render stereo").split())),  # fmt: skip
+                            "planetary plots render stereo").split())),  # fmt: skip
     ("applications", frozenset("roughdiffuse __main__ bench cli commands explorer".split())),
 )
 """Bottom first. ``roughdiffuse`` is the package's own ``__init__`` (the facade)."""

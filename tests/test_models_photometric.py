@@ -22,7 +22,8 @@ PI = math.pi
 
 
 # --- ISIS3 Hapke::PhotoModelAlgorithm (HapkeHen), angles in degrees -> I/F ----------------
-def isis_hapke(phase, incidence, emission, wh, b0, hh, theta, hg1, hg2):
+def isis_hapke(phase, incidence, emission, wh, b0, hh, theta, hg1, hg2, legendre=None):
+    """ISIS's HapkeHen; with ``legendre=(bh, ch)`` its HapkeLeg (hg1, hg2 then unused)."""
     def hfunc(u, gamma):  # PhotoModel::Hfunc
         return (1.0 + 2.0 * u) / (1.0 + 2.0 * u * gamma)
 
@@ -45,6 +46,9 @@ def isis_hapke(phase, incidence, emission, wh, b0, hh, theta, hg1, hg2):
     pg1 = (1.0 - hg2) * (1.0 - hgs) / (1.0 + hgs + 2.0 * hg1 * cosg) ** 1.5
     pg2 = hg2 * (1.0 - hgs) / (1.0 + hgs - 2.0 * hg1 * cosg) ** 1.5
     pg = pg1 + pg2
+    if legendre is not None:  # Hapke Legendre
+        bh, ch = legendre
+        pg = 1.0 + bh * cosg + ch * (1.5 * cosg**2.0 - 0.5)
     if theta <= 0.0:
         return (
             wh
@@ -100,19 +104,17 @@ def isis_hapke(phase, incidence, emission, wh, b0, hh, theta, hg1, hg2):
 
 
 def _hapke(wh, b0, hh, theta_deg, hg1, hg2=0.0):
-    """roughdiffuse's Hapke for ISIS's parameters (hg2 in {0, 1}: one lobe, ξ = ±hg1)."""
-    assert hg2 in (0.0, 1.0)
-    xi = hg1 if hg2 == 0.0 else -hg1
-    return rd.Hapke(wh, b0, hh, xi, math.radians(theta_deg))
+    """roughdiffuse's Hapke for ISIS's HapkeHen parameters (Theta in degrees)."""
+    return rd.Hapke(wh, b0, hh, hg1, math.radians(theta_deg), hg2)
 
 
 TRUTH = [
     # (Wh, B0, Hh, Theta, Hg1, Hg2), [(phase, incidence, emission, I/F)] from Hapke.truth
     ((0.5, 0.0, 0.0, 0.0, 0.0, 0.0), [(0, 0, 0, 0.0965097), (60, 45, 30, 0.0832883)]),
     ((0.52, 1.0, 1.0, 30.0, 0.213, 1.0), [(0, 0, 0, 0.286048), (60, 45, 30, 0.1342)]),
-    # HapkeLeg with Bh = Ch = 0 is the isotropic phase function: ξ = 0
-    ((0.52, 1.0, 1.0, 30.0, 0.0, 0.0), [(0, 0, 0, 0.16145), (60, 45, 30, 0.111525)]),
 ]
+# HapkeLeg (Wh, B0, Hh, Bh, Ch, Theta) from the same Hapke.truth
+TRUTH_LEG = ((0.52, 1.0, 1.0, 0.0, 0.0, 30.0), [(0, 0, 0, 0.16145), (60, 45, 30, 0.111525)])
 
 
 @pytest.mark.parametrize(("params", "cases"), TRUTH)
@@ -123,10 +125,50 @@ def test_hapke_reproduces_isis_truth(params, cases):
         assert got == pytest.approx(expected, abs=6e-7 * max(1.0, expected / 0.1))  # 6 digits
 
 
+def test_hapke_leg_reproduces_isis_truth():
+    (wh, b0, hh, bh, ch, theta), cases = TRUTH_LEG
+    model = rd.HapkeLegendre(wh, b0, hh, bh, ch, math.radians(theta))
+    for phase, inc, ema, expected in cases:
+        got = float(radiance_factor(model, *np.radians([inc, ema, phase])))
+        assert got == pytest.approx(expected, abs=6e-7 * max(1.0, expected / 0.1))
+
+
+def test_hapke_b0_above_one_as_isis():
+    """ISIS accepts any B0 >= 0 (Hapke::SetPhotoB0): B0 = 2.5 against its formula."""
+    got = float(radiance_factor(_hapke(0.3, 2.5, 0.05, 20.0, -0.3), *np.radians([10, 15, 5])))
+    assert got == pytest.approx(isis_hapke(5, 10, 15, 0.3, 2.5, 0.05, 20.0, -0.3, 0.0), rel=1e-12)
+
+
+def _random_photometric_angles(rng, n):
+    inc = rng.uniform(0.5, 89.0, n)
+    ema = rng.uniform(0.5, 89.0, n)
+    az = rng.uniform(0.5, 179.5, n)
+    ri, re = np.radians(inc), np.radians(ema)
+    cosg = np.cos(ri) * np.cos(re) + np.sin(ri) * np.sin(re) * np.cos(np.radians(az))
+    return inc, ema, np.degrees(np.arccos(cosg))
+
+
+@pytest.mark.parametrize(
+    "params",
+    [(0.52, 1.0, 1.0, 30.0, -0.4, 0.3), (0.3, 2.2, 0.05, 15.0, 0.7, -0.5), (0.9, 0, 0, 0, 1, 1)],
+)
+def test_hapke_legendre_against_isis_formula(rng, params):
+    wh, b0, hh, theta, bh, ch = params
+    model = rd.HapkeLegendre(wh, b0, hh, bh, ch, math.radians(theta))
+    inc, ema, phase = _random_photometric_angles(rng, 300)
+    expected = [
+        isis_hapke(p, i, e, wh, b0, hh, theta, 0.0, 0.0, legendre=(bh, ch))
+        for p, i, e in zip(phase, inc, ema, strict=True)
+    ]
+    got = radiance_factor(model, *np.radians([inc, ema, phase]))
+    np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-15)
+
+
 @pytest.mark.parametrize(
     "params",
     [
         (0.52, 1.0, 1.0, 30.0, 0.213, 1.0),
+        (0.4, 1.8, 0.07, 25.0, 0.45, 0.65),
         (0.3, 0.6, 0.05, 15.0, 0.3, 0.0),
         (0.9, 0.0, 0.0, 45.0, -0.4, 0.0),
         (0.7, 0.4, 0.2, 0.0, 0.1, 0.0),
@@ -134,14 +176,7 @@ def test_hapke_reproduces_isis_truth(params, cases):
 )
 def test_hapke_against_isis_formula(rng, params):
     model = _hapke(*params)
-    n = 300
-    inc = rng.uniform(0.5, 89.0, n)
-    ema = rng.uniform(0.5, 89.0, n)
-    az = rng.uniform(0.5, 179.5, n)
-    cosg = np.cos(np.radians(inc)) * np.cos(np.radians(ema)) + np.sin(np.radians(inc)) * np.sin(
-        np.radians(ema)
-    ) * np.cos(np.radians(az))
-    phase = np.degrees(np.arccos(cosg))
+    inc, ema, phase = _random_photometric_angles(rng, 300)
     expected = [isis_hapke(p, i, e, *params) for p, i, e in zip(phase, inc, ema, strict=True)]
     got = radiance_factor(model, *np.radians([inc, ema, phase]))
     np.testing.assert_allclose(got, expected, rtol=1e-9)

@@ -28,6 +28,7 @@ SUBMODULES = (
     "figures",
     "fit",
     "integrations",
+    "planetary",
     "plots",
     "render",
     "simulate",

@@ -67,25 +67,39 @@ def is_tracer(x: object) -> bool:
     return isinstance(x, jax.core.Tracer)
 
 
-def concrete(x: object) -> np.ndarray | None:
+def concrete(x: object, *, non_numbers: bool = False) -> np.ndarray | None:
     """Return ``x`` as a NumPy array when its value is known now, else ``None``.
 
-    Values inside ``jax.jit`` (tracers) and placeholders that JAX's tree utilities pass
-    through a dataclass constructor have no concrete value: validation skips them.
+    Values inside ``jax.jit`` (tracers), the fast path's symbolic values and placeholders
+    that JAX's tree utilities pass through a dataclass constructor have no concrete value:
+    validation skips them.
+
+    Parameters
+    ----------
+    x : object
+        The value.
+    non_numbers : bool
+        Return a value that is not an array-API object and that NumPy cannot read as numbers
+        (``None``, an arbitrary object) as a 0-d object array, for a check to refuse, instead
+        of ``None`` (skipped).
     """
-    if x is None:
-        return None
     if is_tracer(x):
         return None
     if array_api_compat.is_torch_array(x):
         return x.detach().cpu().numpy()  # type: ignore[attr-defined]
+    if (
+        hasattr(x, "__array_namespace__")
+        and not isinstance(x, np.ndarray | np.generic)
+        and not array_api_compat.is_jax_array(x)
+    ):
+        return None  # Dr.Jit values, the fast path's symbolic values: no value here and now
     try:
         arr = np.asarray(x)
-    except Exception:  # noqa: BLE001 - anything without a value is skipped
-        return None
-    if arr.dtype == object:
-        return None
-    return arr
+    except Exception:  # noqa: BLE001 - a value NumPy cannot read has no value as numbers
+        arr = np.asarray(None)
+    if arr.dtype != object or non_numbers:
+        return arr
+    return None
 
 
 def result_dtype(xp: Any, *arrays: Array) -> Any:

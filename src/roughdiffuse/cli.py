@@ -6,12 +6,14 @@ Subcommands live in :mod:`roughdiffuse.commands`, one module each, each with a
 Errors are sorted by whose they are (:func:`classify`):
 
 * the user's (exit status 2, one line): a :class:`~roughdiffuse.commands.UsageError`, a
-  :class:`~roughdiffuse._validate.ParameterError` or another ``ValueError`` raised by
-  roughdiffuse's own code (a refusal naming the parameter), an ``OSError`` (a file or folder
-  that cannot be read or written, a full disk), a ``MemoryError``;
+  :class:`~roughdiffuse._validate.ParameterError` (every refusal of a value by roughdiffuse's
+  own code, naming the parameter), an ``OSError`` (a file or folder that cannot be read or
+  written, a full disk), a ``MemoryError``;
 * anything else is a bug (exit status 1): it says so and where, and ``--debug`` (or
-  ``ROUGHDIFFUSE_DEBUG=1``) prints the traceback. A ``ValueError`` raised inside NumPy, SciPy
-  or JAX is a bug too, not bad input.
+  ``ROUGHDIFFUSE_DEBUG=1``) prints the traceback. A plain ``ValueError`` (from NumPy, SciPy,
+  JAX or roughdiffuse) is a bug too, not bad input.
+
+The sorting looks at the exception's type only.
 """
 
 from __future__ import annotations
@@ -22,13 +24,10 @@ import os
 import sys
 import traceback
 from collections.abc import Sequence
-from pathlib import Path
 
 from ._validate import ParameterError
 from ._version import version
 from .commands import COMMANDS, UsageError
-
-PACKAGE_DIR = Path(__file__).resolve().parent
 
 EPILOG = """\
 examples:
@@ -71,25 +70,9 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _raised_in_package(exc: BaseException) -> bool:
-    """Whether ``exc`` was raised by roughdiffuse's own code (its innermost frame)."""
-    tb = exc.__traceback__
-    if tb is None:
-        return False
-    while tb.tb_next is not None:
-        tb = tb.tb_next
-    try:
-        Path(tb.tb_frame.f_code.co_filename).resolve().relative_to(PACKAGE_DIR)
-    except ValueError:
-        return False
-    return True
-
-
 def classify(exc: BaseException) -> str | None:
     """The one-line message for a user error, or None for an internal error (a bug)."""
     if isinstance(exc, UsageError | ParameterError):
-        return str(exc)
-    if isinstance(exc, ValueError) and _raised_in_package(exc):
         return str(exc)
     if isinstance(exc, OSError):
         what = exc.strerror or str(exc) or type(exc).__name__

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import ParameterError
 from .deprecation import renamed_parameter
 from .frames import spherical_to_vector
 from .io.atomic import write_text
@@ -37,7 +38,7 @@ def albedo_curves(models: Mapping[str, Model], theta_r: Sequence[float]) -> dict
     """
     th = np.asarray(theta_r, dtype=np.float64)
     if th.ndim != 1 or np.any(~np.isfinite(th)) or np.any(th < 0) or np.any(th > math.pi / 2):
-        raise ValueError("theta_r must be a 1-D array of angles in [0, π/2] radians")
+        raise ParameterError("theta_r must be a 1-D array of angles in [0, π/2] radians")
     wo = spherical_to_vector(th, 0.0)
     out = {}
     for label, model in models.items():
@@ -70,19 +71,22 @@ def plot_albedo(
     groups : {title: {curve label: model}}
         Models of each panel (ρ should be 1 for a white-furnace test).
     theta_r : angles in radians, default 0 to 89.5° every 0.5°.
+    fig : matplotlib Figure, optional
+        Drawn on; default a new figure made through ``matplotlib.pyplot`` (so ``plt.show()``
+        shows it).
 
     Returns
     -------
     matplotlib Figure
     """
-    from ._figure import colormap, figure
+    from ._figure import colormap, pyplot_figure
 
     th = np.radians(np.arange(0.0, 89.75, 0.5)) if theta_r is None else np.asarray(theta_r)
     n = len(groups)
     ncols = n if n <= 3 else (2 if n == 4 else 3)
     nrows = -(-n // ncols)
     if fig is None:
-        fig = figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
+        fig = pyplot_figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
     axes = fig.subplots(nrows, ncols, sharey=True, squeeze=False).ravel()
     for ax in axes[n:]:
         ax.set_visible(False)

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _figure
+from ._validate import ParameterError
 from .io.atomic import atomic_write
 from .models import (
     EON,
@@ -406,9 +407,9 @@ def _eon_fitted_to(truth: VCavity) -> tuple[float, float]:
     t = np.radians(np.arange(0.0, 81.0, 10.0))
     ti, tr, dp = np.meshgrid(t, t, np.radians(np.arange(0.0, 181.0, 30.0)), indexing="ij")
     wi = np.stack([np.sin(ti), 0 * ti, np.cos(ti)], axis=-1).reshape(-1, 3)
-    wo = np.stack(
-        [np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], axis=-1
-    ).reshape(-1, 3)
+    wo = np.stack([np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], axis=-1).reshape(
+        -1, 3
+    )
     f = np.asarray(truth.brdf(wi, wo))
 
     def cost(x: np.ndarray) -> float:
@@ -495,11 +496,12 @@ FIGURES: tuple[Figure, ...] = (
     Figure(
         "2-full-moon",
         "The full-moon question",
-        "Three spheres with the moon's albedo, lit from behind the viewer. The Lambertian "
-        "disc darkens towards its edge; the rough Oren–Nayar disc (σ = 0.7 rad) stays much "
-        "brighter there, and the Lommel–Seeliger disc is exactly flat. Each disc is shown "
-        "on its own scale (centre = white) and the profiles are divided by the centre's "
-        "value.",
+        "Five spheres lit from behind the viewer: Lambert, Oren–Nayar full (σ = 0.7 rad), "
+        "Lommel–Seeliger, Hapke with lunar parameters and Minnaert (k = 0.6). The Lambertian "
+        "disc darkens towards its edge; the rough Oren–Nayar disc stays much brighter there, "
+        "the Lommel–Seeliger disc is exactly flat, and Hapke's and Minnaert's, the laws "
+        "planetary photometry fits to the moon, are nearly flat too. Each disc is shown on "
+        "its own scale (centre = white) and the profiles are divided by the centre's value.",
         _full_moon,
     ),
     Figure(
@@ -637,7 +639,7 @@ def make_figures(
         Redraw figures whose PNG exists (otherwise they are kept, so an interrupted run
         resumes where it stopped).
     progress : bool
-        Show a tqdm progress bar.
+        Show a progress bar (:func:`roughdiffuse.progress.progress`, on standard error).
     only : list of str, optional
         Names (or leading numbers) of the figures to draw.
 
@@ -646,19 +648,22 @@ def make_figures(
     list of Path
         The PNG files and index.html.
     """
-    from tqdm import tqdm
+    from .progress import progress as progress_bar
 
     folder = Path(folder)
     if not folder.parent.is_dir():
-        raise ValueError(f"parent folder {str(folder.parent)!r} does not exist")
+        raise ParameterError(f"parent folder {str(folder.parent)!r} does not exist")
     folder.mkdir(exist_ok=True)
     chosen = [f for f in FIGURES if not only or any(figure_matches(f.name, o) for o in only)]
     if only and not chosen:
-        raise ValueError(f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}")
+        raise ParameterError(
+            f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}"
+        )
     out = []
-    bar = tqdm(chosen, desc="figures", unit="fig", disable=not progress)
-    for f in bar:
+    bar = progress_bar(len(chosen), "figures", unit="fig", enabled=progress)
+    for f in chosen:
         bar.set_postfix_str(f.name)
+        bar.update(1)
         path = folder / f"{f.name}.png"
         out.append(path)
         if path.exists() and not force:
@@ -666,5 +671,7 @@ def make_figures(
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")
         atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=110))
+        _figure.release(fig)  # drawn by a public plotting function: known to pyplot
+    bar.close()
     out.append(_write_index(folder))
     return out

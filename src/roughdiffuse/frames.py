@@ -9,19 +9,28 @@ through three numbers, the *local cosines*::
 
 so kernels take those three arrays (structure of arrays) rather than (..., 3) vectors.
 The Oren–Nayar quantity s = cos_io − mu_i mu_o equals sin θi sin θr cos(φr − φi).
+
+Planetary photometry's angles (incidence i, emission e, phase g) convert to and from
+(θi, θr, Δφ) here too (:func:`photometric_to_local`, :func:`local_to_photometric`):
+cos g = cos_io = cos θi cos θr + sin θi sin θr cos Δφ.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
 from ._array import Array, asarray, concrete, namespace, result_dtype, safe_div, safe_sqrt
+from ._validate import ParameterError
 
 __all__ = [
     "angles_to_cosines",
+    "check_angle",
     "local_cosines",
+    "local_to_photometric",
+    "photometric_to_local",
     "spherical_to_vector",
     "unit_components",
     "vector_to_spherical",
@@ -60,7 +69,7 @@ def _check_real(name: str, w: Any) -> None:
     """Refuse booleans, strings and objects as direction components (NumPy would cast them)."""
     np_dtype = np.asarray(w).dtype if isinstance(w, list | tuple) else getattr(w, "dtype", None)
     if getattr(np_dtype, "kind", "f") not in "iuf":
-        raise ValueError(f"{name} must hold real numbers (got dtype {np_dtype})")
+        raise ParameterError(f"{name} must hold real numbers (got dtype {np_dtype})")
 
 
 def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Array, Array, Array]:
@@ -76,12 +85,12 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
         dtype = result_dtype(xp, w)
     w = asarray(xp, w, dtype)
     if w.ndim < 1 or w.shape[-1] != 3:
-        raise ValueError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
+        raise ParameterError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
     x, y, z = w[..., 0], w[..., 1], w[..., 2]
     n2 = x * x + y * y + z * z
     c = concrete(n2)
     if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
-        raise ValueError(
+        raise ParameterError(
             f"{name} must contain non-zero, finite direction vectors "
             f"({int(np.sum(~np.isfinite(c) | (c == 0)))} are zero, NaN or infinite)"
         )
@@ -95,7 +104,7 @@ def _check_broadcast(names: tuple[str, ...], *arrays: Array) -> None:
         np.broadcast_shapes(*shapes)
     except ValueError:
         listed = ", ".join(f"{n} {tuple(a.shape)}" for n, a in zip(names, arrays, strict=True))
-        raise ValueError(f"direction arrays do not broadcast: {listed}") from None
+        raise ParameterError(f"direction arrays do not broadcast: {listed}") from None
 
 
 def local_cosines(xp: Any, wi: Array, wo: Array, dtype: Any = None) -> tuple[Array, Array, Array]:
@@ -152,3 +161,82 @@ def half_vector_cosines(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> tup
     """
     len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
     return safe_div(xp, mu_i + mu_o, len_h), 0.5 * len_h
+
+
+# ---------------------------------------------------------------- photometric angles
+_GEOMETRY_TOL = 1e-9  # radians: g this far outside [|i − e|, i + e] is rounding
+
+
+def check_angle(name: str, value: Any, hi: float = math.pi) -> np.ndarray:
+    """``value`` as a float64 array in [0, ``hi``] radians, else ``ValueError`` naming it.
+
+    >>> check_angle("phase", 4.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: phase must be in [0, π] radians = [0°, 180°] (got 4 rad = 229.183°)
+    """
+    a = np.asarray(value, dtype=np.float64)
+    bad = ~np.isfinite(a) | (a < 0.0) | (a > hi)
+    if np.any(bad):
+        shown = float(a[bad].flat[0]) if a.ndim else float(a)
+        top = "π/2" if hi == math.pi / 2 else "π" if hi == math.pi else f"{hi:g}"
+        raise ParameterError(
+            f"{name} must be in [0, {top}] radians = [0°, {math.degrees(hi):g}°] "
+            f"(got {shown:g} rad = {math.degrees(shown):g}°)"
+        )
+    return a
+
+
+def photometric_to_local(
+    incidence: Any, emission: Any, phase: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(θi, θr, Δφ) from the photometric angles (i, e, g), radians.
+
+    Parameters
+    ----------
+    incidence, emission : array_like
+        i and e in [0, π/2] (0 at the zenith).
+    phase : array_like
+        g in [0, π], within [|i − e|, i + e] (up to 1e-9 rad of rounding).
+
+    Examples
+    --------
+    >>> ti, tr, dphi = photometric_to_local(*np.radians([30.0, 40.0, 70.0]))
+    >>> round(float(np.degrees(dphi)), 6)  # sun and observer on opposite sides
+    180.0
+    """
+    i = check_angle("incidence", incidence, math.pi / 2)
+    e = check_angle("emission", emission, math.pi / 2)
+    g = check_angle("phase", phase)
+    i, e, g = np.broadcast_arrays(i, e, g)
+    bad = (g < np.abs(i - e) - _GEOMETRY_TOL) | (g > i + e + _GEOMETRY_TOL)
+    if np.any(bad):
+        k = np.flatnonzero(bad.ravel())[0]
+        gi, ii, ei = (math.degrees(float(a.ravel()[k])) for a in (g, i, e))
+        raise ParameterError(
+            f"phase must be in [|incidence − emission|, incidence + emission] "
+            f"(got phase {gi:g}° with incidence {ii:g}°, emission {ei:g}°)"
+        )
+    s = np.sin(i) * np.sin(e)
+    num = np.cos(g) - np.cos(i) * np.cos(e)
+    cos_dphi = np.divide(num, s, out=np.ones_like(s), where=s > 1e-15)
+    return i.copy(), e.copy(), np.arccos(np.clip(cos_dphi, -1.0, 1.0))
+
+
+def local_to_photometric(
+    theta_i: Any, theta_r: Any, delta_phi: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(i, e, g) from (θi, θr, Δφ), radians: cos g = cos θi cos θr + sin θi sin θr cos Δφ.
+
+    >>> i, e, g = local_to_photometric(*np.radians([30.0, 40.0, 0.0]))
+    >>> round(float(np.degrees(g)), 6)  # same side: g = |i − e|
+    10.0
+    """
+    ti = check_angle("theta_i", theta_i, math.pi / 2)
+    tr = check_angle("theta_r", theta_r, math.pi / 2)
+    dp = np.asarray(delta_phi, dtype=np.float64)
+    if not np.all(np.isfinite(dp)):
+        raise ParameterError("delta_phi must be finite")
+    ti, tr, dp = np.broadcast_arrays(ti, tr, dp)
+    cos_g = np.cos(ti) * np.cos(tr) + np.sin(ti) * np.sin(tr) * np.cos(dp)
+    return ti.copy(), tr.copy(), np.arccos(np.clip(cos_g, -1.0, 1.0))

@@ -17,6 +17,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from ._validate import ParameterError
+
 __all__ = ["gauss_legendre"]
 
 
@@ -49,8 +51,8 @@ def gauss_legendre(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, 
         ``∫_a^b g(t) dt ≈ Σ w_k g(t_k)``.
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-        raise ValueError(f"n must be an integer >= 1 (got {n!r})")
+        raise ParameterError(f"n must be an integer >= 1 (got {n!r})")
     a, b = float(a), float(b)
     if not (np.isfinite(a) and np.isfinite(b) and a < b):
-        raise ValueError(f"the interval [a, b] must be finite with a < b (got [{a}, {b}])")
+        raise ParameterError(f"the interval [a, b] must be finite with a < b (got [{a}, {b}])")
     return _rule(int(n), a, b)

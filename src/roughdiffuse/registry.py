@@ -32,6 +32,7 @@ import warnings
 from collections.abc import Mapping
 from typing import Any, TypeVar
 
+from ._validate import ParameterError
 from .models.base import Model
 from .models.declaration import Param
 
@@ -133,7 +134,7 @@ class Entry:
         for p in self.parameters:
             if p.name == name:
                 return p
-        raise ValueError(
+        raise ParameterError(
             f"model {self.id!r} has no parameter {name!r}; its parameters: "
             f"{', '.join(p.name for p in self.parameters) or 'none'}"
         )
@@ -303,7 +304,7 @@ def get(model_id: str) -> Entry:
     _ensure_loaded()
     entry = _ENTRIES.get(model_id)
     if entry is None:
-        raise ValueError(f"unknown model {model_id!r}; choose one of: {', '.join(_ENTRIES)}")
+        raise ParameterError(f"unknown model {model_id!r}; choose one of: {', '.join(_ENTRIES)}")
     return entry
 
 

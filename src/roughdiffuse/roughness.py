@@ -17,6 +17,8 @@ from typing import Literal
 
 import numpy as np
 
+from ._validate import ParameterError
+
 __all__ = [
     "convert",
     "degrees_to_sigma",
@@ -65,5 +67,5 @@ def convert(value: float | np.ndarray, src: Convention, dst: Convention) -> floa
     """
     for name, c in (("src", src), ("dst", dst)):
         if c not in _TO_RADIANS:
-            raise ValueError(f"{name} must be one of {sorted(_TO_RADIANS)} (got {c!r})")
+            raise ParameterError(f"{name} must be one of {sorted(_TO_RADIANS)} (got {c!r})")
     return value * (_TO_RADIANS[src] / _TO_RADIANS[dst])

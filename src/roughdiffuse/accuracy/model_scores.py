@@ -100,7 +100,7 @@ def _rms_and_max(entry, param, value, rho, cosines, truth):
 
 
 def _best(entry, param, rho, cosines, truth, quick=False):
-    lo, hi = float(param.min), float(param.max)
+    lo, hi = param.bounds
     xs = np.linspace(lo, hi, 11 if quick else 41)
     rms = [_rms_and_max(entry, param, x, rho, cosines, truth)[0] for x in xs]
     k = int(np.argmin(rms))
@@ -138,7 +138,7 @@ def _score_cells(entry, param, truth, alphas, truths, cosines, quick):
             pname = PUBLISHED.get((entry.id, truth))
             if pname is not None and param is not None and param.name == pname:
                 value = matching_sigma(a) if pname == "sigma" else a
-                value = min(value, float(param.max))
+                value = min(value, param.bounds[1])
                 prms, pmx = _rms_and_max(entry, param, value, rho, cosines, values)
                 pub_cells.append(f"{prms:.3f} (max {pmx:.2f})")
                 rows.append({"alpha": a, "rho": rho, "mapping": "published",

@@ -60,6 +60,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .._validate import ParameterError
 from .options import parser
 from .timing import interleaved, rate_summary, rel_error, summary, write_atomic
 
@@ -613,7 +614,8 @@ def _fmt(s: dict[str, float] | None) -> str:
     return f"{s['median']:.0f} ({s['min']:.0f}–{s['max']:.0f})"
 
 
-def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[str, Any]) -> str:
+def _fast_path_section(meta: dict[str, Any], results: list[dict[str, Any]]) -> list[str]:
+    """The title, the machine, and the fast path against C and NumPy (``results``)."""
     lines = [
         "# Benchmark results",
         "",
@@ -647,163 +649,223 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
             f"| 2^{e['log2_rows']} | {e['model']} | {_fmt(e.get('fast'))} | "
             f"{_fmt(e.get('c'))} | {_fmt(e.get('numpy'))} | {fc_txt} | {fn_txt} | {err_txt} |"
         )
-    br = extra.get("brdf")
-    if br:
-        lines += ["", "## The default call: `model.brdf(wi, wo)` against C", ""]
-        lines.append(
-            "`model.brdf(wi, wo)` on (N, 3) local-frame NumPy arrays, called as a user calls it "
-            "(the compiled path is chosen automatically; the result is allocated by the call), "
-            "against a C loop of the same BRDF on the same arrays writing into a ready buffer "
-            "(`rd_<model>_brdf_f32`/`_f64` in `roughdiffuse/bench/c/kernels.c`), interleaved, "
-            "million evaluations per second, median (min–max). float32: 24 bytes in and 4 out "
-            "per evaluation; float64: 48 and 8. Targets: default/C ≥ 0.8 for the qualitative "
-            "Oren–Nayar model in float32, ≥ 0.5 for every model and for float64."
+    return lines
+
+
+def _brdf_section(br: Any, meta: dict[str, Any]) -> list[str]:
+    """``model.brdf(wi, wo)``, the call a user makes, against the C loop of the same BRDF."""
+    lines: list[str] = []
+    lines += ["", "## The default call: `model.brdf(wi, wo)` against C", ""]
+    lines.append(
+        "`model.brdf(wi, wo)` on (N, 3) local-frame NumPy arrays, called as a user calls it "
+        "(the compiled path is chosen automatically; the result is allocated by the call), "
+        "against a C loop of the same BRDF on the same arrays writing into a ready buffer "
+        "(`rd_<model>_brdf_f32`/`_f64` in `roughdiffuse/bench/c/kernels.c`), interleaved, "
+        "million evaluations per second, median (min–max). float32: 24 bytes in and 4 out "
+        "per evaluation; float64: 48 and 8. Targets: default/C ≥ 0.8 for the qualitative "
+        "Oren–Nayar model in float32, ≥ 0.5 for every model and for float64."
+    )
+    lines += [
+        "",
+        "| N | dtype | model | default | C | default/C | max rel. error (default, C) |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for e in br:
+        err = e["max_rel_error_vs_reference"]
+        r = e.get("default_over_c")
+        target = (
+            TARGET_C_QUALITATIVE
+            if "qualitative" in e["model"] and e["dtype"] == "float32"
+            else TARGET_C
         )
-        lines += [
-            "",
-            "| N | dtype | model | default | C | default/C | max rel. error (default, C) |",
-            "| --- | --- | --- | --- | --- | --- | --- |",
-        ]
-        for e in br:
-            err = e["max_rel_error_vs_reference"]
-            r = e.get("default_over_c")
-            target = (
-                TARGET_C_QUALITATIVE
-                if "qualitative" in e["model"] and e["dtype"] == "float32"
-                else TARGET_C
-            )
-            r_txt = "–" if r is None else f"{r:.3f}" + ("" if r >= target else " ✗")
-            err_txt = ", ".join(f"{err[k]:.1e}" for k in ("default", "c") if k in err)
-            lines.append(
-                f"| 2^{e['log2_rows']} | {e['dtype']} | {e['model']} | {_fmt(e.get('default'))} |"
-                f" {_fmt(e.get('c'))} | {r_txt} | {err_txt} |"
-            )
-    su = extra.get("startup")
-    if su:
-        lines += ["", "## Start-up", ""]
-        if "error" in su:
-            lines.append(f"error: {su['error']}")
-        else:
-            lines.append(
-                f"Wall time of a new process (`python -P …`), median of {su['repeat']} runs "
-                "(min–max), the commands interleaved, after one warm-up run each. Targets: "
-                "`import roughdiffuse` under 0.3 s above `python -c pass`, `roughdiffuse --help` "
-                "under 0.5 s, `roughdiffuse eval …` under 1 s. `import numpy` is shown for scale: "
-                "roughdiffuse imports NumPy, and nothing else heavy."
-            )
-            lines += ["", "| command | median | min–max | above `python -c pass` |"]
-            lines.append("| --- | --- | --- | --- |")
-            for label in STARTUP:
-                r = su[label]
-                target = STARTUP_TARGETS.get(label)
-                value = r["above_python"] if label == "import roughdiffuse" else r["median"]
-                mark = "" if target is None or value < target else " ✗"
-                lines.append(
-                    f"| `{label}` | {r['median']:.3f} s{mark} | {r['min']:.3f}–{r['max']:.3f} s |"
-                    f" {r['above_python']:+.3f} s |"
-                )
-    fc = extra.get("first_call")
-    if fc:
-        lines += ["", "## First call in a new process", ""]
+        r_txt = "–" if r is None else f"{r:.3f}" + ("" if r >= target else " ✗")
+        err_txt = ", ".join(f"{err[k]:.1e}" for k in ("default", "c") if k in err)
         lines.append(
-            "`rd.OrenNayar(0.8, 0.3).brdf(wi, wo)` on 2^22 float32 rows in a fresh process: "
-            "the first call (Numba's import, the kernel's compilation or its load from the disk "
-            "cache, and the evaluation), then a call with σ = 0.5 (same kernel). Target: first "
-            "call with a warm cache under 1 s."
+            f"| 2^{e['log2_rows']} | {e['dtype']} | {e['model']} | {_fmt(e.get('default'))} |"
+            f" {_fmt(e.get('c'))} | {r_txt} | {err_txt} |"
         )
-        lines += ["", "| kernel cache | import roughdiffuse | first call | second call, new σ |"]
+    return lines
+
+
+def _startup_section(su: Any, meta: dict[str, Any]) -> list[str]:
+    """Wall time of a new process: import, ``--help``, ``eval``."""
+    lines: list[str] = []
+    lines += ["", "## Start-up", ""]
+    if "error" in su:
+        lines.append(f"error: {su['error']}")
+    else:
+        lines.append(
+            f"Wall time of a new process (`python -P …`), median of {su['repeat']} runs "
+            "(min–max), the commands interleaved, after one warm-up run each. Targets: "
+            "`import roughdiffuse` under 0.3 s above `python -c pass`, `roughdiffuse --help` "
+            "under 0.5 s, `roughdiffuse eval …` under 1 s. `import numpy` is shown for scale: "
+            "roughdiffuse imports NumPy, and nothing else heavy."
+        )
+        lines += ["", "| command | median | min–max | above `python -c pass` |"]
         lines.append("| --- | --- | --- | --- |")
-        for k, r in fc.items():
-            if "error" in r:
-                lines.append(f"| {k} | error: {r['error']} | | |")
-            else:
-                lines.append(
-                    f"| {k.replace('_', ' ')} | {r['import_s']:.2f} s | {r['first_call_s']:.2f} s"
-                    f" | {r['second_call_s'] * 1e3:.1f} ms |"
-                )
+        for label in STARTUP:
+            r = su[label]
+            target = STARTUP_TARGETS.get(label)
+            value = r["above_python"] if label == "import roughdiffuse" else r["median"]
+            mark = "" if target is None or value < target else " ✗"
+            lines.append(
+                f"| `{label}` | {r['median']:.3f} s{mark} | {r['min']:.3f}–{r['max']:.3f} s |"
+                f" {r['above_python']:+.3f} s |"
+            )
+    return lines
+
+
+def _first_call_section(fc: Any, meta: dict[str, Any]) -> list[str]:
+    """The first ``brdf`` call in a fresh process, with a cold and a warm kernel cache."""
+    lines: list[str] = []
+    lines += ["", "## First call in a new process", ""]
+    lines.append(
+        "`rd.OrenNayar(0.8, 0.3).brdf(wi, wo)` on 2^22 float32 rows in a fresh process: "
+        "the first call (Numba's import, the kernel's compilation or its load from the disk "
+        "cache, and the evaluation), then a call with σ = 0.5 (same kernel). Target: first "
+        "call with a warm cache under 1 s."
+    )
+    lines += ["", "| kernel cache | import roughdiffuse | first call | second call, new σ |"]
+    lines.append("| --- | --- | --- | --- |")
+    for k, r in fc.items():
+        if "error" in r:
+            lines.append(f"| {k} | error: {r['error']} | | |")
+        else:
+            lines.append(
+                f"| {k.replace('_', ' ')} | {r['import_s']:.2f} s | {r['first_call_s']:.2f} s"
+                f" | {r['second_call_s'] * 1e3:.1f} ms |"
+            )
+    lines.append("")
+    lines.append(
+        "The cache lives in `$ROUGHDIFFUSE_CACHE_DIR`, else "
+        "`$XDG_CACHE_HOME/roughdiffuse/fastpath` (`~/.cache/roughdiffuse/fastpath`)."
+    )
+    return lines
+
+
+def _render_section(ren: Any, meta: dict[str, Any]) -> list[str]:
+    """The renderer against shading the same samples with NumPy and the fast path."""
+    lines: list[str] = []
+    lines += ["", "## Renderer", ""]
+    if "error" in ren:
+        lines.append(f"error: {ren['error']}")
+    else:
+        lines.append(
+            f"A {ren['size']} × {ren['size']} Oren–Nayar sphere, {ren['spp']} samples per "
+            "pixel, in million samples per second: `render` (ray intersection and shading "
+            "under `jax.jit`) against the same samples shaded on analytic normals with "
+            "`model.radiance` on NumPy and with `fastpath.evaluate`."
+        )
+        lines += ["", "| variant | M samples/s | vs NumPy |", "| --- | --- | --- |"]
+        for key, ratio in (("render", "render_over_numpy"), ("fast", "fast_over_numpy")):
+            lines.append(f"| {key} | {_fmt(ren[key])} | {ren[ratio]:.1f} |")
+        lines.append(f"| numpy | {_fmt(ren['numpy'])} | 1 |")
+        diff = ren["max_abs_difference_vs_render"]
         lines.append("")
         lines.append(
-            "The cache lives in `$ROUGHDIFFUSE_CACHE_DIR`, else "
-            "`$XDG_CACHE_HOME/roughdiffuse/fastpath` (`~/.cache/roughdiffuse/fastpath`)."
+            f"Largest pixel difference from `render`: NumPy {diff['numpy']:.1e}, fast "
+            f"{diff['fast']:.1e}."
         )
-    ren = extra.get("render")
-    if ren:
-        lines += ["", "## Renderer", ""]
-        if "error" in ren:
-            lines.append(f"error: {ren['error']}")
-        else:
-            lines.append(
-                f"A {ren['size']} × {ren['size']} Oren–Nayar sphere, {ren['spp']} samples per "
-                "pixel, in million samples per second: `render` (ray intersection and shading "
-                "under `jax.jit`) against the same samples shaded on analytic normals with "
-                "`model.radiance` on NumPy and with `fastpath.evaluate`."
-            )
-            lines += ["", "| variant | M samples/s | vs NumPy |", "| --- | --- | --- |"]
-            for key, ratio in (("render", "render_over_numpy"), ("fast", "fast_over_numpy")):
-                lines.append(f"| {key} | {_fmt(ren[key])} | {ren[ratio]:.1f} |")
-            lines.append(f"| numpy | {_fmt(ren['numpy'])} | 1 |")
-            diff = ren["max_abs_difference_vs_render"]
-            lines.append("")
-            lines.append(
-                f"Largest pixel difference from `render`: NumPy {diff['numpy']:.1e}, fast "
-                f"{diff['fast']:.1e}."
-            )
-    fit = extra.get("fit")
-    if fit:
-        from . import fit_bench
+    return lines
 
-        size = fit["image_size"]
-        lines += ["", f"## Fit of (ρ, σ) to a {size} × {size} image", ""]
-        lines.append(
-            f"`roughdiffuse.fit.fit` of an Oren–Nayar model to a {size} × {size} sphere image "
-            "(ρ = 0.7, σ = 0.4, 1% noise; `roughdiffuse.bench.fit_bench`), against the simplest "
-            "honest baseline, timed interleaved with it: `scipy.optimize.least_squares` on the "
-            "same "
-            "pixels, residuals from `model.radiance` on NumPy arrays, its default "
-            "finite-difference Jacobian, from the centre of the same bounds (fit's first start)."
-            f" Warm runs: median of {fit['repeat']} (min–max); the first fit in a process adds "
-            f"JAX compilation. Target: under {fit_bench.TARGET_S:g} s. "
-            f"Command: `{meta['command']}`."
-        )
-        lines += ["", fit_bench.table(fit["rows"])]
-    sim = extra.get("simulate")
-    if sim:
-        from . import simulate_bench
 
-        lines += ["", "## V-cavity solver", ""]
-        env = " ".join(f"{k}={v}" for k, v in sim["environment"].items())
+def _fit_section(fit: Any, meta: dict[str, Any]) -> list[str]:
+    """The fit of (ρ, σ) to a sphere image against plain SciPy least squares."""
+    lines: list[str] = []
+    from . import fit_bench
+
+    size = fit["image_size"]
+    lines += ["", f"## Fit of (ρ, σ) to a {size} × {size} image", ""]
+    lines.append(
+        f"`roughdiffuse.fit.fit` of an Oren–Nayar model to a {size} × {size} sphere image "
+        "(ρ = 0.7, σ = 0.4, 1% noise; `roughdiffuse.bench.fit_bench`), against the simplest "
+        "honest baseline, timed interleaved with it: `scipy.optimize.least_squares` on the "
+        "same "
+        "pixels, residuals from `model.radiance` on NumPy arrays, its default "
+        "finite-difference Jacobian, from the centre of the same bounds (fit's first start)."
+        f" Warm runs: median of {fit['repeat']} (min–max); the first fit in a process adds "
+        f"JAX compilation. Target: under {fit_bench.TARGET_S:g} s. "
+        f"Command: `{meta['command']}`."
+    )
+    lines += ["", fit_bench.table(fit["rows"])]
+    return lines
+
+
+def _simulate_section(sim: Any, meta: dict[str, Any]) -> list[str]:
+    """The V-cavity solver on NumPy and on JAX (its table rows from ``simulate_bench``)."""
+    lines: list[str] = []
+    from . import simulate_bench
+
+    lines += ["", "## V-cavity solver", ""]
+    env = " ".join(f"{k}={v}" for k, v in sim["environment"].items())
+    lines.append(
+        "`roughdiffuse.simulate`: evaluations per second, median of "
+        f"{sim['repeat']} runs after a warm-up (min–max), of the NumPy path (the baseline) "
+        "and of the same call with `jax.numpy` arrays (float64, after a warm-up call that "
+        "compiles), interleaved. Surface BRDF rows use the default `Settings()` (1e-4 "
+        "accuracy, docs/accuracy.md); the table time is extrapolated from the median "
+        "rate: NumPy in two single-core worker processes, JAX in the one process measured "
+        "(XLA already runs it on every core). Cavities of all-different slopes run op by "
+        "op on JAX, one radiosity operator per slope. Run by "
+        f"`roughdiffuse.bench.simulate_bench` in a subprocess with {env}. "
+        f"Command: `{meta['command']}`."
+    )
+    lines.append("")
+    if "error" in sim:
+        lines.append(f"error: {sim['error']}")
+    else:
+        lines.append(simulate_bench.markdown(sim["rows"]))
+    return lines
+
+
+def _memory_section(mem: Any, meta: dict[str, Any]) -> list[str]:
+    """The fast path's memory on a large call."""
+    lines: list[str] = []
+    lines += ["", "## Memory", ""]
+    if "error" in mem:
+        lines.append(f"error: {mem['error']}")
+    else:
+        gib = 1 << 30
         lines.append(
-            "`roughdiffuse.simulate`: evaluations per second, median of "
-            f"{sim['repeat']} runs after a warm-up (min–max), of the NumPy path (the baseline) "
-            "and of the same call with `jax.numpy` arrays (float64, after a warm-up call that "
-            "compiles), interleaved. Surface BRDF rows use the default `Settings()` (1e-4 "
-            "accuracy, docs/accuracy.md); the table time is extrapolated from the median "
-            "rate: NumPy in two single-core worker processes, JAX in the one process measured "
-            "(XLA already runs it on every core). Cavities of all-different slopes run op by "
-            "op on JAX, one radiosity operator per slope. Run by "
-            f"`roughdiffuse.bench.simulate_bench` in a subprocess with {env}. "
-            f"Command: `{meta['command']}`."
+            f"Fast path, qualitative Oren–Nayar, {mem['rows']:,} rows: inputs "
+            f"{mem['inputs_bytes'] / gib:.2f} GiB, output {mem['output_bytes'] / gib:.2f} "
+            f"GiB; the process grew by {mem['extra_bytes'] / gib:.2f} GiB during the call "
+            f"(peak resident {mem['peak_bytes'] / gib:.2f} GiB = "
+            f"{mem['ratio_peak_over_inputs_output']:.2f} × inputs + output, Python and "
+            "libraries included)."
         )
-        lines.append("")
-        if "error" in sim:
-            lines.append(f"error: {sim['error']}")
-        else:
-            lines.append(simulate_bench.markdown(sim["rows"]))
-    mem = extra.get("memory")
-    if mem:
-        lines += ["", "## Memory", ""]
-        if "error" in mem:
-            lines.append(f"error: {mem['error']}")
-        else:
-            gib = 1 << 30
-            lines.append(
-                f"Fast path, qualitative Oren–Nayar, {mem['rows']:,} rows: inputs "
-                f"{mem['inputs_bytes'] / gib:.2f} GiB, output {mem['output_bytes'] / gib:.2f} "
-                f"GiB; the process grew by {mem['extra_bytes'] / gib:.2f} GiB during the call "
-                f"(peak resident {mem['peak_bytes'] / gib:.2f} GiB = "
-                f"{mem['ratio_peak_over_inputs_output']:.2f} × inputs + output, Python and "
-                "libraries included)."
-            )
+    return lines
+
+
+SECTIONS = (
+    ("brdf", _brdf_section),
+    ("startup", _startup_section),
+    ("first_call", _first_call_section),
+    ("render", _render_section),
+    ("fit", _fit_section),
+    ("simulate", _simulate_section),
+    ("memory", _memory_section),
+)
+"""The report's sections after the fast-path table: key in ``extra`` -> its writer."""
+
+
+def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[str, Any]) -> str:
+    """``bench/RESULTS.md``: the fast-path table, then one section for each part of ``extra``
+    that was run (:data:`SECTIONS`).
+
+    Parameters
+    ----------
+    meta : dict
+        The machine and the command (``command``, ``date``, ``cores``, versions, ``repeat``).
+    results : list of dict
+        The fast-path rows (:func:`run`).
+    extra : dict
+        The other parts' results, by key; a part that was not run is absent.
+    """
+    lines = _fast_path_section(meta, results)
+    for key, writer in SECTIONS:
+        if extra.get(key):
+            lines += writer(extra[key], meta)
     lines.append("")
     return "\n".join(lines)
 
@@ -837,78 +899,84 @@ def main(
         return 2
 
 
-def run(args: argparse.Namespace, command: str) -> int:
-    """Run the benchmarks the parsed options ask for; ``command`` is recorded in RESULTS.md."""
+def _check_options(args: argparse.Namespace) -> tuple[list[int], list[int]]:
+    """Refuse out-of-range options (:class:`ParameterError`); the fast-path and ``brdf`` sizes
+    (log2 row counts)."""
     try:
         sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     except ValueError:
-        raise ValueError(f"--sizes must be comma-separated integers (got {args.sizes!r})") from None
+        raise ParameterError(
+            f"--sizes must be comma-separated integers (got {args.sizes!r})"
+        ) from None
     if not sizes or any(not 4 <= s <= 28 for s in sizes):
-        raise ValueError(f"--sizes must be log2 sizes in [4, 28] (got {args.sizes!r})")
+        raise ParameterError(f"--sizes must be log2 sizes in [4, 28] (got {args.sizes!r})")
     try:
         brdf_sizes = [int(s) for s in args.brdf_sizes.split(",") if s.strip()]
     except ValueError:
-        raise ValueError(
+        raise ParameterError(
             f"--brdf-sizes must be comma-separated integers (got {args.brdf_sizes!r})"
         ) from None
     if any(not 4 <= s <= 28 for s in brdf_sizes):
-        raise ValueError(f"--brdf-sizes must be log2 sizes in [4, 28] (got {args.brdf_sizes!r})")
+        raise ParameterError(
+            f"--brdf-sizes must be log2 sizes in [4, 28] (got {args.brdf_sizes!r})"
+        )
     if args.startup_repeat < 0:
-        raise ValueError(f"--startup-repeat must be >= 0 (got {args.startup_repeat})")
+        raise ParameterError(f"--startup-repeat must be >= 0 (got {args.startup_repeat})")
     if args.repeat < 1:
-        raise ValueError(f"--repeat must be >= 1 (got {args.repeat})")
+        raise ParameterError(f"--repeat must be >= 1 (got {args.repeat})")
     for name in ("fit_repeat", "simulate_repeat", "simulate_geometries"):
         if getattr(args, name) < 1:
-            raise ValueError(f"--{name.replace('_', '-')} must be >= 1 (got {getattr(args, name)})")
+            raise ParameterError(
+                f"--{name.replace('_', '-')} must be >= 1 (got {getattr(args, name)})"
+            )
     if args.fit_size < 16:
-        raise ValueError(f"--fit-size must be >= 16 pixels (got {args.fit_size})")
+        raise ParameterError(f"--fit-size must be >= 16 pixels (got {args.fit_size})")
     if args.simulate_cavities < 100:
-        raise ValueError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
+        raise ParameterError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
     if args.memory_log2 and not 10 <= args.memory_log2 <= 28:
-        raise ValueError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
+        raise ParameterError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
+    return sizes, brdf_sizes
+
+
+def _run_parts(args: argparse.Namespace, bar: Any) -> dict[str, Any]:
+    """The parts after the fast-path tables that the options leave on, by report key (each one
+    step of ``bar``)."""
+    stages: list[tuple[str, bool, Callable[[], dict[str, Any]]]] = [
+        ("startup", bool(args.startup_repeat), lambda: startup(args.startup_repeat)),
+        ("first_call", not args.no_first_call, first_call),
+        ("render", not args.no_render, lambda: bench_render(args.repeat)),
+        ("fit", not args.no_fit, lambda: bench_fit(args.fit_repeat, args.fit_size)),
+        (
+            "simulate",
+            not args.no_simulate,
+            lambda: bench_simulate(
+                args.simulate_repeat,
+                args.simulate_cavities,
+                args.simulate_geometries,
+                args.simulate_cases,
+            ),
+        ),
+        ("memory", bool(args.memory_log2), lambda: memory(args.memory_log2)),
+    ]
+    said = {"startup": "start-up", "first_call": "first call"}
+    extra: dict[str, Any] = {}
+    for key, wanted, job in stages:
+        if not wanted:
+            continue
+        bar.set_postfix_str(said.get(key, key))
+        extra[key] = job()
+        if key != "fit":
+            print(f"{said.get(key, key)}: {json.dumps(extra[key])}", flush=True)
+        bar.update(1)
+    return extra
+
+
+def _machine(command: str, c_note: str, repeat: int) -> dict[str, Any]:
+    """The report's header record: command, date, cores, CPU name and versions."""
     import numba
 
     from roughdiffuse.engine.fastpath import cpu_count
 
-    wanted = args.models.lower()
-    models = [m for m in bench_models() if wanted in m.label.lower() or wanted in m.id]
-    if not models:
-        raise ValueError(f"--models {args.models!r} matches no model")
-    with tempfile.TemporaryDirectory() as tmp:
-        lib, c_note = (None, "skipped (--no-c)") if args.no_c else build_c(Path(tmp))
-        print(f"C reference: {c_note}", flush=True)
-        results = []
-        for s in sizes:
-            results += bench_size(s, args.repeat, lib, models, not args.no_numpy)
-        brdf_rows = []
-        for s in brdf_sizes:
-            for dtype in (np.float32, np.float64):
-                brdf_rows += bench_brdf(s, args.repeat, lib, models, dtype)
-    extra: dict[str, Any] = {}
-    if brdf_rows:
-        extra["brdf"] = brdf_rows
-    if args.startup_repeat:
-        extra["startup"] = startup(args.startup_repeat)
-        print(f"start-up: {json.dumps(extra['startup'])}", flush=True)
-    if not args.no_first_call:
-        extra["first_call"] = first_call()
-        print(f"first call: {json.dumps(extra['first_call'])}", flush=True)
-    if not args.no_render:
-        extra["render"] = bench_render(args.repeat)
-        print(f"render: {json.dumps(extra['render'])}", flush=True)
-    if not args.no_fit:
-        extra["fit"] = bench_fit(args.fit_repeat, args.fit_size)
-    if not args.no_simulate:
-        extra["simulate"] = bench_simulate(
-            args.simulate_repeat,
-            args.simulate_cavities,
-            args.simulate_geometries,
-            args.simulate_cases,
-        )
-        print(f"simulate: {json.dumps(extra['simulate'])}", flush=True)
-    if args.memory_log2:
-        extra["memory"] = memory(args.memory_log2)
-        print(f"memory: {json.dumps(extra['memory'])}", flush=True)
     meta = {
         "command": command,
         "date": dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
@@ -919,7 +987,7 @@ def run(args: argparse.Namespace, command: str) -> int:
         "numba": numba.__version__,
         **_versions("jax", "scipy"),
         "c_compiler": c_note,
-        "repeat": args.repeat,
+        "repeat": repeat,
     }
     try:
         with open("/proc/cpuinfo") as f:
@@ -928,6 +996,46 @@ def run(args: argparse.Namespace, command: str) -> int:
             meta["cpu"] = names[0]
     except OSError:
         pass
+    return meta
+
+
+def run(args: argparse.Namespace, command: str) -> int:
+    """Run the benchmarks the parsed options ask for; ``command`` is recorded in RESULTS.md."""
+    sizes, brdf_sizes = _check_options(args)
+    wanted = args.models.lower()
+    models = [m for m in bench_models() if wanted in m.label.lower() or wanted in m.id]
+    if not models:
+        raise ParameterError(f"--models {args.models!r} matches no model")
+    from roughdiffuse.progress import progress, progress_enabled
+
+    later = [
+        bool(args.startup_repeat),
+        not args.no_first_call,
+        not args.no_render,
+        not args.no_fit,
+        not args.no_simulate,
+        bool(args.memory_log2),
+    ]
+    stages = len(sizes) + 2 * len(brdf_sizes) + sum(later)
+    bar = progress(stages, "bench", unit="stage", enabled=progress_enabled())
+    with tempfile.TemporaryDirectory() as tmp:
+        lib, c_note = (None, "skipped (--no-c)") if args.no_c else build_c(Path(tmp))
+        print(f"C reference: {c_note}", flush=True)
+        results = []
+        for s in sizes:
+            bar.set_postfix_str(f"models, 2^{s} rows")
+            results += bench_size(s, args.repeat, lib, models, not args.no_numpy)
+            bar.update(1)
+        brdf_rows = []
+        for s in brdf_sizes:
+            for dtype in (np.float32, np.float64):
+                bar.set_postfix_str(f"brdf, 2^{s} {np.dtype(dtype).name}")
+                brdf_rows += bench_brdf(s, args.repeat, lib, models, dtype)
+                bar.update(1)
+    extra: dict[str, Any] = {"brdf": brdf_rows} if brdf_rows else {}
+    extra.update(_run_parts(args, bar))
+    bar.close()
+    meta = _machine(command, c_note, args.repeat)
     out_dir = args.output_dir
     out_dir.mkdir(parents=True, exist_ok=True)
     payload = {"meta": meta, "results": results, **extra}

@@ -26,10 +26,11 @@ interleaved run by run:
 
 If the call with JAX arrays raises, or returns a NumPy array (no JAX path), the row says "not
 available" with the reason. BLAS runs single-threaded here (set before NumPy is imported): the
-solver's matrices are small (2K ≤ 256), and two BLAS threads per process on 2 shared cores ran
-it 3× slower. Run as a script, this file sets ``OPENBLAS_NUM_THREADS=1`` and
-``OMP_NUM_THREADS=1`` (unless set); imported, it changes nothing, so call :func:`bench_simulate`
-in a process started with them (as :mod:`roughdiffuse.bench.run` does). Dask workers
+solver's matrices are small (2K ≤ 256), and BLAS threads per process compete with the
+worker processes for the same cores (slower, see bench/RESULTS.md). Run as a script, this
+file sets ``OPENBLAS_NUM_THREADS=1`` and ``OMP_NUM_THREADS=1`` (unless set); imported, it
+changes nothing, so call :func:`bench_simulate` in a process started with them (as
+:mod:`roughdiffuse.bench.run` does). Dask workers
 (``--workers``) get one BLAS thread each by default; for a single process, set
 ``OPENBLAS_NUM_THREADS=1`` yourself.
 """
@@ -37,6 +38,8 @@ in a process started with them (as :mod:`roughdiffuse.bench.run` does). Dask wor
 from __future__ import annotations
 
 import os
+
+from .._validate import ParameterError
 
 if __name__ == "__main__":  # before NumPy is imported; run.py sets them for its subprocess
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -109,26 +112,11 @@ def _case(
     return row
 
 
-def bench_simulate(
-    repeat: int = 3,
-    n_surface: int = GEOMETRIES,
-    n_cavities: int = CAVITIES,
-    only: list[str] | None = None,
-) -> list[dict[str, Any]]:
-    """Time the cases; one dict per case with evaluations per second (median, min, max).
-
-    Parameters
-    ----------
-    repeat : int
-        Timed runs per variant, after one warm-up call.
-    n_surface : int
-        Random geometries of the surface BRDF cases.
-    n_cavities : int
-        Cavities of the one-bounce case; a quarter of them for the all-bounce cases of one
-        shared slope, a hundredth for all-different slopes.
-    only : list of str, optional
-        Run only the cases whose name contains one of these texts.
-    """
+def _cases(
+    n_surface: int, n_cavities: int
+) -> list[tuple[str, int, Callable[..., Any], tuple[np.ndarray, ...]]]:
+    """The solver cases on seeded random inputs: (name, evaluations, function, its
+    arguments)."""
     from roughdiffuse.simulate import Settings, brdf, cavity_radiance
 
     rng = np.random.default_rng(0)
@@ -172,10 +160,34 @@ def bench_simulate(
                     (ti, tr, dp),
                 )
             )
+    return specs
+
+
+def bench_simulate(
+    repeat: int = 3,
+    n_surface: int = GEOMETRIES,
+    n_cavities: int = CAVITIES,
+    only: list[str] | None = None,
+) -> list[dict[str, Any]]:
+    """Time the cases; one dict per case with evaluations per second (median, min, max).
+
+    Parameters
+    ----------
+    repeat : int
+        Timed runs per variant, after one warm-up call.
+    n_surface : int
+        Random geometries of the surface BRDF cases.
+    n_cavities : int
+        Cavities of the one-bounce case; a quarter of them for the all-bounce cases of one
+        shared slope, a hundredth for all-different slopes.
+    only : list of str, optional
+        Run only the cases whose name contains one of these texts.
+    """
+    specs = _cases(n_surface, n_cavities)
     if only:
         specs = [s for s in specs if any(text in s[0] for text in only)]
         if not specs:
-            raise ValueError(f"no solver case matches {only!r}")
+            raise ParameterError(f"no solver case matches {only!r}")
     jnp = _jax_numpy()
     rows = []
     for name, count, fn, args in specs:

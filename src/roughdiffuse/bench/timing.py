@@ -15,6 +15,8 @@ from collections.abc import Callable, Collection, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from .._validate import ParameterError
+
 
 def summary(values: Iterable[float]) -> dict[str, float]:
     """Median, min and max of ``values`` (and how many there were).
@@ -31,7 +33,7 @@ def summary(values: Iterable[float]) -> dict[str, float]:
     """
     vals = sorted(float(v) for v in values)
     if not vals:
-        raise ValueError("summary needs at least one value")
+        raise ParameterError("summary needs at least one value")
     return {
         "median": float(statistics.median(vals)),
         "min": vals[0],
@@ -90,7 +92,7 @@ def interleaved(
         Seconds of each timed call, per variant.
     """
     if repeat < 1:
-        raise ValueError(f"repeat must be >= 1 (got {repeat})")
+        raise ParameterError(f"repeat must be >= 1 (got {repeat})")
     keys = list(variants)
     times: dict[str, list[float]] = {k: [] for k in keys}
     for r in range(repeat):

@@ -16,6 +16,8 @@ COMMANDS: list[str] = [
     "simulate",
     "stereo",
     "bench",
+    "photometry",
+    "data",
     "convert",
     "export",
 ]

@@ -2,7 +2,9 @@
 
 The models, their parameters, units, ranges and defaults come from the registry
 (:mod:`roughdiffuse.registry`); nothing about a particular model is written here. The named
-flags (``--albedo``, ``--sigma``, ...) are shorthands for ``--param NAME=VALUE``.
+flags (``--albedo``, ``--sigma``, ``--alpha``, ...) are shorthands for ``--param NAME=VALUE``,
+one for every numeric parameter some model declares (:func:`shorthands`), with help text
+written from the declarations.
 """
 
 from __future__ import annotations
@@ -11,18 +13,11 @@ import argparse
 import math
 from typing import Any
 
+from .._validate import format_interval
 from ..models import Model
 from ..models.declaration import Param
 from . import UsageError
-
-SHORTHANDS: dict[str, str] = {
-    "albedo": "albedo",
-    "sigma": "sigma",
-    "roughness": "roughness",
-    "eta": "eta",
-    "limb_darkening": "limb_darkening",
-}
-"""argparse dest of a named flag -> the model parameter it sets."""
+from ._inputs import angle
 
 PARAM_HELP = """\
 model parameters: --param NAME=VALUE (repeatable) sets any parameter of the chosen model;
@@ -42,19 +37,6 @@ def float_list(text: str) -> list[float]:
     if not vals:
         raise argparse.ArgumentTypeError(f"expected comma-separated numbers (got {text!r})")
     return vals
-
-
-def _albedo(text: str) -> float | list[float]:
-    parts = [p for p in text.replace(",", " ").split() if p]
-    try:
-        vals = [float(p) for p in parts]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"albedo must be a number or three comma-separated numbers (got {text!r})"
-        ) from None
-    if len(vals) not in (1, 3):
-        raise argparse.ArgumentTypeError(f"albedo must have 1 or 3 values (got {len(vals)})")
-    return vals[0] if len(vals) == 1 else vals
 
 
 def _assignment(text: str) -> tuple[str, str]:
@@ -83,11 +65,87 @@ def _start(name: str) -> str:
     return "none"
 
 
-def add_model_arguments(parser: argparse.ArgumentParser, default: str = "oren-nayar") -> None:
+def shorthands() -> dict[str, list[Param]]:
+    """Parameter name -> its declarations, for every numeric parameter a model declares whose
+    name is longer than one letter (``--param h=0.1`` sets the others), in registry order.
+    """
+    from .. import registry
+
+    found: dict[str, list[Param]] = {}
+    for entry in registry.entries():
+        for p in entry.parameters:
+            if not p.categorical and len(p.name) > 1:
+                found.setdefault(p.name, []).append(p)
+    return found
+
+
+def _channel_values(name: str) -> Any:
+    """argparse type of a colour parameter: one number or R,G,B."""
+
+    def parse(text: str) -> float | list[float]:
+        parts = [t for t in text.replace(",", " ").split() if t]
+        try:
+            vals = [float(t) for t in parts]
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a number or three comma-separated numbers (got {text!r})"
+            ) from None
+        if len(vals) not in (1, 3):
+            raise argparse.ArgumentTypeError(f"{name} must have 1 or 3 values (got {len(vals)})")
+        return vals[0] if len(vals) == 1 else vals
+
+    parse.__name__ = name  # argparse names the type in its own messages
+    return parse
+
+
+def _option_type(name: str, declared: Param) -> Any:
+    """argparse type of a named model option: an angle (degrees, or with a unit), a colour
+    (one number or R,G,B), or a number."""
+    if declared.unit == "radians":
+        return angle
+    return _channel_values(name) if declared.channels else float
+
+
+def _range_on_command_line(p: Param) -> str:
+    """``[0, 1]``, or for an angle its range in degrees, ``[0, 90] degrees``."""
+    if p.unit != "radians":
+        return p.interval
+    lo = None if p.min is None else math.degrees(p.min)
+    hi = None if p.max is None else math.degrees(p.max)
+    return f"{format_interval(lo, hi, p.min_open)} DEGREES"
+
+
+def parameter_help(name: str, *, channels: bool = True) -> str:
+    """What a parameter is, from its declarations: meaning, range (degrees for an angle) and
+    which models take it, e.g. ``the model's roughness, in [0, 1]; 5 models``.
+    ``channels``: mention that a colour parameter takes R,G,B."""
+    from .. import registry
+
+    declared = shorthands()[name]
+    models = [e.id for e in registry.entries() if any(p.name == name for p in e.parameters)]
+    first = declared[0]
+    meanings = {p.description for p in declared}
+    what = first.description if len(meanings) == 1 else f"the model's {name}"
+    ranges = list(dict.fromkeys(_range_on_command_line(p) for p in declared))
+    where = "in " + (ranges[0] if len(ranges) == 1 else " or ".join(ranges) + " by model")
+    colour = ", or R,G,B" if first.channels and channels else ""
+    if len(models) <= 3:
+        taken = "model " + ", ".join(models) if len(models) == 1 else "models " + ", ".join(models)
+    else:
+        taken = f"{len(models)} models"
+    return f"{what}, {where}{colour}; {taken}"
+
+
+def add_model_arguments(
+    parser: argparse.ArgumentParser,
+    default: str = "oren-nayar",
+    skip: tuple[str, ...] = (),
+) -> None:
     """--model ID, --param NAME=VALUE and the shorthands --albedo, --sigma (degrees), ...
 
-    The shorthands default to ``None``: only a flag the user typed is applied (and refused
-    when the model does not take that parameter).
+    The shorthands (:func:`shorthands`) default to ``None``: only a flag the user typed is
+    applied (and refused when the model does not take that parameter). ``skip`` names
+    parameters that get no shorthand because the command uses that flag for something else.
     """
     g = parser.add_argument_group("model", PARAM_HELP)
     g.add_argument(
@@ -104,36 +162,20 @@ def add_model_arguments(parser: argparse.ArgumentParser, default: str = "oren-na
         metavar="NAME=VALUE",
         help="set a model parameter, e.g. --param sigma=20 (degrees) or --param alpha=0.3",
     )
-    g.add_argument(
-        "--albedo",
-        type=_albedo,
-        default=None,
-        help=f"albedo ρ in [0, 1], or R,G,B (default: {_start('albedo')})",
-    )
-    g.add_argument(
-        "--sigma",
-        type=float,
-        default=None,
-        help=f"roughness σ in DEGREES, 0 to 90 (default: {_start('sigma')})",
-    )
-    g.add_argument(
-        "--roughness",
-        type=float,
-        default=None,
-        help=f"Fujii/EON roughness r in [0, 1] (default: {_start('roughness')})",
-    )
-    g.add_argument(
-        "--eta",
-        type=float,
-        default=None,
-        help=f"Torrance-Sparrow refractive index η in (0, 1000] (default: {_start('eta')})",
-    )
-    g.add_argument(
-        "--limb-darkening",
-        type=float,
-        default=None,
-        help=f"Lunar-Lambert weight L in [0, 1] (default: {_start('limb_darkening')})",
-    )
+    added = []
+    for name, declared in shorthands().items():
+        if name in skip:
+            continue
+        g.add_argument(
+            _flag(name),
+            dest=name,
+            type=_option_type(name, declared[0]),
+            default=None,
+            metavar=name.upper(),
+            help=f"{parameter_help(name)} (default: {_start(name)})",
+        )
+        added.append(name)
+    parser.set_defaults(shorthand_params=tuple(added))
 
 
 def _flag(name: str) -> str:
@@ -186,20 +228,18 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
         models at once pass False: the flag applies to the models that take it).
     """
     from .. import registry
+    from ._inputs import known_id
 
-    try:
-        entry = registry.get(args.model)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    entry = registry.get(known_id(args.model, registry.ids()))
     taken = {p.name: p for p in entry.parameters}
     values: dict[str, Any] = {
         p.name: p.example for p in entry.parameters if p.example is not None
     }
-    for dest, name in SHORTHANDS.items():
-        value = getattr(args, dest, None)
+    for name in getattr(args, "shorthand_params", ()):
+        value = getattr(args, name, None)
         if value is None:
             continue
-        flag = _flag(dest)
+        flag = _flag(name)
         if name not in taken:
             if strict:
                 raise UsageError(

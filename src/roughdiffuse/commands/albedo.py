@@ -9,7 +9,8 @@ from typing import Any
 
 from . import UsageError
 from ._checks import finite_float
-from ._common import float_list
+from ._common import float_list, parameter_help
+from ._inputs import angle_list
 
 EXAMPLES = """\
 examples:
@@ -53,26 +54,27 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--sigma",
-        type=float_list,
+        type=angle_list,
         default=[0.0, 15.0, 30.0, 45.0, 60.0],
-        help="roughness σ in DEGREES, 0 to 90, comma-separated (default: 0,15,30,45,60)",
+        help=f"{parameter_help('sigma')}; comma-separated, or 0.2rad (default: 0,15,30,45,60)",
     )
     p.add_argument(
         "--roughness",
         type=float_list,
         default=[0.0, 0.25, 0.5, 0.75, 1.0],
-        help="roughness r in [0, 1] of fujii, eon, burley…, comma-separated "
-        "(default: 0,0.25,0.5,0.75,1)",
+        help=f"{parameter_help('roughness')}; comma-separated (default: 0,0.25,0.5,0.75,1)",
     )
     p.add_argument(
         "--alpha",
         type=float_list,
         default=[0.1, 0.3, 0.5, 0.8],
-        help="roughness α of hammon, chan, smith-diffuse-…, comma-separated, within each "
-        "model's declared range (default: 0.1,0.3,0.5,0.8)",
+        help=f"{parameter_help('alpha')}; comma-separated (default: 0.1,0.3,0.5,0.8)",
     )
     p.add_argument(
-        "--albedo", type=finite_float, default=1.0, help="albedo ρ in [0, 1] (default: 1)"
+        "--albedo",
+        type=finite_float,
+        default=1.0,
+        help=f"{parameter_help('albedo', channels=False)} (default: 1)",
     )
     p.add_argument("-o", "--output", default="albedo.png", help="plot file: .png, .svg or .pdf")
     p.add_argument("--table", metavar="CSV", help="also write the albedo table (CSV) here")
@@ -98,13 +100,13 @@ def _sweep(entry: Any, args: argparse.Namespace) -> tuple[str, str, list[Any]] |
 
 def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
     from .. import registry
+    from ._inputs import known_id
 
     names = [n.strip() for n in args.model.split(",") if n.strip()]
     if not names:
         raise UsageError("--model must name at least one model")
     for n in names:
-        if n not in registry.ids():
-            raise UsageError(f"unknown model {n!r}; choose from: {', '.join(registry.ids())}")
+        known_id(n, registry.ids())
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")

@@ -35,6 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..figures import FIGURES, figure_matches, make_figures
+    from ..progress import progress_enabled
     from . import UsageError
     from ._checks import output_folder
 
@@ -48,7 +49,10 @@ def run(args: argparse.Namespace) -> int:
             )
     output_folder(args.output, option="-o")
     paths = make_figures(
-        args.output, force=args.force, progress=not args.no_progress, only=args.only
+        args.output,
+        force=args.force,
+        progress=progress_enabled() and not args.no_progress,
+        only=args.only,
     )
     print(f"wrote {len(paths) - 1} figures and {paths[-1]}")
     return 0

@@ -9,6 +9,7 @@ import warnings
 
 from . import UsageError
 from ._checks import finite_float, output_file, reading, require_finite
+from ._inputs import angle_pair, input_file, known_id
 
 DATA_RANGE = (1e-100, 1e100)
 """Magnitudes of data values the fit accepts: their squares, and sums of a few million of
@@ -17,32 +18,22 @@ finite and meaningful."""
 
 EXAMPLES = """\
 examples:
-  roughdiffuse fit samples.csv --model oren-nayar --report fit.html
-  roughdiffuse fit samples.csv --compare
-  roughdiffuse fit red-fabric.binary --model oren-nayar-full --max-samples 100000
-  roughdiffuse fit sphere.npy --shape sphere --light 40,0 --model oren-nayar --report fit.html
-  roughdiffuse fit photo.png --exposure 2 --normals normals.npy --light 30,90 --view 0,0
+  roughdiffuse fit data:samples.csv --model oren-nayar-full --report fit.html
+  roughdiffuse fit data:samples.csv --compare --models lambert,oren-nayar,oren-nayar-full
+  roughdiffuse fit data:samples.csv --model oren-nayar-full --noise absolute --json
+  roughdiffuse fit data:oren-nayar.binary --model oren-nayar-full --max-samples 20000
+  roughdiffuse fit data:sphere.npy --shape sphere --light 30,0 --model oren-nayar-full
+  roughdiffuse fit data:sphere.npy --normals data:sphere_normals.npy --light 0.5236rad,0
 
 Data by suffix: .csv/.txt (BRDF samples; header names the columns and the angle unit, e.g.
 theta_i_deg, theta_r_deg, delta_phi_deg, brdf), .binary (MERL), .npy/.exr/.png (a linear
-image; give --normals or --shape, and --light). Angles on the command line are in DEGREES;
-the fitted σ is printed in radians and degrees.
+image; give --normals or --shape, and --light). data:NAME reads a file shipped with the
+package (`roughdiffuse data` lists them). Angles on the command line are in DEGREES, or
+with a unit (30deg, 0.52rad); the fitted σ is printed in radians and degrees. The noise model
+is relative (errors proportional to the value), as in Python's fit() and the explorer.
 """
 
 SHAPES = ("sphere", "vase", "cylinder")
-
-
-def _angles(text: str) -> tuple[float, float]:
-    parts = [p for p in text.replace(",", " ").split() if p]
-    try:
-        vals = [float(p) for p in parts]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected THETA,PHI in degrees (got {text!r})") from None
-    if len(vals) == 1:
-        vals.append(0.0)
-    if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
-        raise argparse.ArgumentTypeError(f"expected THETA,PHI in degrees (got {text!r})")
-    return vals[0], vals[1]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -56,7 +47,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("data", metavar="DATA", help="a .csv, MERL .binary, or .npy/.exr/.png image")
+    p.add_argument(
+        "data",
+        metavar="DATA",
+        type=input_file,
+        help="a .csv, MERL .binary, or .npy/.exr/.png image; data:NAME is a file shipped with "
+        "roughdiffuse (`roughdiffuse data` lists them)",
+    )
     p.add_argument(
         "--model",
         default="oren-nayar",
@@ -65,10 +62,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--compare", action="store_true", help="fit every model and rank them (BIC)")
     p.add_argument(
+        "--models",
+        metavar="ID,ID,...",
+        help="with --compare: rank only these registry ids (default: every fittable model)",
+    )
+    p.add_argument(
         "--noise",
-        choices=("absolute", "relative"),
+        choices=("relative", "absolute"),
         default="relative",
-        help="noise model: constant, or proportional to the value (default: relative)",
+        help="noise model: proportional to the value, or constant (default: relative, as "
+        "roughdiffuse.fit.fit and the explorer; absolute when a value is <= 0)",
+    )
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the fit (or, with --compare, the ranking) as JSON instead of tables",
     )
     p.add_argument(
         "--loss",
@@ -84,11 +92,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
-    p.add_argument(
-        "--json",
-        metavar="OUT.json",
-        help="write the best fit as {model, params} (for roughdiffuse export --from)",
-    )
     g = p.add_argument_group("samples and MERL files")
     g.add_argument("--irradiance", type=finite_float, default=None, help="E0 for radiance data")
     g.add_argument(
@@ -98,17 +101,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="MERL: fit a random subset of this many cells (default: 200000)",
     )
     g = p.add_argument_group("images")
-    g.add_argument("--normals", metavar="NORMALS.npy", help="normal map (H, W, 3), world frame")
+    g.add_argument(
+        "--normals",
+        type=input_file,
+        metavar="NORMALS.npy",
+        help="normal map (H, W, 3), world frame",
+    )
     g.add_argument("--shape", choices=SHAPES, help="the renderer's shape the image shows")
     g.add_argument(
         "--light",
-        type=_angles,
+        type=angle_pair,
         metavar="THETA,PHI",
         help="direction to the light (degrees)",
     )
     g.add_argument(
         "--view",
-        type=_angles,
+        type=angle_pair,
         default=(0.0, 0.0),
         metavar="THETA,PHI",
         help="direction to the viewer (degrees, default 0,0)",
@@ -218,21 +226,30 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
+    from ..fit.least_squares import noise_model
     from ..fit.report import write_report
+    from ..progress import progress_enabled
 
-    if args.model not in CANDIDATES:
-        raise UsageError(f"unknown model {args.model!r}; choose one of: {', '.join(CANDIDATES)}")
+    known_id(args.model, CANDIDATES)
+    models = None
+    if args.models is not None:
+        if not args.compare:
+            raise UsageError("--models needs --compare")
+        models = [m.strip() for m in args.models.split(",") if m.strip()]
+        for m in models:
+            known_id(m, CANDIDATES, "--models")
     if args.report:  # checked before the data is read or fitted; replaced if it exists
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
         output_file(args.report, option="--report", overwrite=True)
     data = _load(args)
     _check_values(data.value, args.data)
-    print(f"data: {data.source}: {data.size} samples ({data.kind})")
-    options = {"noise": args.noise, "loss": args.loss}
-    if args.noise == "relative" and (data.value <= 0).any():
-        options["noise"] = "absolute"
-        print("note: some values are 0; using --noise absolute")
+    say = (lambda *a: None) if args.json else print
+    say(f"data: {data.source}: {data.size} samples ({data.kind})")
+    noise, note = noise_model(data, args.noise)
+    if note:
+        say(f"note: {note}")
+    options = {"noise": noise, "loss": args.loss}
     f_scale = 0.03 if args.f_scale is None else args.f_scale
     if not f_scale > 0:
         raise UsageError(f"--f-scale must be > 0 (got {f_scale:g})")
@@ -243,40 +260,42 @@ def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", DegenerateDataWarning)
         if args.compare:
-            comparison = compare_models(data, **options)
+            comparison = compare_models(data, models, progress=progress_enabled(), **options)
             results = list(comparison.results)
-            print("models ranked by BIC (lower is better):")
-            print(comparison.table())
-            print()
-            print(results[0].table())
+            say("models ranked by BIC (lower is better):")
+            say(comparison.table())
+            say()
+            say(results[0].table())
         else:
             c = CANDIDATES[args.model]
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
-            print(results[0].table())
+            say(results[0].table())
     for r in results:
         require_finite(
             [r.rms, r.aic, r.bic, *np.ravel(r.values)],
             f"the fit of {r.model_name} (RMS, AIC, BIC, parameters)",
             args.data,
         )
-    if caught and not args.compare:
+    if args.json:
+        _print_json(data, results, comparison, args.model)
+    elif any(issubclass(w.category, DegenerateDataWarning) for w in caught) and not args.compare:
         print("warning: the data cannot identify every parameter (see the table)")
     if args.report:
         write_report(args.report, data, results, comparison)
-        print(f"wrote {args.report}")
-    if args.json:
-        _write_json(args.json, results[0].model)
+        say(f"wrote {args.report}")
     return 0
 
 
-def _write_json(path: str, model: object) -> None:
+def _print_json(data, results, comparison, model_id: str) -> None:  # noqa: ANN001
+    """The fit (or the ranking, best first) as :func:`roughdiffuse.fit.summary.result_json`."""
     import json
 
-    from ..io.atomic import write_text
-    from ..materials import model_record
+    from ..fit.summary import result_json
 
-    try:
-        write_text(path, json.dumps(model_record(model), indent=2) + "\n")
-    except OSError as exc:
-        raise UsageError(f"--json: cannot write {path!r}: {exc.strerror or exc}") from None
-    print(f"wrote {path}")
+    ids = comparison.names if comparison is not None else (model_id,)
+    out = {
+        "data": data.source,
+        "samples": int(data.size),
+        "fits": [result_json(n, r) for n, r in zip(ids, results, strict=True)],
+    }
+    print(json.dumps(out, indent=2, ensure_ascii=False, allow_nan=False))

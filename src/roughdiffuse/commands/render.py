@@ -10,6 +10,7 @@ from pathlib import Path
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, require_finite
 from ._common import add_model_arguments, model_from_args
+from ._inputs import angle, input_file
 
 EXAMPLES = """\
 examples:
@@ -19,9 +20,16 @@ examples:
   roughdiffuse render --model lommel-seeliger --shape moon -o moon.exr
   roughdiffuse render --model eon --roughness 1 --albedo 0.8,0.5,0.3 --light 40,0 \\
       --light 70,180,0.5 --bits 16 -o two-lights.png
+  roughdiffuse render --model oren-nayar-full --sigma 0.4rad --size 96 \\
+      --lights data:lights.json -o stack/
 
-Angles in degrees. θ is measured from the axis pointing at the default viewer (+z), φ from
-the image's right (+x) towards its top (+y): --light-theta 0 puts the light behind the viewer.
+--lights FILE renders one image per light of a lights.json file (the format `stereo`
+reads) in one process, into the folder -o names (light-00.npy, light-01.npy, ... and
+lights.json beside them; --format png or exr for other files).
+
+Angles in degrees, or with a unit (0.5rad). θ is measured from the axis pointing at the
+default viewer (+z), φ from the image's right (+x) towards its top (+y): --light-theta 0 puts
+the light behind the viewer.
 The file type follows the suffix: .png (exposure and the sRGB curve), .npy or .exr (linear
 float32 radiance). An existing file is kept unless --force is given.
 """
@@ -44,8 +52,8 @@ def _size(text: str) -> int | tuple[int, int]:
 def _light(text: str) -> tuple[float, float, float]:
     parts = [p for p in text.split(",") if p.strip()]
     try:
-        vals = [float(p) for p in parts]
-    except ValueError:
+        vals = [angle(p) for p in parts[:2]] + [float(p) for p in parts[2:]]
+    except (ValueError, argparse.ArgumentTypeError):
         vals = []
     if len(vals) not in (2, 3):
         raise argparse.ArgumentTypeError(f"--light takes THETA,PHI[,E0] in degrees (got {text!r})")
@@ -83,9 +91,9 @@ def add_scene_arguments(p: argparse.ArgumentParser, shape: bool = True) -> None:
             "--shape", default="sphere", metavar="NAME", help=f"one of: {', '.join(SHAPES)}"
         )
     g.add_argument(
-        "--light-theta", type=finite_float, default=0.0, help="light θ, degrees [0, 180]"
+        "--light-theta", type=angle, default=0.0, help="light θ, degrees [0, 180] (default 0)"
     )
-    g.add_argument("--light-phi", type=finite_float, default=0.0, help="light φ, degrees")
+    g.add_argument("--light-phi", type=angle, default=0.0, help="light φ, degrees (default 0)")
     g.add_argument(
         "--irradiance", type=finite_float, default=1.0, help="E0 of the light (default 1)"
     )
@@ -96,8 +104,10 @@ def add_scene_arguments(p: argparse.ArgumentParser, shape: bool = True) -> None:
         metavar="THETA,PHI[,E0]",
         help="a light (repeatable; replaces --light-theta/--light-phi); lights add",
     )
-    g.add_argument("--view-theta", type=finite_float, default=0.0, help="view θ, degrees [0, 180]")
-    g.add_argument("--view-phi", type=finite_float, default=0.0, help="view φ, degrees")
+    g.add_argument(
+        "--view-theta", type=angle, default=0.0, help="view θ, degrees [0, 180] (default 0)"
+    )
+    g.add_argument("--view-phi", type=angle, default=0.0, help="view φ, degrees (default 0)")
     g.add_argument("--size", type=_size, default=512, help="N or WxH pixels (default 512)")
     g.add_argument(
         "--spp", type=int, default=4, help="samples per pixel, a square: 1, 4, 9, ... (default 4)"
@@ -209,7 +219,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_model_arguments(p)
+    add_model_arguments(p, skip=("alpha",))  # --alpha: the PNG's coverage channel here
     add_scene_arguments(p)
     g = p.add_argument_group("output")
     add_output_arguments(g, (".png", ".npy", ".exr"))
@@ -221,6 +231,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     g.add_argument("--bits", type=int, default=8, choices=(8, 16), help="PNG bit depth")
     g.add_argument("--alpha", action="store_true", help="PNG: write the coverage as alpha")
+    g = p.add_argument_group("a light stack (for photometric stereo)")
+    g.add_argument(
+        "--lights",
+        dest="lights_file",
+        type=input_file,
+        metavar="JSON",
+        help="render one image per light of this lights.json into the folder -o names",
+    )
+    g.add_argument(
+        "--format",
+        choices=("npy", "exr", "png"),
+        default="npy",
+        help="--lights: the images' file type (default npy, linear float32)",
+    )
     p.set_defaults(func=run)
 
 
@@ -230,6 +254,14 @@ def run(args: argparse.Namespace) -> int:
     from ..io.images import write_image
     from ..render import render
 
+    if args.lights_file is not None:
+        from ._render_stack import render_stack
+
+        return render_stack(
+            args,
+            make_shape(args.shape),
+            lambda channels: check_render_memory(args, channels=channels),
+        )
     out = check_output(args.output, (".png", ".npy", ".exr"), args.force)
     model = model_from_args(args)
     shape = make_shape(args.shape)

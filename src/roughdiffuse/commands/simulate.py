@@ -5,34 +5,41 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from typing import Any
 
 from .._version import version
+from ..progress import progress_enabled
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
-from ._common import float_list
+from ._inputs import GEOMETRY_HELP, angle, angle_list, geometry_arguments, geometry_used
 
 MAX_BOUNCES = 100
 """Largest finite --bounces. N bounces cost N − 1 products of the element matrices per slope
-node (``simulate.cavity.radiosity_operator``): on a busy 2-core machine 100 bounces took 45 s
-where 'all' took 15–20 s, about 0.3 s a bounce, so a million would take days. The all-bounce
-limit ('all', one matrix inverse) is what many bounces approach."""
+node (``simulate.cavity.radiosity_operator``), so the time grows linearly with N and 100
+bounces already cost more than the all-bounce limit ('all', one matrix inverse), which is
+what many bounces approach."""
 
 MAX_ELEMENTS = 128
-"""Largest --elements K (default 16): the solver's time grows fast with K (on a busy 2-core
-machine K = 64 took 32 s where 16 took 19 s, and 200 more than two minutes); see
-:func:`_solver_bytes` for its memory."""
+"""Largest --elements K (default 16): the solver's time grows fast with K (its matrices are
+2K × 2K per slope node); see :func:`_solver_bytes` for its memory."""
 
-EXAMPLES = """\
+EXAMPLES = (
+    """\
 examples:
   roughdiffuse simulate --theta-i 40 --theta-r 60 --delta-phi 0 --sigma 20 --bounces all
-  roughdiffuse simulate --table gt.npz --step 10 --delta-phi-step 45 --sigma 10,20,30 --workers 2
-  roughdiffuse simulate --table gt.npz ... --scheduler tcp://127.0.0.1:8786
-  roughdiffuse simulate --report -o report/
+  roughdiffuse simulate --theta-i 0.7rad --sigma 0.35rad --bounces 1
+  roughdiffuse simulate --table gt.npz --step 45 --delta-phi-step 90 --sigma 10,20
+  roughdiffuse simulate --report --quick -o report/
 
-A table run writes finished chunks to FILE.chunks/; run the same command again to resume.
+A table run writes finished chunks to FILE.chunks/; run the same command again to resume
+(--workers N for a local Dask cluster, --scheduler tcp://HOST:PORT for a distributed one).
 A finished FILE is kept: the same command returns it at once; other settings need --force.
-Angles in DEGREES.
 """
+    + GEOMETRY_HELP
+    + """
+Defaults: θi = 30, θr = 30, Δφ = 0, σ = 20, ρ = 0.8; the values used are printed.
+"""
+)
 
 
 def _bounces(text: str) -> int | str:
@@ -63,18 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument(
-        "--theta-i", type=finite_float, default=30.0, help="incidence angle, degrees [0, 90]"
-    )
-    p.add_argument(
-        "--theta-r", type=finite_float, default=30.0, help="viewing angle, degrees [0, 90]"
-    )
-    p.add_argument("--delta-phi", type=finite_float, default=0.0, help="azimuth φr − φi, degrees")
+    geometry_arguments(p, 30.0, 30.0, 0.0)
     p.add_argument(
         "--sigma",
-        type=float_list,
+        type=angle_list,
         default=[20.0],
-        help="roughness σ in DEGREES (list for tables)",
+        help="roughness σ in DEGREES or with a unit, 0.35rad (list for tables; default 20)",
     )
     p.add_argument(
         "--albedo", type=finite_float, default=0.8, help="facet albedo ρ in [0, 1] (default 0.8)"
@@ -105,10 +106,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="replace a finished --table FILE (or chunks of other settings) by a new run",
     )
     p.add_argument(
-        "--step", type=finite_float, default=10.0, help="table step of θi and θr, degrees"
+        "--step", type=angle, default=10.0, help="table step of θi and θr, degrees (default 10)"
     )
     p.add_argument(
-        "--delta-phi-step", type=finite_float, default=30.0, help="table step of Δφ, degrees"
+        "--delta-phi-step", type=angle, default=30.0, help="table step of Δφ, degrees (default 30)"
     )
     p.add_argument("--workers", type=int, default=1, help="processes (local Dask cluster if > 1)")
     p.add_argument(
@@ -136,10 +137,30 @@ def _grid(step: float, lo: float, hi: float, name: str):
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
+    from ..simulate import Settings
 
-    from ..simulate import Settings, brdf, compute_table
+    _check(args)
+    settings = Settings(measure=args.measure, elements=args.elements)
+    if args.report:
+        from ..accuracy.report import write_report
 
+        output_folder(args.output, option="-o")
+        out = write_report(
+            args.output,
+            quick=args.quick,
+            progress=progress_enabled() and not args.no_progress,
+            workers=args.workers,
+            scheduler=args.scheduler,
+        )
+        print(f"report written to {out}")
+        return 0
+    if args.table:
+        return _run_table(args, settings)
+    return _run_single(args, settings)
+
+
+def _check(args: argparse.Namespace) -> None:
+    """Refuse options out of range before any work (and jobs too large for memory)."""
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     for s in args.sigma:
@@ -157,56 +178,56 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
-    settings = Settings(measure=args.measure, elements=args.elements)
-    if args.report:
-        from ..accuracy.report import write_report
 
-        output_folder(args.output, option="-o")
-        out = write_report(
-            args.output,
-            quick=args.quick,
-            progress=not args.no_progress,
-            workers=args.workers,
-            scheduler=args.scheduler,
-        )
-        print(f"report written to {out}")
-        return 0
-    if args.table:
-        ang = _grid(args.step, 0.0, 90.0, "step")
-        dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
-        # checked before any chunk is computed; an existing table is resumed or reused
-        output_file(args.table, option="--table", overwrite=True)
-        chunks = f"{args.table}.chunks"
-        if os.path.exists(chunks) and not os.path.isdir(chunks):
-            raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
-        table = compute_table(
-            args.table,
-            ang,
-            ang,
-            dphi,
-            np.radians(args.sigma),
-            args.albedo,
-            args.bounces,
-            settings,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            progress=not args.no_progress,
-            backend=args.backend,
-            force=args.force,
-            package_version=version(),
-        )
-        if table.meta.get("reused"):
-            print(
-                f"kept {args.table}: a finished table of these settings, "
-                f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
-            )
-            return 0
+
+def _run_table(args: argparse.Namespace, settings: Any) -> int:
+    """``--table``: compute (or resume, or reuse) a ground-truth table."""
+    import numpy as np
+
+    from ..simulate import compute_table
+
+    ang = _grid(args.step, 0.0, 90.0, "step")
+    delta_phi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+    # checked before any chunk is computed; an existing table is resumed or reused
+    output_file(args.table, option="--table", overwrite=True)
+    chunks = f"{args.table}.chunks"
+    if os.path.exists(chunks) and not os.path.isdir(chunks):
+        raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
+    table = compute_table(
+        args.table,
+        ang,
+        ang,
+        delta_phi,
+        np.radians(args.sigma),
+        args.albedo,
+        args.bounces,
+        settings,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=progress_enabled() and not args.no_progress,
+        backend=args.backend,
+        force=args.force,
+        package_version=version(),
+    )
+    if table.meta.get("reused"):
         print(
-            f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
-            f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
-            "(before Richardson extrapolation, which the values have)"
+            f"kept {args.table}: a finished table of these settings, "
+            f"{table.values.shape} values (θi, θr, Δφ, σ); --force recomputes it"
         )
         return 0
+    print(
+        f"wrote {args.table}: {table.values.shape} values (θi, θr, Δφ, σ), "
+        f"max |f(K) - f(2K)| / f = {np.max(np.abs(table.k_difference) / table.values):.2e} "
+        "(before Richardson extrapolation, which the values have)"
+    )
+    return 0
+
+
+def _run_single(args: argparse.Namespace, settings: Any) -> int:
+    """One BRDF value at the angles given, with its element-refinement change."""
+    from ..simulate import brdf
+
+    geometry = geometry_used(args)
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)
         if not 0.0 <= val <= 90.0:
@@ -224,6 +245,11 @@ def run(args: argparse.Namespace) -> int:
         return_difference=True,
     )
     require_finite([f, d], "the BRDF", f"--sigma {args.sigma[0]:g} --albedo {args.albedo:g}")
+    print(f"geometry: {geometry}")
+    print(
+        f"surface: σ = {args.sigma[0]:g}°, facet albedo ρ = {args.albedo:g}, "
+        f"bounces: {args.bounces}, measure: {args.measure}"
+    )
     print(f"brdf (1/sr): {float(f):.8g}")
     print(f"f * pi / albedo: {float(f) * math.pi / max(args.albedo, 1e-300):.8g}")
     print(f"element change f(K) - f(2K): {float(d):.2e} (K = {args.elements}, extrapolated)")

@@ -6,15 +6,21 @@ import argparse
 import os
 from pathlib import Path
 
+from ..progress import progress_enabled
 from . import UsageError
+from ._inputs import input_file, known_id
 
 EXAMPLES = """\
 examples:
-  roughdiffuse stereo img0.npy img1.npy img2.npy img3.npy --lights lights.json -o out/
-  roughdiffuse stereo *.png --exposure 0 --lights lights.json --mask mask.png \\
-      --model oren-nayar-full -o out/
-  roughdiffuse stereo --diligent DiLiGenT/pmsData/potPNG --model oren-nayar -o pot/
+  roughdiffuse render --model oren-nayar-full --sigma 0.4rad --size 96 \\
+      --lights data:lights.json -o stack/
+  roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
+  roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
+
+PNG images: --exposure E (linear = value / 2^E), --mask mask.png. A DiLiGenT object:
+--diligent DiLiGenT/pmsData/potPNG. --model lambert is Woodham's Lambertian photometric
+stereo alone (least squares per pixel): the same outputs, no roughness.
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -37,9 +43,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("images", nargs="*", metavar="IMAGE", help=".npy, .exr or .png images (K >= 3)")
-    p.add_argument("--lights", metavar="JSON", help="light directions and intensities")
-    p.add_argument("--mask", metavar="FILE", help="object mask (PNG or .npy; default: lit pixels)")
+    p.add_argument(
+        "images",
+        nargs="*",
+        type=input_file,
+        metavar="IMAGE",
+        help=".npy, .exr or .png images (K >= 3)",
+    )
+    p.add_argument(
+        "--lights", type=input_file, metavar="JSON", help="light directions and intensities"
+    )
+    p.add_argument(
+        "--mask",
+        type=input_file,
+        metavar="FILE",
+        help="object mask (PNG or .npy; default: lit pixels)",
+    )
     p.add_argument("--exposure", type=float, help="PNG exposure in stops (linear = value / 2^E)")
     p.add_argument("--diligent", metavar="DIR", help="read a DiLiGenT object folder instead")
     p.add_argument(
@@ -70,12 +89,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+LAMBERT = "lambert"
+"""``--model lambert``: Woodham's Lambertian photometric stereo alone (least squares per
+pixel), the same outputs with no roughness."""
+
+
 def _model(model_id: str):  # noqa: ANN202
     from ..registry import create, ids
 
-    if model_id not in ids():
-        raise UsageError(f"unknown model {model_id!r}; choose one of: {', '.join(ids())}")
-    return create(model_id)
+    known_id(model_id, ids())
+    return None if model_id == LAMBERT else create(model_id)
 
 
 def _prepare_output(folder: str, force: bool) -> Path:
@@ -132,14 +155,24 @@ def run(args: argparse.Namespace) -> int:
         mask = stereo.read_mask(args.mask) if args.mask else None
         data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
     lam = stereo.lambertian(data, shadow=args.shadow)
+    if model is None:
+        return _lambert_only(args, data, lam, out, truth)
     res = stereo.rough(
-        data, model, per_pixel=args.per_pixel, start=lam, shadow=args.shadow, progress=True
+        data,
+        model,
+        per_pixel=args.per_pixel,
+        start=lam,
+        shadow=args.shadow,
+        progress=progress_enabled(),
     )
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
+    extra = None
+    if args.demo:  # the report states the truth beside the fit
+        extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
     params = stereo.write_outputs(
-        out, data, res, lam, depth, model_id=args.model, truth_normals=truth
+        out, data, res, lam, depth, model_id=args.model, truth_normals=truth, extra=extra
     )
     r = params["roughness"]
     if r["per_pixel"]:
@@ -147,4 +180,24 @@ def run(args: argparse.Namespace) -> int:
     else:
         line = f"{r['name']} = {r['value']:.4g} ± {r['standard_error']:.2g}"
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
+    return 0
+
+
+def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:  # noqa: ANN001
+    """Woodham's Lambertian photometric stereo: normals, albedo, depth; no roughness."""
+    import numpy as np
+
+    from .. import stereo
+
+    normals = np.full(data.mask.shape + (3,), np.nan)
+    normals[data.mask] = lam.normals
+    depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
+    params = stereo.write_outputs(
+        out, data, None, lam, depth, model_id=LAMBERT, truth_normals=truth
+    )
+    res = params["lambertian"]["relative_rms_residual"]["median"]
+    print(
+        f"lambert (Woodham): no roughness; median relative residual {res:.3g}; "
+        f"{params['pixels']} pixels; results in {out}/ (report.html)"
+    )
     return 0

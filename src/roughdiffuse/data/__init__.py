@@ -11,6 +11,10 @@ them; the truth is recorded in ``sphere.json`` and in each file's header):
     A 64 × 64 linear radiance image of a sphere of Oren–Nayar (full), ρ = 0.6, σ = 0.5 rad,
     lit by a distant light at θ = 30°, φ = 0 (E0 = 1), one sample per pixel at its centre;
     its normal map (zero vectors off the sphere); the light and the model in JSON.
+``lights.json``
+    Eight distant lights on a 35° ring around the view axis, in the format
+    ``roughdiffuse stereo --lights`` and ``roughdiffuse render --lights`` read
+    (:func:`roughdiffuse.stereo.default_lights`).
 ``oren-nayar.binary``
     A MERL-format file (Matusik et al. 2003) tabulating Oren–Nayar (full), ρ = (0.6, 0.45,
     0.3), σ = 0.3 rad. A MERL file is 33 MB and the reader takes only full files, so it is not
@@ -22,8 +26,9 @@ Brand and McMillan, SIGGRAPH 2003) are not redistributed here: see the documenta
 "Getting started" page for where they come from.
 
 >>> from roughdiffuse import data
->>> data.names()
-['oren-nayar.binary', 'samples.csv', 'sphere.json', 'sphere.npy', 'sphere_normals.npy']
+>>> data.names()  # doctest: +NORMALIZE_WHITESPACE
+['lights.json', 'oren-nayar.binary', 'samples.csv', 'sphere.json', 'sphere.npy',
+ 'sphere_normals.npy']
 >>> data.path("samples.csv").name
 'samples.csv'
 """
@@ -33,10 +38,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from .._validate import ParameterError
+
 __all__ = ["MERL_MODEL", "cache_dir", "names", "path"]
 
 _HERE = Path(__file__).resolve().parent
-_SHIPPED = ("samples.csv", "sphere.json", "sphere.npy", "sphere_normals.npy")
+_SHIPPED = ("lights.json", "samples.csv", "sphere.json", "sphere.npy", "sphere_normals.npy")
 _GENERATED = ("oren-nayar.binary",)
 
 MERL_MODEL = "OrenNayar(albedo=(0.6, 0.45, 0.3), sigma=0.3, variant='full')"
@@ -82,4 +89,4 @@ def path(name: str) -> Path:
         if not target.is_file():
             _make_merl(target)
         return target
-    raise ValueError(f"name must be one of {', '.join(names())} (got {name!r})")
+    raise ParameterError(f"name must be one of {', '.join(names())} (got {name!r})")

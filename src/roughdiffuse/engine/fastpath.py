@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import write_text
 from .cache import cache_dir, private_cache_dir
 from .protocol import CompilableModel as Model
@@ -301,14 +302,14 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 def _as_numpy(entry: str, name: str, x: Any, width: int) -> np.ndarray:
     mod = type(x).__module__
     if mod.startswith(("jax", "torch")):
-        raise ValueError(
+        raise ParameterError(
             f"{name}: the fast path takes NumPy arrays; call model.{entry} for JAX or PyTorch"
         )
     a = np.asarray(x)
     if width == 3 and (a.ndim < 1 or a.shape[-1] != 3):
-        raise ValueError(f"{name} must have shape (..., 3) (got shape {a.shape})")
+        raise ParameterError(f"{name} must have shape (..., 3) (got shape {a.shape})")
     if not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
-        raise ValueError(f"{name} must hold real numbers (got dtype {a.dtype})")
+        raise ParameterError(f"{name} must hold real numbers (got dtype {a.dtype})")
     return a
 
 
@@ -349,12 +350,12 @@ def _prepare(
     except ValueError:
         listed = ", ".join(f"{k} {a.shape}" for (k, _), a in zip(inputs, arrays, strict=True))
         kind = "direction" if widths[0] == 3 else "cosine"
-        raise ValueError(f"{kind} arrays do not broadcast: {listed}") from None
+        raise ParameterError(f"{kind} arrays do not broadcast: {listed}") from None
     if dtype is None:
         dtype = _result_dtype(*arrays)
     e0 = np.asarray(irradiance, dtype=np.float64)
     if e0.ndim > 1 or not np.all(np.isfinite(e0)):
-        raise ValueError("irradiance must be a finite number or a 1-D array of channel values")
+        raise ParameterError("irradiance must be a finite number or a 1-D array of channel values")
     rows = int(np.prod(shape, dtype=np.int64))
     pattern = []
     flats = []
@@ -379,19 +380,19 @@ def _run(
     threads: int | None,
 ) -> np.ndarray:
     if chunk is not None and chunk < 1:
-        raise ValueError(f"chunk must be a positive number of rows (got {chunk})")
+        raise ParameterError(f"chunk must be a positive number of rows (got {chunk})")
     if threads is None:  # every core, but no thread with less than ROWS_PER_THREAD rows
         threads = max(1, min(cpu_count(), call.rows // ROWS_PER_THREAD))
     threads = int(threads)
     if threads < 1:
-        raise ValueError(f"threads must be >= 1 (got {threads})")
+        raise ParameterError(f"threads must be >= 1 (got {threads})")
     dtype, rows, shape = call.dtype, call.rows, call.shape
     kernel, params, channels = _kernel_for(model, dtype, call.pattern, call.e0, call.entry)
     out_shape = (*shape, channels) if channels else shape
     if out is None:
         out = np.empty(out_shape, dtype=dtype)
     elif out.shape != out_shape or out.dtype != dtype or not out.flags.c_contiguous:
-        raise ValueError(
+        raise ParameterError(
             f"out must be a C-contiguous {dtype} array of shape {out_shape} "
             f"(got {out.dtype} {out.shape})"
         )
@@ -579,9 +580,9 @@ def brdf_cosines(
 
 def _check_model(model: Any) -> None:
     if not is_model(model):
-        raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+        raise ParameterError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     if not type(model).closed_form:
-        raise ValueError(
+        raise ParameterError(
             f"{type(model).__name__} is not a closed form (a simulation or a table): the fast "
             "path compiles closed forms only; call model.radiance (NumPy) instead"
         )
@@ -631,7 +632,7 @@ def _check_directions(
             x, y, z = part[:, 0], part[:, 1], part[:, 2]
             n2 = x * x + y * y + z * z
         if np.any(~np.isfinite(n2) | (n2 == 0)):
-            raise ValueError(f"{name} must contain non-zero, finite direction vectors")
+            raise ParameterError(f"{name} must contain non-zero, finite direction vectors")
 
 
 def evaluate_batches(

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .._version import version
 from .datasets import MAX_CSV_BYTES, MAX_MERL_BYTES
 from .params import model_from_params
@@ -116,9 +117,9 @@ def _float(q: dict[str, str], key: str, default: float) -> float:
     try:
         v = float(text)
     except ValueError:
-        raise ValueError(f"{key} must be a number (got {text!r})") from None
+        raise ParameterError(f"{key} must be a number (got {text!r})") from None
     if not math.isfinite(v):
-        raise ValueError(f"{key} must be finite (got {text!r})")
+        raise ParameterError(f"{key} must be finite (got {text!r})")
     return v
 
 
@@ -129,7 +130,7 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
     try:
         albedo = [float(a) for a in albedo_text.split(",")]
     except ValueError:
-        raise ValueError(
+        raise ParameterError(
             f"albedo must be three comma-separated numbers (got {albedo_text!r})"
         ) from None
     if len(albedo) == 1:
@@ -164,13 +165,13 @@ def _render_vase() -> Any:
         theta = _float(q, "light_theta", 0.0)
         phi = _float(q, "light_phi", 0.0)
         if not 0.0 <= theta <= 180.0:
-            raise ValueError(f"light_theta must be in [0, 180] degrees (got {theta:g})")
+            raise ParameterError(f"light_theta must be in [0, 180] degrees (got {theta:g})")
         exposure = _float(q, "exposure", 0.0)
         if not -10.0 <= exposure <= 10.0:
-            raise ValueError(f"exposure must be in [-10, 10] stops (got {exposure:g})")
+            raise ParameterError(f"exposure must be in [-10, 10] stops (got {exposure:g})")
         size = _float(q, "size", 200)
         if size not in VASE_SIZES:
-            raise ValueError(
+            raise ParameterError(
                 f"size must be one of {', '.join(map(str, VASE_SIZES))} pixels (got {size:g})"
             )
         size = int(size)
@@ -181,7 +182,7 @@ def _render_vase() -> Any:
         image, _ = render(model, SurfaceOfRevolution(), light, size=size, samples_per_pixel=4)
         rgb = np.asarray(image, dtype=np.float64) * 2.0**exposure
         if not np.all(np.isfinite(rgb)):
-            raise ValueError(
+            raise ParameterError(
                 f"these parameters give a vase image with NaN or infinite radiance "
                 f"({q.get('model', 'oren-nayar')}: eta={q.get('eta', '1.5')}, "
                 f"sigma={q.get('sigma', '0')}, roughness={q.get('roughness', '0')})"
@@ -234,12 +235,12 @@ def _plane_of_incidence(
 ) -> tuple[float, ...]:
     brdf = _solver()
     tr = np.radians(np.abs(THETA_R_DEG))
-    dphi = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
+    delta_phi = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
     with _SOLVER_LOCK:
         f = brdf(
             math.radians(theta_i_deg),
             tr,
-            dphi,
+            delta_phi,
             sigma=sigma,
             albedo=albedo,
             bounces="all" if bounces == "all" else int(bounces),
@@ -293,13 +294,13 @@ def ground_truth(q: dict[str, str]) -> dict[str, Any]:
     albedo = _float(q, "albedo", 0.8)
     bounces = q.get("bounces", "all")
     if bounces not in ("1", "all"):
-        raise ValueError(f"bounces must be '1' or 'all' (got {bounces!r})")
+        raise ParameterError(f"bounces must be '1' or 'all' (got {bounces!r})")
     if not 0.0 < sigma <= math.pi / 2:
-        raise ValueError(f"sigma must be in (0, π/2] radians (got {sigma!r})")
+        raise ParameterError(f"sigma must be in (0, π/2] radians (got {sigma!r})")
     if not 0.0 <= theta_i < 90.0:
-        raise ValueError(f"theta_i must be in [0, 90) degrees (got {theta_i!r})")
+        raise ParameterError(f"theta_i must be in [0, 90) degrees (got {theta_i!r})")
     if not 0.0 <= albedo <= 1.0:
-        raise ValueError(f"albedo must be in [0, 1] (got {albedo!r})")
+        raise ParameterError(f"albedo must be in [0, 1] (got {albedo!r})")
     # on a grid so that small slider moves hit the cache, kept inside the accepted range
     sigma = min(max(round(sigma, 4), 1e-4), math.pi / 2)
     theta_i = min(round(theta_i, 1), 89.9)

@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = [
     "DATASETS_KEPT",
     "FIT_LOCK",
@@ -184,7 +186,7 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
     name = (name or "data")[:200]
     if kind == "merl":
         if len(body) != MERL_FILE_SIZE:
-            raise ValueError(
+            raise ParameterError(
                 f"{name}: not a MERL file: {len(body)} bytes, a MERL .binary file has "
                 f"{MERL_FILE_SIZE} (12-byte header + 3 x 90 x 90 x 180 float64)"
             )
@@ -204,7 +206,7 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
         try:
             text = body.decode("utf-8")
         except UnicodeDecodeError as exc:
-            raise ValueError(f"{name}: not a text (UTF-8) CSV file ({exc.reason})") from None
+            raise ParameterError(f"{name}: not a text (UTF-8) CSV file ({exc.reason})") from None
         full = csv_from_text(text, name=name)
         ti = np.degrees(np.arccos(np.clip(full.mu_i, -1.0, 1.0)))
         ds = Dataset(
@@ -217,26 +219,28 @@ def parse_upload(kind: str, name: str, body: bytes, store: DatasetStore = STORE)
             sorted({round(float(t), 1) for t in ti}),
         )
     else:
-        raise ValueError(f"format must be 'merl' or 'csv' (got {kind!r})")
+        raise ParameterError(f"format must be 'merl' or 'csv' (got {kind!r})")
     store.add(ds)
     return ds
 
 
-def slice_points(ds: Dataset, theta_i_deg: float, dphi_deg: float) -> dict[str, Any]:
+def slice_points(ds: Dataset, theta_i_deg: float, delta_phi_deg: float) -> dict[str, Any]:
     """BRDF of a MERL dataset along a slice: θi fixed, the viewing direction at azimuth Δφ
     from the light (θr > 0) and at Δφ + 180° (θr < 0), θr = −89°, …, 89°; each value from
     the nearest cell (:func:`roughdiffuse.fit.merl_cell_index`), ``None`` where missing."""
     from ..fit.merl import MERL_SCALE, half_diff_from_directions, merl_cell_index
 
     if ds.merl is None:
-        raise ValueError(f"{ds.name}: slices are computed on the page for CSV data")
+        raise ParameterError(f"{ds.name}: slices are computed on the page for CSV data")
     if not (math.isfinite(theta_i_deg) and 0.0 <= theta_i_deg < 90.0):
-        raise ValueError(f"theta_i must be in [0, 90) degrees (got {theta_i_deg!r})")
-    if not (math.isfinite(dphi_deg) and -360.0 <= dphi_deg <= 360.0):
-        raise ValueError(f"dphi must be in [-360, 360] degrees (got {dphi_deg!r})")
+        raise ParameterError(f"theta_i must be in [0, 90) degrees (got {theta_i_deg!r})")
+    if not (math.isfinite(delta_phi_deg) and -360.0 <= delta_phi_deg <= 360.0):
+        raise ParameterError(
+            f"delta_phi must be in [-360, 360] degrees (got {delta_phi_deg!r})"
+        )
     tr = np.asarray(SLICE_THETA_R)
     ti = math.radians(theta_i_deg)
-    phi = np.where(tr >= 0, math.radians(dphi_deg), math.radians(dphi_deg) + math.pi)
+    phi = np.where(tr >= 0, math.radians(delta_phi_deg), math.radians(delta_phi_deg) + math.pi)
     a = np.radians(np.abs(tr))
     wi = np.broadcast_to([math.sin(ti), 0.0, math.cos(ti)], (tr.size, 3))
     wo = np.stack([np.sin(a) * np.cos(phi), np.sin(a) * np.sin(phi), np.cos(a)], axis=-1)
@@ -251,27 +255,7 @@ def slice_points(ds: Dataset, theta_i_deg: float, dphi_deg: float) -> dict[str, 
         "theta_r": list(SLICE_THETA_R),
         "brdf": values,
         "theta_i": theta_i_deg,
-        "dphi": dphi_deg,
-    }
-
-
-def _finite(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
-
-
-def _result_json(model_id: str, r: Any) -> dict[str, Any]:
-    return {
-        "model": model_id,
-        "names": list(r.names),
-        "values": [_finite(v) for v in r.values],
-        "errors": [_finite(v) for v in r.errors],
-        "on_bound": [bool(b) for b in r.on_bound],
-        "rms": _finite(r.rms),
-        "rms_relative": _finite(r.rms_relative),
-        "residuals": int(r.n_samples),
-        "aic": _finite(r.aic),
-        "bic": _finite(r.bic),
-        "warnings": list(r.warnings),
+        "delta_phi": delta_phi_deg,
     }
 
 
@@ -279,18 +263,21 @@ def _model_id(model: Any) -> str:
     from ..fit.compare import CANDIDATES
 
     if not isinstance(model, str) or model not in CANDIDATES:
-        raise ValueError(f"model must be one of {', '.join(CANDIDATES)} (got {model!r})")
+        raise ParameterError(f"model must be one of {', '.join(CANDIDATES)} (got {model!r})")
     return model
 
 
 def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
-    """Fit one registry model to the dataset (:func:`roughdiffuse.fit.fit`, the model's
-    declared parameters and bounds, as :func:`roughdiffuse.fit.compare.candidate` gives
-    them). Raises :class:`Busy` when another fit runs."""
+    """Fit one registry model to the dataset (:func:`roughdiffuse.fit.fit` with its default,
+    relative noise, as ``roughdiffuse fit``; the model's declared parameters and bounds, as
+    :func:`roughdiffuse.fit.compare.candidate` gives them). The result is
+    :func:`roughdiffuse.fit.summary.result_json`: no standard error at a bound or where it is
+    not determined. Raises :class:`Busy` when another fit runs."""
     import warnings
 
     from ..fit.compare import candidate
-    from ..fit.least_squares import DegenerateDataWarning, fit
+    from ..fit.least_squares import DegenerateDataWarning, NoiseModelWarning, fit
+    from ..fit.summary import result_json
 
     model_id = _model_id(model)
     c = candidate(model_id)
@@ -299,22 +286,25 @@ def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegenerateDataWarning)
+            warnings.simplefilter("ignore", NoiseModelWarning)  # said in r.warnings
             r = fit(c.model, ds.data, c.params, c.bounds, fixed=c.fixed)
     finally:
         FIT_LOCK.release()
-    out = _result_json(model_id, r)
+    out = result_json(model_id, r)
     out.update(dataset=ds.id, fit_samples=int(ds.data.size), samples=ds.total)
     return out
 
 
 def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     """Fit ``models`` (registry ids, at most :data:`RANK_MODELS_AT_ONCE`) and rank them by
-    BIC with :func:`roughdiffuse.fit.compare_models`. Raises :class:`Busy` when another fit
+    BIC with :func:`roughdiffuse.fit.compare_models` (relative noise, its default, as
+    ``roughdiffuse fit --compare``). Raises :class:`Busy` when another fit
     runs."""
     from ..fit.compare import compare_models
+    from ..fit.summary import result_json
 
     if not isinstance(models, list) or not 1 <= len(models) <= RANK_MODELS_AT_ONCE:
-        raise ValueError(
+        raise ParameterError(
             f"models must be a list of 1 to {RANK_MODELS_AT_ONCE} model ids (got {models!r})"
         )
     ids = [_model_id(m) for m in models]
@@ -327,5 +317,5 @@ def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     return {
         "dataset": ds.id,
         "fit_samples": int(ds.data.size),
-        "ranking": [_result_json(n, r) for n, r in zip(cmp.names, cmp.results, strict=True)],
+        "ranking": [result_json(n, r) for n, r in zip(cmp.names, cmp.results, strict=True)],
     }

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..models import Model
 
 __all__ = ["DEFAULTS", "flat_key", "glsl_entries", "model_from_params"]
@@ -77,7 +78,7 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     name = p["model"]
     offered = [e.id for e in glsl_entries()]
     if name not in offered:
-        raise ValueError(f"model must be one of {', '.join(offered)} (got {name!r})")
+        raise ParameterError(f"model must be one of {', '.join(offered)} (got {name!r})")
     if name == "torrance-sparrow" and p.get("distribution") == "beckmann":
         name = "torrance-sparrow-beckmann"
         p = {**p, "alpha": math.sqrt(2.0) * float(p["sigma"])}
@@ -88,7 +89,7 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         if param.channels:
             value = [float(a) for a in value]
             if len(value) != 3:
-                raise ValueError(f"{param.name} must have 3 values (got {len(value)})")
+                raise ParameterError(f"{param.name} must have 3 values (got {len(value)})")
         elif not param.categorical:
             value = float(value)
         kwargs[param.name] = value

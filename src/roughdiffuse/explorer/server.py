@@ -21,8 +21,9 @@ and, for measured data (:mod:`roughdiffuse.explorer.datasets`; JSON answers, err
   :mod:`roughdiffuse.fit` and kept in memory (the last
   :data:`~roughdiffuse.explorer.datasets.DATASETS_KEPT` datasets); the answer is its summary
   (``id``, ``theta_i`` angles, sample counts, the models a fit may use).
-* ``GET /api/data/slice?id=…&theta_i=…&dphi=…``: a MERL dataset's BRDF (RGB) along
-  θr = −89°…89° at azimuth Δφ (θr > 0) and Δφ + 180° (θr < 0) from the light.
+* ``GET /api/data/slice?id=…&theta_i=…&delta_phi=…``: a MERL dataset's BRDF (RGB) along
+  θr = −89°…89° at azimuth Δφ (θr > 0) and Δφ + 180° (θr < 0) from the light (the old
+  name ``dphi=`` is read too).
 * ``POST /api/fit`` with ``{"dataset": id, "model": registry id}``: the fit of that model
   (values, standard errors, RMS, BIC) on at most
   :data:`~roughdiffuse.explorer.datasets.FIT_SAMPLES` samples.
@@ -62,6 +63,7 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qs, unquote, urlsplit
 
+from .._validate import ParameterError
 from .._version import version
 from . import backend, datasets
 
@@ -283,7 +285,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         try:
             req = json.loads(body.decode("utf-8"))
             if not isinstance(req, dict):
-                raise ValueError("the body must be a JSON object")
+                raise ParameterError("the body must be a JSON object")
         except (ValueError, UnicodeDecodeError) as exc:
             self._json(HTTPStatus.BAD_REQUEST, {"error": f"the body is not JSON: {exc}"})
             return
@@ -377,8 +379,9 @@ class ExplorerHandler(BaseHTTPRequestHandler):
                     ds = datasets.STORE.get(q.get("id", ""))
                 except KeyError:
                     raise backend.Unavailable("no such dataset here: load the file again") from None
+                key = "delta_phi" if "delta_phi" in q or "dphi" not in q else "dphi"
                 out = datasets.slice_points(
-                    ds, backend.number(q, "theta_i", 0.0), backend.number(q, "dphi", 0.0)
+                    ds, backend.number(q, "theta_i", 0.0), backend.number(q, key, 0.0)
                 )
                 self._json(HTTPStatus.OK, out, head)
             else:
@@ -493,7 +496,7 @@ def make_server(host: str = "127.0.0.1", port: int | None = None) -> ExplorerSer
     port actually bound.
     """
     if port is not None and not 0 <= port <= 65535:
-        raise ValueError(f"port must be in [0, 65535] (got {port})")
+        raise ParameterError(f"port must be in [0, 65535] (got {port})")
     cls = _ExplorerServerV6 if ":" in host else ExplorerServer
     return cls((host, port or 0), ExplorerHandler)
 

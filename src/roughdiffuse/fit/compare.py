@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from .._validate import ParameterError
 from .measurements import Measurements
 
 if TYPE_CHECKING:  # least_squares imports JAX and SciPy: only when fitting
@@ -107,6 +108,8 @@ class Comparison:
 def compare_models(
     data: Measurements,
     models: Sequence[str] | None = None,
+    *,
+    progress: bool = False,
     **fit_options: Any,
 ) -> Comparison:
     """Fit each candidate model to ``data`` and rank them by BIC.
@@ -116,8 +119,13 @@ def compare_models(
     data : Measurements
     models : sequence of str, optional
         Names from :data:`CANDIDATES` (default: all of them).
+    progress : bool
+        Show a progress bar, model n of N (:func:`roughdiffuse.progress.progress`).
     **fit_options
-        Passed to :func:`~roughdiffuse.fit.least_squares.fit` (``noise``, ``loss``, …).
+        Passed to :func:`~roughdiffuse.fit.least_squares.fit` (``noise``, ``loss``, …). The
+        noise model is relative unless ``noise="absolute"`` is given (the default of
+        :func:`~roughdiffuse.fit.least_squares.fit`, of ``roughdiffuse fit --compare`` and of
+        the explorer's ranking: one ranking for the same data everywhere).
 
     Returns
     -------
@@ -127,18 +135,34 @@ def compare_models(
     names = list(CANDIDATES) if models is None else list(models)
     unknown = [n for n in names if n not in CANDIDATES]
     if unknown or not names:
-        raise ValueError(
+        raise ParameterError(
             f"models must be names from: {', '.join(CANDIDATES)} "
             f"(got {', '.join(unknown) or 'none'})"
         )
-    from .least_squares import DegenerateDataWarning, fit
+    from .least_squares import (
+        DEFAULT_NOISE,
+        DegenerateDataWarning,
+        NoiseModelWarning,
+        fit,
+        noise_model,
+    )
+
+    _, note = noise_model(data, fit_options.get("noise", DEFAULT_NOISE))
+    if note:  # once, not once per model
+        warnings.warn(note, NoiseModelWarning, stacklevel=2)
+    from ..progress import progress as progress_bar
 
     out = []
+    bar = progress_bar(len(names), "fitting models", unit="model", enabled=progress)
     for n in names:
+        bar.set_postfix_str(n)
         c = CANDIDATES[n]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegenerateDataWarning)
+            warnings.simplefilter("ignore", NoiseModelWarning)
             r = fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **fit_options)
         out.append((n, r))
+        bar.update(1)
+    bar.close()
     out.sort(key=lambda t: t[1].bic)
     return Comparison(tuple(n for n, _ in out), tuple(r for _, r in out))

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import atomic_open
 from .measurements import Measurements
 
@@ -43,6 +44,7 @@ _ANGLE_ALIASES = {
     "theta_o": "theta_r",
     "delta_phi": "delta_phi",
     "phi_d": "delta_phi",
+    "dphi": "delta_phi",  # the explorer's old name
     "phi_i": "phi_i",
     "phi_r": "phi_r",
     "phi_o": "phi_r",
@@ -74,7 +76,7 @@ def _classify(header: Sequence[str]) -> dict[str, tuple[str, str]]:
             roles[raw] = (role, "deg" if m.group("unit").lower().startswith("deg") else "rad")
             continue
         if base in _ANGLE_ALIASES:
-            raise ValueError(
+            raise ParameterError(
                 f"column {name!r} must state its unit: {base}_deg or {base}_rad (or '{base} [deg]')"
             )
         for kind in ("brdf", "radiance"):
@@ -87,110 +89,143 @@ def _classify(header: Sequence[str]) -> dict[str, tuple[str, str]]:
     seen: dict[str, str] = {}
     for raw, (role, _) in roles.items():
         if role in seen:
-            raise ValueError(f"columns {seen[role]!r} and {raw!r} both give {role}")
+            raise ParameterError(f"columns {seen[role]!r} and {raw!r} both give {role}")
         seen[role] = raw
     return roles
 
 
 def _to_float(text: Any, where: str) -> float:
     if text is None:
-        raise ValueError(f"{where}: missing value")
+        raise ParameterError(f"{where}: missing value")
     if isinstance(text, str):
         if not text.strip():
-            raise ValueError(f"{where}: missing value")
+            raise ParameterError(f"{where}: missing value")
         try:
             val = float(text)
         except ValueError:
-            raise ValueError(f"{where}: not a number ({text.strip()!r})") from None
+            raise ParameterError(f"{where}: not a number ({text.strip()!r})") from None
     else:
         try:
             val = float(text)
         except (TypeError, ValueError):
-            raise ValueError(f"{where}: not a number ({text!r})") from None
+            raise ParameterError(f"{where}: not a number ({text!r})") from None
     if not math.isfinite(val):
-        raise ValueError(f"{where}: missing or non-finite value ({val})")
+        raise ParameterError(f"{where}: missing or non-finite value ({val})")
     return val
 
 
-def _build(
-    columns: Mapping[str, Sequence[Any]], cell: _Cell, irradiance: float | None, source: str
-) -> Measurements:
-    roles = _classify(list(columns))
-    by_role = {role: (raw, unit) for raw, (role, unit) in roles.items()}
-    n = len(cell.rows)
+class _Table:
+    """A parsed table's columns by role (:func:`_classify`), read as numbers on demand."""
 
-    def column(role: str) -> tuple[np.ndarray, str, str]:
-        raw, unit = by_role[role]
-        vals = columns[raw]
-        return np.array([_to_float(vals[k], cell.at(k, raw)) for k in range(n)]), raw, unit
+    def __init__(self, columns: Mapping[str, Sequence[Any]], cell: _Cell, source: str):
+        roles = _classify(list(columns))
+        self.by_role = {role: (raw, unit) for raw, (role, unit) in roles.items()}
+        self.columns, self.cell, self.source = columns, cell, source
 
+    def __contains__(self, role: str) -> bool:
+        return role in self.by_role
+
+    def column(self, role: str) -> tuple[np.ndarray, str, str]:
+        """(values, the column's name, its unit)."""
+        raw, unit = self.by_role[role]
+        vals = self.columns[raw]
+        n = len(self.cell.rows)
+        return np.array([_to_float(vals[k], self.cell.at(k, raw)) for k in range(n)]), raw, unit
+
+
+def _angles(t: _Table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """θi, θr (in [0, π/2]) and Δφ in radians, from whichever columns the table has."""
     for need in ("theta_i", "theta_r"):
-        if need not in by_role:
-            raise ValueError(f"{source}: no {need} column (e.g. '{need}_deg' or '{need}_rad')")
+        if need not in t:
+            raise ParameterError(
+                f"{t.source}: no {need} column (e.g. '{need}_deg' or '{need}_rad')"
+            )
     angles = {}
     for role in ("theta_i", "theta_r"):
-        vals, raw, unit = column(role)
+        vals, raw, unit = t.column(role)
         top = 90.0 if unit == "deg" else math.pi / 2
         bad = np.flatnonzero((vals < 0) | (vals > top * (1 + 1e-12)))
         if bad.size:
             k = bad[0]
             rng = "[0, 90] degrees" if unit == "deg" else "[0, π/2] radians"
-            raise ValueError(f"{cell.at(k, raw)}: angle {vals[k]:g} out of range {rng}")
+            raise ParameterError(f"{t.cell.at(k, raw)}: angle {vals[k]:g} out of range {rng}")
         angles[role] = np.minimum(np.radians(vals) if unit == "deg" else vals, math.pi / 2)
-    if "delta_phi" in by_role:
-        vals, _, unit = column("delta_phi")
-        dphi = np.radians(vals) if unit == "deg" else vals
-    elif "phi_i" in by_role and "phi_r" in by_role:
-        pi_, _, ui = column("phi_i")
-        pr, _, ur = column("phi_r")
-        dphi = (np.radians(pr) if ur == "deg" else pr) - (np.radians(pi_) if ui == "deg" else pi_)
+    if "delta_phi" in t:
+        vals, _, unit = t.column("delta_phi")
+        delta_phi = np.radians(vals) if unit == "deg" else vals
+    elif "phi_i" in t and "phi_r" in t:
+        pi_, _, ui = t.column("phi_i")
+        pr, _, ur = t.column("phi_r")
+        delta_phi = np.radians(pr) if ur == "deg" else pr
+        delta_phi = delta_phi - (np.radians(pi_) if ui == "deg" else pi_)
     else:
-        raise ValueError(f"{source}: no azimuth: give delta_phi, or phi_i and phi_r (with units)")
+        raise ParameterError(
+            f"{t.source}: no azimuth: give delta_phi, or phi_i and phi_r (with units)"
+        )
+    return angles["theta_i"], angles["theta_r"], delta_phi
 
-    kinds = [k for k in ("brdf", "radiance") if k in by_role or f"{k}_r" in by_role]
+
+def _values(t: _Table) -> tuple[np.ndarray, str]:
+    """The values (N,) or (N, 3) and their kind, "brdf" or "radiance"; none negative."""
+    kinds = [k for k in ("brdf", "radiance") if k in t or f"{k}_r" in t]
     if len(kinds) != 1:
-        raise ValueError(
-            f"{source}: give exactly one kind of value column: 'brdf' (1/sr) or 'radiance' "
+        raise ParameterError(
+            f"{t.source}: give exactly one kind of value column: 'brdf' (1/sr) or 'radiance' "
             "(or brdf_r, brdf_g, brdf_b …)"
         )
     kind = kinds[0]
-    if kind in by_role:
+    if kind in t:
         roles_v = [kind]
     else:
         roles_v = [f"{kind}_{c}" for c in _CHANNELS]
-        missing = [r for r in roles_v if r not in by_role]
+        missing = [r for r in roles_v if r not in t]
         if missing:
-            raise ValueError(f"{source}: colour columns {', '.join(missing)} missing")
+            raise ParameterError(f"{t.source}: colour columns {', '.join(missing)} missing")
     values = []
     for role in roles_v:
-        vals, raw, _ = column(role)
+        vals, raw, _ = t.column(role)
         bad = np.flatnonzero(vals < 0)
         if bad.size:
-            raise ValueError(f"{cell.at(bad[0], raw)}: negative value {vals[bad[0]]:g}")
+            raise ParameterError(f"{t.cell.at(bad[0], raw)}: negative value {vals[bad[0]]:g}")
         values.append(vals)
-    value = values[0] if len(values) == 1 else np.stack(values, axis=-1)
-    e0: Any = None
-    if kind == "radiance":
-        if "irradiance" in by_role:
-            e0, raw, _ = column("irradiance")
-            bad = np.flatnonzero(e0 <= 0)
-            if bad.size:
-                raise ValueError(
-                    f"{cell.at(bad[0], raw)}: irradiance must be > 0 (got {e0[bad[0]]:g})"
-                )
-        elif irradiance is not None:
-            if not irradiance > 0:
-                raise ValueError(f"irradiance must be > 0 (got {irradiance})")
-            e0 = irradiance
-        else:
-            raise ValueError(
-                f"{source}: radiance values need the irradiance: an 'irradiance' column, "
-                "a header line '# irradiance = E0', or irradiance=…"
+    return (values[0] if len(values) == 1 else np.stack(values, axis=-1)), kind
+
+
+def _irradiance(t: _Table, kind: str, irradiance: float | None) -> Any:
+    """E0 of radiance values: a column, else the header's or the caller's value."""
+    if kind != "radiance":
+        if "irradiance" in t:
+            raise ParameterError(
+                f"{t.source}: an irradiance column only makes sense with radiance values"
             )
-    elif "irradiance" in by_role:
-        raise ValueError(f"{source}: an irradiance column only makes sense with radiance values")
+        return None
+    if "irradiance" in t:
+        e0, raw, _ = t.column("irradiance")
+        bad = np.flatnonzero(e0 <= 0)
+        if bad.size:
+            raise ParameterError(
+                f"{t.cell.at(bad[0], raw)}: irradiance must be > 0 (got {e0[bad[0]]:g})"
+            )
+        return e0
+    if irradiance is not None:
+        if not irradiance > 0:
+            raise ParameterError(f"irradiance must be > 0 (got {irradiance})")
+        return irradiance
+    raise ParameterError(
+        f"{t.source}: radiance values need the irradiance: an 'irradiance' column, "
+        "a header line '# irradiance = E0', or irradiance=…"
+    )
+
+
+def _build(
+    columns: Mapping[str, Sequence[Any]], cell: _Cell, irradiance: float | None, source: str
+) -> Measurements:
+    t = _Table(columns, cell, source)
+    theta_i, theta_r, delta_phi = _angles(t)
+    value, kind = _values(t)
+    e0 = _irradiance(t, kind, irradiance)
     return Measurements.from_angles(
-        angles["theta_i"], angles["theta_r"], dphi, value, irradiance=e0, source=source
+        theta_i, theta_r, delta_phi, value, irradiance=e0, source=source
     )
 
 
@@ -255,13 +290,13 @@ def csv_from_text(
             header = [c.strip() for c in cells]
             continue
         if len(cells) != len(header):
-            raise ValueError(f"{name} line {k}: {len(cells)} values for {len(header)} columns")
+            raise ParameterError(f"{name} line {k}: {len(cells)} values for {len(header)} columns")
         rows.append(cells)
         line_no.append(f" line {k}")
     if header is None:
-        raise ValueError(f"{name}: no header line (column names)")
+        raise ParameterError(f"{name}: no header line (column names)")
     if not rows:
-        raise ValueError(f"{name}: no data rows")
+        raise ParameterError(f"{name}: no data rows")
     columns = {h: [r[j] for r in rows] for j, h in enumerate(header)}
     return _build(columns, _Cell(name, line_no), irradiance, name)
 
@@ -278,13 +313,13 @@ def samples_from_table(
     elif isinstance(table, Mapping):
         columns = {str(k): list(np.atleast_1d(v)) for k, v in table.items()}
     else:
-        raise ValueError("table must be a dict of columns, a structured array or a DataFrame")
+        raise ParameterError("table must be a dict of columns, a structured array or a DataFrame")
     lengths = {len(v) for v in columns.values()}
     if len(lengths) != 1:
-        raise ValueError(f"table columns have different lengths: {sorted(lengths)}")
+        raise ParameterError(f"table columns have different lengths: {sorted(lengths)}")
     n = lengths.pop()
     if n == 0:
-        raise ValueError("table has no rows")
+        raise ParameterError("table has no rows")
     return _build(columns, _Cell(source, [f" row {k}" for k in range(n)]), irradiance, source)
 
 

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.images import read_png, srgb_to_linear
 from .measurements import Measurements
 
@@ -47,7 +48,7 @@ def _png_linear(
     elif "roughdiffuse:scale" in text:
         scale = float(text["roughdiffuse:scale"])
     if scale is None or not scale > 0:
-        raise ValueError(
+        raise ParameterError(
             f"{name}: a PNG holds display values; state its exposure (stops, linear value = "
             "pixel / 2^exposure) for the linear radiance"
         )
@@ -58,7 +59,7 @@ def _png_linear(
     elif encoding == "linear":
         lin = v
     else:
-        raise ValueError(f"encoding must be 'srgb' or 'linear' (got {encoding!r})")
+        raise ParameterError(f"encoding must be 'srgb' or 'linear' (got {encoding!r})")
     img = lin / scale
     return (img[..., 0] if img.shape[2] == 1 else img), mask
 
@@ -91,12 +92,12 @@ def read_image(
     name = os.path.basename(path)
     ext = os.path.splitext(path)[1].lower()
     if not os.path.isfile(path):
-        raise ValueError(f"image file {path!r} does not exist")
+        raise ParameterError(f"image file {path!r} does not exist")
     if ext == ".npy":
         try:
             img = np.load(path, allow_pickle=False)
         except Exception as exc:  # noqa: BLE001 - any unreadable file is one message
-            raise ValueError(f"{name}: not a readable .npy file ({exc})") from None
+            raise ParameterError(f"{name}: not a readable .npy file ({exc})") from None
         img = np.asarray(img, dtype=np.float64)
     elif ext == ".exr":
         import OpenEXR
@@ -110,19 +111,19 @@ def read_image(
             elif all(k in ch for k in "RGB"):
                 img = np.stack([np.asarray(ch[k].pixels, np.float64) for k in "RGB"], axis=-1)
             else:
-                raise ValueError(f"{name}: no RGB or Y channels (has {', '.join(ch)})")
+                raise ParameterError(f"{name}: no RGB or Y channels (has {', '.join(ch)})")
     elif ext == ".png":
         return _png_linear(path, exposure, encoding)
     else:
-        raise ValueError(f"image file must end in .npy, .exr or .png (got {name!r})")
+        raise ParameterError(f"image file must end in .npy, .exr or .png (got {name!r})")
     if img.ndim == 3 and img.shape[2] == 1:
         img = img[..., 0]
     if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] != 3):
-        raise ValueError(f"{name}: image must have shape (H, W) or (H, W, 3) (got {img.shape})")
+        raise ParameterError(f"{name}: image must have shape (H, W) or (H, W, 3) (got {img.shape})")
     finite = np.isfinite(img) if img.ndim == 2 else np.all(np.isfinite(img), axis=-1)
     img = np.where(np.isfinite(img), img, 0.0)
     if np.any(img < 0):
-        raise ValueError(f"{name}: negative radiance in {int(np.sum(img < 0))} entries")
+        raise ParameterError(f"{name}: negative radiance in {int(np.sum(img < 0))} entries")
     return img, finite
 
 
@@ -130,16 +131,16 @@ def read_normals(path: str | os.PathLike[str]) -> np.ndarray:
     """A normal map: ``.npy`` of shape (H, W, 3), unit normals, zero vectors for background."""
     path = os.fspath(path)
     if not path.lower().endswith(".npy"):
-        raise ValueError(f"normal map must be a .npy file of shape (H, W, 3) (got {path!r})")
+        raise ParameterError(f"normal map must be a .npy file of shape (H, W, 3) (got {path!r})")
     if not os.path.isfile(path):
-        raise ValueError(f"normal map {path!r} does not exist")
+        raise ParameterError(f"normal map {path!r} does not exist")
     n = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
     if n.ndim != 3 or n.shape[2] != 3:
-        raise ValueError(f"normal map must have shape (H, W, 3) (got {n.shape})")
+        raise ParameterError(f"normal map must have shape (H, W, 3) (got {n.shape})")
     length = np.linalg.norm(n, axis=-1)
     bad = (length > 0) & (np.abs(length - 1) > 1e-3)
     if np.any(bad) or not np.all(np.isfinite(n)):
-        raise ValueError("normal map must hold unit vectors (or zero vectors for background)")
+        raise ParameterError("normal map must hold unit vectors (or zero vectors for background)")
     return n
 
 
@@ -206,7 +207,7 @@ def image_measurements(
     v = np.asarray(view, dtype=np.float64)
     for nm, a in (("light", l), ("view", v)):
         if a.shape != (3,) or not math.isclose(float(np.linalg.norm(a)), 1.0, rel_tol=1e-6):
-            raise ValueError(f"{nm} must be a unit 3-vector (got {a})")
+            raise ParameterError(f"{nm} must be a unit 3-vector (got {a})")
     return Measurements.from_image(
         image, normals, l, v, irradiance=irradiance, mask=mask, erode=erode, source=source
     )

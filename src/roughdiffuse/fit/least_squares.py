@@ -28,21 +28,41 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.optimize import least_squares
 
+from .._validate import ParameterError
 from ..models import Model
 from ..models.declaration import Param
 from .measurements import Measurements
+from .summary import AT_BOUND, at_bound, error_notes
 
-__all__ = ["DEFAULT_BOUNDS", "DegenerateDataWarning", "FitResult", "fit"]
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "DEFAULT_NOISE",
+    "DegenerateDataWarning",
+    "FitResult",
+    "NoiseModelWarning",
+    "fit",
+    "noise_model",
+]
 
-DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
-    "albedo": (0.0, 1.0),
-    "sigma": (0.0, math.pi / 2),
-    "roughness": (0.0, 1.0),
-    "eta": (1.0, 3.0),
-    "limb_darkening": (0.0, 1.0),
-}
+def _declared_boxes(names: Sequence[str]) -> dict[str, tuple[float, float]]:
+    """For each name, the fit box (``Param.bounds``) that most built-in models declaring a
+    parameter of that name give (the first such box on a tie)."""
+    from .. import registry
+
+    boxes: dict[str, list[tuple[float, float]]] = {}
+    for entry in registry.entries():
+        for p in entry.parameters:
+            if p.name in names and p.bounds is not None:
+                boxes.setdefault(p.name, []).append(p.bounds)
+    return {n: max(boxes[n], key=boxes[n].count) for n in names if n in boxes}
+
+
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = _declared_boxes(
+    ("albedo", "sigma", "roughness", "eta", "limb_darkening")
+)
 """Bounds for a parameter of a factory *function* the caller gives none for (radians for
-``sigma``). A model class's own parameters take the box its declaration gives
+``sigma``), read from the models' declarations: the box most models declaring a parameter of
+that name give. A model class's own parameters take the box its declaration gives
 (:attr:`roughdiffuse.models.declaration.Param.bounds`)."""
 
 
@@ -60,9 +80,39 @@ count as zero: the data do not constrain that combination of parameters."""
 
 Noise = Literal["absolute", "relative"]
 
+DEFAULT_NOISE: Noise = "relative"
+"""The noise model of every fit unless told otherwise: :func:`fit`, :func:`~roughdiffuse.fit.
+compare_models`, ``roughdiffuse fit`` and the explorer. Measured BRDF values carry an error
+proportional to the value (detector gain, calibration of the light and the reference, speckle),
+and they span orders of magnitude from normal to grazing angles: with absolute residuals the
+brightest samples decide the fit alone. BIC ranks models by the likelihood of the residuals, so
+it is only meaningful under the noise model the data have; relative noise is that model for
+reflectance measurements. Data with a value <= 0 fall back to absolute noise (with a
+:class:`NoiseModelWarning`)."""
+
 
 class DegenerateDataWarning(UserWarning):
     """The data cannot identify some parameters (e.g. every sample at one geometry)."""
+
+
+class NoiseModelWarning(UserWarning):
+    """Relative noise was asked for, but some values are <= 0: absolute noise is used."""
+
+
+def noise_model(data: Measurements, noise: str = DEFAULT_NOISE) -> tuple[str, str]:
+    """The noise model a fit of ``data`` uses, and a note when it is not the one asked for.
+
+    Relative noise needs every value > 0; otherwise absolute noise is used and the note says
+    why. ``ValueError`` for a name other than ``"absolute"`` or ``"relative"``.
+    """
+    if noise not in ("absolute", "relative"):
+        raise ParameterError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
+    if noise == "relative" and np.any(data.value <= 0):
+        return "absolute", (
+            f"{int(np.sum(data.value <= 0))} values are <= 0, which relative noise cannot "
+            "weigh: absolute noise used"
+        )
+    return noise, ""
 
 
 @dataclass(frozen=True)
@@ -98,6 +148,8 @@ class FitResult:
         Human-readable notes (degenerate data, values on bounds, …).
     model_name : str
         Name of the fitted model.
+    noise : {"relative", "absolute"}
+        The noise model used (see :func:`noise_model`).
     """
 
     model: Model
@@ -118,6 +170,7 @@ class FitResult:
     nfev: int = 0
     starts: int = 0
     predict: Callable[[Measurements], np.ndarray] | None = field(default=None, repr=False)
+    noise: str = DEFAULT_NOISE
 
     @property
     def params(self) -> dict[str, float]:
@@ -130,21 +183,22 @@ class FitResult:
         return dict(zip(self.names, (float(v) for v in self.errors), strict=True))
 
     def table(self) -> str:
-        """A plain-text table: parameter, value, standard error, flags."""
+        """A plain-text table: parameter, value, standard error, flags (the rules of
+        :func:`~roughdiffuse.fit.summary.error_notes`: no error at a bound, "not determined"
+        for an unusable one)."""
         lines = [
-            f"{self.model_name}: {self.n_samples} residuals, RMS {self.rms:.4g} "
-            f"({100 * self.rms_relative:.3g}% of the data), AIC {self.aic:.1f}, "
-            f"BIC {self.bic:.1f}"
+            f"{self.model_name}: {self.n_samples} residuals, {self.noise} noise, "
+            f"RMS {self.rms:.4g} ({100 * self.rms_relative:.3g}% of the data), "
+            f"AIC {self.aic:.1f}, BIC {self.bic:.1f}"
         ]
-        lines.append(f"  {'parameter':<16}{'value':>12}{'std. error':>14}  note")
-        for k, name in enumerate(self.names):
-            err = self.errors[k]
-            err_s = "not identif." if not np.isfinite(err) else f"{err:.3g}"
-            note = "on bound" if self.on_bound[k] else ""
+        lines.append(f"  {'parameter':<16}{'value':>12}{'std. error':>16}  note")
+        for k, (name, note) in enumerate(zip(self.names, error_notes(self), strict=True)):
+            err_s = "–" if note == AT_BOUND else note or f"{self.errors[k]:.3g}"
+            note = note if note == AT_BOUND else ""
             extra = ""
             if name.startswith("sigma"):
                 extra = f"  ({math.degrees(self.values[k]):.2f}°)"
-            lines.append(f"  {name:<16}{self.values[k]:>12.5g}{err_s:>14}  {note}{extra}")
+            lines.append(f"  {name:<16}{self.values[k]:>12.5g}{err_s:>16}  {note}{extra}")
         lines.extend(f"  warning: {w}" for w in self.warnings)
         return "\n".join(lines)
 
@@ -189,7 +243,7 @@ def _layout(
     is_class = isinstance(factory, type) and issubclass(factory, Model)
     if params is None:
         if not is_class:
-            raise ValueError("params must name the parameters of a model factory function")
+            raise ParameterError("params must name the parameters of a model factory function")
         params = tuple(factory.array_fields)
         if factory.params:  # those the declaration gives this choice of categorical values
             choices = {p.name: p.default for p in factory.params if p.categorical}
@@ -199,23 +253,23 @@ def _layout(
             )
     params = tuple(params)
     if not params:
-        raise ValueError("params must name at least one parameter to fit")
+        raise ParameterError("params must name at least one parameter to fit")
     if is_class:
         fields = {f.name for f in dataclasses.fields(factory)}
         for p in params:
             if p not in fields:
-                raise ValueError(
+                raise ParameterError(
                     f"{factory.__name__} has no parameter {p!r}; its parameters: "
                     f"{', '.join(sorted(factory.array_fields))}"
                 )
             if p not in factory.array_fields:
-                raise ValueError(f"{factory.__name__}.{p} is not numeric and cannot be fitted")
+                raise ParameterError(f"{factory.__name__}.{p} is not numeric and cannot be fitted")
         chan_fields = factory.channel_fields
     else:
         chan_fields = ("albedo",)
     for p in params:
         if p in fixed:
-            raise ValueError(f"parameter {p!r} is both fitted and fixed")
+            raise ParameterError(f"parameter {p!r} is both fitted and fixed")
     chans = tuple(channels if (channels and p in chan_fields) else 0 for p in params)
     return _Layout(factory, tuple(sorted(fixed.items())), params, chans)
 
@@ -226,14 +280,16 @@ def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
     if not isinstance(bounds, Mapping):
         seq = list(bounds)
         if len(seq) != len(layout.params):
-            raise ValueError(
+            raise ParameterError(
                 f"bounds must give one (low, high) pair per parameter {layout.params} "
                 f"(got {len(seq)})"
             )
         bounds = dict(zip(layout.params, seq, strict=True))
     for key in bounds:
         if key not in layout.params:
-            raise ValueError(f"bounds names {key!r}, which is not fitted (params: {layout.params})")
+            raise ParameterError(
+                f"bounds names {key!r}, which is not fitted (params: {layout.params})"
+            )
     rows = []
     declared = declared_params(layout.factory)
     for p, c in zip(layout.params, layout.channels, strict=True):
@@ -245,11 +301,13 @@ def _bounds(layout: _Layout, bounds: Any) -> np.ndarray:
         elif p in DEFAULT_BOUNDS:
             lo, hi = DEFAULT_BOUNDS[p]
         else:
-            raise ValueError(
+            raise ParameterError(
                 f"no default bounds for parameter {p!r}: pass bounds={{{p!r}: (lo, hi)}}"
             )
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-            raise ValueError(f"bounds of {p!r} must be finite with low < high (got ({lo}, {hi}))")
+            raise ParameterError(
+                f"bounds of {p!r} must be finite with low < high (got ({lo}, {hi}))"
+            )
         rows.extend([(lo, hi)] * max(c, 1))
     return np.asarray(rows, dtype=np.float64)
 
@@ -412,13 +470,8 @@ def _noise_weights(data: Measurements, noise: str) -> np.ndarray:
     if noise == "absolute":
         return np.ones_like(data.value)
     if noise == "relative":
-        if np.any(data.value <= 0):
-            raise ValueError(
-                "noise='relative' needs every value > 0 "
-                f"({int(np.sum(data.value <= 0))} are 0); use noise='absolute'"
-            )
         return 1.0 / data.value
-    raise ValueError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
+    raise ParameterError(f"noise must be 'absolute' or 'relative' (got {noise!r})")
 
 
 def _starts(bounds: np.ndarray, n: int, seed: int) -> np.ndarray:
@@ -487,7 +540,7 @@ def fit(
     n_starts: int = 4,
     loss: str = "linear",
     f_scale: float = 1.0,
-    noise: Noise = "absolute",
+    noise: Noise = DEFAULT_NOISE,
     multistart_samples: int = 20_000,
     seed: int = 0,
 ) -> FitResult:
@@ -519,11 +572,14 @@ def fit(
         "cauchy", "arctan") and its scale (in units of the weighted residual). With a robust
         loss the noise level in the error bars is 1.4826 × the median absolute deviation of
         the residuals, so that outliers do not inflate them.
-    noise : {"absolute", "relative"}
-        Noise model: residuals in data units, or relative (constant relative noise, e.g.
-        1% of the value): residuals divided by the model value, by iteratively reweighted
-        least squares (weights from the previous fit, held fixed in each inner fit), which
-        avoids the bias of dividing by the noisy data. Affects weights and error bars.
+    noise : {"relative", "absolute"}
+        Noise model (default ``"relative"``, :data:`DEFAULT_NOISE`, as on the command line
+        and in the explorer): relative (constant relative noise, e.g. 1% of the value):
+        residuals divided by the model value, by iteratively reweighted least squares
+        (weights from the previous fit, held fixed in each inner fit), which avoids the bias
+        of dividing by the noisy data; or absolute: residuals in data units. Affects
+        weights, error bars and AIC/BIC. Data with a value <= 0 are fitted with absolute
+        noise (:class:`NoiseModelWarning`).
     multistart_samples : int
         Larger data sets are explored from every start on a random subset of this size;
         the best start is then refined on all the data.
@@ -540,115 +596,227 @@ def fit(
     DegenerateDataWarning
         When the data cannot identify some parameter (every sample at one geometry, only
         θi = θr = 0, …); its error is then ``inf``.
+    NoiseModelWarning
+        When relative noise is asked for but some values are <= 0.
     """
     if not isinstance(data, Measurements):
-        raise ValueError(f"data must be a Measurements object (got {type(data).__name__})")
+        raise ParameterError(f"data must be a Measurements object (got {type(data).__name__})")
     if int(n_starts) < 1:
-        raise ValueError(f"n_starts must be >= 1 (got {n_starts})")
+        raise ParameterError(f"n_starts must be >= 1 (got {n_starts})")
     fixed = dict(fixed or {})
     layout = _layout(model_class, params, fixed, data.channels)
     box = _bounds(layout, bounds)
-    names = layout.names
-    npar = len(names)
-    w = _noise_weights(data, noise)
+    npar = len(layout.names)
+    noise, noise_note = noise_model(data, noise)
+    if noise_note:
+        warnings.warn(noise_note, NoiseModelWarning, stacklevel=2)
     m = data.value.size
     if m < npar:
-        raise ValueError(f"{npar} parameters need at least {npar} values (got {m})")
-
-    starts = _starts(box, int(n_starts), seed)
-    if x0 is not None:
-        first = np.concatenate(
-            [
-                np.broadcast_to(np.asarray(x0[p], float), (max(c, 1),))
-                for p, c in zip(layout.params, layout.channels, strict=True)
-            ]
-        )
-        starts = np.vstack([np.clip(first, box[:, 0], box[:, 1]), starts])
-
+        raise ParameterError(f"{npar} parameters need at least {npar} values (got {m})")
+    starts = _start_points(layout, box, int(n_starts), seed, x0)
     with jax.enable_x64(True):
         fns = _compiled(layout)
+        solver = _Solver(fns, box, loss, f_scale, data, noise, multistart_samples, seed)
+        x, nfev, null_all = solver.multistart(starts)
+        x, k = solver.refinement(x)
+        stats = solver.statistics(x)
+    errors, cov, notes, identifiable = _error_estimates(
+        layout.names, x, box, stats, m, null_all, robust=loss != "linear"
+    )
+    if noise_note:
+        notes.insert(0, noise_note)
+    on_bound = _bound_notes(layout.names, x, box, notes)
+    if not solver.success:
+        notes.append(f"optimizer: {solver.message}")
+    rss_safe = max(stats.rss, 1e-300)
+    model = layout.build(x)
+    return FitResult(
+        model=model,
+        names=layout.names,
+        values=x,
+        errors=errors,
+        covariance=cov,
+        on_bound=on_bound,
+        bounds=box,
+        rms=math.sqrt(stats.raw_ss / m),
+        rms_relative=math.sqrt(stats.rel_ss / stats.n_pos) if stats.n_pos > 0 else math.nan,
+        n_samples=m,
+        aic=m * math.log(rss_safe / m) + 2 * npar,
+        bic=m * math.log(rss_safe / m) + npar * math.log(m),
+        identifiable=identifiable,
+        warnings=tuple(notes),
+        model_name=_model_name(model_class, fixed),
+        nfev=nfev + k,
+        starts=len(starts),
+        predict=_predictor(fns["predict"], x),
+        noise=noise,
+    )
+
+
+def _start_points(
+    layout: _Layout, box: np.ndarray, n_starts: int, seed: int, x0: Mapping[str, Any] | None
+) -> np.ndarray:
+    """The starting points: ``x0`` (clipped into the box) first, then :func:`_starts`."""
+    starts = _starts(box, n_starts, seed)
+    if x0 is None:
+        return starts
+    first = np.concatenate(
+        [
+            np.broadcast_to(np.asarray(x0[p], float), (max(c, 1),))
+            for p, c in zip(layout.params, layout.channels, strict=True)
+        ]
+    )
+    return np.vstack([np.clip(first, box[:, 0], box[:, 1]), starts])
+
+
+@dataclass
+class _Statistics:
+    """What the error estimates need at the optimum (see :func:`_error_estimates`)."""
+
+    jtj: np.ndarray
+    rss: float
+    jac_sub: np.ndarray
+    raw_ss: float
+    rel_ss: float
+    n_pos: float
+    robust_s2: float | None
+
+
+class _Solver:
+    """The steps of :func:`fit` that run the optimizer (inside ``jax.enable_x64``): starts on
+    a subset, refinement on all the data, the statistics at the optimum."""
+
+    def __init__(
+        self,
+        fns: dict[str, Any],
+        box: np.ndarray,
+        loss: str,
+        f_scale: float,
+        data: Measurements,
+        noise: Noise,
+        multistart_samples: int,
+        seed: int,
+    ) -> None:
+        self.fns, self.box, self.loss, self.f_scale = fns, box, loss, f_scale
+        self.data, self.noise = data, noise
+        self.m, self.npar = data.value.size, box.shape[0]
+        w = _noise_weights(data, noise)
         rng = np.random.default_rng(seed)
         if data.size > multistart_samples:
             sub = data.subset(np.sort(rng.choice(data.size, multistart_samples, replace=False)))
-            wsub = _noise_weights(sub, noise)
+            self.arrays_sub = _device(sub, _noise_weights(sub, noise))
         else:
-            sub, wsub = data, w
-        arrays_sub = _device(sub, wsub)
+            sub = data
+            self.arrays_sub = _device(sub, w)
+        self.large = sub is not data
+        self.fast = self.large and loss == "linear"
+        self.arrays = _device(data, w, pad=self.fast) if self.large else self.arrays_sub
+        self.success, self.message = False, ""
 
-        def run(x_start: np.ndarray, arrays: tuple[Any, ...]) -> Any:
-            return least_squares(
-                lambda x: np.asarray(fns["residual"](x, *arrays)),
-                x_start,
-                jac=lambda x: np.asarray(fns["jac"](x, *arrays)),
-                bounds=(box[:, 0], box[:, 1]),
-                loss=loss,
-                f_scale=f_scale,
-                x_scale="jac",
-                method="trf",
-            )
+    def run(self, x_start: np.ndarray, arrays: tuple[Any, ...]) -> Any:
+        """One :func:`scipy.optimize.least_squares` run from ``x_start``."""
+        fns = self.fns
+        return least_squares(
+            lambda x: np.asarray(fns["residual"](x, *arrays)),
+            x_start,
+            jac=lambda x: np.asarray(fns["jac"](x, *arrays)),
+            bounds=(self.box[:, 0], self.box[:, 1]),
+            loss=self.loss,
+            f_scale=self.f_scale,
+            x_scale="jac",
+            method="trf",
+        )
 
-        # degenerate data: unidentifiable at every (interior, generic) starting point
-        null_all = np.ones(npar, dtype=bool)
+    def multistart(self, starts: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:
+        """The best fit over the starts on the subset: (x, evaluations, the parameters no
+        start can identify). Degenerate data: unidentifiable at every (interior, generic)
+        starting point."""
+        null_all = np.ones(self.npar, dtype=bool)
         best = None
         nfev = 0
         for x_start in starts:
-            null_all &= _unidentified(np.asarray(fns["jac"](x_start, *arrays_sub)))
-            r = run(x_start, arrays_sub)
+            null_all &= _unidentified(np.asarray(self.fns["jac"](x_start, *self.arrays_sub)))
+            r = self.run(x_start, self.arrays_sub)
             nfev += int(r.nfev)
             if best is None or r.cost < best.cost:
                 best = r
         assert best is not None
-        x = np.asarray(best.x, dtype=np.float64)
-        success, message = bool(best.success), str(best.message)
-        large = sub is not data
-        fast = large and loss == "linear"
-        arrays = _device(data, w, pad=fast) if large else arrays_sub
+        self.success, self.message = bool(best.success), str(best.message)
+        return np.asarray(best.x, dtype=np.float64), nfev, null_all
 
-        def refine(x: np.ndarray, arrays: tuple[Any, ...]) -> tuple[np.ndarray, int, Any]:
-            nonlocal success, message
-            if fast:
-                return _gauss_newton(fns, x, arrays, box, m - npar)
-            r = run(x, arrays)
-            success, message = bool(r.success), str(r.message)
-            x = np.asarray(r.x, dtype=np.float64)
-            a, _, cost = (np.asarray(v) for v in fns["normal"](x, *arrays))
-            return x, int(r.nfev) + 1, _standard_errors(a, float(cost), m - npar)
+    def _refine(self, x: np.ndarray) -> tuple[np.ndarray, int, Any]:
+        if self.fast:
+            return _gauss_newton(self.fns, x, self.arrays, self.box, self.m - self.npar)
+        r = self.run(x, self.arrays)
+        self.success, self.message = bool(r.success), str(r.message)
+        x = np.asarray(r.x, dtype=np.float64)
+        a, _, cost = (np.asarray(v) for v in self.fns["normal"](x, *self.arrays))
+        return x, int(r.nfev) + 1, _standard_errors(a, float(cost), self.m - self.npar)
 
-        if large and noise != "relative":
-            x, k, _ = refine(x, arrays)
-            nfev += k
-        if noise == "relative":
+    def refinement(self, x: np.ndarray) -> tuple[np.ndarray, int]:
+        """Refine on all the data (a large data set) and reweight (relative noise):
+        (x, evaluations)."""
+        nfev = 0
+        if self.large and self.noise != "relative":
+            x, nfev, _ = self._refine(x)
+        if self.noise == "relative":
             # iteratively reweighted: weights 1/model, not 1/data (which biases the fit low
             # by about 2 (noise)² of the value), held fixed during each inner fit; stops
             # when the weights move the optimum by less than STEP_TOL standard errors
             for _ in range(8):
-                arrays = _reweight(fns, x, arrays)
-                x_new, k, se = refine(x, arrays)
+                self.arrays = _reweight(self.fns, x, self.arrays)
+                x_new, k, se = self._refine(x)
                 nfev += k
                 done = np.all(np.abs(x_new - x) <= STEP_TOL * se)
                 x = x_new
                 if done:
                     break
-            arrays_sub = _reweight(fns, x, arrays_sub)
+            self.arrays_sub = _reweight(self.fns, x, self.arrays_sub)
+        return x, nfev
+
+    def statistics(self, x: np.ndarray) -> _Statistics:
+        """Normal matrix, sums of squares and the noise level at the optimum ``x``."""
+        fns, arrays = self.fns, self.arrays
         jtj, _, rss = (np.asarray(v) for v in fns["normal"](x, *arrays))
-        rss = float(rss)
-        jac_sub = np.asarray(fns["jac"](x, *arrays_sub))
         raw_ss, rel_ss, n_pos = (float(v) for v in fns["raw_stats"](x, *arrays))
         robust_s2 = None
-        if loss != "linear":  # outliers must not set the noise level: 1.4826 MAD
-            res = np.asarray(fns["residual"](x, *arrays))[: data.value.size]
+        if self.loss != "linear":  # outliers must not set the noise level: 1.4826 MAD
+            res = np.asarray(fns["residual"](x, *arrays))[: self.m]
             robust_s2 = (1.4826 * float(np.median(np.abs(res - np.median(res))))) ** 2
+        return _Statistics(
+            jtj=jtj,
+            rss=float(rss),
+            jac_sub=np.asarray(fns["jac"](x, *self.arrays_sub)),
+            raw_ss=raw_ss,
+            rel_ss=rel_ss,
+            n_pos=n_pos,
+            robust_s2=robust_s2,
+        )
 
+
+def _error_estimates(
+    names: tuple[str, ...],
+    x: np.ndarray,
+    box: np.ndarray,
+    stats: _Statistics,
+    m: int,
+    null_all: np.ndarray,
+    robust: bool,
+) -> tuple[np.ndarray, np.ndarray, list[str], bool]:
+    """Standard errors and covariance from the normal matrix (infinite for a parameter the
+    data cannot identify), with the notes that explain them: (errors, covariance, notes,
+    identifiable)."""
+    npar = len(names)
     notes: list[str] = []
     dof = m - npar
-    s2 = rss / dof if dof > 0 else math.inf
-    if robust_s2 is not None and dof > 0:
-        s2 = robust_s2
-    null_here = _unidentified(jac_sub)
+    s2 = stats.rss / dof if dof > 0 else math.inf
+    if robust and stats.robust_s2 is not None and dof > 0:
+        s2 = stats.robust_s2
+    null_here = _unidentified(stats.jac_sub)
     cov = np.full((npar, npar), math.inf)
     ok = ~null_here
     if np.any(ok):
-        a_ok = jtj[np.ix_(ok, ok)]
+        a_ok = stats.jtj[np.ix_(ok, ok)]
         dscale = np.sqrt(np.diag(a_ok))
         try:
             inv = np.linalg.inv(a_ok / np.outer(dscale, dscale)) / np.outer(dscale, dscale)
@@ -668,7 +836,7 @@ def fit(
             "indistinguishable from another parameter's at every starting point "
             "(e.g. all samples at one geometry); its error bar is infinite"
         )
-        warnings.warn(msg, DegenerateDataWarning, stacklevel=2)
+        warnings.warn(msg, DegenerateDataWarning, stacklevel=3)
         notes.append(msg)
         errors = np.where(null_all, math.inf, errors)
     elif np.any(null_here):
@@ -677,43 +845,25 @@ def fit(
             f"{which}: the model does not change with it at the optimum "
             "(e.g. σ = 0); linearised error bar infinite"
         )
-    tol = 1e-6 * (box[:, 1] - box[:, 0])
-    on_bound = (x <= box[:, 0] + tol) | (x >= box[:, 1] - tol)
+    return errors, cov, notes, identifiable
+
+
+def _bound_notes(
+    names: tuple[str, ...], x: np.ndarray, box: np.ndarray, notes: list[str]
+) -> np.ndarray:
+    """Which values lie on their bound (within 1e-6 of the box); a note for each."""
+    on_bound = at_bound(x, box)
     for k in np.flatnonzero(on_bound):
         notes.append(f"{names[k]} = {x[k]:.4g} is on its bound")
-    if not success:
-        notes.append(f"optimizer: {message}")
+    return on_bound
 
-    rms_rel = math.sqrt(rel_ss / n_pos) if n_pos > 0 else math.nan
-    rss_safe = max(rss, 1e-300)
-    aic = m * math.log(rss_safe / m) + 2 * npar
-    bic = m * math.log(rss_safe / m) + npar * math.log(m)
-    pred_fn = fns["predict"]
 
-    model = layout.build(x)
+def _predictor(pred_fn: Any, x: np.ndarray) -> Callable[[Measurements], np.ndarray]:
+    """The fitted model's values at other measurements' geometry (FitResult.predict)."""
 
     def predict(d: Measurements) -> np.ndarray:
         with jax.enable_x64(True):
             arr = _device(d, np.ones_like(d.value))
             return np.asarray(pred_fn(x, *arr[:4]))
 
-    return FitResult(
-        model=model,
-        names=names,
-        values=x,
-        errors=errors,
-        covariance=cov,
-        on_bound=on_bound,
-        bounds=box,
-        rms=math.sqrt(raw_ss / m),
-        rms_relative=rms_rel,
-        n_samples=m,
-        aic=aic,
-        bic=bic,
-        identifiable=identifiable,
-        warnings=tuple(notes),
-        model_name=_model_name(model_class, fixed),
-        nfev=nfev,
-        starts=len(starts),
-        predict=predict,
-    )
+    return predict

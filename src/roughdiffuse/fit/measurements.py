@@ -16,6 +16,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..frames import angles_to_cosines, local_cosines, world_cosines
 
 __all__ = ["Measurements"]
@@ -27,7 +28,7 @@ def _as_float(name: str, x: Any) -> np.ndarray:
     arr = np.asarray(x, dtype=np.float64)
     if not np.all(np.isfinite(arr)):
         bad = int(np.sum(~np.isfinite(arr)))
-        raise ValueError(f"{name} must be finite ({bad} entries are NaN or infinite)")
+        raise ParameterError(f"{name} must be finite ({bad} entries are NaN or infinite)")
     return arr
 
 
@@ -80,23 +81,25 @@ class Measurements:
             object.__setattr__(self, n, a)
         n = arrs["mu_i"].shape
         if len(n) != 1:
-            raise ValueError(f"mu_i must be a 1-D array (got shape {n})")
+            raise ParameterError(f"mu_i must be a 1-D array (got shape {n})")
         for name in ("mu_o", "cos_io", "scale"):
             if arrs[name].shape != n:
-                raise ValueError(f"{name} must have shape {n} like mu_i (got {arrs[name].shape})")
+                raise ParameterError(
+                    f"{name} must have shape {n} like mu_i (got {arrs[name].shape})"
+                )
         v = arrs["value"]
         if v.ndim not in (1, 2) or v.shape[0] != n[0]:
-            raise ValueError(f"value must have shape ({n[0]},) or ({n[0]}, C) (got {v.shape})")
+            raise ParameterError(f"value must have shape ({n[0]},) or ({n[0]}, C) (got {v.shape})")
         if n[0] == 0:
-            raise ValueError("measurements must contain at least one sample (got 0)")
+            raise ParameterError("measurements must contain at least one sample (got 0)")
         for name in ("mu_i", "mu_o"):
             a = arrs[name]
             if np.any(a < -1e-12) or np.any(a > 1 + 1e-12):
-                raise ValueError(f"{name} must be in [0, 1] (samples above the horizon)")
+                raise ParameterError(f"{name} must be in [0, 1] (samples above the horizon)")
         if np.any(np.abs(arrs["cos_io"]) > 1 + 1e-9):
-            raise ValueError("cos_io must be in [-1, 1]")
+            raise ParameterError("cos_io must be in [-1, 1]")
         if self.kind not in ("brdf", "radiance"):
-            raise ValueError(f"kind must be 'brdf' or 'radiance' (got {self.kind!r})")
+            raise ParameterError(f"kind must be 'brdf' or 'radiance' (got {self.kind!r})")
 
     # ----------------------------------------------------------------- constructors
     @classmethod
@@ -123,7 +126,7 @@ class Measurements:
         )
         for name, th in (("theta_i", ti), ("theta_r", tr)):
             if np.any(th < 0) or np.any(th > math.pi / 2):
-                raise ValueError(f"{name} must be in [0, π/2] radians")
+                raise ParameterError(f"{name} must be in [0, π/2] radians")
         ti, tr, dp = np.broadcast_arrays(ti, tr, dp)
         mu_i, mu_o, cos_io = angles_to_cosines(np, ti.ravel(), tr.ravel(), dp.ravel())
         value = _flat_value(value, ti.shape)
@@ -177,11 +180,11 @@ class Measurements:
         """
         img = _as_float("image", image)
         if img.ndim not in (2, 3):
-            raise ValueError(f"image must have shape (H, W) or (H, W, C) (got {img.shape})")
+            raise ParameterError(f"image must have shape (H, W) or (H, W, C) (got {img.shape})")
         h, w = img.shape[:2]
         nrm = _as_float("normals", normals)
         if nrm.shape != (h, w, 3):
-            raise ValueError(
+            raise ParameterError(
                 f"normals must have shape ({h}, {w}, 3) like the image (got {nrm.shape})"
             )
         length = np.linalg.norm(nrm, axis=-1)
@@ -189,12 +192,12 @@ class Measurements:
         if mask is not None:
             m = np.asarray(mask, dtype=bool)
             if m.shape != (h, w):
-                raise ValueError(f"mask must have shape ({h}, {w}) (got {m.shape})")
+                raise ParameterError(f"mask must have shape ({h}, {w}) (got {m.shape})")
             use &= m
         l = np.broadcast_to(_as_float("light", light), (h, w, 3))
         v = np.broadcast_to(_as_float("view", view), (h, w, 3))
         if int(erode) < 0:
-            raise ValueError(f"erode must be >= 0 pixels (got {erode})")
+            raise ParameterError(f"erode must be >= 0 pixels (got {erode})")
         idx = np.flatnonzero(use)
         mu_i, mu_o, cos_io = world_cosines(
             np, nrm.reshape(-1, 3)[idx], l.reshape(-1, 3)[idx], v.reshape(-1, 3)[idx]
@@ -203,19 +206,11 @@ class Measurements:
         good = np.zeros(h * w, dtype=bool)
         good[idx[lit]] = True
         good = good.reshape(h, w)
-        for _ in range(int(erode)):
-            inner = good.copy()
-            inner[1:, :] &= good[:-1, :]
-            inner[:-1, :] &= good[1:, :]
-            inner[:, 1:] &= good[:, :-1]
-            inner[:, :-1] &= good[:, 1:]
-            inner[0, :] = inner[-1, :] = False
-            inner[:, 0] = inner[:, -1] = False
-            good = inner
+        good = _erode(good, int(erode))
         keep = good.reshape(-1)[idx]
         idx, mu_i, mu_o, cos_io = idx[keep], mu_i[keep], mu_o[keep], cos_io[keep]
         if idx.size == 0:
-            raise ValueError("the image has no pixel that sees both the light and the viewer")
+            raise ParameterError("the image has no pixel that sees both the light and the viewer")
         value = img.reshape(h * w, -1)[idx]
         if img.ndim == 2:
             value = value[:, 0]
@@ -224,7 +219,7 @@ class Measurements:
             value = value / e0  # per-channel E0: fit value/E0 = f cos θi
             e0 = np.asarray(1.0)
         if e0.ndim != 0 or e0 <= 0:
-            raise ValueError("irradiance must be a positive scalar, or one value per channel")
+            raise ParameterError("irradiance must be a positive scalar, or one value per channel")
         return cls(
             mu_i,
             mu_o,
@@ -244,14 +239,14 @@ class Measurements:
         val = _as_float("value", value)
         n = np.shape(mu_i)[0]
         if val.ndim not in (1, 2) or val.shape[0] != n:
-            raise ValueError(f"value must have shape ({n},) or ({n}, C) (got {val.shape})")
+            raise ParameterError(f"value must have shape ({n},) or ({n}, C) (got {val.shape})")
         if np.any(val < 0):
-            raise ValueError("value must be >= 0 (a BRDF or a radiance)")
+            raise ParameterError("value must be >= 0 (a BRDF or a radiance)")
         if irradiance is None:
             return cls(mu_i, mu_o, cos_io, val, np.ones(n), kind="brdf", source=source)
         e0 = np.broadcast_to(_as_float("irradiance", irradiance), (n,))
         if np.any(e0 <= 0):
-            raise ValueError("irradiance must be > 0")
+            raise ParameterError("irradiance must be > 0")
         return cls(mu_i, mu_o, cos_io, val, e0 * np.asarray(mu_i), kind="radiance", source=source)
 
     # ----------------------------------------------------------------- views
@@ -296,3 +291,18 @@ class Measurements:
             image_shape=self.image_shape,
             pixels=None if self.pixels is None else self.pixels[index],
         )
+
+
+def _erode(good: np.ndarray, times: int) -> np.ndarray:
+    """``good`` (H, W) without ``times`` pixels along every edge of its regions (and of the
+    image): a pixel stays if it and its four neighbours are good."""
+    for _ in range(times):
+        inner = good.copy()
+        inner[1:, :] &= good[:-1, :]
+        inner[:-1, :] &= good[1:, :]
+        inner[:, 1:] &= good[:, :-1]
+        inner[:, :-1] &= good[:, 1:]
+        inner[0, :] = inner[-1, :] = False
+        inner[:, 0] = inner[:, -1] = False
+        good = inner
+    return good

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import atomic_open
 from ..models import Model
 from .measurements import Measurements
@@ -141,7 +142,7 @@ class MERLBRDF:
     def __post_init__(self) -> None:
         raw = np.asarray(self.raw, dtype=np.float64)
         if raw.shape != (3, *MERL_SHAPE):
-            raise ValueError(f"raw must have shape (3, 90, 90, 180) (got {raw.shape})")
+            raise ParameterError(f"raw must have shape (3, 90, 90, 180) (got {raw.shape})")
         _check_finite(raw, self.source or "raw")
         object.__setattr__(self, "raw", raw)
 
@@ -160,9 +161,9 @@ class MERLBRDF:
         """From BRDF values (3, 90, 90, 180) in 1/sr; NaN or negative entries are missing."""
         b = np.asarray(brdf, dtype=np.float64)
         if b.shape != (3, *MERL_SHAPE):
-            raise ValueError(f"brdf must have shape (3, 90, 90, 180) (got {b.shape})")
+            raise ParameterError(f"brdf must have shape (3, 90, 90, 180) (got {b.shape})")
         if np.any(np.isinf(b)):
-            raise ValueError("brdf must not contain infinite values")
+            raise ParameterError("brdf must not contain infinite values")
         missing = np.isnan(b) | (b < 0)
         raw = np.where(missing, -1.0, np.where(missing, 0.0, b) / MERL_SCALE[:, None, None, None])
         return cls(raw, source)
@@ -179,7 +180,7 @@ class MERLBRDF:
         if f.ndim == 1:
             f = np.stack([f, f, f], axis=-1)
         if f.shape[-1] != 3:
-            raise ValueError(f"model must have 1 or 3 channels (got {f.shape[-1]})")
+            raise ParameterError(f"model must have 1 or 3 channels (got {f.shape[-1]})")
         out = np.full((3, *MERL_SHAPE), np.nan)
         for c in range(3):
             out[c][above] = f[:, c]
@@ -205,7 +206,9 @@ class MERLBRDF:
         use = (wi[..., 2] > 1e-9) & (wo[..., 2] > 1e-9) & np.all(self.valid, axis=0)
         idx = np.flatnonzero(use)
         if idx.size == 0:
-            raise ValueError(f"{self.source or 'MERL data'}: no sample present above the horizon")
+            raise ParameterError(
+                f"{self.source or 'MERL data'}: no sample present above the horizon"
+            )
         if max_samples is not None and idx.size > max_samples:
             idx = np.sort(np.random.default_rng(seed).choice(idx, max_samples, replace=False))
         value = self.brdf.reshape(3, -1)[:, idx].T
@@ -221,7 +224,7 @@ def _check_finite(raw: np.ndarray, name: str) -> None:
     bad = ~np.isfinite(raw)
     if np.any(bad):
         c, ih, idd, ip = (int(v[0]) for v in np.nonzero(bad))
-        raise ValueError(
+        raise ParameterError(
             f"{name}: {int(bad.sum())} entries are NaN or infinite (first: channel "
             f"{'RGB'[c]}, θh index {ih}, θd index {idd}, φd index {ip}); a MERL file marks "
             "missing samples with negative values"
@@ -254,17 +257,17 @@ def merl_from_bytes(blob: bytes, name: str = "MERL data") -> MERLBRDF:
         90 × 90 × 180, or an entry is NaN or infinite.
     """
     if len(blob) < _HEADER:
-        raise ValueError(f"{name}: truncated MERL file ({len(blob)} bytes, no 12-byte header)")
+        raise ParameterError(f"{name}: truncated MERL file ({len(blob)} bytes, no 12-byte header)")
     dims = tuple(int(d) for d in np.frombuffer(blob[:_HEADER], dtype="<i4"))
     if dims != MERL_SHAPE:
-        raise ValueError(
+        raise ParameterError(
             f"{name}: MERL dimensions must be 90 x 90 x 180 (θh, θd, φd); the header says "
             f"{dims[0]} x {dims[1]} x {dims[2]}"
         )
     expected = MERL_FILE_SIZE
     if len(blob) != expected:
         what = "truncated" if len(blob) < expected else "too long"
-        raise ValueError(
+        raise ParameterError(
             f"{name}: {what} MERL file: {len(blob)} bytes, expected {expected} "
             "(12-byte header + 3 x 90 x 90 x 180 float64)"
         )
@@ -277,7 +280,7 @@ def merl_from_bytes(blob: bytes, name: str = "MERL data") -> MERLBRDF:
 def write_merl(path: str | os.PathLike[str], brdf: MERLBRDF) -> None:
     """Write a MERL ``.binary`` file (atomically: temporary file, then rename)."""
     if not isinstance(brdf, MERLBRDF):
-        raise ValueError(f"brdf must be a MERLBRDF (got {type(brdf).__name__})")
+        raise ParameterError(f"brdf must be a MERLBRDF (got {type(brdf).__name__})")
     with atomic_open(path, "wb") as fh:
         fh.write(np.asarray(MERL_SHAPE, dtype="<i4").tobytes())
         fh.write(np.ascontiguousarray(brdf.raw, dtype="<f8").tobytes())

@@ -34,6 +34,8 @@ from typing import Any
 import drjit as dr
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = ["DrArray", "Nodes", "drjit_namespace", "unwrap", "wrap"]
 
 
@@ -301,7 +303,7 @@ class _DrJitNamespace:
         if arr.ndim == 0:
             return float(arr)
         if arr.ndim != 1:
-            raise ValueError(f"the Dr.Jit namespace holds 1-D constants only (got {arr.shape})")
+            raise ParameterError(f"the Dr.Jit namespace holds 1-D constants only (got {arr.shape})")
         return Nodes(arr.tolist())
 
     @staticmethod

@@ -60,6 +60,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..models import Model
 from ..models.declaration import Param
 
@@ -96,128 +97,187 @@ def _lobes(model: Model) -> set[str]:
 _MISSING = object()
 
 
-def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
-    """A Mitsuba ``BSDF`` subclass for the registry ``entry`` (for the variant set now)."""
+@dataclasses.dataclass(frozen=True)
+class _PluginSpec:
+    """What a plugin class needs to know of its registry entry: the model factory and its
+    parameters sorted by kind (categorical, per-channel textures, plain numbers)."""
+
+    entry: registry.Entry
+    factory: Callable[..., Model]
+    plugin: str
+    declared: dict[str, Param]
+    categorical: list[Param]
+    textures: list[Param]
+    numbers: list[Param]
+    static: set[str]
+
+    @classmethod
+    def of(cls, entry: registry.Entry) -> _PluginSpec:
+        model = entry.cls
+        fields = set()
+        if dataclasses.is_dataclass(model):
+            fields = {f.name for f in dataclasses.fields(model)}
+        numbers = [p for p in model.params if not p.channels and not p.categorical]
+        arrays = set(model.array_fields)
+        return cls(
+            entry=entry,
+            factory=_factory(model),
+            plugin=plugin_name(entry.id),
+            declared={p.name: p for p in model.params},
+            categorical=[p for p in model.params if p.categorical],
+            textures=[p for p in model.params if p.channels and not p.categorical],
+            numbers=numbers,
+            static={p.name for p in numbers if p.name in fields and p.name not in arrays},
+        )
+
+
+def _set_parameters(bsdf: Any, mi: Any, spec: _PluginSpec, props: Any) -> None:
+    """Check the scene's properties and set the plugin's parameters from them: attributes
+    named as declared (Mitsuba's traverse/update sets them by name); the plugin's own
+    attributes start with ``rd_``."""
+    for key in props.keys():
+        if key not in spec.declared:
+            raise ParameterError(
+                f"{spec.plugin} has no parameter {key!r}; its parameters: "
+                f"{', '.join(spec.declared) or 'none'}"
+            )
+    choices = {
+        p.name: str(props.get(p.name, spec.entry.fixed.get(p.name, p.default)))
+        for p in spec.categorical
+    }
+    for p in spec.categorical:
+        p.check(choices[p.name])
+    # validate with the given numbers (a texture: its default, it has no one value)
+    given = {p.name: float(props[p.name]) for p in spec.numbers if p.name in props}
+    constant = {}
+    for p in spec.textures:
+        if p.name in props and isinstance(props[p.name], float | int):
+            constant[p.name] = float(props[p.name])
+    bsdf.rd_model = spec.factory(**choices, **given, **constant)  # ParameterError if out of range
+    bsdf.rd_choices = choices
+    bsdf.rd_numbers = []
+    bsdf.rd_static = {  # fixed now (a table's σ, ρ): plain floats
+        name: float(getattr(bsdf.rd_model, name)) for name in spec.static
+    }
+    if bsdf.rd_static:
+        bsdf.rd_model.brdf_cosines(1.0, 1.0, 1.0)  # build the table now, not mid-render
+    for p in spec.numbers:  # the numbers this instance has (e.g. sigma or alpha)
+        if p.name in spec.static:
+            continue
+        value = getattr(bsdf.rd_model, p.name, _MISSING)
+        if value is _MISSING:  # built by from_params: the declared parameter itself
+            if not p.applies(choices):
+                continue
+            value = given.get(p.name, p.default)
+        if value is None:
+            continue
+        setattr(bsdf, p.name, mi.Float(float(value)))
+        bsdf.rd_numbers.append(p.name)
+    bsdf.rd_textures = [p.name for p in spec.textures if p.applies(choices)]
+    for name in bsdf.rd_textures:
+        setattr(bsdf, name, props.get_texture(name, float(spec.declared[name].default)))
+
+
+def _set_flags(bsdf: Any, mi: Any) -> None:
+    """The plugin's lobe flags from the model's lobes (diffuse, glossy)."""
+    lobes = _lobes(bsdf.rd_model)
+    bsdf.rd_lobe_flags = [
+        flag
+        for name, flag in (
+            ("diffuse", mi.BSDFFlags.DiffuseReflection),
+            ("glossy", mi.BSDFFlags.GlossyReflection),
+        )
+        if name in lobes
+    ] or [mi.BSDFFlags.DiffuseReflection]
+    bsdf.rd_lobe = bsdf.rd_lobe_flags[-1]  # sampled type: glossy if there is such a lobe
+    flags = mi.BSDFFlags.FrontSide
+    for flag in bsdf.rd_lobe_flags:
+        flags = flags | flag
+    bsdf.m_flags = flags
+    bsdf.m_components = [flags]
+
+
+def _model_methods(mi: Any, dr: Any, spec: _PluginSpec) -> dict[str, Callable[..., Any]]:
+    """The plugin's methods that evaluate and sample the model on Dr.Jit values."""
     from .drjit_namespace import drjit_namespace as xp
     from .drjit_namespace import unwrap, wrap
-
-    cls = entry.cls
-    factory = _factory(cls)
-    declared: dict[str, Param] = {p.name: p for p in cls.params}
-    categorical = [p for p in cls.params if p.categorical]
-    textures = [p for p in cls.params if p.channels and not p.categorical]
-    numbers = [p for p in cls.params if not p.channels and not p.categorical]
-    plugin = plugin_name(entry.id)
-    fields = {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()
-    static = {p.name for p in numbers if p.name in fields and p.name not in cls.array_fields}
 
     def channel_mean(c: Any) -> Any:
         return (c[0] + c[1] + c[2]) * (1.0 / 3.0)
 
+    def _model(self: Any, si: Any, active: Any, mean: bool = False) -> Model:
+        """The model with this BSDF's Dr.Jit values (textures evaluated at ``si``; their
+        channel mean where ``mean``: sampling needs one number per lane)."""
+        kwargs: dict[str, Any] = {**self.rd_choices, **self.rd_static}
+        for name in self.rd_numbers:
+            kwargs[name] = wrap(getattr(self, name))
+        for name in self.rd_textures:
+            value = getattr(self, name).eval(si, active)
+            kwargs[name] = wrap(channel_mean(value) if mean else value)
+        return spec.factory(**kwargs)
+
+    def _brdf(self: Any, si: Any, wi: Any, active: Any) -> Any:
+        """f(wi = light, wo = si.wi) as a Color3f (roughdiffuse's direction names)."""
+        mu_i = dr.clip(wi.z, 0.0, 1.0)
+        mu_o = dr.clip(si.wi.z, 0.0, 1.0)
+        cos_io = dr.clip(dr.dot(wi, si.wi), -1.0, 1.0)
+        f = self._model(si, active).brdf_cosines(wrap(mu_i), wrap(mu_o), wrap(cos_io))
+        return mi.Color3f(unwrap(f))
+
+    def _strategy(self: Any, si: Any, active: Any) -> tuple[Any, dict[str, Any]]:
+        model = self._model(si, active, mean=True)
+        return model.sampling_strategy(), model.parameter_arrays(xp)
+
+    def _pdf(self: Any, si: Any, wi: Any, active: Any) -> Any:
+        strategy, p = self._strategy(si, active)
+        d = si.wi
+        pdf = strategy.pdf(
+            xp, wrap(wi.x), wrap(wi.y), wrap(wi.z), wrap(d.x), wrap(d.y), wrap(d.z), p
+        )
+        return unwrap(pdf)
+
+    def _sample_direction(self: Any, si: Any, sample2: Any, active: Any) -> tuple[Any, Any]:
+        strategy, p = self._strategy(si, active)
+        d = si.wi
+        x, y, z, pdf = strategy.sample(
+            xp, wrap(sample2.x), wrap(sample2.y), wrap(d.x), wrap(d.y), wrap(d.z), p
+        )
+        return mi.Vector3f(unwrap(x), unwrap(y), unwrap(z)), unwrap(pdf)
+
+    return {
+        "_model": _model,
+        "_brdf": _brdf,
+        "_strategy": _strategy,
+        "_pdf": _pdf,
+        "_sample_direction": _sample_direction,
+    }
+
+
+def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
+    """A Mitsuba ``BSDF`` subclass for the registry ``entry`` (for the variant set now)."""
+    spec = _PluginSpec.of(entry)
+    methods = _model_methods(mi, dr, spec)
+
     class RoughdiffuseBSDF(mi.BSDF):
-        # the parameters are attributes named as declared (Mitsuba's traverse/update sets
-        # them by name); the plugin's own attributes start with rd_
         def __init__(self, props: Any) -> None:
             mi.BSDF.__init__(self, props)
-            for key in props.keys():
-                if key not in declared:
-                    raise ValueError(
-                        f"{plugin} has no parameter {key!r}; its parameters: "
-                        f"{', '.join(declared) or 'none'}"
-                    )
-            choices = {p.name: str(props.get(p.name, entry.fixed.get(p.name, p.default)))
-                       for p in categorical}
-            for p in categorical:
-                p.check(choices[p.name])
-            # validate with the given numbers (a texture: its default, it has no one value)
-            given = {p.name: float(props[p.name]) for p in numbers if p.name in props}
-            constant = {}
-            for p in textures:
-                if p.name in props and isinstance(props[p.name], float | int):
-                    constant[p.name] = float(props[p.name])
-            self.rd_model = factory(**choices, **given, **constant)  # ValueError if out of range
-            self.rd_choices = choices
-            self.rd_numbers: list[str] = []
-            self.rd_static = {  # fixed now (a table's σ, ρ): plain floats
-                name: float(getattr(self.rd_model, name)) for name in static
-            }
-            if self.rd_static:
-                self.rd_model.brdf_cosines(1.0, 1.0, 1.0)  # build the table now, not mid-render
-            for p in numbers:  # the numbers this instance has (e.g. sigma or alpha)
-                if p.name in static:
-                    continue
-                value = getattr(self.rd_model, p.name, _MISSING)
-                if value is _MISSING:  # built by from_params: the declared parameter itself
-                    if not p.applies(choices):
-                        continue
-                    value = given.get(p.name, p.default)
-                if value is None:
-                    continue
-                setattr(self, p.name, mi.Float(float(value)))
-                self.rd_numbers.append(p.name)
-            self.rd_textures = [p.name for p in textures if p.applies(choices)]
-            for name in self.rd_textures:
-                setattr(self, name, props.get_texture(name, float(declared[name].default)))
-            lobes = _lobes(self.rd_model)
-            self.rd_lobe_flags = [
-                flag
-                for name, flag in (
-                    ("diffuse", mi.BSDFFlags.DiffuseReflection),
-                    ("glossy", mi.BSDFFlags.GlossyReflection),
-                )
-                if name in lobes
-            ] or [mi.BSDFFlags.DiffuseReflection]
-            self.rd_lobe = self.rd_lobe_flags[-1]  # sampled type: glossy if there is such a lobe
-            flags = mi.BSDFFlags.FrontSide
-            for flag in self.rd_lobe_flags:
-                flags = flags | flag
-            self.m_flags = flags
-            self.m_components = [flags]
+            _set_parameters(self, mi, spec, props)
+            _set_flags(self, mi)
 
         def _enabled(self, ctx: Any) -> bool:
             return any(ctx.is_enabled(flag) for flag in self.rd_lobe_flags)
 
         # -------------------------------------------------------------- the model
-        def _model(self, si: Any, active: Any, mean: bool = False) -> Model:
-            """The model with this BSDF's Dr.Jit values (textures evaluated at ``si``; their
-            channel mean where ``mean``: sampling needs one number per lane)."""
-            kwargs: dict[str, Any] = {**self.rd_choices, **self.rd_static}
-            for name in self.rd_numbers:
-                kwargs[name] = wrap(getattr(self, name))
-            for name in self.rd_textures:
-                value = getattr(self, name).eval(si, active)
-                kwargs[name] = wrap(channel_mean(value) if mean else value)
-            return factory(**kwargs)
-
-        def _brdf(self, si: Any, wi: Any, active: Any) -> Any:
-            """f(wi = light, wo = si.wi) as a Color3f (roughdiffuse's direction names)."""
-            mu_i = dr.clip(wi.z, 0.0, 1.0)
-            mu_o = dr.clip(si.wi.z, 0.0, 1.0)
-            cos_io = dr.clip(dr.dot(wi, si.wi), -1.0, 1.0)
-            f = self._model(si, active).brdf_cosines(wrap(mu_i), wrap(mu_o), wrap(cos_io))
-            return mi.Color3f(unwrap(f))
-
-        def _strategy(self, si: Any, active: Any) -> tuple[Any, dict[str, Any]]:
-            model = self._model(si, active, mean=True)
-            return model.sampling_strategy(), model.parameter_arrays(xp)
-
-        def _pdf(self, si: Any, wi: Any, active: Any) -> Any:
-            strategy, p = self._strategy(si, active)
-            d = si.wi
-            pdf = strategy.pdf(
-                xp, wrap(wi.x), wrap(wi.y), wrap(wi.z), wrap(d.x), wrap(d.y), wrap(d.z), p
-            )
-            return unwrap(pdf)
+        _model = methods["_model"]
+        _brdf = methods["_brdf"]
+        _strategy = methods["_strategy"]
+        _pdf = methods["_pdf"]
+        _sample_direction = methods["_sample_direction"]
 
         # -------------------------------------------------------------- Mitsuba API
         def sample(self, ctx: Any, si: Any, sample1: Any, sample2: Any, active: Any = True):
-            strategy, p = self._strategy(si, active)
             d = si.wi
-            x, y, z, pdf = strategy.sample(
-                xp, wrap(sample2.x), wrap(sample2.y), wrap(d.x), wrap(d.y), wrap(d.z), p
-            )
-            wi = mi.Vector3f(unwrap(x), unwrap(y), unwrap(z))
-            pdf = unwrap(pdf)
+            wi, pdf = self._sample_direction(si, sample2, active)
             active = active & (d.z > 0) & (wi.z > 0) & (pdf > 0)
             active = active & self._enabled(ctx)
             bs = dr.zeros(mi.BSDFSample3f)
@@ -251,9 +311,9 @@ def _make_plugin_class(mi: Any, dr: Any, entry: registry.Entry) -> type:
             pass
 
         def to_string(self) -> str:
-            return f"Roughdiffuse[{plugin}: {self.rd_model!r}]"
+            return f"Roughdiffuse[{spec.plugin}: {self.rd_model!r}]"
 
-    RoughdiffuseBSDF.__name__ = f"Roughdiffuse{cls.__name__}BSDF"
+    RoughdiffuseBSDF.__name__ = f"Roughdiffuse{entry.cls.__name__}BSDF"
     return RoughdiffuseBSDF
 
 
@@ -272,7 +332,7 @@ def register() -> list[str]:
     import mitsuba as mi
 
     if mi.variant() is None:
-        raise ValueError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
+        raise ParameterError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
     names = []
     for name, entry in plugins().items():
         plugin = _make_plugin_class(mi, dr, entry)

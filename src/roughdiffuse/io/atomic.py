@@ -47,6 +47,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
+from .._validate import ParameterError
+
 __all__ = [
     "atomic_open",
     "atomic_write",
@@ -79,16 +81,16 @@ def check_output_path(path: PathLike, what: str = "output file") -> Path:
     """
     p = Path(path)
     if not str(path) or p.name in ("", ".", ".."):
-        raise ValueError(f"{what} {str(path)!r} is not a file name")
+        raise ParameterError(f"{what} {str(path)!r} is not a file name")
     if p.is_dir():
-        raise ValueError(f"{what} {str(p)!r} is a folder; give the name of a file")
+        raise ParameterError(f"{what} {str(p)!r} is a folder; give the name of a file")
     folder = p.parent
     if not folder.exists():
-        raise ValueError(f"{what} {str(p)!r}: folder {str(folder)!r} does not exist")
+        raise ParameterError(f"{what} {str(p)!r}: folder {str(folder)!r} does not exist")
     if not folder.is_dir():
-        raise ValueError(f"{what} {str(p)!r}: {str(folder)!r} is not a folder")
+        raise ParameterError(f"{what} {str(p)!r}: {str(folder)!r} is not a folder")
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise ValueError(f"{what} {str(p)!r}: folder {str(folder)!r} is not writable")
+        raise ParameterError(f"{what} {str(p)!r}: folder {str(folder)!r} is not writable")
     return p
 
 
@@ -221,7 +223,7 @@ def atomic_open(path: PathLike, mode: str = "wb", **kwargs: Any) -> Iterator[IO[
     ``mode`` is ``"w"`` or ``"wb"`` (plus ``kwargs`` for :func:`open`, e.g. ``encoding``).
     """
     if mode not in ("w", "wb"):
-        raise ValueError(f"mode must be 'w' or 'wb' (got {mode!r})")
+        raise ParameterError(f"mode must be 'w' or 'wb' (got {mode!r})")
     if mode == "w":
         kwargs.setdefault("encoding", "utf-8")
     path = check_output_path(path)

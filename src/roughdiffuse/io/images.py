@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .atomic import atomic_write
 
 __all__ = [
@@ -58,7 +59,7 @@ def exposure_scale(image: np.ndarray, exposure: float | str = "auto", mask: Any 
     """
     if isinstance(exposure, str):
         if exposure != "auto":
-            raise ValueError(f"exposure must be a number of stops or 'auto' (got {exposure!r})")
+            raise ParameterError(f"exposure must be a number of stops or 'auto' (got {exposure!r})")
         vals = np.asarray(image, dtype=np.float64)
         if mask is not None:
             m = np.asarray(mask) > 0
@@ -67,14 +68,16 @@ def exposure_scale(image: np.ndarray, exposure: float | str = "auto", mask: Any 
         top = float(np.percentile(vals, 99.9)) if vals.size else 0.0
         return 1.0 / top if top > 0 else 1.0
     if not (isinstance(exposure, int | float) and math.isfinite(exposure)):
-        raise ValueError(f"exposure must be a finite number of stops (got {exposure!r})")
+        raise ParameterError(f"exposure must be a finite number of stops (got {exposure!r})")
     return float(2.0**exposure)
 
 
 def _check_image(image: Any) -> np.ndarray:
     img = np.asarray(image)
     if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (1, 3)):
-        raise ValueError(f"image must have shape (H, W), (H, W, 1) or (H, W, 3) (got {img.shape})")
+        raise ParameterError(
+            f"image must have shape (H, W), (H, W, 1) or (H, W, 3) (got {img.shape})"
+        )
     if img.ndim == 3 and img.shape[2] == 1:
         img = img[..., 0]
     return img
@@ -130,14 +133,14 @@ def write_png(
         Extra text chunks.
     """
     if bits not in (8, 16):
-        raise ValueError(f"bits must be 8 or 16 (got {bits!r})")
+        raise ParameterError(f"bits must be 8 or 16 (got {bits!r})")
     img = _check_image(image).astype(np.float64)
     scale = exposure_scale(img, exposure, mask)
     lin = img * scale
     if mask is not None:
         m = np.clip(np.asarray(mask, dtype=np.float64), 0.0, 1.0)
         if m.shape != img.shape[:2]:
-            raise ValueError(f"mask must have shape {img.shape[:2]} (got {m.shape})")
+            raise ParameterError(f"mask must have shape {img.shape[:2]} (got {m.shape})")
         mm = m if lin.ndim == 2 else m[..., None]
         lin = np.where(mm > 0, lin / np.where(mm > 0, mm, 1.0), 0.0)
     top = (1 << bits) - 1
@@ -207,7 +210,9 @@ def write_image(
         return write_npy(path, image)
     if suffix == ".exr":
         return write_exr(path, image, metadata=metadata)
-    raise ValueError(f"output file must end in one of {', '.join(SUFFIXES)} (got {str(path)!r})")
+    raise ParameterError(
+        f"output file must end in one of {', '.join(SUFFIXES)} (got {str(path)!r})"
+    )
 
 
 # --------------------------------------------------------------------------- PNG reading
@@ -248,7 +253,7 @@ def _unfilter(raw: np.ndarray, h: int, stride: int, bpp: int) -> np.ndarray:
                     c[x] = (r[x] + _paeth(left, p[x], ul)) % 256
             cur = np.asarray(c, dtype=np.int64)
         else:
-            raise ValueError(f"PNG row {y}: unknown filter type {kind}")
+            raise ParameterError(f"PNG row {y}: unknown filter type {kind}")
         out[y] = cur
         prev = cur
     return out
@@ -265,7 +270,7 @@ def read_png(path: str | os.PathLike[str]) -> tuple[np.ndarray, int, dict[str, s
     with open(path, "rb") as fh:
         blob = fh.read()
     if blob[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError(f"{name}: not a PNG file")
+        raise ParameterError(f"{name}: not a PNG file")
     pos, idat, text = 8, [], {}
     header = None
     while pos + 8 <= len(blob):
@@ -273,11 +278,11 @@ def read_png(path: str | os.PathLike[str]) -> tuple[np.ndarray, int, dict[str, s
         kind = blob[pos + 4 : pos + 8]
         payload = blob[pos + 8 : pos + 8 + length]
         if len(payload) < length:
-            raise ValueError(f"{name}: truncated PNG file")
+            raise ParameterError(f"{name}: truncated PNG file")
         pos += 12 + length
         if kind == b"IHDR":
             if len(payload) != 13:  # ISO/IEC 15948 §11.2.2: IHDR holds 13 bytes
-                raise ValueError(f"{name}: corrupt PNG header ({len(payload)}-byte IHDR)")
+                raise ParameterError(f"{name}: corrupt PNG header ({len(payload)}-byte IHDR)")
             header = struct.unpack(">IIBBBBB", payload)
         elif kind == b"IDAT":
             idat.append(payload)
@@ -289,22 +294,22 @@ def read_png(path: str | os.PathLike[str]) -> tuple[np.ndarray, int, dict[str, s
         elif kind == b"IEND":
             break
     if header is None:
-        raise ValueError(f"{name}: PNG without IHDR")
+        raise ParameterError(f"{name}: PNG without IHDR")
     w, h, bits, color, _, _, interlace = header
     channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
     if channels is None or bits not in (8, 16) or interlace:
-        raise ValueError(
+        raise ParameterError(
             f"{name}: only non-interlaced 8- or 16-bit grey/RGB(A) PNG is supported "
             f"(colour type {color}, {bits} bits, interlace {interlace})"
         )
     try:
         raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
     except zlib.error as exc:
-        raise ValueError(f"{name}: corrupt PNG data ({exc})") from None
+        raise ParameterError(f"{name}: corrupt PNG data ({exc})") from None
     bpp = channels * bits // 8
     stride = w * bpp
     if raw.size != h * (stride + 1):
-        raise ValueError(f"{name}: truncated PNG data")
+        raise ParameterError(f"{name}: truncated PNG data")
     rows = _unfilter(raw, h, stride, bpp)
     dtype = ">u2" if bits == 16 else "u1"
     pix = rows.reshape(h, -1).view(dtype).reshape(h, w, channels).astype(np.uint32)

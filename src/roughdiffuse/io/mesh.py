@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._validate import ParameterError
 from .atomic import write_bytes
 
 __all__ = ["write_ply"]
@@ -30,7 +31,7 @@ def write_ply(path: str | os.PathLike, verts: np.ndarray, faces: np.ndarray) -> 
     verts = np.asarray(verts)
     faces = np.asarray(faces)
     if verts.ndim != 2 or verts.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
-        raise ValueError(
+        raise ParameterError(
             f"verts and faces must have shapes (N, 3) and (M, 3) (got {verts.shape}, {faces.shape})"
         )
     header = (

@@ -99,8 +99,8 @@ def _params_of(model: Model, model_id: str) -> dict[str, Any]:
 
 
 def model_record(model: Model) -> dict[str, Any]:
-    """``{"model": id, "params": {...}}``: what ``fit --json`` writes and :func:`load_result`
-    reads (``ValueError`` for a model the registry does not name)."""
+    """``{"model": id, "params": {...}}``, which :func:`load_result` reads (``ValueError``
+    for a model the registry does not name)."""
     model_id = registry.id_of(model)
     if model_id is None:
         raise ValueError(f"{type(model).__name__} is not a registry model")
@@ -122,10 +122,25 @@ def material_for(model: Model, target_id: str) -> tuple[dict[str, Any], Conversi
     return dict(result.params), result
 
 
+def _from_fit_json(data: dict[str, Any]) -> dict[str, Any]:
+    """``fit --json``'s best fit (``fits[0]``): its model id and ``names``/``values`` (per-channel
+    ``albedo[k]`` gathered into a list)."""
+    best = data["fits"][0]
+    params: dict[str, Any] = {}
+    for name, value in zip(best["names"], best["values"], strict=True):
+        base, _, index = name.partition("[")
+        if index:
+            params.setdefault(base, []).append(value)
+        else:
+            params[base] = value
+    return {"model": best["model"], "params": params}
+
+
 def load_result(path: str | Path) -> Model:
-    """The model of a fit result: ``{"model": id, "params": {...}}`` (``fit --json``,
-    ``convert --json`` has ``target``/``params``) or a photometric-stereo ``params.json``
-    (``model`` and ``roughness``; the albedo is the median of ``albedo.npy`` beside it).
+    """The model of a fit result: the output of ``fit --json`` (its best fit), a record
+    ``{"model": id, "params": {...}}`` (:func:`model_record`), or a photometric-stereo
+    ``params.json`` (``model`` and ``roughness``; the albedo is the median of ``albedo.npy``
+    beside it).
 
     Raises
     ------
@@ -139,6 +154,11 @@ def load_result(path: str | Path) -> Model:
         raise ValueError(f"{path}: not a readable fit result ({exc})") from None
     if not isinstance(data, dict):
         raise ValueError(f"{path}: not a fit result (expected a JSON object)")
+    if isinstance(data.get("fits"), list) and data["fits"]:
+        try:
+            data = _from_fit_json(data)
+        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            raise ValueError(f"{path}: not a readable fit --json output ({exc})") from None
     model_id = data.get("model", data.get("target"))
     if not isinstance(model_id, str):
         raise ValueError(f"{path}: names no model (expected a 'model' entry)")

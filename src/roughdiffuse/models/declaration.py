@@ -9,54 +9,26 @@ A model class lists its parameters as :class:`Param` records in its ``params`` c
               min=0.0, max=math.pi / 2, default=0.0),
     )
 
-From this the constructor's checks (a ``ValueError`` naming the parameter, its unit and its
-range), the pytree leaves (numeric parameters), the colour-channel parameters, the command
-line's ``--param NAME=VALUE`` (degrees for radians), fit bounds and ``roughdiffuse models``
-are derived. This module is a leaf: it imports NumPy only.
+From this the constructor's checks (a :class:`~roughdiffuse._validate.ParameterError`, a
+``ValueError``, naming the parameter, its unit and its range), the pytree leaves (numeric
+parameters), the colour-channel parameters, the command line's options (``--NAME`` and
+``--param NAME=VALUE``, degrees for radians), fit bounds and ``roughdiffuse models`` are
+derived. This module is a leaf: it imports :mod:`roughdiffuse._validate` only.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
+from .._validate import ParameterError, check_real, describe_value, format_interval
 
-__all__ = ["Param", "Unit", "UNITS", "format_interval"]
+__all__ = ["Param", "Unit", "UNITS"]
 
 Unit = str
 UNITS: tuple[str, ...] = ("dimensionless", "radians")
 """The units a parameter may have; the command line accepts degrees for ``"radians"``."""
-
-
-def _fmt(x: float) -> str:
-    if x == math.pi / 2:
-        return "π/2"
-    if x == math.pi:
-        return "π"
-    return f"{x:g}"
-
-
-def format_interval(lo: float | None, hi: float | None, lo_open: bool = False) -> str:
-    """``[0, 1]``, ``(0, 1000]``, ``[0, ∞)``: an interval as messages and tables show it.
-
-    An infinite end is always open (∞ is not a value a parameter can take).
-
-    >>> format_interval(0.0, None)
-    '[0, ∞)'
-    >>> format_interval(0.0, 1e3, lo_open=True)
-    '(0, 1000]'
-    """
-    left = "(-∞" if lo is None else f"{'(' if lo_open else '['}{_fmt(lo)}"
-    right = "∞)" if hi is None else f"{_fmt(hi)}]"
-    return f"{left}, {right}"
-
-
-def _describe(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
 
 
 @dataclass(frozen=True)
@@ -152,66 +124,38 @@ class Param:
 
     # ------------------------------------------------------------------ checking
     def check(self, value: Any) -> Any:
-        """Return ``value`` checked (and lists turned into arrays); raise ``ValueError`` if bad.
+        """Return ``value`` checked (and lists turned into arrays); raise
+        :class:`~roughdiffuse._validate.ParameterError` (a ``ValueError``) if bad.
 
         Refused: ``None``, booleans, strings and other non-numbers, NaN and ±∞, values out of
         the range, arrays with more than one axis (more than zero unless ``channels``). Values
-        with no concrete value (JAX tracers inside ``jit``) pass unchecked.
+        with no concrete value (JAX tracers inside ``jit``) pass unchecked. The numeric check
+        is :func:`roughdiffuse._validate.check_real`, the one :func:`check_range
+        <roughdiffuse._validate.check_range>` makes too.
 
         >>> Param("k", "exponent", min=0.0, max=2.0, default=1.0).check(0.5)
         0.5
         >>> Param("k", "exponent", min=0.0, max=2.0, default=1.0).check(True)
         Traceback (most recent call last):
         ...
-        ValueError: k must be a real number in [0, 2] (got True)
+        roughdiffuse._validate.ParameterError: k must be a real number in [0, 2] (got True)
         """
         if self.choices is not None:
             if not isinstance(value, str) or value not in self.choices:
-                raise ValueError(
+                raise ParameterError(
                     f"{self.name} must be one of {', '.join(map(repr, self.choices))} "
-                    f"(got {_describe(value)})"
+                    f"(got {describe_value(value)})"
                 )
             return value
-        bad = f"{self.name} must be a real number {self.range_text()}"
-        if self.channels:
-            bad = f"{self.name} must be a real number or one per channel, {self.range_text()}"
-        if value is None or isinstance(value, bool | np.bool_ | str | bytes):
-            raise ValueError(f"{bad} (got {_describe(value)})")
-        if isinstance(value, list | tuple):
-            if not self.channels:
-                raise ValueError(f"{self.name} must be a scalar (got a {type(value).__name__})")
-            if any(v is None or isinstance(v, bool | np.bool_ | str | bytes) for v in value):
-                raise ValueError(f"{bad} (got {_describe(value)})")
-            try:
-                value = np.asarray(value, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise ValueError(f"{bad} (got {_describe(value)})") from None
-        arr = _concrete(value)
-        if arr is None:
-            return value
-        if arr.dtype.kind not in "iuf":
-            raise ValueError(f"{bad} (got {_describe(value)})")
-        if self.channels:
-            if arr.ndim > 1:
-                raise ValueError(
-                    f"{self.name} must be a scalar or a 1-D array of channel values "
-                    f"(got shape {arr.shape})"
-                )
-            if arr.ndim == 1 and arr.shape[0] == 0:
-                raise ValueError(f"{self.name} must hold at least one channel value")
-        elif arr.ndim != 0:
-            raise ValueError(f"{self.name} must be a scalar (got shape {arr.shape})")
-        a = arr.astype(np.float64)
-        out = ~np.isfinite(a)
-        if self.min is not None:
-            out |= (a <= self.min) if self.min_open else (a < self.min)
-        if self.max is not None:
-            out |= a > self.max
-        if np.any(out):
-            shown = a[out].flat[0] if a.ndim else float(a)
-            per = " (per channel)" if self.channels and a.ndim else ""
-            raise ValueError(f"{self.name} must be {self.range_text()}{per} (got {shown:g})")
-        return value
+        return check_real(
+            self.name,
+            value,
+            self.min,
+            self.max,
+            lo_open=self.min_open,
+            unit=self.unit,
+            channels=self.channels,
+        )
 
     # ------------------------------------------------------------------ export
     def to_json(self) -> dict[str, Any]:
@@ -233,21 +177,3 @@ class Param:
             "choices": list(self.choices) if self.choices is not None else None,
             "fit_range": list(self.fit_range) if self.fit_range is not None else None,
         }
-
-
-def _concrete(x: Any) -> np.ndarray | None:
-    """``x`` as a NumPy array when its value is known now, else ``None`` (a JAX tracer or
-    another array-API object with no value yet). Non-numbers come out with dtype object."""
-    module = type(x).__module__
-    if module.startswith("jax"):
-        import jax
-
-        return None if isinstance(x, jax.core.Tracer) else np.asarray(x)
-    if module.startswith("torch"):
-        return x.detach().cpu().numpy()
-    if hasattr(x, "__array_namespace__") and not isinstance(x, np.ndarray | np.generic):
-        return None  # another array-API object (the fast path's symbolic values)
-    try:
-        return np.asarray(x)
-    except Exception:  # noqa: BLE001 - a value NumPy cannot read is not a number
-        return np.asarray(None)

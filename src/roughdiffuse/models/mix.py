@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, safe_div
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 from .base import Model, register_pytree
 from .declaration import Param
 from .oren_nayar import SIGMA_MAX, OrenNayar
@@ -92,6 +92,23 @@ class Mix(Model):
              "distribution": "beckmann"},
         )
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "sigma": r"\sigma",
+        "weight": r"w",
+        "eta": r"\eta",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = (1-w)\,f_{\text{Oren–Nayar full}}(\rho,\sigma) +
+        w\,f_{\text{Torrance–Sparrow}}(\eta,\sigma)
+        ```
+
+        The lecture's rough surface with body and surface reflection: the two models of
+        {doc}`oren-nayar-full` and {doc}`torrance-sparrow` with one σ (with
+        ``distribution="beckmann"``, the specular part's α is √2 σ). In general a
+        {class}`~roughdiffuse.models.mix.Mix` is {math}`f_r = \sum_k w_k f_k`.
+        """
 
     @classmethod
     def from_params(
@@ -125,11 +142,11 @@ class Mix(Model):
     def __post_init__(self) -> None:
         comps = tuple((w, m) for w, m in self.components)
         if not comps:
-            raise ValueError("components must hold at least one (weight, model) pair")
+            raise ParameterError("components must hold at least one (weight, model) pair")
         for k, (w, m) in enumerate(comps):
             check_range(f"components[{k}] weight", w, 0.0, float("inf"))
             if not isinstance(m, Model):
-                raise ValueError(f"components[{k}] must be a (weight, Model) pair (got {m!r})")
+                raise ParameterError(f"components[{k}] must be a (weight, Model) pair (got {m!r})")
         object.__setattr__(self, "components", comps)
 
     def _param_values(self) -> list[Any]:

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from .._array import Array
-from ..frames import angles_to_cosines
+from ..frames import angles_to_cosines, photometric_to_local
 
 __all__ = ["brdf_from_radiance_factor", "radiance_factor"]
 
@@ -59,7 +59,9 @@ def radiance_factor(model: Any, incidence: Array, emission: Array, phase: Array)
     model : Model
         Any roughdiffuse model.
     incidence, emission, phase : array_like
-        i, e in [0, π/2] and the phase angle g in [|i − e|, i + e] (radians).
+        i, e in [0, π/2] and the phase angle g in [|i − e|, i + e] (radians). At i = π/2
+        the surface is unlit and I/F is 0 (ISIS's photometric functions return 0 there too,
+        where cos(π/2) = 6e-17 would otherwise leave a 0/0 limit).
 
     Examples
     --------
@@ -69,18 +71,8 @@ def radiance_factor(model: Any, incidence: Array, emission: Array, phase: Array)
     >>> round(float(radiance_factor(rd.Lambert(1.0), 0.0, 0.0, 0.0)), 12)
     1.0
     """
-    i, e, g = (np.asarray(a, dtype=np.float64) for a in (incidence, emission, phase))
-    for name, a, hi in (("incidence", i, math.pi / 2), ("emission", e, math.pi / 2)):
-        if not np.all(np.isfinite(a)) or np.any((a < 0) | (a > hi)):
-            raise ValueError(f"{name} must be in [0, π/2] radians")
-    if not np.all(np.isfinite(g)) or np.any((g < np.abs(i - e) - 1e-12) | (g > i + e + 1e-12)):
-        raise ValueError("phase must be in [|incidence − emission|, incidence + emission] radians")
-    # cos g = cos i cos e + sin i sin e cos φ: the azimuth difference φ from g
-    s = np.sin(i) * np.sin(e)
-    cos_phi = np.clip(
-        np.divide(np.cos(g) - np.cos(i) * np.cos(e), s, where=s > 0, out=np.ones_like(s)), -1, 1
-    )
-    mu_i, mu_o, cos_io = angles_to_cosines(np, i, e, np.arccos(cos_phi))
+    i, e, dphi = photometric_to_local(incidence, emission, phase)
+    mu_i, mu_o, cos_io = angles_to_cosines(np, i, e, dphi)
     f = np.asarray(model.brdf_cosines(mu_i, mu_o, cos_io))
-    mu = np.clip(mu_i, 0.0, 1.0)
+    mu = np.where(i < math.pi / 2, np.clip(mu_i, 0.0, 1.0), 0.0)  # unlit at i = 90° (as ISIS)
     return math.pi * f * (mu[..., None] if f.ndim > mu.ndim else mu)

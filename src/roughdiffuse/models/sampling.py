@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from .._array import Array, asarray, concrete, result_dtype, safe_div, safe_sqrt
+from .._validate import ParameterError
 from ..deprecation import renamed_parameter
 from ..frames import unit_components
 from .microfacet import normal_pdf, normal_sample
@@ -256,10 +257,10 @@ def strategy_for(model: Model) -> Strategy:
 def _check_u(xp: Any, u: Array, dtype: Any) -> Array:
     u = asarray(xp, u, dtype)
     if u.ndim < 1 or u.shape[-1] != 2:
-        raise ValueError(f"u must have shape (..., 2) (got shape {tuple(u.shape)})")
+        raise ParameterError(f"u must have shape (..., 2) (got shape {tuple(u.shape)})")
     uc = concrete(u)
     if uc is not None and (np.any(~(uc >= 0)) or np.any(uc > 1)):
-        raise ValueError("u must lie in [0, 1]")
+        raise ParameterError("u must lie in [0, 1]")
     return u
 
 

@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._array import Array, asarray, concrete
+from .._validate import ParameterError
 from .base import Model, register_pytree
 from .declaration import Param
 
@@ -82,6 +83,25 @@ class SmithDiffuse(Model):
     )
     traceable: ClassVar[bool] = False
     closed_form: ClassVar[bool] = False
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "alpha": r"\alpha",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r(\omega_i,\omega_o) = \sum_{k\ge 1}\rho^k f_k(\omega_i,\omega_o;\alpha)
+        ```
+        ```{math}
+        D_{\mathrm{Beckmann}}(h) =
+        \frac{e^{-\tan^2\theta_h/\alpha^2}}{\pi\alpha^2\cos^4\theta_h},\qquad
+        D_{\mathrm{GGX}}(h) = \frac{\alpha^2}{\pi\cos^4\theta_h\,(\alpha^2+\tan^2\theta_h)^2}
+        ```
+
+        No closed form: f_k, the k-bounce part on a Smith microsurface (uncorrelated heights)
+        of Lambertian facets with normal distribution D, is estimated by the random walk of
+        Heitz, Hanika, d'Eon and Dachsbacher (SIGGRAPH 2016), ``samples`` paths per geometry
+        with a fixed seed (standard error ∝ 1/√samples). α = 0 is Lambert.
+        """
 
     order: ClassVar[int] = 160
     def __post_init__(self) -> None:
@@ -89,14 +109,14 @@ class SmithDiffuse(Model):
         for name, lo in (("samples", 2), ("seed", 0)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
-                raise ValueError(f"{name} must be an integer >= {lo} (got {v!r})")
+                raise ParameterError(f"{name} must be an integer >= {lo} (got {v!r})")
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array
     ) -> Array:
         values = [concrete(a) for a in (mu_i, mu_o, cos_io, albedo, alpha)]
         if any(v is None for v in values):
-            raise ValueError(
+            raise ParameterError(
                 "SmithDiffuse is a Monte Carlo simulation on concrete values: it cannot be "
                 "traced (jax.jit, grad), compiled by the fast path or written in GLSL"
             )

@@ -23,6 +23,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._validate import ParameterError
 from ..models.base import Model
 from .camera import DistantLight, OrthographicCamera
 from .shapes import Shape
@@ -42,7 +43,7 @@ def _check_size(size: int | Sequence[int]) -> tuple[int, int]:
     if len(dims) != 2 or not all(
         isinstance(s, int | np.integer) and 1 <= s <= MAX_SIZE for s in dims
     ):
-        raise ValueError(
+        raise ParameterError(
             f"size must be an integer or (height, width) in [1, {MAX_SIZE}] (got {size!r})"
         )
     return int(dims[0]), int(dims[1])
@@ -51,7 +52,7 @@ def _check_size(size: int | Sequence[int]) -> tuple[int, int]:
 def _check_spp(spp: int) -> int:
     k = math.isqrt(spp) if isinstance(spp, int) and spp > 0 else 0
     if not (isinstance(spp, int) and 1 <= spp <= 256 and k * k == spp):
-        raise ValueError(
+        raise ParameterError(
             f"samples_per_pixel must be a square number in [1, 256]: 1, 4, 9, 16, ... (got {spp!r})"
         )
     return k
@@ -202,9 +203,11 @@ def render(
     1.0
     """
     if not isinstance(model, Model):
-        raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+        raise ParameterError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     if not isinstance(shape, Shape):
-        raise ValueError(f"shape must be a roughdiffuse.render Shape (got {type(shape).__name__})")
+        raise ParameterError(
+            f"shape must be a roughdiffuse.render Shape (got {type(shape).__name__})"
+        )
     height, width = _check_size(size)
     k = _check_spp(samples_per_pixel)
     lights = [DistantLight()] if light is None else light
@@ -212,15 +215,17 @@ def render(
         lights = [lights]
     lights = list(lights)
     if not lights or not all(isinstance(x, DistantLight) for x in lights):
-        raise ValueError("light must be a DistantLight or a non-empty sequence of them")
+        raise ParameterError("light must be a DistantLight or a non-empty sequence of them")
     camera = OrthographicCamera() if camera is None else camera
     if not isinstance(camera, OrthographicCamera):
-        raise ValueError(f"camera must be an OrthographicCamera (got {type(camera).__name__})")
+        raise ParameterError(f"camera must be an OrthographicCamera (got {type(camera).__name__})")
     model = _with_shape_albedo(model, shape)
     e0 = [np.asarray(x.irradiance, dtype=np.float32) for x in lights]
     channels = {int(x.size) for x in e0 if x.ndim} | ({model.channels} if model.channels else set())
     if len(channels) > 1:
-        raise ValueError(f"model and lights disagree on the number of colour channels {channels}")
+        raise ParameterError(
+            f"model and lights disagree on the number of colour channels {channels}"
+        )
     if channels and any(x.ndim == 0 for x in e0):
         c = channels.pop()
         e0 = [np.broadcast_to(x, (c,)) if x.ndim == 0 else x for x in e0]

@@ -30,7 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 
 __all__ = [
     "Cylinder",
@@ -157,7 +157,7 @@ class Plane(Shape):
     def __post_init__(self) -> None:
         n = np.asarray(self.normal, dtype=np.float64)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.any(n):
-            raise ValueError(f"normal must be a non-zero finite 3-vector (got {self.normal!r})")
+            raise ParameterError(f"normal must be a non-zero finite 3-vector (got {self.normal!r})")
         object.__setattr__(self, "normal", tuple(float(x) for x in n / np.linalg.norm(n)))
 
     def intersect(self, o: Vec3, d: Vec3) -> tuple[Any, Any, Vec3]:
@@ -198,7 +198,9 @@ def _polyline(profile: Any, y_range: tuple[float, float], segments: int) -> tupl
     if callable(profile):
         y0, y1 = (float(v) for v in y_range)
         if not (math.isfinite(y0) and math.isfinite(y1) and y0 < y1):
-            raise ValueError(f"y_range must be two finite heights, low < high (got {y_range!r})")
+            raise ParameterError(
+                f"y_range must be two finite heights, low < high (got {y_range!r})"
+            )
         y = np.linspace(y0, y1, segments + 1)
         r = np.asarray(profile(y), dtype=np.float64)
         h = 1e-5 * (y1 - y0)
@@ -208,14 +210,14 @@ def _polyline(profile: Any, y_range: tuple[float, float], segments: int) -> tupl
     else:
         pts = np.asarray(profile, dtype=np.float64)
         if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 2:
-            raise ValueError(f"profile points must have shape (N >= 2, 2) (got {pts.shape})")
+            raise ParameterError(f"profile points must have shape (N >= 2, 2) (got {pts.shape})")
         y, r = pts[:, 0], pts[:, 1]
         tan = None
         smooth = False
     if not (np.all(np.isfinite(r)) and np.all(np.isfinite(y))):
-        raise ValueError("profile must be finite")
+        raise ParameterError("profile must be finite")
     if np.any(r < 0):
-        raise ValueError(f"profile radius must be >= 0 (got {r.min():g})")
+        raise ParameterError(f"profile radius must be >= 0 (got {r.min():g})")
     return y, r, tan, smooth  # type: ignore[return-value]
 
 
@@ -270,7 +272,9 @@ class SurfaceOfRevolution(Shape):
 
     def __post_init__(self) -> None:
         if not isinstance(self.segments, int) or not 1 <= self.segments <= 4096:
-            raise ValueError(f"segments must be an integer in [1, 4096] (got {self.segments!r})")
+            raise ParameterError(
+                f"segments must be an integer in [1, 4096] (got {self.segments!r})"
+            )
         profile = clay_vase_profile if self.profile is None else self.profile
         y, r, tan, smooth = _polyline(profile, self.y_range, self.segments)
         exact = smooth and _traceable(profile)

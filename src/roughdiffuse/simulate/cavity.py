@@ -50,7 +50,7 @@ from .._array import (
     minimum,
     namespace,
 )
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 
 __all__ = [
     "Bounces",
@@ -78,17 +78,17 @@ def check_bounces(bounces: Bounces) -> Bounces:
     """Validate ``bounces``: an integer ≥ 1 or ``"all"``."""
     if isinstance(bounces, str):
         if bounces != "all":
-            raise ValueError(f"bounces must be an integer >= 1 or 'all' (got {bounces!r})")
+            raise ParameterError(f"bounces must be an integer >= 1 or 'all' (got {bounces!r})")
         return bounces
     if isinstance(bounces, bool) or not isinstance(bounces, int | np.integer) or bounces < 1:
-        raise ValueError(f"bounces must be an integer >= 1 or 'all' (got {bounces!r})")
+        raise ParameterError(f"bounces must be an integer >= 1 or 'all' (got {bounces!r})")
     return int(bounces)
 
 
 def check_elements(elements: int) -> int:
     """Validate the number of radiosity elements per facet K (an integer ≥ 1)."""
     if isinstance(elements, bool) or not isinstance(elements, int | np.integer) or elements < 1:
-        raise ValueError(f"elements (K) must be an integer >= 1 (got {elements!r})")
+        raise ParameterError(f"elements (K) must be an integer >= 1 (got {elements!r})")
     return int(elements)
 
 
@@ -426,13 +426,13 @@ def cavity_radiance(
     check_range("theta_a", theta_a, 0.0, math.pi / 2, unit="radians", scalar=False)
     th_value = concrete(theta_a)
     if th_value is not None and np.any(th_value >= math.pi / 2):
-        raise ValueError("theta_a must be in [0, π/2) radians (got π/2)")
+        raise ParameterError("theta_a must be in [0, π/2) radians (got π/2)")
     xp = namespace(theta_a, phi_a, wi, wo)
     with double_precision(xp):
         theta_a, phi_a, wi, wo = (asarray(xp, a, xp.float64) for a in (theta_a, phi_a, wi, wo))
         for name, w in (("wi", wi), ("wo", wo)):
             if tuple(w.shape[-1:]) != (3,):
-                raise ValueError(f"{name} must have shape (..., 3) (got {tuple(w.shape)})")
+                raise ParameterError(f"{name} must have shape (..., 3) (got {tuple(w.shape)})")
         shape = tuple(
             np.broadcast_shapes(
                 tuple(theta_a.shape), tuple(phi_a.shape), tuple(wi.shape[:-1]), tuple(wo.shape[:-1])
@@ -476,7 +476,7 @@ def _interreflected_grouped(xp, th, ph, l, v, albedo, bounces, elements, extrapo
     """
     values = concrete(th)
     if values is None:
-        raise ValueError(
+        raise ParameterError(
             "cavity_radiance with bounces > 1 needs concrete theta_a values (not a jax.jit "
             "tracer): each slope gets its own radiosity operator"
         )

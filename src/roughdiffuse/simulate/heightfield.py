@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 from ..io.mesh import write_ply
 from .cavity import Bounces, check_bounces
 from .grooves import render_lambertian_mesh
@@ -61,7 +61,7 @@ def gaussian_heightfield(
     grid ``spacing`` and ℓ in the same one).
     """
     if n < 8:
-        raise ValueError(f"n must be an integer >= 8 (got {n!r})")
+        raise ParameterError(f"n must be an integer >= 8 (got {n!r})")
     x = np.fft.fftfreq(n, d=1.0 / n) * spacing  # signed periodic distances
     r2 = x[:, None] ** 2 + x[None, :] ** 2
     kernel = np.exp(-2.0 * r2 / correlation_length**2)
@@ -108,7 +108,7 @@ def heightfield_mesh(h: np.ndarray, spacing: float, tiles: int = 3):
     vertices (one closed periodic surface, no cracks).
     """
     if tiles < 1 or tiles % 2 == 0:
-        raise ValueError(f"tiles must be an odd integer >= 1 (got {tiles!r})")
+        raise ParameterError(f"tiles must be an odd integer >= 1 (got {tiles!r})")
     n = h.shape[0]
     m = n * tiles + 1
     length = n * spacing
@@ -157,9 +157,9 @@ class HeightfieldSettings:
         for name, lo in (("n", 8), ("tiles", 1), ("res", 1), ("spp", 1), ("realisations", 2)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
-                raise ValueError(f"{name} must be an integer >= {lo} (got {v!r})")
+                raise ParameterError(f"{name} must be an integer >= {lo} (got {v!r})")
         if self.tiles % 2 == 0:
-            raise ValueError(f"tiles must be odd (got {self.tiles})")
+            raise ParameterError(f"tiles must be odd (got {self.tiles})")
         check_range("cells_per_length", self.cells_per_length, 1.0, 64.0)
 
 
@@ -196,7 +196,7 @@ def render_heightfield(
     irradiance.
     """
     if abs(float(wo[1])) > 1e-12:
-        raise ValueError("wo must lie in the x-z plane (wo[1] = 0)")
+        raise ParameterError("wo must lie in the x-z plane (wo[1] = 0)")
     cos_o = float(wo[2])
     return render_lambertian_mesh(
         mi,

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 from ..quadrature import gauss_legendre
 from .cavity import Bounces, check_bounces
 from .smith_formulas import numpy_formulas
@@ -87,7 +87,7 @@ reference), "auto" (compiled when Numba is installed, else NumPy)."""
 def _check_engine(engine: object) -> str:
     """The engine to run: "compiled" or "numpy" (``ValueError`` for another name)."""
     if engine not in ENGINES:
-        raise ValueError(f"engine must be one of {ENGINES} (got {engine!r})")
+        raise ParameterError(f"engine must be one of {ENGINES} (got {engine!r})")
     if engine == "auto":
         import importlib.util
 
@@ -96,7 +96,7 @@ def _check_engine(engine: object) -> str:
         import importlib.util
 
         if importlib.util.find_spec("numba") is None:
-            raise ValueError("engine='compiled' needs Numba (pip install numba); use 'numpy'")
+            raise ParameterError("engine='compiled' needs Numba (pip install numba); use 'numpy'")
     return str(engine)
 
 
@@ -112,7 +112,7 @@ def _check_angles(theta_i, theta_r, delta_phi):
     for name, val in (("theta_i", ti), ("theta_r", tr)):
         check_range(name, val, 0.0, math.pi / 2, unit="radians", scalar=False)
     if not np.all(np.isfinite(dp)):
-        raise ValueError("delta_phi must be finite")
+        raise ParameterError("delta_phi must be finite")
     shape = ti.shape
     ti = np.minimum(ti.reshape(-1), THETA_GRAZING)
     tr = np.minimum(tr.reshape(-1), THETA_GRAZING)
@@ -121,7 +121,7 @@ def _check_angles(theta_i, theta_r, delta_phi):
 
 def _check_count(name: str, value: object, lo: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
-        raise ValueError(f"{name} must be an integer >= {lo} (got {value!r})")
+        raise ParameterError(f"{name} must be an integer >= {lo} (got {value!r})")
     return int(value)
 
 
@@ -644,16 +644,16 @@ def brdf(
     True
     """
     if method not in ("auto", "quadrature", "walk"):
-        raise ValueError(f"method must be 'auto', 'quadrature' or 'walk' (got {method!r})")
+        raise ParameterError(f"method must be 'auto', 'quadrature' or 'walk' (got {method!r})")
     b = check_bounces(bounces)
     if method == "quadrature" and b != 1:
-        raise ValueError("method='quadrature' computes one bounce only: pass bounces=1")
+        raise ParameterError("method='quadrature' computes one bounce only: pass bounces=1")
     _check_engine(engine)
     if b == 1 and method != "walk":
         f = single_scattering(theta_i, theta_r, delta_phi, alpha, albedo, distribution)
         return (f, np.zeros_like(f)) if return_stderr else f
     if np.ndim(albedo) != 0:
-        raise ValueError("albedo must be a scalar in [0, 1] (random_walk takes several)")
+        raise ParameterError("albedo must be a scalar in [0, 1] (random_walk takes several)")
     r = random_walk(
         theta_i,
         theta_r,

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import ParameterError
 from . import smith_formulas
 
 __all__ = [
@@ -39,7 +40,7 @@ _F = smith_formulas.numpy_formulas()
 def check_distribution(distribution: object) -> str:
     """Validate the slope distribution's name ("beckmann" or "ggx")."""
     if distribution not in DISTRIBUTIONS:
-        raise ValueError(f"distribution must be one of {DISTRIBUTIONS} (got {distribution!r})")
+        raise ParameterError(f"distribution must be one of {DISTRIBUTIONS} (got {distribution!r})")
     return str(distribution)
 
 

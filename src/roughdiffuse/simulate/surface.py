@@ -52,7 +52,7 @@ from .._array import (
     minimum,
     namespace,
 )
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 from ..quadrature import gauss_legendre
 from .cavity import (
     COS_FLOOR,
@@ -130,14 +130,14 @@ class Settings:
 
     def __post_init__(self) -> None:
         if self.measure not in MEASURES:
-            raise ValueError(f"measure must be one of {MEASURES} (got {self.measure!r})")
+            raise ParameterError(f"measure must be one of {MEASURES} (got {self.measure!r})")
         if self.method not in METHODS:
-            raise ValueError(f"method must be one of {METHODS} (got {self.method!r})")
+            raise ParameterError(f"method must be one of {METHODS} (got {self.method!r})")
         check_elements(self.elements)
         for name in ("n_theta", "n_phi", "n_theta_inter"):
             val = getattr(self, name)
             if isinstance(val, bool) or not isinstance(val, int | np.integer) or val < 1:
-                raise ValueError(f"{name} must be an integer >= 1 (got {val!r})")
+                raise ParameterError(f"{name} must be an integer >= 1 (got {val!r})")
 
     def doubled(self) -> Settings:
         """The same settings with every rule and K doubled (for convergence checks)."""
@@ -439,7 +439,9 @@ def _validate(sigma, albedo, bounces, settings) -> tuple[float, float, Bounces, 
     if settings is None:
         settings = Settings()
     elif not isinstance(settings, Settings):
-        raise ValueError(f"settings must be a Settings instance (got {type(settings).__name__})")
+        raise ParameterError(
+            f"settings must be a Settings instance (got {type(settings).__name__})"
+        )
     return float(sigma), float(albedo), bounces, settings
 
 
@@ -513,10 +515,10 @@ def brdf(
             top = float(np.float32(top))
         check_range(name, val, 0.0, top, unit="radians", scalar=False)
     if isinstance(chunk, bool) or not isinstance(chunk, int | np.integer) or chunk < 1:
-        raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
+        raise ParameterError(f"chunk must be an integer >= 1 (got {chunk!r})")
     dp_value = concrete(delta_phi)
     if dp_value is not None and not np.all(np.isfinite(dp_value)):
-        raise ValueError("delta_phi must be finite")
+        raise ParameterError("delta_phi must be finite")
     xp = namespace(theta_i, theta_r, delta_phi)
     with double_precision(xp):
         ti, tr, dp = xp.broadcast_arrays(

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..io.atomic import atomic_open, check_output_path, write_text
 from .cavity import Bounces, check_bounces
 from .surface import Settings, brdf
@@ -126,13 +127,13 @@ def load_table(path: str | os.PathLike) -> GroundTruth:
             data = {k: z[k] for k in z.files}
         meta = json.loads(str(data["meta"]))
     except (OSError, ValueError, KeyError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: not a readable roughdiffuse ground-truth table ({exc})"
         ) from None
     if meta.get("format") != FORMAT:
-        raise ValueError(f"{path}: not a roughdiffuse ground-truth table")
+        raise ParameterError(f"{path}: not a roughdiffuse ground-truth table")
     if meta.get("format_version") != FORMAT_VERSION:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: table format version {meta.get('format_version')!r}; this roughdiffuse "
             f"reads version {FORMAT_VERSION} (recompute the table)"
         )
@@ -145,9 +146,9 @@ def load_table(path: str | os.PathLike) -> GroundTruth:
         values = np.asarray(data["values"], dtype=float)
         kdiff = np.asarray(data["k_difference"], dtype=float)
     except (KeyError, TypeError) as exc:
-        raise ValueError(f"{path}: corrupt ground-truth table ({exc})") from None
+        raise ParameterError(f"{path}: corrupt ground-truth table ({exc})") from None
     if values.shape != shape or kdiff.shape != shape:
-        raise ValueError(
+        raise ParameterError(
             f"{path}: corrupt ground-truth table (values shape {values.shape} != {shape})"
         )
     return GroundTruth(*axes, values, kdiff, float(meta["albedo"]), meta["bounces"], settings, meta)
@@ -181,9 +182,9 @@ def compute_chunk(spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
 def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
     a = np.atleast_1d(np.asarray(values, dtype=float))
     if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
+        raise ParameterError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
     if np.any(a < lo) or (hi is not None and np.any(a > hi)):
-        raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
+        raise ParameterError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
     return a
 
 
@@ -257,28 +258,14 @@ def compute_table(
     TableBusyError
         Another run is computing the same table (its lock file names its process id).
     """
-    if backend not in BACKENDS:
-        raise ValueError(f"backend must be one of {BACKENDS} (got {backend!r})")
-    if backend == "auto":
-        backend = "jax" if workers == 1 and scheduler is None else "numpy"
-    if albedo is None or not 0.0 <= float(albedo) <= 1.0:
-        raise ValueError(f"albedo must be in [0, 1] (got {albedo!r})")
-    bounces = check_bounces(bounces)
-    settings = settings or Settings()
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
-    if not isinstance(rows_per_chunk, int) or rows_per_chunk < 1:
-        raise ValueError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
-    axes = {
-        "theta_i": _grid("theta_i", theta_i, 0.0, math.pi / 2),
-        "theta_r": _grid("theta_r", theta_r, 0.0, math.pi / 2),
-        "delta_phi": _grid("delta_phi", delta_phi, -math.inf, None),
-        "sigma": _grid("sigma", sigma, 0.0, math.pi / 2),
-    }
+    backend, bounces, settings, axes = _check_arguments(
+        theta_i, theta_r, delta_phi, sigma, albedo, bounces, settings, rows_per_chunk, workers,
+        scheduler, backend,
+    )
     path = check_output_path(path, "table")
     chunk_dir = path.with_name(path.name + ".chunks")
     if chunk_dir.exists() and not chunk_dir.is_dir():
-        raise ValueError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
+        raise ParameterError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
     identity = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -296,62 +283,136 @@ def compute_table(
             if kept is not None:
                 return kept
         _prepare_chunk_dir(chunk_dir, manifest, force)
-        specs = []
-        for s_idx, s in enumerate(axes["sigma"]):
-            for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
-                rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
-                specs.append(
-                    {
-                        "name": f"s{s_idx:03d}_r{r0:04d}.npz",
-                        "key": key,
-                        "sigma_index": s_idx,
-                        "row": r0,
-                        "sigma": float(s),
-                        "theta_i": rows,
-                        "theta_r": axes["theta_r"],
-                        "delta_phi": axes["delta_phi"],
-                        "albedo": float(albedo),
-                        "bounces": bounces,
-                        "settings": asdict(settings),
-                        "backend": backend,
-                    }
-                )
-        todo = []
-        for spec in specs:
-            p = chunk_dir / spec["name"]
-            if not p.exists():
-                todo.append(spec)
-                continue
-            try:
-                read_chunk(p, spec)
-            except ValueError as exc:
-                warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=2)
-                p.unlink(missing_ok=True)
-                todo.append(spec)
+        common = {
+            "key": key,
+            "albedo": float(albedo),
+            "bounces": bounces,
+            "settings": asdict(settings),
+            "backend": backend,
+        }
+        specs = _chunk_specs(axes, rows_per_chunk, common)
+        todo = _chunks_to_do(specs, chunk_dir)
         _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
-        shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
-        values = np.empty(shape)
-        kdiff = np.empty(shape)
-        for spec in specs:
-            v, d = read_chunk(chunk_dir / spec["name"], spec)  # checked again: never adopted
-            rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
-            values[rows, :, :, spec["sigma_index"]] = v
-            kdiff[rows, :, :, spec["sigma_index"]] = d
-        table = GroundTruth(
-            axes["theta_i"],
-            axes["theta_r"],
-            axes["delta_phi"],
-            axes["sigma"],
-            values,
-            kdiff,
-            float(albedo),
-            bounces,
-            settings,
-            {"package_version": package_version},
+        table = _assemble(
+            specs, chunk_dir, axes, float(albedo), bounces, settings, package_version
         )
         table.save(path)
         shutil.rmtree(chunk_dir, ignore_errors=True)
     return table
+
+
+def _check_arguments(
+    theta_i: Any,
+    theta_r: Any,
+    delta_phi: Any,
+    sigma: Any,
+    albedo: float,
+    bounces: Bounces,
+    settings: Settings | None,
+    rows_per_chunk: int,
+    workers: int,
+    scheduler: str | None,
+    backend: str,
+) -> tuple[str, Bounces, Settings, dict[str, np.ndarray]]:
+    """Refuse bad arguments of :func:`compute_table`; the backend ("auto" resolved), bounces,
+    settings and the four axes."""
+    if backend not in BACKENDS:
+        raise ParameterError(f"backend must be one of {BACKENDS} (got {backend!r})")
+    if backend == "auto":
+        backend = "jax" if workers == 1 and scheduler is None else "numpy"
+    if albedo is None or not 0.0 <= float(albedo) <= 1.0:
+        raise ParameterError(f"albedo must be in [0, 1] (got {albedo!r})")
+    bounces = check_bounces(bounces)
+    settings = settings or Settings()
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ParameterError(f"workers must be an integer >= 1 (got {workers!r})")
+    if not isinstance(rows_per_chunk, int) or rows_per_chunk < 1:
+        raise ParameterError(f"rows_per_chunk must be an integer >= 1 (got {rows_per_chunk!r})")
+    axes = {
+        "theta_i": _grid("theta_i", theta_i, 0.0, math.pi / 2),
+        "theta_r": _grid("theta_r", theta_r, 0.0, math.pi / 2),
+        "delta_phi": _grid("delta_phi", delta_phi, -math.inf, None),
+        "sigma": _grid("sigma", sigma, 0.0, math.pi / 2),
+    }
+    return backend, bounces, settings, axes
+
+
+def _chunk_specs(
+    axes: dict[str, np.ndarray], rows_per_chunk: int, common: dict[str, Any]
+) -> list[dict[str, Any]]:
+    """One chunk per (σ, block of ``rows_per_chunk`` θi rows): its file name, place in the
+    table and what it computes (``common``: key, albedo, bounces, settings, backend)."""
+    specs = []
+    for s_idx, s in enumerate(axes["sigma"]):
+        for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
+            rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
+            specs.append(
+                {
+                    "name": f"s{s_idx:03d}_r{r0:04d}.npz",
+                    "key": common["key"],
+                    "sigma_index": s_idx,
+                    "row": r0,
+                    "sigma": float(s),
+                    "theta_i": rows,
+                    "theta_r": axes["theta_r"],
+                    "delta_phi": axes["delta_phi"],
+                    "albedo": common["albedo"],
+                    "bounces": common["bounces"],
+                    "settings": common["settings"],
+                    "backend": common["backend"],
+                }
+            )
+    return specs
+
+
+def _chunks_to_do(specs: list[dict[str, Any]], chunk_dir: Path) -> list[dict[str, Any]]:
+    """The chunks not on disk yet, and those on disk that fail their checks (removed, with a
+    warning)."""
+    todo = []
+    for spec in specs:
+        p = chunk_dir / spec["name"]
+        if not p.exists():
+            todo.append(spec)
+            continue
+        try:
+            read_chunk(p, spec)
+        except ValueError as exc:
+            warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=3)
+            p.unlink(missing_ok=True)
+            todo.append(spec)
+    return todo
+
+
+def _assemble(
+    specs: list[dict[str, Any]],
+    chunk_dir: Path,
+    axes: dict[str, np.ndarray],
+    albedo: float,
+    bounces: Bounces,
+    settings: Settings,
+    package_version: str,
+) -> GroundTruth:
+    """The table from its chunks, each checked again as it is read (never adopted blindly)."""
+    shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
+    values = np.empty(shape)
+    kdiff = np.empty(shape)
+    for spec in specs:
+        v, d = read_chunk(chunk_dir / spec["name"], spec)
+        rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
+        values[rows, :, :, spec["sigma_index"]] = v
+        kdiff[rows, :, :, spec["sigma_index"]] = d
+    return GroundTruth(
+        axes["theta_i"],
+        axes["theta_r"],
+        axes["delta_phi"],
+        axes["sigma"],
+        values,
+        kdiff,
+        albedo,
+        bounces,
+        settings,
+        {"package_version": package_version},
+    )
 
 
 def _digest(data: bytes) -> str:
@@ -372,7 +433,7 @@ def _finished_table(
     except ValueError as exc:
         if force:
             return None
-        raise ValueError(
+        raise ParameterError(
             f"table {str(path)!r} exists and is not a readable table ({exc}); "
             "use --force (force=True) to replace it"
         ) from None
@@ -389,7 +450,7 @@ def _finished_table(
     if force:
         return None
     if differ:
-        raise ValueError(
+        raise ParameterError(
             f"table {str(path)!r} already holds a finished table with another "
             f"{', '.join(differ)}; use --force (force=True) to replace it"
         )
@@ -407,7 +468,7 @@ def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any], force: bool) -
         if isinstance(old, dict) and old.get("key") == manifest["key"]:
             return
         if not force:
-            raise ValueError(
+            raise ParameterError(
                 f"{chunk_dir} holds chunks computed with other settings or grids; refusing to "
                 "mix them (use --force (force=True) to discard them, or delete that folder)"
             )
@@ -453,7 +514,9 @@ def read_chunk(path: Path, spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray
             values = np.asarray(z["values"], dtype=np.float64)
             kdiff = np.asarray(z["k_difference"], dtype=np.float64)
     except KeyError as exc:
-        raise ValueError(f"chunk {path}: no {exc} record (not written by this version)") from None
+        raise ParameterError(
+            f"chunk {path}: no {exc} record (not written by this version)"
+        ) from None
     except (
         OSError,
         ValueError,
@@ -462,23 +525,23 @@ def read_chunk(path: Path, spec: dict[str, Any]) -> tuple[np.ndarray, np.ndarray
         zlib.error,
         json.JSONDecodeError,
     ) as exc:
-        raise ValueError(f"chunk {path} is unreadable ({exc})") from None
+        raise ParameterError(f"chunk {path} is unreadable ({exc})") from None
     want = _chunk_identity(spec)
     got = {k: meta.get(k) for k in want} if isinstance(meta, dict) else {}
     if got.get("key") != want["key"]:
-        raise ValueError(f"chunk {path} belongs to a table with other settings or grid")
+        raise ParameterError(f"chunk {path} belongs to a table with other settings or grid")
     if got != want:
-        raise ValueError(
+        raise ParameterError(
             f"chunk {path} holds another slice of the grid "
             f"(σ index {got.get('sigma_index')}, rows from {got.get('row')})"
         )
     shape = (len(spec["theta_i"]), len(spec["theta_r"]), len(spec["delta_phi"]))
     if values.shape != shape or kdiff.shape != shape:
-        raise ValueError(f"chunk {path} has shape {values.shape}, expected {shape}")
+        raise ParameterError(f"chunk {path} has shape {values.shape}, expected {shape}")
     if meta.get("sha256") != _chunk_checksum(values, kdiff):
-        raise ValueError(f"chunk {path} fails its checksum")
+        raise ParameterError(f"chunk {path} fails its checksum")
     if not (np.all(np.isfinite(values)) and np.all(np.isfinite(kdiff))):
-        raise ValueError(f"chunk {path} holds non-finite values")
+        raise ParameterError(f"chunk {path} holds non-finite values")
     return values, kdiff
 
 
@@ -545,16 +608,18 @@ LOCAL_WORKER_CONFIG: dict[str, Any] = {
 """Dask settings of the local cluster (``workers > 1``). Dask's nanny sets
 ``MALLOC_TRIM_THRESHOLD_=65536`` in its workers, so glibc hands every freed NumPy temporary
 back to the kernel and faults it in again: the solver then spends about as long in the kernel
-as in NumPy (measured: 363 instead of 704 values per CPU second, bench/RESULTS.md); None
-leaves glibc's default. The statistical profiler, sampling the computing thread every
-10 ms, cost about a fifth of each worker's CPU time. Workers of a ``scheduler`` of your own
+as in NumPy (about half the values per CPU second, bench/RESULTS.md); None leaves glibc's
+default. The statistical profiler, sampling the computing thread, costs a noticeable part of
+each worker's CPU time (off here). Workers of a ``scheduler`` of your own
 take their settings from their own Dask configuration (set the same two keys there)."""
 
 
 def _run_chunks(todo, chunk_dir: Path, workers: int, scheduler, progress: bool, total: int) -> None:
-    from tqdm.auto import tqdm
+    from ..progress import progress as progress_bar
 
-    bar = tqdm(total=total, initial=total - len(todo), unit="chunk", disable=not progress)
+    bar = progress_bar(
+        total, "V-cavity table", unit="chunk", enabled=progress, initial=total - len(todo)
+    )
     try:
         if not todo:
             return

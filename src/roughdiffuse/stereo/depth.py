@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = ["gradients", "integrate", "write_ply"]
 
 
@@ -63,20 +65,20 @@ def integrate(normals: Any, mask: Any, method: str = "poisson") -> np.ndarray:
     normals = np.asarray(normals, dtype=np.float64)
     mask = np.asarray(mask, dtype=bool)
     if normals.ndim != 3 or normals.shape[2] != 3 or normals.shape[:2] != mask.shape:
-        raise ValueError(
+        raise ParameterError(
             f"normals must have shape (H, W, 3) matching the mask {mask.shape} "
             f"(got {normals.shape})"
         )
     mask = mask & np.all(np.isfinite(normals), axis=-1)
     if not mask.any():
-        raise ValueError("mask selects no pixel with a finite normal")
+        raise ParameterError("mask selects no pixel with a finite normal")
     p, q = gradients(normals, mask)
     if method == "poisson":
         z = _poisson(p, q, mask)
     elif method in ("frankot-chellappa", "fc"):
         z = _frankot_chellappa(p, q)
     else:
-        raise ValueError(f"method must be 'poisson' or 'frankot-chellappa' (got {method!r})")
+        raise ParameterError(f"method must be 'poisson' or 'frankot-chellappa' (got {method!r})")
     z = np.where(mask, z, np.nan)
     return z - np.nanmean(z)
 

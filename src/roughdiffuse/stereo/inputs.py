@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
+
 __all__ = ["StereoInput", "load_images", "read_diligent", "read_lights", "read_mask"]
 
 
@@ -56,31 +58,31 @@ class StereoInput:
     def __post_init__(self) -> None:
         imgs, valid = self.images, self.valid
         if imgs.ndim != 4:
-            raise ValueError(f"images must have shape (K, H, W, C) (got {imgs.shape})")
+            raise ParameterError(f"images must have shape (K, H, W, C) (got {imgs.shape})")
         k, h, w, c = imgs.shape
         if k < 3:
-            raise ValueError(f"photometric stereo needs at least 3 images (got {k})")
+            raise ParameterError(f"photometric stereo needs at least 3 images (got {k})")
         if valid.shape != (k, h, w):
-            raise ValueError(f"valid must have shape {(k, h, w)} (got {valid.shape})")
+            raise ParameterError(f"valid must have shape {(k, h, w)} (got {valid.shape})")
         if self.directions.shape != (k, 3):
-            raise ValueError(
+            raise ParameterError(
                 f"lights do not match the images: {k} images but "
                 f"{self.directions.shape[0] if self.directions.ndim == 2 else '?'} light directions"
             )
         if self.intensities.shape != (k, c):
-            raise ValueError(
+            raise ParameterError(
                 f"light intensities must have shape ({k}, {c}) for {k} images with {c} "
                 f"channel(s) (got {self.intensities.shape})"
             )
         if self.mask.shape != (h, w):
-            raise ValueError(
+            raise ParameterError(
                 f"mask must have shape {(h, w)} like the images (got {self.mask.shape})"
             )
         if not self.mask.any():
-            raise ValueError("mask selects no pixel")
+            raise ParameterError("mask selects no pixel")
         if not np.all(self.directions[:, 2] > 0):
             bad = int(np.argmin(self.directions[:, 2]))
-            raise ValueError(
+            raise ParameterError(
                 f"light {bad} lies below the horizon of every pixel that the camera sees "
                 f"(direction z = {self.directions[bad, 2]:g} must be > 0)"
             )
@@ -123,10 +125,12 @@ class StereoInput:
         if imgs.ndim == 3:
             imgs = imgs[..., None]
         if imgs.ndim != 4 or imgs.shape[3] not in (1, 3):
-            raise ValueError(f"images must have shape (K, H, W) or (K, H, W, 3) (got {imgs.shape})")
+            raise ParameterError(
+                f"images must have shape (K, H, W) or (K, H, W, 3) (got {imgs.shape})"
+            )
         finite = np.all(np.isfinite(imgs), axis=-1)
         if np.any(imgs[np.isfinite(imgs)] < 0):
-            raise ValueError("images must hold non-negative radiance")
+            raise ParameterError("images must hold non-negative radiance")
         imgs = np.where(np.isfinite(imgs), imgs, 0.0)
         dirs = _unit_directions(directions)
         k, c = imgs.shape[0], imgs.shape[3]
@@ -140,10 +144,10 @@ class StereoInput:
 def _unit_directions(directions: Any) -> np.ndarray:
     d = np.asarray(directions, dtype=np.float64)
     if d.ndim != 2 or d.shape[1] != 3:
-        raise ValueError(f"light directions must have shape (K, 3) (got {d.shape})")
+        raise ParameterError(f"light directions must have shape (K, 3) (got {d.shape})")
     length = np.linalg.norm(d, axis=1)
     if not np.all(np.isfinite(d)) or np.any(length == 0):
-        raise ValueError("light directions must be finite, non-zero vectors")
+        raise ParameterError("light directions must be finite, non-zero vectors")
     return d / length[:, None]
 
 
@@ -153,19 +157,21 @@ def _intensities(intensities: Any, k: int, c: int) -> np.ndarray:
         e = np.full((k, c), float(e))
     elif e.ndim == 1:
         if e.shape[0] != k:
-            raise ValueError(f"{k} images but {e.shape[0]} light intensities")
+            raise ParameterError(f"{k} images but {e.shape[0]} light intensities")
         e = np.repeat(e[:, None], c, axis=1)
     elif e.ndim == 2:
         if e.shape[0] != k:
-            raise ValueError(f"{k} images but {e.shape[0]} light intensities")
+            raise ParameterError(f"{k} images but {e.shape[0]} light intensities")
         if e.shape[1] == 3 and c == 1:
             e = e.mean(axis=1, keepdims=True)
         elif e.shape[1] != c:
-            raise ValueError(f"light intensities have {e.shape[1]} channels, images have {c}")
+            raise ParameterError(f"light intensities have {e.shape[1]} channels, images have {c}")
     else:
-        raise ValueError(f"light intensities must be scalars or [R, G, B] (got shape {e.shape})")
+        raise ParameterError(
+            f"light intensities must be scalars or [R, G, B] (got shape {e.shape})"
+        )
     if not np.all(np.isfinite(e)) or np.any(e <= 0):
-        raise ValueError("light intensities must be finite and > 0")
+        raise ParameterError("light intensities must be finite and > 0")
     return e
 
 
@@ -180,18 +186,18 @@ def read_lights(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
         with open(name, encoding="utf-8") as f:
             spec = json.load(f)
     except FileNotFoundError:
-        raise ValueError(f"lights file {name!r} does not exist") from None
+        raise ParameterError(f"lights file {name!r} does not exist") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(
+        raise ParameterError(
             f"{os.path.basename(name)}: not a readable JSON lights file ({exc})"
         ) from None
     if not isinstance(spec, dict) or "directions" not in spec:
-        raise ValueError(f"{os.path.basename(name)}: expected an object with 'directions'")
+        raise ParameterError(f"{os.path.basename(name)}: expected an object with 'directions'")
     try:
         d = np.asarray(spec["directions"], dtype=np.float64)
         e = np.asarray(spec.get("intensities", [1.0] * len(spec["directions"])), dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(
+        raise ParameterError(
             f"{os.path.basename(name)}: directions and intensities must be numbers ({exc})"
         ) from None
     return _unit_directions(d), e
@@ -201,12 +207,12 @@ def read_mask(path: str | os.PathLike[str]) -> np.ndarray:
     """A mask image (PNG or ``.npy``): non-zero pixels belong to the object."""
     name = os.fspath(path)
     if not os.path.isfile(name):
-        raise ValueError(f"mask file {name!r} does not exist")
+        raise ParameterError(f"mask file {name!r} does not exist")
     if name.lower().endswith(".npy"):
         try:
             m = np.load(name, allow_pickle=False)
         except (OSError, ValueError) as exc:
-            raise ValueError(
+            raise ParameterError(
                 f"{os.path.basename(name)}: not a readable .npy mask ({exc})"
             ) from None
     else:
@@ -216,14 +222,16 @@ def read_mask(path: str | os.PathLike[str]) -> np.ndarray:
             with Image.open(name) as im:
                 m = np.asarray(im)
         except (OSError, UnidentifiedImageError) as exc:
-            raise ValueError(
+            raise ParameterError(
                 f"{os.path.basename(name)}: not a readable mask image ({exc})"
             ) from None
     m = np.asarray(m)
     if m.ndim == 3:
         m = m[..., :3].max(axis=-1) if m.shape[2] >= 3 else m[..., 0]
     if m.ndim != 2:
-        raise ValueError(f"{os.path.basename(name)}: a mask must be a 2-D image (got {m.shape})")
+        raise ParameterError(
+            f"{os.path.basename(name)}: a mask must be a 2-D image (got {m.shape})"
+        )
     return m > 0
 
 
@@ -241,14 +249,14 @@ def load_images(
     from ..fit.images import read_image
 
     if len(paths) < 3:
-        raise ValueError(f"photometric stereo needs at least 3 images (got {len(paths)})")
+        raise ParameterError(f"photometric stereo needs at least 3 images (got {len(paths)})")
     imgs, valid = [], []
     for p in paths:
         img, ok = read_image(p, exposure=exposure)
         if img.ndim == 2:
             img = img[..., None]
         if imgs and img.shape != imgs[0].shape:
-            raise ValueError(
+            raise ParameterError(
                 f"images differ in size: {Path(p).name} is {img.shape[1]}x{img.shape[0]}, "
                 f"{Path(paths[0]).name} is {imgs[0].shape[1]}x{imgs[0].shape[0]} "
                 f"(or in channels: {img.shape[2]} against {imgs[0].shape[2]})"
@@ -273,15 +281,15 @@ def read_diligent(folder: str | os.PathLike[str]) -> StereoInput:
     need = ["filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png"]
     missing = [n for n in need if not (root / n).is_file()]
     if missing:
-        raise ValueError(f"{root}: not a DiLiGenT object folder (missing {', '.join(missing)})")
+        raise ParameterError(f"{root}: not a DiLiGenT object folder (missing {', '.join(missing)})")
     names = [s.strip() for s in (root / "filenames.txt").read_text().splitlines() if s.strip()]
     try:
         dirs = np.loadtxt(root / "light_directions.txt", ndmin=2)
         ints = np.loadtxt(root / "light_intensities.txt", ndmin=2)
     except ValueError as exc:
-        raise ValueError(f"{root}: unreadable light file ({exc})") from None
+        raise ParameterError(f"{root}: unreadable light file ({exc})") from None
     if len(names) != dirs.shape[0] or len(names) != ints.shape[0]:
-        raise ValueError(
+        raise ParameterError(
             f"{root}: {len(names)} images but {dirs.shape[0]} light directions and "
             f"{ints.shape[0]} intensities"
         )
@@ -291,7 +299,7 @@ def read_diligent(folder: str | os.PathLike[str]) -> StereoInput:
         imgs.append(img if img.ndim == 3 else img[..., None])
         valid.append(ok)
         if imgs[-1].shape != imgs[0].shape:
-            raise ValueError(f"{root}: image {n} differs in size from {names[0]}")
+            raise ParameterError(f"{root}: image {n} differs in size from {names[0]}")
     return StereoInput.from_arrays(
         np.stack(imgs), dirs, ints, mask=read_mask(root / "mask.png"), valid=np.stack(valid)
     )

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validate import ParameterError
 from .inputs import StereoInput
 
 __all__ = ["LambertianResult", "lambertian", "observation_weights"]
@@ -26,7 +27,7 @@ def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
     information on n, and where a cast shadow is not modelled at all.
     """
     if not 0.0 <= shadow < 1.0:
-        raise ValueError(f"shadow must be in [0, 1) (got {shadow:g})")
+        raise ParameterError(f"shadow must be in [0, 1) (got {shadow:g})")
     m = data.mask
     grey = (data.images[:, m, :] / data.intensities[:, None, :]).mean(axis=-1)  # (K, P)
     top = grey.max(axis=0, keepdims=True)

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from .inputs import StereoInput
 
 __all__ = ["render_mitsuba", "vase_mesh"]
@@ -77,7 +78,7 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
     if shape == "sphere":
         return {"type": "sphere", "bsdf": bsdf}
     if shape != "vase":
-        raise ValueError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
+        raise ParameterError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
     v, n, t = vase_mesh()
     mesh = mi.Mesh("vase", len(v), len(t), has_vertex_normals=True)
     params = mi.traverse(mesh)
@@ -87,6 +88,27 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
     params.update()
     mesh.set_bsdf(mi.load_dict(bsdf) if isinstance(bsdf, dict) else bsdf)
     return mesh
+
+
+def _sensor(mi: Any, size: int, spp: int) -> dict[str, Any]:
+    """An orthographic camera on +z looking down at the origin, framing [−1, 1]² plus the
+    margin, ``size`` × ``size`` pixels of ``spp`` independent samples each."""
+    half = 1.0 + 2.0 * MARGIN
+    return {
+        "type": "orthographic",
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
+        )
+        @ mi.ScalarTransform4f().scale([half, half, 1.0]),
+        "film": {
+            "type": "hdrfilm",
+            "width": size,
+            "height": size,
+            "rfilter": {"type": "box"},
+            "pixel_format": "rgb",
+        },
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
 
 
 def render_mitsuba(
@@ -134,22 +156,7 @@ def render_mitsuba(
         register()
         dirs = np.asarray(directions, dtype=np.float64)
         dirs = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
-        half = 1.0 + 2.0 * MARGIN
-        sensor = {
-            "type": "orthographic",
-            "to_world": mi.ScalarTransform4f().look_at(
-                origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
-            )
-            @ mi.ScalarTransform4f().scale([half, half, 1.0]),
-            "film": {
-                "type": "hdrfilm",
-                "width": size,
-                "height": size,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        }
+        sensor = _sensor(mi, size, spp)
         obj = _shape(mi, shape, bsdf)
         images = []
         for k, d in enumerate(dirs):

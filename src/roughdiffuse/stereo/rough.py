@@ -38,7 +38,9 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..models.base import Model
+from ..progress import finish
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 
@@ -56,7 +58,7 @@ def roughness_parameter(model: Model) -> str:
     """Name of the model's roughness parameter: its one numeric parameter besides albedo."""
     names = [f for f in model.array_fields if f != "albedo"]
     if "albedo" not in model.array_fields or len(names) != 1:
-        raise ValueError(
+        raise ParameterError(
             f"{type(model).__name__} has no single roughness parameter beside an albedo "
             f"(numeric parameters: {', '.join(model.array_fields) or 'none'}); "
             "name it with roughness=..."
@@ -166,30 +168,35 @@ def _steps_for(
     return _STEPS[key]
 
 
-def _make_steps(
-    model: Model, name: str, channels: int, per_pixel: bool, hi: float
-) -> dict[str, Any]:
+class _Steps:
     """Compiled steps over a chunk of pixels for one (model, roughness, channels) setting.
 
     Written on whole arrays, structure of arrays (each parameter a (P,) array, each image a
     (K, P) array), so that XLA runs large elementwise loops: the Jacobian column of each
     parameter is one forward-mode derivative (``jax.jvp``) over every pixel, JᵀJ is a sum of
     products over the lights, and the small per-pixel systems are solved by
-    :func:`_cholesky_solve` on (P,) arrays. Functions: a Levenberg–Marquardt step with its
-    trial cost and acceptance (one pass over the data), and the pieces of the Schur
-    complement for the global roughness with the standard errors' diagonal.
+    :func:`_cholesky_solve` on (P,) arrays. :meth:`local` is a Levenberg–Marquardt step with
+    its trial cost and acceptance (one pass over the data), :meth:`pieces` the pieces of the
+    Schur complement for the global roughness with the standard errors' diagonal. The methods
+    are plain Python traced by ``jax.jit`` (:func:`_make_steps`): splitting them costs nothing
+    at run time.
     """
-    import jax
-    import jax.numpy as jnp
 
-    nu = 2 + channels + (1 if per_pixel else 0)
+    def __init__(
+        self, model: Model, name: str, channels: int, per_pixel: bool, hi: float
+    ) -> None:
+        self.model, self.name, self.channels = model, name, channels
+        self.per_pixel, self.hi = per_pixel, hi
+        self.nu = 2 + channels + (1 if per_pixel else 0)
 
-    def resid(theta: Any, g: Any, n0: Any, l: Any, e: Any, obs: Any, w: Any) -> Any:
+    def resid(self, theta: Any, g: Any, n0: Any, l: Any, e: Any, obs: Any, w: Any) -> Any:
         """Weighted residuals (K, C, P) for parameters ``theta`` (nu, P), normals n0 (3, P)."""
+        import jax.numpy as jnp
+
         t1, t2 = _tangent_basis(jnp, n0.T)
         n = n0 + theta[0] * t1.T + theta[1] * t2.T  # (3, P)
         n = n / jnp.sqrt(jnp.sum(n * n, axis=0))
-        s = theta[-1][None, :] if per_pixel else g
+        s = theta[-1][None, :] if self.per_pixel else g
         mu_i = l[:, 0:1] * n[0] + l[:, 1:2] * n[1] + l[:, 2:3] * n[2]  # (K, P)
         # n·v depends on the pixel only and l·v on the light only: kept as (1, P) and (K, 1),
         # the model's broadcasting evaluates their terms (an arctangent) once per pixel/light
@@ -197,55 +204,78 @@ def _make_steps(
         cos_io = l[:, 2:3]
         lit = jnp.maximum(mu_i, 0.0)
         out = []
-        for c in range(channels):
-            m = dataclasses.replace(model, albedo=theta[2 + c][None, :], **{name: s})
+        for c in range(self.channels):
+            m = dataclasses.replace(self.model, albedo=theta[2 + c][None, :], **{self.name: s})
             f = m.brdf_cosines(mu_i, mu_o, cos_io)  # (K, P)
             out.append((e[:, c : c + 1] * f * lit - obs[:, :, c]) * w)  # w is 0 or 1
         return jnp.stack(out, axis=1)
 
-    def jacobian(theta: Any, g: Any, *data: Any) -> tuple[Any, Any]:
+    def jacobian(self, theta: Any, g: Any, *data: Any) -> tuple[Any, Any]:
         """Residuals and the Jacobian columns (nu, K, C, P) of the per-pixel parameters,
         followed by the global roughness's column (nu + 1 in all) when it is fitted: one
         forward-mode pass with a batch of tangents, so the model's value (its arctangents
         and sines) is computed once for all the columns."""
+        import jax
+        import jax.numpy as jnp
+
         g = jnp.asarray(g, theta.dtype)
-        m = nu if per_pixel else nu + 1
+        m = self.nu if self.per_pixel else self.nu + 1
         eye = jnp.eye(m, dtype=theta.dtype)
-        tan_theta = eye[:, :nu, None] * jnp.ones_like(theta)[None]
-        tan_g = eye[:, nu] if not per_pixel else jnp.zeros((m,), theta.dtype)
+        tan_theta = eye[:, :self.nu, None] * jnp.ones_like(theta)[None]
+        tan_g = eye[:, self.nu] if not self.per_pixel else jnp.zeros((m,), theta.dtype)
 
         def column(tt: Any, tg: Any) -> Any:
-            return jax.jvp(lambda t, gg: resid(t, gg, *data), (theta, g), (tt, tg))
+            return jax.jvp(lambda t, gg: self.resid(t, gg, *data), (theta, g), (tt, tg))
 
         return jax.vmap(column, out_axes=(None, 0))(tan_theta, tan_g)
 
-    def normal_matrix(cols: Any) -> list[list[Any]]:
-        a = [[None] * nu for _ in range(nu)]
-        for i in range(nu):
+    def normal_matrix(self, cols: Any) -> list[list[Any]]:
+        import jax.numpy as jnp
+
+        a = [[None] * self.nu for _ in range(self.nu)]
+        for i in range(self.nu):
             for j in range(i + 1):
                 a[i][j] = a[j][i] = jnp.sum(cols[i] * cols[j], axis=(0, 1))
         return a
 
-    def clamp(theta: Any) -> Any:
+    def clamp(self, theta: Any) -> Any:
+        import jax.numpy as jnp
+
         rows = [jnp.clip(theta[0], -0.5, 0.5), jnp.clip(theta[1], -0.5, 0.5)]  # ≤ ~27°/step
-        rows += [jnp.maximum(theta[2 + c], 0.0) for c in range(channels)]
-        if per_pixel:
-            rows.append(jnp.clip(theta[-1], 0.0, hi))
+        rows += [jnp.maximum(theta[2 + c], 0.0) for c in range(self.channels)]
+        if self.per_pixel:
+            rows.append(jnp.clip(theta[-1], 0.0, self.hi))
         return jnp.stack(rows)
 
-    def step(theta, lam, n0, g, data):  # noqa: ANN001, ANN202
+    def reduced(self, cols: Any, r: Any, a: Any, grad: Any) -> tuple[Any, Any]:
+        """A pixel's terms of the reduced system for the global roughness (its Jacobian
+        column jg = ``cols[nu]``): jgᵀjg − bᵀA⁻¹b and jgᵀr − bᵀA⁻¹gu, with b = Jᵀjg."""
+        import jax.numpy as jnp
+
+        nu = self.nu
+        jg = cols[nu]
+        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
+        a_inv_b = _cholesky_solve(jnp, a, b)
+        sch = jnp.sum(jg * jg, axis=(0, 1)) - sum(b[i] * a_inv_b[i] for i in range(nu))
+        rhs = jnp.sum(jg * r, axis=(0, 1)) - sum(grad[i] * a_inv_b[i] for i in range(nu))
+        return sch, rhs
+
+    def step(self, theta, lam, n0, g, data):  # noqa: ANN001, ANN202
         """One LM step of every pixel ((nu, P) layout); also the pixel's terms of the reduced
         system for the roughness at the starting point: jgᵀjg − bᵀA⁻¹b and jgᵀr − bᵀA⁻¹gu."""
-        r, cols = jacobian(theta, g, n0, *data)
-        a = normal_matrix(cols)
+        import jax.numpy as jnp
+
+        nu = self.nu
+        r, cols = self.jacobian(theta, g, n0, *data)
+        a = self.normal_matrix(cols)
         grad = [jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)]
         cost0 = jnp.sum(r * r, axis=(0, 1))
         damped = [
             [a[i][j] + (lam * jnp.maximum(a[i][i], 1e-12) if i == j else 0.0) for j in range(nu)]
             for i in range(nu)
         ]
-        trial = clamp(theta - _cholesky_solve(jnp, damped, grad))
-        r1 = resid(trial, g, n0, *data)
+        trial = self.clamp(theta - _cholesky_solve(jnp, damped, grad))
+        r1 = self.resid(trial, g, n0, *data)
         cost1 = jnp.sum(r1 * r1, axis=(0, 1))
         better = jnp.isfinite(cost1) & (cost1 < cost0)
         theta = jnp.where(better[None], trial, theta)
@@ -255,35 +285,36 @@ def _make_steps(
         n = n0 + theta[0] * t1.T + theta[1] * t2.T
         n = n / jnp.sqrt(jnp.sum(n * n, axis=0))
         theta = theta.at[:2].set(0.0)
-        if per_pixel:
+        if self.per_pixel:
             zero = jnp.zeros_like(cost0)
             return theta, lam, n, jnp.where(better, cost1, cost0), zero, zero
-        jg = cols[nu]
-        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
-        a_inv_b = _cholesky_solve(jnp, a, b)
-        sch = jnp.sum(jg * jg, axis=(0, 1)) - sum(b[i] * a_inv_b[i] for i in range(nu))
-        rhs = jnp.sum(jg * r, axis=(0, 1)) - sum(grad[i] * a_inv_b[i] for i in range(nu))
+        sch, rhs = self.reduced(cols, r, a, grad)
         return theta, lam, n, jnp.where(better, cost1, cost0), sch, rhs
 
-    def local(theta, lam, g, n0, l, e, obs, w, count):  # noqa: ANN001, ANN202
+    def local(self, theta, lam, g, n0, l, e, obs, w, count):  # noqa: ANN001, ANN202
         """``count`` LM steps of every pixel of the chunk in one compiled loop; returns the
         new state, the costs, and the reduced system's terms at the start of the last step."""
+        import jax
+
         data = (l, e, obs, w)
 
         def body(_: Any, carry: Any) -> Any:
             th, lm, nn = carry
-            return step(th, lm, nn, g, data)[:3]
+            return self.step(th, lm, nn, g, data)[:3]
 
         carry = jax.lax.fori_loop(0, count - 1, body, (theta.T, lam, n0.T))
-        th, lm, nn, cost, sch, rhs = step(*carry, g, data)
+        th, lm, nn, cost, sch, rhs = self.step(*carry, g, data)
         return th.T, lm, nn.T, cost, sch, rhs
 
-    def pieces(theta, g, n0, l, e, obs, w):  # noqa: ANN001, ANN202
+    def pieces(self, theta, g, n0, l, e, obs, w):  # noqa: ANN001, ANN202
         """Per-pixel terms of the reduced system: jgᵀjg − bᵀA⁻¹b, jgᵀr − bᵀA⁻¹gu, the
         cost, and the diagonal of A⁻¹ (for the standard errors)."""
+        import jax.numpy as jnp
+
+        nu = self.nu
         theta, n0 = theta.T, n0.T
-        r, cols = jacobian(theta, g, n0, l, e, obs, w)
-        a = normal_matrix(cols)
+        r, cols = self.jacobian(theta, g, n0, l, e, obs, w)
+        a = self.normal_matrix(cols)
         cost0 = jnp.sum(r * r, axis=(0, 1))
         # the diagonal of A⁻¹ column by column with the unrolled Cholesky solve (XLA shares
         # the factorisation): no LAPACK call (with one, chunks on two threads stalled)
@@ -293,20 +324,21 @@ def _make_steps(
         ]
         a_inv_diag = jnp.stack([_cholesky_solve(jnp, a, eye[i])[i] for i in range(nu)], axis=-1)
         gu = [jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)]
-        if per_pixel:
+        if self.per_pixel:
             zero = jnp.zeros_like(cost0)
             return zero, zero, cost0, a_inv_diag
-        jg = cols[nu]
-        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
-        a_inv_b = _cholesky_solve(jnp, a, b)
-        return (
-            jnp.sum(jg * jg, axis=(0, 1)) - sum(b[i] * a_inv_b[i] for i in range(nu)),
-            jnp.sum(jg * r, axis=(0, 1)) - sum(gu[i] * a_inv_b[i] for i in range(nu)),
-            cost0,
-            a_inv_diag,
-        )
+        sch, rhs = self.reduced(cols, r, a, gu)
+        return sch, rhs, cost0, a_inv_diag
 
-    return {"local": jax.jit(local), "pieces": jax.jit(pieces)}
+
+def _make_steps(
+    model: Model, name: str, channels: int, per_pixel: bool, hi: float
+) -> dict[str, Any]:
+    """The jitted ``local`` and ``pieces`` steps of :class:`_Steps` for this setting."""
+    import jax
+
+    steps = _Steps(model, name, channels, per_pixel, hi)
+    return {"local": jax.jit(steps.local), "pieces": jax.jit(steps.pieces)}
 
 
 def rough(
@@ -356,49 +388,106 @@ def rough(
     -------
     RoughResult
     """
+    name, hi, s0 = _check_arguments(model, roughness, precision, iterations, initial_roughness)
+    start = lambertian(data, shadow=shadow) if start is None else start
+    setup = _Setup.of(data, start, shadow, s0, per_pixel)
+    g, done, (sch, costs, a_diag) = _solve(
+        data, model, name, hi, s0, setup, per_pixel, initial_roughness, iterations, precision,
+        progress,
+    )
+    return _result(setup, name, g, done, sch, costs, a_diag, per_pixel)
+
+
+def _check_arguments(
+    model: Model,
+    roughness: str | None,
+    precision: str,
+    iterations: int,
+    initial_roughness: float | None,
+) -> tuple[str, float, float]:
+    """Refuse bad arguments of :func:`rough`; (roughness name, its upper bound, its start)."""
+    if not isinstance(model, Model):
+        raise ParameterError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
+    name = roughness or roughness_parameter(model)
+    if name not in model.array_fields:
+        raise ParameterError(f"{type(model).__name__} has no numeric parameter {name!r}")
+    if precision not in ("single", "double"):
+        raise ParameterError(f"precision must be 'single' or 'double' (got {precision!r})")
+    if not isinstance(iterations, int) or iterations < 1:
+        raise ParameterError(f"iterations must be a positive integer (got {iterations!r})")
+    hi = _upper_bound(model, name)
+    s0 = float(initial_roughness) if initial_roughness is not None else min(0.3, 0.25 * hi)
+    if not 0.0 <= s0 <= hi:
+        raise ParameterError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
+    return name, hi, s0
+
+
+@dataclass
+class _Setup:
+    """The fit's data and starting point, pixels in mask order: observations ``obs``
+    (K, P, C), weights ``wk`` (K, P; 0 for pixels left out), the pixels fitted ``ok``, the
+    per-pixel parameters ``theta`` (P, nu: two tangent offsets, C albedos, a roughness when
+    per pixel) and normals ``n0`` (P, 3)."""
+
+    obs: np.ndarray
+    wk: np.ndarray
+    ok: np.ndarray
+    theta: np.ndarray
+    n0: np.ndarray
+    channels: int
+    nu: int
+
+    @classmethod
+    def of(
+        cls, data: StereoInput, start: LambertianResult, shadow: float, s0: float, per_pixel: bool
+    ) -> _Setup:
+        w = observation_weights(data, shadow)  # (K, P)
+        obs = data.images[:, data.mask, :]  # (K, P, C)
+        p_count, c = obs.shape[1], data.channels
+        ok = np.all(np.isfinite(start.normals), axis=1) & (w.sum(axis=0) >= 3)
+        n0 = np.where(ok[:, None], np.nan_to_num(start.normals), [0.0, 0.0, 1.0])
+        n0[:, 2] = np.maximum(n0[:, 2], 1e-3)
+        n0 /= np.linalg.norm(n0, axis=1, keepdims=True)
+        rho = np.clip(np.nan_to_num(start.albedo, nan=0.5), 1e-3, None)
+        nu = 2 + c + (1 if per_pixel else 0)
+        theta = np.zeros((p_count, nu))
+        theta[:, 2 : 2 + c] = rho
+        if per_pixel:
+            theta[:, -1] = s0
+        wk = np.where(ok[None, :], w, 0.0)
+        return cls(obs=obs, wk=wk, ok=ok, theta=theta, n0=n0, channels=c, nu=nu)
+
+
+def _solve(
+    data: StereoInput,
+    model: Model,
+    name: str,
+    hi: float,
+    s0: float,
+    setup: _Setup,
+    per_pixel: bool,
+    initial_roughness: float | None,
+    iterations: int,
+    precision: str,
+    progress: bool,
+) -> tuple[float, int, tuple[Any, Any, Any]]:
+    """Run the fit in the chosen precision; ``setup.theta`` and ``setup.n0`` become the
+    fitted values. Returns the roughness, the iterations and the pieces of the error
+    estimates (Schur terms, costs, diagonal of A⁻¹) per pixel."""
     import jax.numpy as jnp
 
     from .._array import double_precision
 
-    if not isinstance(model, Model):
-        raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
-    name = roughness or roughness_parameter(model)
-    if name not in model.array_fields:
-        raise ValueError(f"{type(model).__name__} has no numeric parameter {name!r}")
-    if precision not in ("single", "double"):
-        raise ValueError(f"precision must be 'single' or 'double' (got {precision!r})")
-    if not isinstance(iterations, int) or iterations < 1:
-        raise ValueError(f"iterations must be a positive integer (got {iterations!r})")
-    hi = _upper_bound(model, name)
-    s0 = float(initial_roughness) if initial_roughness is not None else min(0.3, 0.25 * hi)
-    if not 0.0 <= s0 <= hi:
-        raise ValueError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
-    start = lambertian(data, shadow=shadow) if start is None else start
-    w = observation_weights(data, shadow)  # (K, P)
-    m = data.mask
-    obs = data.images[:, m, :]  # (K, P, C)
-    p_count, c = obs.shape[1], data.channels
-    ok = np.all(np.isfinite(start.normals), axis=1) & (w.sum(axis=0) >= 3)
-    n0 = np.where(ok[:, None], np.nan_to_num(start.normals), [0.0, 0.0, 1.0])
-    n0[:, 2] = np.maximum(n0[:, 2], 1e-3)
-    n0 /= np.linalg.norm(n0, axis=1, keepdims=True)
-    rho = np.clip(np.nan_to_num(start.albedo, nan=0.5), 1e-3, None)
-    nu = 2 + c + (1 if per_pixel else 0)
-    theta = np.zeros((p_count, nu))
-    theta[:, 2 : 2 + c] = rho
-    if per_pixel:
-        theta[:, -1] = s0
-    wk = np.where(ok[None, :], w, 0.0)
-
+    p_count, c, ok, obs, wk = setup.theta.shape[0], setup.channels, setup.ok, setup.obs, setup.wk
     dt = jnp.float64 if precision == "double" else jnp.float32
     ctx = double_precision(jnp) if precision == "double" else contextlib.nullcontext()
     with ctx:
         steps = _steps_for(model, name, c, per_pixel, hi, precision)
         chunks = _Chunks(p_count, dt, data.directions, data.intensities, obs, wk)
         state = {
-            "theta": theta.astype(dt),
+            "theta": setup.theta.astype(dt),
             "lam": np.full(p_count, 1e-3, dtype=dt),
-            "n0": n0.astype(dt),
+            "n0": setup.n0.astype(dt),
         }
         # convergence: relative change of σ and of the cost, near each format's rounding of
         # a sum over many pixels (float32: ~1e-6)
@@ -419,9 +508,28 @@ def rough(
                 sub_state = {k: v[pick].copy() for k, v in state.items()}
                 s0, _ = _fit_roughness(sub, steps["local"], sub_state, s0, hi, tol, iterations)
             g, done = _fit_roughness(chunks, steps["local"], state, s0, hi, tol, iterations, bar)
+            if done < iterations:
+                finish(bar, f"converged after {done} of {iterations} iterations")
         bar.close()
         sch, _, costs, a_diag = chunks.pieces(steps["pieces"], state, g)
-    theta, n0 = state["theta"].astype(np.float64), state["n0"].astype(np.float64)
+    setup.theta, setup.n0 = state["theta"].astype(np.float64), state["n0"].astype(np.float64)
+    return g, done, (sch, costs, a_diag)
+
+
+def _result(
+    setup: _Setup,
+    name: str,
+    g: float,
+    done: int,
+    sch: Any,
+    costs: Any,
+    a_diag: Any,
+    per_pixel: bool,
+) -> RoughResult:
+    """The fitted values with their Gauss–Newton standard errors, s² (JᵀJ)⁻¹ per pixel, and
+    for a global roughness from the Schur complement with s² over all pixels."""
+    theta, n0, ok, wk, obs = setup.theta, setup.n0, setup.ok, setup.wk, setup.obs
+    c, nu = setup.channels, setup.nu
     cost_p = costs.astype(np.float64)
     dof_p = np.maximum(wk.sum(axis=0) * c - nu, 1)
     s2_p = cost_p / dof_p
@@ -514,14 +622,14 @@ def _upper_bound(model: Model, name: str) -> float:
     (:attr:`~roughdiffuse.models.declaration.Param.bounds`)."""
     box = next((p.bounds for p in model.params if p.name == name), None)
     if box is None:
-        raise ValueError(f"{type(model).__name__}.{name} has no bounded range to fit in")
+        raise ParameterError(f"{type(model).__name__}.{name} has no bounded range to fit in")
     return box[1]
 
 
 def _progress(total: int, show: bool) -> Any:
-    from tqdm.auto import tqdm
+    from ..progress import progress
 
-    return tqdm(total=total, desc="rough photometric stereo", unit="it", disable=not show)
+    return progress(total, "rough photometric stereo", unit="it", enabled=show)
 
 
 class _Chunks:

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import ParameterError
 from ..models.base import Model
 from .inputs import StereoInput
 
@@ -22,7 +23,7 @@ def default_lights(count: int = 8, elevation_deg: float = 35.0) -> np.ndarray:
     """``count`` unit directions on a cone around the view axis (+z), ``elevation_deg``
     from it, evenly spread in azimuth: the ring of lights of typical capture domes."""
     if count < 3:
-        raise ValueError(f"count must be at least 3 (got {count})")
+        raise ParameterError(f"count must be at least 3 (got {count})")
     t = math.radians(elevation_deg)
     phi = 2 * np.pi * (np.arange(count) + 0.5) / count
     return np.stack(

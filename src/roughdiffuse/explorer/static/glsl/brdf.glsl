@@ -50,6 +50,7 @@ struct RDParams {
   float h;           // Hapke opposition-surge width h
   float g;           // Hapke Henyey-Greenstein asymmetry xi
   float theta_bar;   // Hapke mean slope angle, radians
+  float hg2;         // Hapke weight of the mirrored HG lobe (ISIS Hg2)
 };
 
 float rd_safe_sqrt(float x) { return x > 0.0 ? sqrt(x) : 0.0; }
@@ -386,11 +387,12 @@ vec3 rd_minnaert(float mu_i, float mu_o, vec3 albedo, float k) {
 vec3 rd_hapke_h(float x, vec3 w) { return (1.0 + 2.0 * x) / (1.0 + 2.0 * x * sqrt(max(1.0 - w, 0.0))); }
 
 // hapke.Hapke._kernel (ISIS HapkeHen; Hapke 1984 roughness)
-vec3 rd_hapke(float mu_i, float mu_o, float cos_g, vec3 w, float b0, float h, float xi, float theta_bar) {
+vec3 rd_hapke(float mu_i, float mu_o, float cos_g, vec3 w, float b0, float h, float xi, float theta_bar, float hg2) {
   const float TINY = 1e-12;
   float tan_half = rd_safe_sqrt((1.0 - cos_g) / max(1.0 + cos_g, TINY));
   float surge = b0 * h / max(h + tan_half, TINY);
-  float pg = (1.0 - xi * xi) / pow(1.0 + xi * xi + 2.0 * xi * cos_g, 1.5);
+  float pg = (1.0 - hg2) * (1.0 - xi * xi) / pow(1.0 + xi * xi + 2.0 * xi * cos_g, 1.5)
+           + hg2 * (1.0 - xi * xi) / pow(1.0 + xi * xi - 2.0 * xi * cos_g, 1.5);
   float lobe = (1.0 + surge) * pg - 1.0;
   if (!(theta_bar > 0.0)) {
     return w / 4.0 * (lobe + rd_hapke_h(mu_i, w) * rd_hapke_h(mu_o, w)) / max(mu_i + mu_o, TINY) / RD_PI;
@@ -448,7 +450,7 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   if (p.model == RD_HAMMON) return rd_hammon(mi, mo, c, p.albedo, p.alpha);
   if (p.model == RD_CHAN) return rd_chan(mi, mo, c, p.albedo, p.alpha);
   if (p.model == RD_LAMBERT_SPHERE) return rd_lambert_sphere(mi, mo, c, p.albedo, p.variant);
-  if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar);
+  if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar, p.hg2);
   if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
   return vec3(0.0);
 }

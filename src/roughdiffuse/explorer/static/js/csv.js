@@ -22,7 +22,7 @@ export class CsvError extends Error {
 const UNIT = /^\s*([a-z_]+?)\s*(?:_|\s|\[|\()\s*(deg|degs|degree|degrees|rad|rads|radian|radians)\s*[\])]?\s*$/i;
 const ANGLE_ALIASES = {
   theta_i: "theta_i", theta_r: "theta_r", theta_o: "theta_r", delta_phi: "delta_phi",
-  phi_d: "delta_phi", phi_i: "phi_i", phi_r: "phi_r", phi_o: "phi_r",
+  phi_d: "delta_phi", dphi: "delta_phi", phi_i: "phi_i", phi_r: "phi_r", phi_o: "phi_r",
 };
 const CHANNEL_ALIASES = { r: "r", red: "r", g: "g", green: "g", b: "b", blue: "b" };
 

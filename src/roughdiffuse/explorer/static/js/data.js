@@ -7,12 +7,12 @@
 //
 // The interface other modules use:
 //   dataset                 the loaded dataset (null before): {id, name, kind, thetaI, ...}
-//   selection               {thetaI (degrees, follows the light), dphi (degrees), channel}
+//   selection               {thetaI (degrees, follows the light), deltaPhi (degrees), channel}
 //   sliceCosines(ti, trs)   cosines (mu_i, mu_o, cos_io) of the current slice, for curves
 //   channelValue(f, k)      the selected channel (or the mean) of the k-th RGB triple of f
 //   dataSeries(thetaI)      the points to draw at the light's θi (a plot series), or null
 //   onDataset(fn)           call fn(dataset) whenever a dataset is loaded or dropped
-//   setSelection({dphi, channel})  set the slice controls (e.g. from the URL) and redraw
+//   setSelection({deltaPhi, channel})  set the slice controls (e.g. from the URL) and redraw
 
 import { CsvError, parseBrdfCsv } from "./csv.js";
 
@@ -23,11 +23,11 @@ const $ = (id) => document.getElementById(id);
 /** The loaded dataset, or null. */
 export let dataset = null;
 /** The slice shown: θi of the data nearest the light, Δφ, and the channel ("mean", 0, 1, 2). */
-export const selection = { thetaI: 0, dphi: 0, channel: "mean" };
+export const selection = { thetaI: 0, deltaPhi: 0, channel: "mean" };
 
 let hooks = null; // from main.js: {setLight, refresh, evaluateA, lightTheta}
 let limits = { merl: 36_000_000, csv: 4_000_000 };
-let slice = null; // the last MERL slice: {thetaI, dphi, theta_r, brdf}
+let slice = null; // the last MERL slice: {theta_i, delta_phi, theta_r, brdf}
 let sliceController = null;
 let sliceTimer = null;
 const listeners = [];
@@ -35,6 +35,14 @@ const listeners = [];
 /** Register fn(dataset), called when a dataset is loaded (or null when a load failed). */
 export function onDataset(fn) {
   listeners.push(fn);
+}
+
+/** The sentence that says the light was moved on loading data ("" when it stays). */
+function lightMoveNote(from, to, why) {
+  if (Math.abs(from - to) < 0.05) return "";
+  const text = ` The light moved from θ = ${from.toFixed(1)}° to ${to.toFixed(1)}° (${why}).`;
+  document.body.dataset.lightMoved = text.trim();
+  return text;
 }
 
 function setStatus(text, isError) {
@@ -45,7 +53,7 @@ function setStatus(text, isError) {
 
 /** Cosines of the slice for the curves: θr signed (> 0 at Δφ, < 0 at Δφ + 180°). */
 export function sliceCosines(thetaIDeg, thetaRDeg) {
-  const ti = thetaIDeg * DEG, c = Math.cos(selection.dphi * DEG);
+  const ti = thetaIDeg * DEG, c = Math.cos(selection.deltaPhi * DEG);
   const cos = new Float32Array(3 * thetaRDeg.length);
   thetaRDeg.forEach((tr, k) => {
     const a = Math.abs(tr) * DEG;
@@ -64,14 +72,14 @@ export function channelValue(f, k) {
 
 /** How the plots describe the slice and the channel. */
 export function sliceLabel() {
-  const where = selection.dphi === 0 ? "in the plane of incidence" : `at Δφ = ${selection.dphi}° / ${selection.dphi + 180}°`;
+  const where = selection.deltaPhi === 0 ? "in the plane of incidence" : `at Δφ = ${selection.deltaPhi}° / ${selection.deltaPhi + 180}°`;
   const ch = selection.channel === "mean" ? "mean of RGB" : ["red", "green", "blue"][selection.channel];
   return { where, channel: ch };
 }
 
 /** Fold an azimuth difference (radians) into [0°, 180°]. */
-function foldDeg(dphi) {
-  return Math.abs(Math.atan2(Math.sin(dphi), Math.cos(dphi))) / DEG;
+function foldDeg(deltaPhi) {
+  return Math.abs(Math.atan2(Math.sin(deltaPhi), Math.cos(deltaPhi))) / DEG;
 }
 
 /** The data at the light's θi in the current slice, as a plot series; null without data. */
@@ -80,7 +88,7 @@ export function dataSeries(thetaIDeg) {
   const x = [], y = [];
   let label;
   if (dataset.kind === "csv") {
-    const s0 = selection.dphi, s1 = 180 - selection.dphi, tol = 5;
+    const s0 = selection.deltaPhi, s1 = 180 - selection.deltaPhi, tol = 5;
     for (const s of dataset.samples) {
       if (Math.abs(s.thetaI / DEG - thetaIDeg) > 2.5) continue;
       const d = foldDeg(s.deltaPhi);
@@ -90,7 +98,7 @@ export function dataSeries(thetaIDeg) {
     }
     label = `data, θi ≈ ${thetaIDeg.toFixed(0)}° (${x.length} points)`;
   } else {
-    if (!slice || Math.abs(slice.theta_i - thetaIDeg) > 0.05 || slice.dphi !== selection.dphi) {
+    if (!slice || Math.abs(slice.theta_i - thetaIDeg) > 0.05 || slice.delta_phi !== selection.deltaPhi) {
       sliceSoon(thetaIDeg);
       if (!slice) return null;
     }
@@ -117,7 +125,7 @@ async function loadSlice(thetaIDeg) {
   if (sliceController) sliceController.abort();
   const controller = (sliceController = new AbortController());
   const ti = Math.round(thetaIDeg * 10) / 10;
-  const q = new URLSearchParams({ id: dataset.id, theta_i: String(ti), dphi: String(selection.dphi) });
+  const q = new URLSearchParams({ id: dataset.id, theta_i: String(ti), delta_phi: String(selection.deltaPhi) });
   let r, body;
   try {
     r = await fetch(`api/data/slice?${q}`, { signal: controller.signal });
@@ -217,8 +225,10 @@ export async function loadFile(file) {
       note = ` Not fitted: ${err.message}`;
     }
     const thetaI = [...new Set(samples.map((s) => Math.round((s.thetaI / DEG) * 10) / 10))].sort((a, b) => a - b);
+    const to = samples[0].thetaI / DEG;
+    note += lightMoveNote(hooks.lightTheta(), to, "the data's first θi, to show its slice");
     setDataset({ ...(summary ?? {}), name: file.name || "data.csv", kind: "csv", samples, thetaI, total: samples.length, note });
-    hooks.setLight(samples[0].thetaI / DEG);
+    hooks.setLight(to);
   } else {
     setStatus(`${file.name}: uploading ${(file.size / 1e6).toFixed(1)} MB to the server…`, false);
     let summary;
@@ -229,8 +239,9 @@ export async function loadFile(file) {
       failed(file, `${err.message}.`);
       return;
     }
-    setDataset({ ...summary, kind: "merl", thetaI: summary.theta_i, total: summary.samples, note: "" });
     const t = hooks.lightTheta();
+    const note = lightMoveNote(t, t < 90 ? t : 30, "above the horizon, where the data are");
+    setDataset({ ...summary, kind: "merl", thetaI: summary.theta_i, total: summary.samples, note });
     hooks.setLight(t < 90 ? t : 30);
   }
 }
@@ -243,7 +254,7 @@ function setDataset(ds) {
   $("data-controls").hidden = false;
   $("tab-scatter").hidden = ds.kind !== "csv"; // a view of the plots column (views.js)
   if (ds.kind === "merl") {
-    setStatus(`${ds.name}: MERL BRDF, ${ds.total} cells present; drawn from the nearest cell at each θr, fitted on ${ds.fit_samples} random cells.`, false);
+    setStatus(`${ds.name}: MERL BRDF, ${ds.total} cells present; drawn from the nearest cell at each θr, fitted on ${ds.fit_samples} random cells.${ds.note}`, false);
   }
   document.body.dataset.dataLoaded = ds.kind;
   for (const fn of listeners) fn(ds);
@@ -280,10 +291,10 @@ export function drawScatterOf(drawScatter) {
 }
 
 /** Set Δφ (degrees, 0–180) and/or the channel ("mean", 0, 1, 2), controls included. */
-export function setSelection({ dphi, channel } = {}) {
-  if (dphi !== undefined) {
-    const d = Math.min(180, Math.max(0, Math.round(Number(dphi)) || 0));
-    selection.dphi = d;
+export function setSelection({ deltaPhi, channel } = {}) {
+  if (deltaPhi !== undefined) {
+    const d = Math.min(180, Math.max(0, Math.round(Number(deltaPhi)) || 0));
+    selection.deltaPhi = d;
     $("data-dphi").value = String(d);
     $("data-dphi-out").textContent = `${d}°`;
   }
@@ -318,8 +329,8 @@ export function setupData(h, info = {}) {
     if (dataset) hooks.setLight(dataset.thetaI[Number(ev.target.value)]);
   });
   $("data-dphi").addEventListener("input", (ev) => {
-    selection.dphi = Number(ev.target.value);
-    $("data-dphi-out").textContent = `${selection.dphi}°`;
+    selection.deltaPhi = Number(ev.target.value);
+    $("data-dphi-out").textContent = `${selection.deltaPhi}°`;
     hooks.refresh();
   });
   $("data-channel").addEventListener("change", (ev) => {

@@ -34,16 +34,17 @@ async function post(path, body) {
 
 const fmt = (v) => (v === null ? "∞" : Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(3) : v.toPrecision(4));
 
-/** "σ", "albedo R"… and the value in the slider's unit (degrees for an angle). */
-function describe(name, value, error) {
+/** "σ", "albedo R"… and the value in the slider's unit (degrees for an angle); no standard
+ * error at a bound or where it is not determined (note from roughdiffuse.fit.summary). */
+function describe(name, value, error, note = "") {
   const m = name.match(/^(\w+)(?:\[(\d)\])?$/);
   const key = flatKey(m[1]);
   const chan = m[2] === undefined ? "" : ` ${"RGB"[Number(m[2])]}`;
   const q = PARAMS[key];
-  if (q && q.unit === "radians" && value !== null) {
-    return { label: `${m[1]}${chan}`, text: `${(value / DEG).toFixed(3)}° ± ${error === null ? "∞" : (error / DEG).toPrecision(2) + "°"} (${fmt(value)} rad)` };
-  }
-  return { label: `${m[1]}${chan}`, text: `${fmt(value)} ± ${error === null ? "∞" : error.toPrecision(2)}` };
+  const deg = q && q.unit === "radians" && value !== null;
+  const err = note === "at bound" ? " (at bound)" : error === null ? " ± not determined" : deg ? ` ± ${(error / DEG).toPrecision(2)}°` : ` ± ${error.toPrecision(2)}`;
+  if (deg) return { label: `${m[1]}${chan}`, text: `${(value / DEG).toFixed(3)}°${err} (${fmt(value)} rad)` };
+  return { label: `${m[1]}${chan}`, text: `${fmt(value)}${err}` };
 }
 
 /** The state updates of slot A for a fit result (names as roughdiffuse.fit gives them). */
@@ -85,10 +86,11 @@ export async function fitA() {
   }
   if (gen !== generation) return null;
   const rows = r.names.map((n, k) => {
-    const d = describe(n, r.values[k], r.errors[k]);
-    return `<tr><td>${d.label}</td><td>${d.text}</td><td>${r.on_bound[k] ? "on bound" : ""}</td></tr>`;
+    const note = r.error_notes[k];
+    const d = describe(n, r.values[k], r.errors[k], note);
+    return `<tr data-note="${note}"><td>${d.label}</td><td>${d.text}</td><td>${note}</td></tr>`;
   });
-  $("fit-table").innerHTML = `<caption>${BY_KEY[model]?.short ?? model}, fitted (± standard error)</caption>` + rows.join("");
+  $("fit-table").innerHTML = `<caption>${BY_KEY[model]?.short ?? model}, fitted (± standard error, ${r.noise} noise)</caption>` + rows.join("");
   const warn = r.warnings.length ? ` ${r.warnings.join(" ")}` : "";
   setStatus(`RMS residual ${fmt(r.rms)} 1/sr (${(100 * r.rms_relative).toPrecision(3)}% of the data), ` +
     `${r.residuals} residuals from ${r.fit_samples} of ${r.samples} samples; BIC ${r.bic === null ? "–" : r.bic.toFixed(1)}.${warn}`);
@@ -111,7 +113,7 @@ export async function rank(models = null) {
     const best = done.length ? done[0].bic : 0;
     table.innerHTML = "<caption>models ranked by BIC (lower is better)</caption><tr><th>#</th><th>model</th><th>ΔBIC</th><th>RMS %</th><th>parameters</th></tr>" +
       done.map((r, k) => `<tr data-model="${r.model}"><td>${k + 1}</td><td>${r.model}</td><td>${r.bic === null ? "–" : (r.bic - best).toFixed(1)}</td>` +
-        `<td>${(100 * r.rms_relative).toPrecision(3)}</td><td>${r.names.map((n, j) => describe(n, r.values[j], r.errors[j])).map((d) => `${d.label} ${d.text}`).join("; ")}</td></tr>`).join("");
+        `<td>${(100 * r.rms_relative).toPrecision(3)}</td><td>${r.names.map((n, j) => describe(n, r.values[j], r.errors[j], r.error_notes[j])).map((d) => `${d.label} ${d.text}`).join("; ")}</td></tr>`).join("");
   };
   for (const [k, id] of ids.entries()) {
     if (gen !== generation) return null;

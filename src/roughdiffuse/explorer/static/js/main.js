@@ -7,8 +7,9 @@ import { Evaluator, SphereView, loadSources } from "./gl.js";
 import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 import { canvasBlob, download, toCsv } from "./export.js";
+import { svgCanvas } from "./svgcanvas.js";
 import { decodeState, encodeState } from "./urlstate.js";
-import { VIEWS, drawAlbedo, drawLobe, drawSlice, setupHover, setupLobeDrag } from "./views.js";
+import { VIEWS, drawAlbedo, drawLobe, drawSlice, rereadHover, setupHover, setupLobeDrag } from "./views.js";
 
 const $ = (id) => document.getElementById(id);
 const DEG = Math.PI / 180;
@@ -21,9 +22,11 @@ const state = {
   light: { theta: 0, phi: 0 }, // degrees
   exposure: 0, // EV
   // view options: the plots column's view, log scale, ground truth shown and its bounces,
-  // the 3-D lobe's turn (radians)
-  view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.5, pitch: 0.35 },
+  // the 3-D lobe's turn (radians); the θh/θd map has its own log scale, on at first (its
+  // linear scale is swamped by the grazing peak)
+  view: { tab: "plane", log: false, gt: false, bounces: "all", yaw: -0.5, pitch: 0.35, sliceLog: true },
 };
+let lastPlots = null; // what drawPlots drew: the plane and polar series and options, for export
 let tables = {}; // the data each view plots, for the CSV export
 let presetShown = null; // the state the chosen preset set, to tell when it becomes "custom"
 
@@ -204,6 +207,7 @@ function draw() {
   if (state.mode === 2) drawDiffLegend();
   drawPlots(a, b);
   drawView(a, b);
+  rereadHover();
   const shared = sharedState();
   if (presetShown !== null && JSON.stringify(shared.model) !== presetShown) {
     presetShown = null;
@@ -217,15 +221,64 @@ function draw() {
 function sharedState() {
   const model = { a: state.a, b: state.b, mode: state.mode, light: state.light, exposure: state.exposure };
   // the data slice's Δφ and channel (data.js) belong to the view as well
-  return { ...model, view: { ...state.view, dphi: selection.dphi, channel: selection.channel }, model };
+  return { ...model, view: { ...state.view, deltaPhi: selection.deltaPhi, channel: selection.channel }, model };
+}
+
+/** "A: Oren–Nayar full", and when A and B are one model, what tells them apart
+ *  ("A: Oren–Nayar full, σ = 30°" / "B: Oren–Nayar full, σ = 10°"). */
+function slotLabel(slot) {
+  const s = state[slot];
+  let text = `${slot.toUpperCase()}: ${BY_KEY[s.model].short}`;
+  const other = state[slot === "a" ? "b" : "a"];
+  if (state.mode !== 0 && other.model === s.model) {
+    const diff = [];
+    for (const k of BY_KEY[s.model].uses) {
+      const q = PARAMS[k];
+      const key = q.unit === "radians" && !q.channels ? `${k}Deg` : k;
+      if (JSON.stringify(s[key]) === JSON.stringify(other[key])) continue;
+      const v = s[key];
+      const shown = Array.isArray(v) ? v.map((x) => x.toFixed(2)).join("/") : typeof v === "number" ? (q.unit === "radians" ? `${v.toFixed(1)}°` : v.toFixed(3)) : v;
+      diff.push(`${k === "sigma" ? "σ" : k} = ${shown}`);
+    }
+    if (diff.length) text += `, ${diff.join(", ")}`;
+  }
+  return text;
 }
 
 /** The slots the extra views draw: A, and B unless the page shows A only. */
 function viewSlots(a, b) {
-  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].short}`;
-  const slots = [{ label: label("a"), color: "#1f5fa8", params: a }];
-  if (state.mode !== 0) slots.push({ label: label("b"), color: "#d35400", dash: true, params: b });
+  const slots = [{ label: slotLabel("a"), color: "#1f5fa8", params: a }];
+  if (state.mode !== 0) slots.push({ label: slotLabel("b"), color: "#d35400", dash: true, params: b });
   return slots;
+}
+
+/** Draw the current view into `target` (a canvas, a 2x canvas or an SVG canvas), as the
+ *  page draws it on screen: what the PNG and SVG exports write. */
+function drawViewInto(target) {
+  const tab = state.view.tab;
+  const a = gpuParams(state.a), b = gpuParams(state.b);
+  const slots = viewSlots(a, b);
+  if (tab === "plane") drawCartesian(target, lastPlots.series, lastPlots.cartesian);
+  else if (tab === "polar") drawPolar(target, lastPlots.series, lastPlots.polar);
+  else if (tab === "lobe") drawLobe(target, evaluator, slots, lightVector(), state.view);
+  else if (tab === "albedo") drawAlbedo(target, evaluator, slots, state.view.log);
+  else if (tab === "slice") drawSlice(target, evaluator, slots, state.view.sliceLog);
+  else if (tab === "scatter") drawScatterOf((_, ...rest) => drawScatter(target, ...rest));
+}
+
+/** Size every plot canvas to the plots column: as wide as the column, 0.6 as high (at least
+ *  300 px, and short enough to leave the page's other rows in view). */
+function fitPlots() {
+  const w = Math.max(320, Math.floor($("plots").clientWidth));
+  const h = Math.round(Math.max(300, Math.min(0.6 * w, window.innerHeight - 260)));
+  let changed = false;
+  for (const v of VIEWS) {
+    const c = $(`plot-${v === "plane" ? "cartesian" : v}`);
+    // a change below 24 px is left alone: a scroll bar that comes and goes with the page's
+    // height (about 15 px) must not resize the plots back and forth for ever
+    if (Math.abs(c.width - w) >= 24 || Math.abs(c.height - h) >= 24) { c.width = w; c.height = h; changed = true; }
+  }
+  if (changed && evaluator) refresh();
 }
 
 /** Draw the plots column's current view (the plane views are drawn by drawPlots). */
@@ -237,7 +290,8 @@ function drawView(a, b) {
   const slots = viewSlots(a, b);
   if (tab === "lobe") tables.lobe = drawLobe($("plot-lobe"), evaluator, slots, lightVector(), state.view);
   else if (tab === "albedo") tables.albedo = drawAlbedo($("plot-albedo"), evaluator, slots, state.view.log);
-  else if (tab === "slice") tables.slice = drawSlice($("plot-slice"), evaluator, slots, state.view.log);
+  else if (tab === "slice") tables.slice = drawSlice($("plot-slice"), evaluator, slots, state.view.sliceLog);
+  $("log-scale").checked = state.view[logKey()];
   document.body.dataset.view = tab;
 }
 
@@ -269,22 +323,25 @@ function drawPlots(a, b) {
   const thetaI = state.light.theta;
   const xs = Array.from({ length: 181 }, (_, k) => k - 90);
   const series = [];
-  const label = (slot) => `${slot.toUpperCase()}: ${BY_KEY[state[slot].model].short}`;
+  const label = slotLabel;
   const lit = thetaI <= 90;
   series.push({ label: label("a"), color: "#1f5fa8", x: xs, y: lit ? planeCurve(a, thetaI, xs) : xs.map(() => 0) });
   if (state.mode !== 0) {
     series.push({ label: label("b"), color: "#d35400", dash: true, x: xs, y: lit ? planeCurve(b, thetaI, xs) : xs.map(() => 0) });
   }
-  if (gtSeries && lit && selection.dphi === 0) series.push(gtSeries); // solved in the plane only
+  if (gtSeries && lit && selection.deltaPhi === 0) series.push(gtSeries); // solved in the plane only
   const data = lit ? dataSeries(thetaI) : null;
   if (data) series.push(data);
   const slice = sliceLabel();
   const title = lit ? `radiance ${slice.where}, θi = ${thetaI.toFixed(1)}°` : "light below the horizon";
-  const drawn = drawCartesian($("plot-cartesian"), series, { title, ylabel: `L (E0 = π, ${slice.channel})`, log: state.view.log });
+  const cartesian = { title, ylabel: `L (E0 = π, ${slice.channel})`, log: state.view.log };
+  const polar = { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null, log: state.view.log };
+  lastPlots = { series, cartesian, polar };
+  const drawn = drawCartesian($("plot-cartesian"), series, cartesian);
   const rows = [];
   for (const s of series) s.x.forEach((x, k) => rows.push([s.label, x, s.y[k]]));
   tables.plane = tables.polar = { columns: ["series", "theta_r_deg", "radiance"], rows };
-  drawPolar($("plot-polar"), series, { title: "polar: radius L, angle θr", lightDeg: lit ? thetaI : null, log: state.view.log });
+  drawPolar($("plot-polar"), series, polar);
   document.body.dataset.csvPoints = String(data ? drawn : 0);
   tables.scatter = drawScatterOf(drawScatter);
 }
@@ -340,10 +397,13 @@ function queryFor(slot) {
 function loadVase() {
   $("vase-status").textContent = "rendering…";
   let left = 2;
+  let done;
+  track(new Promise((r) => (done = r)));
   for (const slot of ["a", "b"]) {
     const img = $(`vase-${slot}`);
     img.onload = img.onerror = (ev) => {
       left -= 1;
+      if (left === 0) done();
       if (ev.type === "error") $("vase-status").textContent = "the server could not render the vase";
       else if (left === 0) $("vase-status").textContent = "";
     };
@@ -406,6 +466,7 @@ function restoreView(v) {
   const view = state.view;
   if (VIEWS.includes(v.tab)) view.tab = v.tab;
   if (typeof v.log === "boolean") view.log = v.log;
+  if (typeof v.sliceLog === "boolean") view.sliceLog = v.sliceLog;
   if (typeof v.gt === "boolean") view.gt = v.gt;
   if (["1", "all"].includes(v.bounces)) view.bounces = v.bounces;
   for (const k of ["yaw", "pitch"]) if (Number.isFinite(v[k])) view[k] = v[k];
@@ -416,24 +477,65 @@ function setupViews() {
   for (const el of document.querySelectorAll("#view-tabs button")) {
     el.addEventListener("click", () => { state.view.tab = el.dataset.view; refresh(); });
   }
-  $("log-scale").checked = state.view.log;
-  $("log-scale").addEventListener("change", (ev) => { state.view.log = ev.target.checked; refresh(); });
+  $("log-scale").checked = state.view[logKey()];
+  $("log-scale").addEventListener("change", (ev) => { state.view[logKey()] = ev.target.checked; refresh(); });
   $("gt-show").checked = state.view.gt;
   $("gt-show").addEventListener("change", (ev) => { state.view.gt = ev.target.checked; });
   $(`gt-bounces-${state.view.bounces}`).checked = true;
   for (const b of ["1", "all"]) $(`gt-bounces-${b}`).addEventListener("change", (ev) => { if (ev.target.checked) state.view.bounces = b; });
   setupHover(VIEWS.map((v) => $(`plot-${v === "plane" ? "cartesian" : v}`)), $("readout"));
   setupLobeDrag($("plot-lobe"), state.view, refresh);
-  const base = () => `roughdiffuse-${state.view.tab}-${state.a.model}`;
-  $("export-png").addEventListener("click", async () => {
-    const tab = state.view.tab;
-    download(await canvasBlob($(`plot-${tab === "plane" ? "cartesian" : tab}`)), `${base()}.png`);
+  // file names say which models A and B are: roughdiffuse-plane-A-oren-nayar-full-B-lambert
+  const base = () => `roughdiffuse-${state.view.tab}-A-${state.a.model}` + (state.mode !== 0 ? `-B-${state.b.model}` : "");
+  $("export-png").addEventListener("click", () => exportPng().then((b) => download(b, `${base()}.png`)).catch(showError));
+  $("export-svg").addEventListener("click", () => {
+    download(new Blob([exportSvg()], { type: "image/svg+xml" }), `${base()}.svg`);
   });
   $("export-csv").addEventListener("click", () => {
     const t = tables[state.view.tab];
     if (t) download(new Blob([toCsv(t)], { type: "text/csv" }), `${base()}.csv`);
   });
 }
+
+/** The current view as PNG at twice the on-screen resolution. */
+function exportPng() {
+  const shown = $(`plot-${state.view.tab === "plane" ? "cartesian" : state.view.tab}`);
+  const c = document.createElement("canvas");
+  c.width = 2 * shown.width;
+  c.height = 2 * shown.height;
+  c.rdScale = 2;
+  drawViewInto(c);
+  return canvasBlob(c);
+}
+
+/** The current view as SVG text (the same drawing, recorded by svgcanvas.js). */
+function exportSvg() {
+  const shown = $(`plot-${state.view.tab === "plane" ? "cartesian" : state.view.tab}`);
+  const c = svgCanvas(shown.width, shown.height);
+  drawViewInto(c);
+  return c.svg();
+}
+
+/** Which view option the log-scale box sets: the θh/θd map keeps its own. */
+function logKey() {
+  return state.view.tab === "slice" ? "sliceLog" : "log";
+}
+
+// ------------------------------------------------------------------ busy indicator
+let busy = 0;
+/** Count a server request (or the page's start) as running while `promise` is pending. */
+function track(promise) {
+  busy++;
+  showBusy();
+  return promise.finally(() => { busy--; showBusy(); });
+}
+function showBusy() {
+  const on = busy > 0 || document.body.dataset.ready !== "1";
+  $("busy").hidden = !on;
+  document.body.dataset.busy = on ? "1" : "0";
+}
+const rawFetch = window.fetch.bind(window);
+window.fetch = (...args) => track(rawFetch(...args)); // every request of every module
 
 // ------------------------------------------------------------------ start
 function showError(err) {
@@ -444,6 +546,9 @@ function showError(err) {
 }
 
 async function start() {
+  showBusy();
+  fitPlots();
+  new ResizeObserver(fitPlots).observe($("plots"));
   const src = await loadSources();
   evaluator = new Evaluator(src);
   sphere = new SphereView($("sphere"), src);
@@ -488,7 +593,8 @@ async function start() {
     lightTheta: () => state.light.theta,
     evaluateA: (cos) => evaluator.evaluate(gpuParams(state.a), cos),
   }, info);
-  if (restored?.view) setSelection({ dphi: restored.view.dphi, channel: restored.view.channel });
+  // links made before the rename keep their Δφ under the old key `dphi`
+  if (restored?.view) setSelection({ deltaPhi: restored.view.deltaPhi ?? restored.view.dphi, channel: restored.view.channel });
   setupFit({
     modelA: () => state.a.model,
     applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
@@ -508,6 +614,10 @@ async function start() {
   };
   await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
   document.body.dataset.ready = "1";
+  showBusy();
+  window.rdExplorer.exportPng = exportPng;
+  window.rdExplorer.exportSvg = exportSvg;
+  window.rdExplorer.encodeHash = () => encodeState(sharedState());
 }
 
 start().catch(showError);

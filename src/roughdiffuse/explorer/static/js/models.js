@@ -101,7 +101,7 @@ export function gpuParams(s) {
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
     distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
-    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar
+    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar, hg2
     alpha: s.alpha ?? 0.3,
     variant: (s.variant ?? "full") === "fast" ? 1 : 0,
     k: s.k ?? 1.0,
@@ -109,5 +109,6 @@ export function gpuParams(s) {
     h: s.h ?? 0.1,
     g: s.g ?? 0.0,
     theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
+    hg2: s.hg2 ?? 0.0,
   };
 }

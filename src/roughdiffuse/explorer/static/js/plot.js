@@ -17,13 +17,27 @@ function yMax(series) {
   return niceMax(m * 1.05);
 }
 
-function prepare(canvas) {
+/** The drawing size of a canvas in layout pixels: its pixels divided by `canvas.rdScale` (2
+ *  for the 2x PNG export; the on-screen canvases have 1). */
+export function canvasSize(canvas) {
+  const s = canvas.rdScale ?? 1;
+  return { W: canvas.width / s, H: canvas.height / s, s };
+}
+
+/** The 2-D context of `canvas`, scaled by its rdScale, cleared to white. */
+export function prepare(canvas) {
   const ctx = canvas.getContext("2d");
-  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  const { W, H, s } = canvasSize(canvas);
+  ctx.setTransform(s, 0, 0, s, 0, 0);
   ctx.fillStyle = "#fff";
-  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  ctx.fillRect(0, 0, W, H);
   ctx.font = FONT;
   return ctx;
+}
+
+/** Width of the legend box of `series` (its swatch, gap and longest label). */
+function legendWidth(ctx, series) {
+  return Math.max(0, ...series.map((s) => ctx.measureText(s.label).width)) + 30;
 }
 
 function legend(ctx, series, x, y) {
@@ -74,8 +88,12 @@ export function drawCartesian(canvas, series, {
   xlabel = "θr (degrees; > 0 on the light's side)",
 } = {}) {
   const ctx = prepare(canvas);
-  const W = canvas.width, H = canvas.height;
-  const L = 58, R = 24, T = 26, B = 40;
+  const { W, H } = canvasSize(canvas);
+  // the legend goes beside the plot (or above it on a narrow canvas), never over the data
+  const lw = legendWidth(ctx, series);
+  const beside = W - lw - 74 >= 0.68 * W; // a wide canvas: the plot keeps 2/3 of it
+  const L = 58, R = beside ? lw + 16 : 24, B = 40;
+  const T = beside ? 26 : 30 + 16 * series.length;
   const ax = yAxis(series, log);
   const px = (x) => L + ((x - xmin) / (xmax - xmin)) * (W - L - R);
   const frac = (y) => (log ? (Math.log10(Math.max(y, ax.lo * 1e-3)) - Math.log10(ax.lo)) / Math.log10(ax.hi / ax.lo) : y / ax.hi);
@@ -117,7 +135,8 @@ export function drawCartesian(canvas, series, {
     }
   }
   ctx.restore();
-  legend(ctx, series, L + 8, T + 14);
+  if (beside) legend(ctx, series, W - R + 12, T + 14);
+  else legend(ctx, series, L + 8, 34);
   canvas.rdPlot = { series, xmin, xmax, left: L, right: W - R, top: T, bottom: H - B, log, title };
   return drawn;
 }
@@ -125,8 +144,15 @@ export function drawCartesian(canvas, series, {
 /** Polar plot: the normal points up, theta_r > 0 towards the right (the light's side). */
 export function drawPolar(canvas, series, { title = "", lightDeg = null, log = false } = {}) {
   const ctx = prepare(canvas);
-  const W = canvas.width, H = canvas.height;
-  const cx = W / 2, cy = H - 24, R = Math.min(W / 2 - 16, H - 90); // legend room above
+  const { W, H } = canvasSize(canvas);
+  // the legend at the top right, the half disc below it and left of it: no overlap
+  const lw = legendWidth(ctx, series), lh = 16 * series.length + 24;
+  const cy = H - 24;
+  let R = Math.min(H - 40, (W - 32) / 2), cx = W / 2;
+  if (cy - R < lh + 4) { // the disc reaches the legend's height: keep it left of the legend
+    cx = Math.min(W / 2, W - lw - 16 - R);
+    if (cx - R < 16) { R = Math.max(40, (W - lw - 32) / 2); cx = 16 + R; }
+  }
   const ax = yAxis(series, log);
   const ymax = ax.hi;
   // log: the radius runs over the decades from ax.lo (centre) to ax.hi (outer ring)
@@ -178,15 +204,14 @@ export function drawPolar(canvas, series, { title = "", lightDeg = null, log = f
       ctx.setLineDash([]);
     }
   }
-  const widest = Math.max(...series.map((s) => ctx.measureText(s.label).width));
-  legend(ctx, series, W - widest - 30, 20);
+  legend(ctx, series, W - lw, 20);
   canvas.rdPolar = { cx, cy, R, series };
 }
 
 /** Scatter of measured against model values with the identity line; returns points drawn. */
 export function drawScatter(canvas, model, measured, { title = "" } = {}) {
   const ctx = prepare(canvas);
-  const W = canvas.width, H = canvas.height;
+  const { W, H } = canvasSize(canvas);
   const L = 58, R = 24, T = 26, B = 40;
   let m = 0;
   for (let k = 0; k < model.length; k++) m = Math.max(m, model[k], measured[k]);

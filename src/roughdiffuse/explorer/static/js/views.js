@@ -5,7 +5,7 @@
 // JS-side copy of the formulas); this module only chooses geometries, integrates and draws.
 // Each view's drawer returns the table its CSV export writes: {columns, rows}.
 
-import { drawCartesian } from "./plot.js";
+import { canvasSize, drawCartesian, prepare } from "./plot.js";
 
 const DEG = Math.PI / 180;
 const E0 = Math.PI; // irradiance, as in sphere.frag and main.js
@@ -42,11 +42,8 @@ function lobeValues(evaluator, params, light) {
 /** The lobe as a wireframe, orthographic, turned by view.yaw (about the normal) and tilted by
  *  view.pitch (0: seen from the side, π/2: from above). */
 export function drawLobe(canvas, evaluator, slots, light, view) {
-  const ctx = canvas.getContext("2d");
-  const W = canvas.width, H = canvas.height;
-  ctx.fillStyle = "#fff";
-  ctx.fillRect(0, 0, W, H);
-  ctx.font = "12px system-ui, sans-serif";
+  const ctx = prepare(canvas);
+  const { W, H } = canvasSize(canvas);
   const lobes = slots.map((s) => ({ ...s, v: lobeValues(evaluator, s.params, light) }));
   let lmax = 0;
   for (const l of lobes) for (const q of l.v) if (Number.isFinite(q.L)) lmax = Math.max(lmax, q.L);
@@ -104,7 +101,8 @@ export function drawLobe(canvas, evaluator, slots, light, view) {
   ctx.fillText(`3-D lobe: radius L(θo, φo) for the current light (E0 = π, mean of RGB); largest ${lmax.toPrecision(3)}`, 8, 16);
   ctx.fillStyle = "#666";
   ctx.fillText("drag to turn", 8, H - 8);
-  lobes.forEach((l, k) => { ctx.fillStyle = l.color; ctx.fillText(l.label, W - 190, 34 + 16 * k); });
+  const lw = Math.max(0, ...lobes.map((l) => ctx.measureText(l.label).width));
+  lobes.forEach((l, k) => { ctx.fillStyle = l.color; ctx.fillText(l.label, W - lw - 8, 34 + 16 * k); });
   const rows = [];
   for (const l of lobes) for (const q of l.v) rows.push([l.label, q.t, q.p, q.L]);
   return { columns: ["series", "theta_o_deg", "phi_o_deg", "radiance"], rows };
@@ -191,11 +189,9 @@ export function colormap(t) {
 }
 
 export function drawSlice(canvas, evaluator, slots, log) {
-  const ctx = canvas.getContext("2d");
-  const W = canvas.width, H = canvas.height, n = SLICE_N;
-  ctx.fillStyle = "#fff";
-  ctx.fillRect(0, 0, W, H);
-  ctx.font = "12px system-ui, sans-serif";
+  const ctx = prepare(canvas);
+  const { W, H } = canvasSize(canvas);
+  const n = SLICE_N;
   const images = slots.map((s) => ({ ...s, f: sliceValues(evaluator, s.params) }));
   let hi = 0, lo = Infinity;
   for (const im of images) for (const v of im.f) if (Number.isFinite(v)) { hi = Math.max(hi, v); if (v > 0) lo = Math.min(lo, v); }
@@ -295,15 +291,26 @@ export function readoutAt(canvas, x, y) {
   return null;
 }
 
+let hover = null; // the last pointer position over a plot: {canvas, x, y (layout pixels), out}
+
 /** Show the readout of whatever plot the pointer is over in `out`. */
 export function setupHover(canvases, out) {
   for (const c of canvases) {
     c.addEventListener("pointermove", (ev) => {
       const r = c.getBoundingClientRect();
-      const text = readoutAt(c, ((ev.clientX - r.left) * c.width) / r.width, ((ev.clientY - r.top) * c.height) / r.height);
-      if (text !== null) out.textContent = text;
+      const { W, H } = canvasSize(c);
+      hover = { canvas: c, x: ((ev.clientX - r.left) * W) / r.width, y: ((ev.clientY - r.top) * H) / r.height, out };
+      rereadHover();
     });
   }
+}
+
+/** Read the plot again at the last pointer position: called after every redraw, so that the
+ *  readout follows a new light, model or dataset without moving the pointer. */
+export function rereadHover() {
+  if (!hover || hover.canvas.hidden) return;
+  const text = readoutAt(hover.canvas, hover.x, hover.y);
+  if (text !== null) hover.out.textContent = text;
 }
 
 // ------------------------------------------------------------------ lobe rotation

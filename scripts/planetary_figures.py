@@ -1,0 +1,135 @@
+"""Make the pictures of docs/planetary.md (the full moon, a disk-resolved fit, two corrected
+images and their mosaic) into docs/images/. Run: python scripts/planetary_figures.py"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+import roughdiffuse as rd
+from roughdiffuse._figure import colormap, subplots
+from roughdiffuse.models.photometry import radiance_factor
+from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
+from roughdiffuse.planetary.correct import normalize
+from roughdiffuse.planetary.disk import DiskData, fit_disk, plot_disk_fit
+
+OUT = Path(__file__).resolve().parent.parent / "docs" / "images"
+GREY = colormap("gray").with_extremes(bad="black")  # off the body: black sky
+HAPKE = {"b0": 1.2, "h": 0.06, "g": -0.3, "theta_bar": math.radians(20.0)}
+
+
+def disk_iof(model, bp):
+    lit = bp.on_body & (bp.incidence < math.pi / 2)
+    out = np.full(bp.emission.shape, np.nan)
+    out[lit] = radiance_factor(model, bp.incidence[lit], bp.emission[lit], bp.phase[lit])
+    return out
+
+
+def full_moon() -> None:
+    bp = ellipsoid_backplanes((201, 201), (0.0, 0.0), (0.0, 0.0))
+    models = [
+        ("Lambert", rd.Lambert(1.0)),
+        ("Lommel–Seeliger", rd.LommelSeeliger(1.0)),
+        ("Lunar-Lambert L = 1", rd.LunarLambert(1.0, 1.0)),
+        ("Hapke (lunar)", rd.Hapke(0.25, **HAPKE)),
+    ]
+    fig, axes = subplots(1, 5, figsize=(17, 3.6), layout="constrained")
+    x = np.linspace(-1, 1, 201) / 1.05
+    for ax, (name, m) in zip(axes[:4], models, strict=True):
+        img = disk_iof(m, bp)
+        img /= np.nanmax(img)
+        ax.imshow(img, cmap=GREY, vmin=0, vmax=1.15)
+        ax.set_title(name, fontsize=10)
+        ax.set_axis_off()
+        axes[4].plot(x, img[100], label=name)
+    axes[4].set_xlabel("position across the disk (radius 1)")
+    axes[4].set_ylabel("I/F, relative to the brightest point")
+    axes[4].set_ylim(0, 1.05)
+    axes[4].legend(fontsize=8, loc="lower center")
+    fig.suptitle("The full moon (phase 0°): only the Lambertian sphere darkens to its limb")
+    fig.savefig(OUT / "planetary-full-moon.png", dpi=90)
+
+
+def flyby(rng, phases_deg, per_image=60):
+    out, v = [], np.array([0.0, 0.0, 1.0])
+    for gdeg in phases_deg:
+        g = math.radians(gdeg)
+        s = np.array([math.sin(g), 0.0, math.cos(g)])
+        n = rng.normal(size=(30 * per_image, 3))
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        lim = math.cos(math.radians(80.0))
+        n = n[(n @ s > lim) & (n @ v > lim)][:per_image]
+        out.append(np.stack([np.arccos(n @ s), np.arccos(n @ v), np.full(len(n), g)]))
+    return np.concatenate(out, axis=1)
+
+
+def disk_fit() -> None:
+    rng = np.random.default_rng(3)
+    i, e, g = flyby(rng, [5, 8, 12, 20, 30, 45, 60, 75, 90])
+    truth = rd.Hapke(0.3, 1.6, 0.06, -0.3, math.radians(20.0))
+    iof = radiance_factor(truth, i, e, g) * (1.0 + 0.01 * rng.normal(size=i.size))
+    f = fit_disk("hapke", DiskData(iof, i, e, g, source="synthetic flyby"), fixed={"hg2": 0.0})
+    print(f.table())
+    plot_disk_fit(f).savefig(OUT / "planetary-disk-fit.png", dpi=80)
+
+
+def albedo_map(lat, lon):
+    return 0.25 * (1.0 + 0.15 * np.sin(3.0 * lon) * np.cos(lat) + 0.1 * np.cos(5.0 * lat))
+
+
+def hapke_image(bp):
+    lit = bp.on_body & (bp.incidence < math.pi / 2)
+    w = albedo_map(bp.latitude[lit], bp.longitude[lit])
+    mu0, mu = np.cos(bp.incidence[lit]), np.cos(bp.emission[lit])
+    p = {k: np.full(w.shape, v) for k, v in HAPKE.items()}
+    f = rd.Hapke(0.25, **HAPKE).kernel(
+        np, mu0, mu, np.cos(bp.phase[lit]), albedo=w, hg2=np.zeros(w.shape), **p
+    )
+    out = np.full(bp.emission.shape, np.nan)
+    out[lit] = math.pi * mu0 * f
+    return out
+
+
+def mosaic() -> None:
+    model = rd.Hapke(0.25, **HAPKE)
+    shots = []
+    for sun in ((0.0, 25.0), (5.0, -60.0)):
+        bp = ellipsoid_backplanes((240, 240), sun, (0.0, 0.0))
+        raw = hapke_image(bp)
+        shots.append((bp, raw, normalize(raw, bp.incidence, bp.emission, bp.phase, model)))
+    (bpa, ra, ca), (bpb, rb, cb) = shots
+    half = np.zeros(ra.shape, bool)
+    half[:, :120] = True  # each image where it is well lit: B on the left, A on the right
+    raw_mosaic = np.where(half, rb, ra)
+    cor_mosaic = np.where(half, cb, ca)
+    fig, axes = subplots(2, 3, figsize=(11, 8), layout="constrained")
+    axes = axes.ravel()
+    panels = [
+        (ra, f"image A, g = {math.degrees(np.nanmax(bpa.phase)):.0f}° (I/F)"),
+        (rb, f"image B, g = {math.degrees(np.nanmax(bpb.phase)):.0f}° (I/F)"),
+        (raw_mosaic, "mosaic B | A as taken"),
+        (ca, "A corrected (albedo method)"),
+        (cb, "B corrected"),
+        (cor_mosaic, "mosaic of the corrected B | A"),
+    ]
+    top = {0: np.nanpercentile(np.concatenate([ra.ravel(), rb.ravel()]), 99.5)}
+    top[1] = np.nanpercentile(np.concatenate([ca.ravel(), cb.ravel()]), 99.5)
+    for k, (ax, (img, title)) in enumerate(zip(axes, panels, strict=True)):
+        vmax = top[k // 3]  # one scale for the images as taken, one for the corrected
+        ax.imshow(img, cmap=GREY, vmin=0, vmax=vmax)
+        ax.axvline(119.5, color="tab:red", lw=0.6, ls=":")
+        ax.set_title(title, fontsize=9)
+        ax.set_axis_off()
+    fig.suptitle(
+        "Two images of one moon at different phase, normalised to i = e = g = 0 and "
+        "joined at the dotted line"
+    )
+    fig.savefig(OUT / "planetary-mosaic.png", dpi=80)
+
+
+if __name__ == "__main__":
+    full_moon()
+    mosaic()
+    disk_fit()

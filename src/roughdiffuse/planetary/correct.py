@@ -1,0 +1,242 @@
+"""Photometric normalisation of I/F images to a reference geometry, as ISIS's ``photomet``.
+
+Two methods, transcribed from USGS ISIS3 (``isis/src/base/objs/Albedo/Albedo.cpp`` and
+``Mixed/Mixed.cpp``, ``NormModelAlgorithm``), with P(g, i, e) the model's I/F for unit albedo
+parameters as given and P_ref its value at the reference geometry (g_ref, i_ref, e_ref):
+
+* ``"albedo"``: I/F × P_ref/P — the I/F the surface would have at the reference geometry;
+  pixels where P_ref > 30 P (ISIS's ``Thresh``) are masked.
+* ``"mixed"``: near the limb and terminator the topographic shading dominates and is kept,
+  in between the albedo is normalised (ISIS's mixed normalisation, McEwen 1991):
+  A = I/F × a_ref/a + ρ̄ (P_ref − P a_ref/a), with a = √(P² + (P_m P′/P′_m)²),
+  a_ref the same at the reference, P′ the topographic derivative (``PhotoModel::PhtTopder``:
+  the change of P with a 0.04° tilt of the surface, by central differences in two directions),
+  P_m and P′_m at the match geometry (g_m, i_m, e_m) and ρ̄ = albedo/P_ref (ISIS ``Albedo``,
+  default 1); masked where a > 30 a_ref.
+
+Reference geometry, as ISIS's defaults: i_ref = e_ref = g_ref = 0; there the opposition-surge
+amplitudes (B0, B_S0, B_C0) are set to 0, as ISIS's ``ZeroB0Standard = TRUE`` (default) does,
+so the normalised value is the normal albedo without the surge. Mixed's match geometry
+defaults to i_m = g_m = 45°, e_m = 0 (ISIS's default 0 leaves the topographic derivative
+0 and the method undefined). Pixels with i or e beyond their limits (default 85°), and NaN
+(NoData) pixels, are NaN in the output.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import ParameterError
+
+__all__ = [
+    "METHODS",
+    "REFERENCE",
+    "normalize",
+    "phototopder",
+    "read_plane",
+    "write_plane",
+]
+
+METHODS = ("albedo", "mixed")
+REFERENCE = (0.0, 0.0, 0.0)
+"""ISIS's default reference geometry (phase, incidence, emission), radians."""
+MATCH = (math.radians(45.0), math.radians(45.0), 0.0)
+THRESH = 30.0
+SURGE_AMPLITUDES = ("b0", "bs0", "bc0")
+_EPS_DEG = 0.04  # PhtTopder's tilt
+
+
+def _psurf(model: Any, phase: Any, inc: Any, ema: Any) -> np.ndarray:
+    """The model's I/F at (g, i, e) radians, 0 where i >= 90° (as ISIS's functions)."""
+    from ..models.photometry import radiance_factor
+
+    i = np.clip(np.asarray(inc, dtype=np.float64), 0.0, math.pi / 2)
+    e = np.clip(np.asarray(ema, dtype=np.float64), 0.0, math.pi / 2)
+    g = np.clip(np.asarray(phase, dtype=np.float64), np.abs(i - e), i + e)
+    return np.asarray(radiance_factor(model, i, e, g))
+
+
+def reference_model(model: Any) -> Any:
+    """``model`` with its opposition-surge amplitudes at 0 (ISIS's standard conditions)."""
+    names = {f.name for f in dataclasses.fields(model)}
+    zero = {k: 0.0 for k in SURGE_AMPLITUDES if k in names}
+    return dataclasses.replace(model, **zero) if zero else model
+
+
+def phototopder(model: Any, phase: Any, inc: Any, ema: Any) -> np.ndarray:
+    """ISIS's ``PhotoModel::PhtTopder``: |∇P| per degree of tilt of the surface, by central
+    differences over a 0.04° tilt in two directions (angles in radians)."""
+    g, i, e = (np.asarray(a, dtype=np.float64) for a in (phase, inc, ema))
+    xi, zi = np.sin(i), np.cos(i)
+    s = np.sin(i) * np.sin(e)
+    cphi = np.where(
+        (i == 0) | (e == 0), 1.0, (np.cos(g) - np.cos(i) * np.cos(e)) / np.where(s == 0, 1.0, s)
+    )
+    phi = np.arccos(np.clip(cphi, -1.0, 1.0))
+    xe, ye, ze = cphi * np.sin(e), np.sin(phi) * np.sin(e), np.cos(e)
+    epsh = math.radians(_EPS_DEG * 0.5)
+    xy, z = math.sin(epsh), math.cos(epsh)
+
+    def acos(c: np.ndarray) -> np.ndarray:
+        return np.arccos(np.clip(c, -1.0, 1.0))
+
+    inc1, ema1 = acos(xy * xi + z * zi), acos(xy * xe + z * ze)
+    inc2, ema2 = acos(-xy * xi + z * zi), acos(-xy * xe + z * ze)
+    inc3, ema3 = acos(z * zi), acos(xy * ye + z * ze)
+    inc4, ema4 = acos(z * zi), acos(-xy * ye + z * ze)
+    d1 = (_psurf(model, g, inc1, ema1) - _psurf(model, g, inc2, ema2)) / _EPS_DEG
+    d2 = (_psurf(model, g, inc3, ema3) - _psurf(model, g, inc4, ema4)) / _EPS_DEG
+    return np.sqrt(np.maximum(1e-30, d1 * d1 + d2 * d2))
+
+
+def normalize(
+    iof: Any,
+    incidence: Any,
+    emission: Any,
+    phase: Any,
+    model: Any,
+    *,
+    method: str = "albedo",
+    reference: Sequence[float] = REFERENCE,
+    match: Sequence[float] = MATCH,
+    albedo: float = 1.0,
+    max_incidence: float = math.radians(85.0),
+    max_emission: float = math.radians(85.0),
+    thresh: float = THRESH,
+) -> np.ndarray:
+    """Normalise an I/F image to the reference geometry (see the module).
+
+    Parameters
+    ----------
+    iof : array (H, W)
+        The image; NaN is NoData and stays NaN.
+    incidence, emission, phase : array (H, W) or scalar
+        Backplanes, radians (NaN: off the body).
+    model : Model
+        The photometric model (a registry model; :data:`.disk.PHOTOMETRIC_MODELS`).
+    method : {"albedo", "mixed"}
+    reference, match : (phase, incidence, emission)
+        Radians.
+    albedo : float
+        Mixed only: ISIS's ``Albedo`` (ρ̄ P_ref).
+    max_incidence, max_emission : float
+        Pixels beyond are masked (radians).
+    thresh : float
+        ISIS's ``Thresh``.
+
+    Returns
+    -------
+    array (H, W)
+        The normalised image (NaN where masked).
+    """
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)} (got {method!r})")
+    dn = np.asarray(iof, dtype=np.float64)
+    i, e, g = (
+        np.broadcast_to(np.asarray(a, dtype=np.float64), dn.shape)
+        for a in (incidence, emission, phase)
+    )
+    ok = np.isfinite(dn) & np.isfinite(i) & np.isfinite(e) & np.isfinite(g)
+    ok &= (i <= max_incidence) & (e <= max_emission)
+    out = np.full(dn.shape, np.nan)
+    if not ok.any():
+        return out
+    gi, ii, ei = g[ok], i[ok], e[ok]
+    ref = reference_model(model)
+    p_ref = float(_psurf(ref, *reference))
+    psurf = _psurf(model, gi, ii, ei)
+    if method == "albedo":
+        good = p_ref <= psurf * thresh
+        res = np.full(psurf.shape, np.nan)
+        res[good] = dn[ok][good] * p_ref / psurf[good]
+    else:
+        if p_ref == 0.0:
+            raise ParameterError("the model's I/F at the reference geometry is 0")
+        rhobar = albedo / p_ref
+        p_match = float(_psurf(ref, *match))
+        pp_ref = float(phototopder(ref, *reference))
+        pp_match = max(1e-30, float(phototopder(ref, *match)))
+        anum = math.sqrt(p_ref**2 + (p_match * pp_ref / pp_match) ** 2)
+        pprime = phototopder(model, gi, ii, ei)
+        aden = np.sqrt(np.maximum(1e-30, psurf**2 + (p_match * pprime / pp_match) ** 2))
+        res = dn[ok] * anum / aden + rhobar * (p_ref - anum / aden * psurf)
+        res[aden > anum * thresh] = np.nan
+    out[ok] = res
+    return out
+
+
+# ------------------------------------------------------------------------- files
+PLANE_SUFFIXES = (".fits", ".fit", ".fts", ".npy", ".exr")
+
+
+def _astropy_fits() -> Any:
+    try:
+        from astropy.io import fits
+    except ImportError:
+        raise ParameterError(
+            "FITS files need astropy: pip install 'roughdiffuse[planetary]' (or use .npy/.exr)"
+        ) from None
+    return fits
+
+
+def read_plane(path: str | os.PathLike[str], nodata: float | None = None) -> np.ndarray:
+    """One image plane (H, W) as float64: FITS (astropy; BLANK and NaN are NoData), .npy or
+    .exr (first channel). Values equal to ``nodata`` become NaN."""
+    p = Path(path)
+    ext = p.suffix.lower()
+    if ext in (".fits", ".fit", ".fts"):
+        fits = _astropy_fits()
+        with fits.open(p, memmap=False) as hdul:
+            hdu = next((h for h in hdul if getattr(h, "data", None) is not None), None)
+            if hdu is None:
+                raise ParameterError(f"{p.name}: no image in the FITS file")
+            data = np.asarray(hdu.data, dtype=np.float64)  # astropy applies BSCALE/BLANK
+    elif ext == ".npy":
+        data = np.asarray(np.load(p, allow_pickle=False), dtype=np.float64)
+    elif ext == ".exr":
+        from ..fit import read_image
+
+        data = np.asarray(read_image(p)[0], dtype=np.float64)
+    else:
+        raise ParameterError(f"image file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
+    if data.ndim == 3 and ext != ".fits":
+        data = data[..., 0]
+    data = np.squeeze(data)
+    if data.ndim != 2:
+        raise ParameterError(f"{p.name}: expected one image plane (got shape {data.shape})")
+    if nodata is not None:
+        data = np.where(data == nodata, np.nan, data)
+    return data
+
+
+def write_plane(
+    path: str | os.PathLike[str], image: np.ndarray, header: dict | None = None
+) -> Path:
+    """Write one plane atomically: FITS (float32, NaN for NoData; astropy), .npy or .exr."""
+    from ..io.atomic import atomic_write
+    from ..io.images import write_exr, write_npy
+
+    p = Path(path)
+    ext = p.suffix.lower()
+    if ext in (".fits", ".fit", ".fts"):
+        fits = _astropy_fits()
+        hdu = fits.PrimaryHDU(np.asarray(image, dtype=np.float32))
+        for k, v in (header or {}).items():
+            hdu.header[k] = v
+
+        def write(tmp: Path) -> None:
+            hdu.writeto(tmp, output_verify="exception")
+
+        return atomic_write(p, write)
+    if ext == ".npy":
+        return write_npy(p, image)
+    if ext == ".exr":
+        return write_exr(p, image)
+    raise ParameterError(f"output file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
