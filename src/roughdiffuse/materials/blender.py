@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..models.base import Model
-from . import Export, error_lines, material_for, write_files
+from .common import Export, error_lines, material_for, write_files
 
 __all__ = ["script", "write"]
 

@@ -15,7 +15,7 @@ from typing import Any
 
 from .. import registry
 from ..models.base import Model
-from . import Export, error_lines, material_for, write_files
+from .common import Export, error_lines, material_for, write_files
 
 __all__ = ["document", "write"]
 

@@ -17,7 +17,7 @@ from typing import Any
 from .. import registry
 from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
-from . import Export, _params_of, error_lines, write_files
+from .common import Export, error_lines, params_of, write_files
 
 __all__ = ["LIGHT", "MARGIN", "SIZE", "bsdf_dict", "scene_dict", "scene_xml", "write"]
 
@@ -34,7 +34,7 @@ def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
     model_id = registry.id_of(model)
     if model_id is None:
         raise ValueError(f"{type(model).__name__} is not a registry model; Mitsuba cannot hold it")
-    params = _params_of(model, model_id)
+    params = params_of(model, model_id)
     albedo = params.get("albedo", 1.0)
     colour = {"type": "rgb", "value": albedo if isinstance(albedo, list) else [albedo] * 3}
     if builtin:
@@ -160,4 +160,4 @@ def write(model: Model, path: Path) -> Export:
     if mid in _BUILTIN:
         builtin = path.with_name(path.stem + "_builtin.xml")
         files[builtin] = scene_xml(bsdf_dict(model, builtin=True), comments)
-    return Export("mitsuba", write_files(files), mid, _params_of(model, mid), None)
+    return Export("mitsuba", write_files(files), mid, params_of(model, mid), None)

@@ -1,0 +1,102 @@
+"""What the exporters share: the result record, the conversion's comment lines, parameters."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import registry
+from ..conversion import Conversion, convert
+from ..io.atomic import write_text
+from ..models.base import Model
+
+__all__ = ["Export", "error_lines", "material_for", "model_record", "params_of", "write_files"]
+
+
+@dataclass(frozen=True)
+class Export:
+    """What :func:`export` wrote: the files, the target model and the conversion (or None)."""
+
+    target: str
+    paths: tuple[Path, ...]
+    model_id: str
+    params: dict[str, Any]
+    conversion: Conversion | None
+
+    def summary(self) -> str:
+        """The lines ``roughdiffuse export`` prints."""
+        lines = [f"{self.target}: {', '.join(str(p) for p in self.paths)}"]
+        lines.append(f"  as {self.model_id}: " + _params_text(self.params))
+        lines.extend("  " + line for line in error_lines(self.conversion))
+        return "\n".join(lines)
+
+
+def _params_text(params: dict[str, Any]) -> str:
+    return ", ".join(f"{k}={_num(v)}" for k, v in params.items())
+
+
+def _num(v: Any) -> str:
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
+    return f"{v:.6g}" if isinstance(v, float) else str(v)
+
+
+def error_lines(conversion: Conversion | None) -> list[str]:
+    """The conversion error as comment lines ('exact' when nothing was converted)."""
+    if conversion is None:
+        return ["exact: the target computes this model (no conversion)"]
+    return [
+        f"converted from {conversion.source} by least squares (roughdiffuse.conversion):",
+        f"f cos theta_i differs by {100 * conversion.rms_f:.3g} % RMS, "
+        f"{100 * conversion.max_f:.3g} % at most (relative to the source's RMS);",
+        f"directional albedo differs by {100 * conversion.rms_albedo:.3g} % RMS, "
+        f"{100 * conversion.max_albedo:.3g} % at most",
+    ]
+
+
+def params_of(model: Model, model_id: str) -> dict[str, Any]:
+    entry = registry.get(model_id)
+    out: dict[str, Any] = {}
+    for p in entry.parameters:
+        if p.categorical:
+            continue
+        value = getattr(model, p.name)
+        if value is None:
+            continue
+        arr = [float(x) for x in np.ravel(value)]
+        out[p.name] = arr if len(arr) > 1 else arr[0]
+    return out
+
+
+def model_record(model: Model) -> dict[str, Any]:
+    """``{"model": id, "params": {...}}``, which :func:`load_result` reads (``ValueError``
+    for a model the registry does not name)."""
+    model_id = registry.id_of(model)
+    if model_id is None:
+        raise ValueError(f"{type(model).__name__} is not a registry model")
+    return {"model": model_id, "params": params_of(model, model_id)}
+
+
+def material_for(model: Model, target_id: str) -> tuple[dict[str, Any], Conversion | None]:
+    """The parameters of ``target_id`` for ``model``: its own if it is that model, else
+    converted (``ValueError`` if the target cannot hold it)."""
+    source_id = registry.id_of(model)
+    if source_id == target_id or (
+        source_id is not None and registry.get(source_id).cls is registry.get(target_id).cls
+    ):
+        return params_of(model, target_id), None
+    base = getattr(model, "base_model", None)
+    if base is not None and registry.id_of(base()) == target_id:  # an alias of the target
+        return params_of(base(), target_id), None
+    result = convert(model, target=target_id)
+    return dict(result.params), result
+
+
+def write_files(files: dict[Path, str]) -> tuple[Path, ...]:
+    """Write each text file whole (:mod:`roughdiffuse.io.atomic`)."""
+    for p, text in files.items():
+        write_text(p, text)
+    return tuple(files)
