@@ -13,9 +13,10 @@ EXAMPLES = """\
 examples:
   roughdiffuse export --model oren-nayar-full --param sigma=20 --to blender -o mat.py
   roughdiffuse export --model eon --roughness 0.5 --to materialx -o mat.mtlx --openpbr
-  roughdiffuse export --from fit.json --to mitsuba -o scene.xml
-  roughdiffuse export --from stereo_out/params.json --to materialx -o mat.mtlx
+  roughdiffuse export --model eon --roughness 0.5 --to mitsuba -o scene.xml
 
+A fit result instead of a model: `roughdiffuse fit DATA --json > fit.json`, then
+`--from fit.json` (also a stereo run's `params.json`, or `{"model": ID, "params": {...}}`).
 Where the target has no exact counterpart the parameters are converted (roughdiffuse convert)
 and the conversion error is printed and written in the file's comments.
 """
