@@ -7,7 +7,7 @@ import math
 
 from . import UsageError
 from ._checks import require_finite
-from ._common import SHORTHANDS, add_model_arguments, model_from_args
+from ._common import add_model_arguments, model_from_args
 from ._inputs import geometry_arguments, geometry_used
 
 EXAMPLES = """\
@@ -43,7 +43,11 @@ def parameters_defaulted(args: argparse.Namespace) -> list[str]:
     from .. import registry
 
     given = {n for n, _ in getattr(args, "param", None) or []}
-    given |= {name for dest, name in SHORTHANDS.items() if getattr(args, dest, None) is not None}
+    given |= {
+        name
+        for name in getattr(args, "shorthand_params", ())
+        if getattr(args, name, None) is not None
+    }
     entry = registry.get(args.model)
     return [p.name for p in entry.parameters if p.name not in given]
 

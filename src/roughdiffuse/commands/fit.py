@@ -92,6 +92,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    _add_input_arguments(p)
+    p.set_defaults(func=run)
+
+
+def _add_input_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the two kinds of input: samples/MERL files and images."""
     g = p.add_argument_group("samples and MERL files")
     g.add_argument("--irradiance", type=finite_float, default=None, help="E0 for radiance data")
     g.add_argument(
@@ -130,7 +136,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     g.add_argument("--exposure", type=finite_float, default=None, help="PNG: exposure in stops")
     g.add_argument("--encoding", choices=("srgb", "linear"), default=None, help="PNG curve")
-    p.set_defaults(func=run)
 
 
 def _load(args: argparse.Namespace):  # noqa: ANN202 - returns Measurements
