@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 from . import UsageError
@@ -78,21 +77,19 @@ def _model(model_id: str):  # noqa: ANN202
     return create(model_id)
 
 
+RESULT_MARKER = "params.json"
+"""The file every stereo result folder holds: only such a folder is replaced by --force."""
+
+
 def _prepare_output(folder: str, force: bool) -> Path:
-    out = Path(folder)
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--output {folder!r} exists and is not a folder")
-    if (out / "params.json").exists() and not force:
-        raise UsageError(f"--output {folder!r} already holds results; add --force to replace them")
+    """The -o folder, checked before any work (it is written whole at the end:
+    :func:`roughdiffuse.io.atomic_folder`)."""
+    from ..io import check_output_folder
+
     try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(
-            f"--output {folder!r}: cannot create the folder ({exc.strerror})"
-        ) from None
-    if not os.access(out, os.W_OK):
-        raise UsageError(f"--output {folder!r} is not writable")
-    return out
+        return check_output_folder(folder, replace=force, marker=RESULT_MARKER)
+    except ValueError as exc:
+        raise UsageError(f"--output: {exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -138,9 +135,12 @@ def run(args: argparse.Namespace) -> int:
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    params = stereo.write_outputs(
-        out, data, res, lam, depth, model_id=args.model, truth_normals=truth
-    )
+    from ..io import atomic_folder
+
+    with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
+        params = stereo.write_outputs(
+            tmp, data, res, lam, depth, model_id=args.model, truth_normals=truth
+        )
     r = params["roughness"]
     if r["per_pixel"]:
         line = f"{r['name']}: per pixel, median {r['median']:.4g}"

@@ -63,6 +63,7 @@ from typing import Any
 from urllib.parse import parse_qs, unquote, urlsplit
 
 from .. import __version__
+from ..io.jsonfile import dumps
 from . import backend, datasets
 
 __all__ = [
@@ -161,7 +162,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self.wfile.write(body)
 
     def _json(self, status: int, obj: Any, head: bool = False) -> None:
-        self._send(status, json.dumps(obj).encode(), "application/json", head)
+        self._send(status, dumps(obj).encode(), "application/json", head)
 
     def _not_found(self, head: bool = False) -> None:
         self._send(HTTPStatus.NOT_FOUND, b"404 not found\n", "text/plain; charset=utf-8", head)

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import atomic_write, write_text
+from ..io.atomic import atomic_write, deferred, write_text
 from ..models import EON, Fujii, Lambert, OrenNayar
 from .surface import Settings
 from .table import compute_table, load_table
@@ -230,18 +230,19 @@ def write_report(
                 f"| {label} | {against} | {s:g} | {np.sqrt(np.mean(e**2)):.4f} | "
                 f"{np.abs(e).max():.4f} | {_where(inf, idx)} | {'' if r is None else f'{r:.2f}'} |"
             )
-    lines += _convergence_lines(quick)
-    lines += _second_truth_lines(out, quick, progress)
-    # figures: plane of incidence and error maps
-    figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
-    lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
-    lines += [
-        "",
-        "K-convergence of the all-bounce table: max |f(K) − f(2K)| / f = "
-        f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
-        "",
-    ]
-    write_text(out / "index.md", "\n".join(lines))
+    with deferred(out):  # the report's pages and figures appear together, or none
+        lines += _convergence_lines(quick)
+        lines += _second_truth_lines(out, quick, progress)
+        # figures: plane of incidence and error maps
+        figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
+        lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
+        lines += [
+            "",
+            "K-convergence of the all-bounce table: max |f(K) − f(2K)| / f = "
+            f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
+            "",
+        ]
+        write_text(out / "index.md", "\n".join(lines))
     return out / "index.md"
 
 

@@ -18,7 +18,6 @@ a roughness parameter are scored as they are.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -210,6 +209,7 @@ def model_score_lines(quick: bool, progress: bool = True, out: Path | None = Non
         lines.append(f"* **{truth}**: {best}.")
     if out is not None:
         from ..io.atomic import write_text
+        from ..io.jsonfile import dumps
 
         settings = {
             "albedos": list(ALBEDOS),
@@ -223,5 +223,5 @@ def model_score_lines(quick: bool, progress: bool = True, out: Path | None = Non
             "quick": quick,
         }
         payload = {"settings": settings, "models": data}
-        write_text(Path(out) / SCORES_FILE, json.dumps(payload, indent=1) + "\n")
+        write_text(Path(out) / SCORES_FILE, dumps(payload, indent=1) + "\n")
     return lines
