@@ -25,8 +25,10 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from . import __version__
+from ._env import env_flag
 from ._validate import ParameterError
 from .commands import COMMANDS, UsageError
+from .commands._conflicts import check_options
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 
@@ -135,8 +137,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     prog = f"roughdiffuse {args.command}"
-    debug = bool(args.debug) or os.environ.get("ROUGHDIFFUSE_DEBUG", "") not in ("", "0")
     try:
+        debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
+    except ValueError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        check_options(parser, args, argv)  # conflicting or inapplicable flags: exit 2
         return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)

@@ -144,6 +144,9 @@ def run(args: argparse.Namespace) -> int:
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+    if len(set(args.sigma)) != len(args.sigma):
+        twice = next(s for s in args.sigma if args.sigma.count(s) > 1)
+        raise UsageError(f"--sigma gives {twice:g} more than once; give each value once")
     if args.bounces != "all" and not 1 <= args.bounces <= MAX_BOUNCES:
         raise UsageError(
             f"--bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {args.bounces})"
@@ -174,7 +177,7 @@ def run(args: argparse.Namespace) -> int:
         ang = _grid(args.step, 0.0, 90.0, "step")
         dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
         # checked before any chunk is computed; an existing table is resumed or reused
-        output_file(args.table, option="--table", overwrite=True)
+        output_file(args.table, (".npz",), option="--table", overwrite=True)
         chunks = f"{args.table}.chunks"
         if os.path.exists(chunks) and not os.path.isdir(chunks):
             raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")

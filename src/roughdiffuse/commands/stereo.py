@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 
 from . import UsageError
+from ._checks import bounded_float
+from .render import MAX_EXPOSURE
 
 EXAMPLES = """\
 examples:
@@ -39,7 +41,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("images", nargs="*", metavar="IMAGE", help=".npy, .exr or .png images (K >= 3)")
     p.add_argument("--lights", metavar="JSON", help="light directions and intensities")
     p.add_argument("--mask", metavar="FILE", help="object mask (PNG or .npy; default: lit pixels)")
-    p.add_argument("--exposure", type=float, help="PNG exposure in stops (linear = value / 2^E)")
+    p.add_argument(
+        "--exposure",
+        type=bounded_float(-MAX_EXPOSURE, MAX_EXPOSURE),
+        help="PNG exposure in stops (linear = value / 2^E)",
+    )
     p.add_argument("--diligent", metavar="DIR", help="read a DiLiGenT object folder instead")
     p.add_argument(
         "--demo", action="store_true", help="run on a rendered sphere of known shape (no input)"

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..io.atomic import atomic_open
+from ..io.reading import MAX_CSV_BYTES, MAX_CSV_LINE, read_text, short
 from .measurements import Measurements
 
 __all__ = ["csv_from_text", "read_csv", "samples_from_table", "write_csv"]
@@ -137,14 +138,26 @@ def _build(
             rng = "[0, 90] degrees" if unit == "deg" else "[0, π/2] radians"
             raise ValueError(f"{cell.at(k, raw)}: angle {vals[k]:g} out of range {rng}")
         angles[role] = np.minimum(np.radians(vals) if unit == "deg" else vals, math.pi / 2)
-    if "delta_phi" in by_role:
-        vals, _, unit = column("delta_phi")
-        dphi = np.radians(vals) if unit == "deg" else vals
-    elif "phi_i" in by_role and "phi_r" in by_role:
+    dphi = None
+    if "phi_i" in by_role and "phi_r" in by_role:
         pi_, _, ui = column("phi_i")
         pr, _, ur = column("phi_r")
         dphi = (np.radians(pr) if ur == "deg" else pr) - (np.radians(pi_) if ui == "deg" else pi_)
-    else:
+    if "delta_phi" in by_role:
+        vals, raw, unit = column("delta_phi")
+        given = np.radians(vals) if unit == "deg" else vals
+        if dphi is not None:  # both ways of giving the azimuth: they must agree
+            off = np.abs(np.angle(np.exp(1j * (given - dphi))))
+            bad = np.flatnonzero(off > 1e-6)
+            if bad.size:
+                k = bad[0]
+                raise ValueError(
+                    f"{cell.at(k, raw)}: contradicts phi_r - phi_i "
+                    f"({math.degrees(dphi[k]):.6g}° against {math.degrees(given[k]):.6g}°); "
+                    "give one of them"
+                )
+        dphi = given
+    if dphi is None:
         raise ValueError(f"{source}: no azimuth: give delta_phi, or phi_i and phi_r (with units)")
 
     kinds = [k for k in ("brdf", "radiance") if k in by_role or f"{k}_r" in by_role]
@@ -215,8 +228,7 @@ def read_csv(path: str | os.PathLike[str], *, irradiance: float | None = None) -
         value, or the missing column.
     """
     path = os.fspath(path)
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        text = fh.read()
+    text = read_text(path, MAX_CSV_BYTES, "CSV file")
     return csv_from_text(text, name=os.path.basename(path), irradiance=irradiance)
 
 
@@ -250,6 +262,11 @@ def csv_from_text(
         if dialect is None:
             delim = max((",", ";", "\t"), key=stripped.count)
             dialect = delim if stripped.count(delim) else ","
+        if len(line) > MAX_CSV_LINE:
+            raise ValueError(
+                f"{name} line {k}: {len(line)} characters; a line may have at most "
+                f"{MAX_CSV_LINE}"
+            )
         cells = next(csv.reader([line], delimiter=dialect))
         if header is None:
             header = [c.strip() for c in cells]
@@ -262,6 +279,11 @@ def csv_from_text(
         raise ValueError(f"{name}: no header line (column names)")
     if not rows:
         raise ValueError(f"{name}: no data rows")
+    twice = sorted({h for h in header if header.count(h) > 1})
+    if twice:
+        raise ValueError(
+            f"{name}: column {short(twice[0])} appears more than once; each column once"
+        )
     columns = {h: [r[j] for r in rows] for j, h in enumerate(header)}
     return _build(columns, _Cell(name, line_no), irradiance, name)
 

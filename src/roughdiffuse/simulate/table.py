@@ -190,6 +190,12 @@ def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
         raise ValueError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
     if np.any(a < lo) or (hi is not None and np.any(a > hi)):
         raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
+    values, counts = np.unique(a, return_counts=True)
+    if np.any(counts > 1):
+        raise ValueError(
+            f"{name} holds {values[counts > 1][0]:.6g} more than once: a table axis takes each "
+            "value once"
+        )
     return a
 
 
@@ -297,61 +303,114 @@ def compute_table(
             kept = _finished_table(path, axes, float(albedo), bounces, settings, force)
             if kept is not None:
                 return kept
-        _prepare_chunk_dir(chunk_dir, manifest, force)
-        specs = []
-        for s_idx, s in enumerate(axes["sigma"]):
-            for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
-                rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
-                specs.append(
-                    {
-                        "name": f"s{s_idx:03d}_r{r0:04d}.npz",
-                        "key": key,
-                        "sigma_index": s_idx,
-                        "row": r0,
-                        "sigma": float(s),
-                        "theta_i": rows,
-                        "theta_r": axes["theta_r"],
-                        "delta_phi": axes["delta_phi"],
-                        "albedo": float(albedo),
-                        "bounces": bounces,
-                        "settings": asdict(settings),
-                        "backend": backend,
-                    }
-                )
-        todo = []
-        for spec in specs:
-            p = chunk_dir / spec["name"]
-            if not p.exists():
-                todo.append(spec)
-                continue
-            try:
-                read_chunk(p, spec)
-            except ValueError as exc:
-                warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=2)
-                p.unlink(missing_ok=True)
-                todo.append(spec)
-        _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
-        shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
-        values = np.empty(shape)
-        kdiff = np.empty(shape)
-        for spec in specs:
-            v, d = read_chunk(chunk_dir / spec["name"], spec)  # checked again: never adopted
-            rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
-            values[rows, :, :, spec["sigma_index"]] = v
-            kdiff[rows, :, :, spec["sigma_index"]] = d
-        table = GroundTruth(
-            axes["theta_i"],
-            axes["theta_r"],
-            axes["delta_phi"],
-            axes["sigma"],
-            values,
-            kdiff,
-            float(albedo),
-            bounces,
-            settings,
-        )
-        table.save(path)
+        fresh = not chunk_dir.exists()
+        try:
+            return _compute_chunks(
+                path,
+                chunk_dir,
+                manifest,
+                axes,
+                key,
+                albedo,
+                bounces,
+                settings,
+                workers,
+                scheduler,
+                progress,
+                backend,
+                force,
+                rows_per_chunk,
+            )
+        except BaseException:
+            # a run refused or failed before its first chunk leaves no folder that would
+            # make the next run (with other settings) refuse
+            if fresh:
+                _remove_if_no_chunks(chunk_dir)
+            raise
+
+
+def _remove_if_no_chunks(chunk_dir: Path) -> None:
+    """Remove ``chunk_dir`` if it holds no computed chunk (at most its manifest)."""
+    try:
+        entries = list(chunk_dir.iterdir())
+    except OSError:
+        return
+    if all(e.name == "manifest.json" or e.name.startswith(".") for e in entries):
         shutil.rmtree(chunk_dir, ignore_errors=True)
+
+
+def _compute_chunks(
+    path,
+    chunk_dir,
+    manifest,
+    axes,
+    key,
+    albedo,
+    bounces,
+    settings,
+    workers,
+    scheduler,
+    progress,
+    backend,
+    force,
+    rows_per_chunk,
+):  # noqa: ANN001, ANN202
+    """The body of :func:`compute_table` once the lock is held and no finished table is kept."""
+    _prepare_chunk_dir(chunk_dir, manifest, force)
+    specs = []
+    for s_idx, s in enumerate(axes["sigma"]):
+        for r0 in range(0, axes["theta_i"].size, rows_per_chunk):
+            rows = axes["theta_i"][r0 : r0 + rows_per_chunk]
+            specs.append(
+                {
+                    "name": f"s{s_idx:03d}_r{r0:04d}.npz",
+                    "key": key,
+                    "sigma_index": s_idx,
+                    "row": r0,
+                    "sigma": float(s),
+                    "theta_i": rows,
+                    "theta_r": axes["theta_r"],
+                    "delta_phi": axes["delta_phi"],
+                    "albedo": float(albedo),
+                    "bounces": bounces,
+                    "settings": asdict(settings),
+                    "backend": backend,
+                }
+            )
+    todo = []
+    for spec in specs:
+        p = chunk_dir / spec["name"]
+        if not p.exists():
+            todo.append(spec)
+            continue
+        try:
+            read_chunk(p, spec)
+        except ValueError as exc:
+            warnings.warn(f"{exc}; recomputing it", RuntimeWarning, stacklevel=2)
+            p.unlink(missing_ok=True)
+            todo.append(spec)
+    _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
+    shape = tuple(axes[k].size for k in ("theta_i", "theta_r", "delta_phi", "sigma"))
+    values = np.empty(shape)
+    kdiff = np.empty(shape)
+    for spec in specs:
+        v, d = read_chunk(chunk_dir / spec["name"], spec)  # checked again: never adopted
+        rows = slice(spec["row"], spec["row"] + len(spec["theta_i"]))
+        values[rows, :, :, spec["sigma_index"]] = v
+        kdiff[rows, :, :, spec["sigma_index"]] = d
+    table = GroundTruth(
+        axes["theta_i"],
+        axes["theta_r"],
+        axes["delta_phi"],
+        axes["sigma"],
+        values,
+        kdiff,
+        float(albedo),
+        bounces,
+        settings,
+    )
+    table.save(path)
+    shutil.rmtree(chunk_dir, ignore_errors=True)
     return table
 
 
@@ -407,6 +466,8 @@ def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any], force: bool) -
             old = None
         if isinstance(old, dict) and old.get("key") == manifest["key"]:
             return
+        if not force and not any(p.suffix == ".npz" for p in chunk_dir.iterdir()):
+            force = True  # only a manifest, no chunk: nothing is lost by starting anew
         if not force:
             raise ValueError(
                 f"{chunk_dir} holds chunks computed with other settings or grids; refusing to "
@@ -527,8 +588,13 @@ class _TableLock:
             if same:
                 break
             os.close(fd)
-        os.ftruncate(fd, 0)
-        os.write(fd, f"{os.getpid()} on {socket.gethostname()}\n".encode())
+        try:
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()} on {socket.gethostname()}\n".encode())
+        except OSError:  # e.g. a full disk: leave no empty lock file behind
+            self.path.unlink(missing_ok=True)
+            os.close(fd)
+            raise
         self.fd = fd
         return self
 
