@@ -188,3 +188,23 @@ def test_figures_planted_file_is_refused_and_a_kept_png_is_named(tmp_path, capsy
     out = capsys.readouterr().out
     assert "wrote 0 figures" in out and f"kept 1 already there: {name}" in out
     assert (folder / "index.html").exists()
+
+
+def test_stereo_refuses_a_fit_with_a_residual_of_the_datas_size(
+    tiny_stereo, quick_rough, tmp_path, monkeypatch, capsys
+):
+    from roughdiffuse import stereo
+
+    d, names = tiny_stereo
+    fitted = stereo.rough
+
+    def useless(*a, **k):
+        r = fitted(*a, **k)
+        r.residual = np.ones_like(r.residual)  # the model explains none of the data
+        return r
+
+    monkeypatch.setattr(stereo, "rough", useless)
+    argv = ["stereo", *names, "--lights", str(d / "lights.json"), "-o", str(tmp_path / "o")]
+    assert main(argv) == 2
+    assert "relative RMS residual of 100%" in capsys.readouterr().err
+    assert _names(tmp_path) == []

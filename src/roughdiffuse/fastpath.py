@@ -27,7 +27,8 @@ and written as they are computed. :func:`evaluate_batches` streams an iterable o
 Compiled code is cached on disk: the generated modules and Numba's cache files live in
 ``$ROUGHDIFFUSE_CACHE_DIR`` or else ``$XDG_CACHE_HOME/roughdiffuse/fastpath`` (default
 ``~/.cache/roughdiffuse/fastpath``, created with mode 0700); a new process loads them instead
-of compiling. The folder is used only if it is private (:func:`private_cache_dir`): Numba
+of compiling. The folder is used only if it is private (:func:`private_cache_dir`), and so
+are the folders above it (none writable by another user, unless sticky like ``/tmp``): Numba
 unpickles its index files, so a folder another user can write to could run their code here.
 Otherwise kernels are compiled in memory.
 """
@@ -247,7 +248,29 @@ def private_cache_dir() -> Path | None:
         return None
     if not os.access(path, os.W_OK | os.X_OK):
         return None
+    if not _safe_parents(path):
+        return None
     return path
+
+
+def _safe_parents(path: Path) -> bool:
+    """Whether no other user can replace ``path`` by renaming one of its parent folders, as
+    ``ssh`` checks the folders above its key files: every parent is owned by this user or
+    root and is not writable by group or others -- unless its sticky bit is set (as on
+    ``/tmp``), which keeps others from renaming or removing what they do not own."""
+    if not hasattr(os, "getuid"):  # pragma: no cover - not POSIX
+        return True
+    uid = os.getuid()
+    for parent in Path(os.path.realpath(path)).parents:
+        try:
+            st = os.stat(parent)
+        except OSError:
+            return False
+        if st.st_uid not in (0, uid):
+            return False
+        if st.st_mode & 0o022 and not st.st_mode & stat.S_ISVTX:
+            return False
+    return True
 
 
 def _load(source: str) -> Any:

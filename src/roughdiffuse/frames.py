@@ -78,7 +78,8 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
     if w.ndim < 1 or w.shape[-1] != 3:
         raise ValueError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
     x, y, z = w[..., 0], w[..., 1], w[..., 2]
-    n2 = x * x + y * y + z * z
+    with np.errstate(over="ignore", under="ignore"):  # judged below, not warned about
+        n2 = x * x + y * y + z * z
     c = concrete(n2)
     if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
         # The squared length under- or overflowed, or a vector is zero or not finite. A

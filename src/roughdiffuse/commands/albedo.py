@@ -177,19 +177,19 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write
 
     th = np.radians(np.arange(0.0, 89.75, 0.5))
-    fig = energy.plot_albedo(groups, th)
+    flat = {f"{g}\0{k}": m for g, models in groups.items() for k, m in models.items()}
+    computed = energy.albedo_curves(flat, th, progress=True)  # once, with a progress bar
+    per_group = {
+        g: {k: computed[f"{g}\0{k}"] for k in models} for g, models in groups.items()
+    }
+    fig = energy.plot_albedo(groups, th, curves=per_group)
     atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=110))
     print(f"wrote {out}")
     if args.table:
-        curves = {
-            f"{g}, {k}": v
-            for g, models in groups.items()
-            for k, v in energy.albedo_curves(models, th).items()
-        }
-        energy.write_albedo_csv(args.table, th, curves)
+        table = {f"{g}, {k}": v for g, curves in per_group.items() for k, v in curves.items()}
+        energy.write_albedo_csv(args.table, th, table)
         print(f"wrote {args.table}")
-    for g, models in groups.items():
-        curves = energy.albedo_curves(models, th)
+    for g, curves in per_group.items():
         lo = min(float(a.min()) for a in curves.values())
         hi = max(float(a.max()) for a in curves.values())
         print(f"{g}: albedo between {lo:.4f} and {hi:.4f} over θr in [0°, 89.5°]")

@@ -253,20 +253,27 @@ def run(args: argparse.Namespace) -> int:
         if args.compare:
             comparison = compare_models(data, **options)
             results = list(comparison.results)
-            print("models ranked by BIC (lower is better):")
-            print(comparison.table())
-            print()
-            print(results[0].table())
         else:
             c = CANDIDATES[args.model]
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
-            print(results[0].table())
     for r in results:
         require_finite(
             [r.rms, r.aic, r.bic, *np.ravel(r.values)],
             f"the fit of {r.model_name} (RMS, AIC, BIC, parameters)",
             args.data,
         )
+    from ..fit.sanity import fit_problem
+
+    problem = fit_problem(
+        results[0].rms_relative, results[0].warnings, f"the fit of {results[0].model_name}"
+    )
+    if problem is not None:  # never a quiet result: refused before anything is printed
+        raise UsageError(problem)
+    if comparison is not None:
+        print("models ranked by BIC (lower is better):")
+        print(comparison.table())
+        print()
+    print(results[0].table())
     if caught and not args.compare:
         print("warning: the data cannot identify every parameter (see the table)")
     if args.report:

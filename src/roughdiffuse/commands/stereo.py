@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import math
+import sys
 from pathlib import Path
 
 from . import UsageError
@@ -138,6 +140,11 @@ def run(args: argparse.Namespace) -> int:
     res = stereo.rough(
         data, model, per_pixel=args.per_pixel, start=lam, shadow=args.shadow, progress=True
     )
+    from ..fit.sanity import fit_problem
+
+    problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
+    if problem is not None:  # never a quiet result
+        raise UsageError(problem)
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
@@ -151,6 +158,13 @@ def run(args: argparse.Namespace) -> int:
     if r["per_pixel"]:
         line = f"{r['name']}: per pixel, median {r['median']:.4g}"
     else:
-        line = f"{r['name']} = {r['value']:.4g} ± {r['standard_error']:.2g}"
+        se = r["standard_error"]
+        line = f"{r['name']} = {r['value']:.4g} ± {se:.2g}"
+        if not math.isfinite(se):
+            print(
+                f"warning: the images cannot determine {r['name']} (its standard error is "
+                "infinite, e.g. every image lit alike): the value is not a measurement",
+                file=sys.stderr,
+            )
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
