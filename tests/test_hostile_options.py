@@ -44,6 +44,7 @@ def run(argv: list[str]) -> int:
         (["simulate", "--table", "{tmp}/t.npz", "--theta-i", "10"], ("--table", "--theta-i")),
         (["simulate", "--step", "5"], ("--step", "--table")),
         (["simulate", "--sigma", "20,20"], ("--sigma", "20")),
+        (["simulate", "--table", "{tmp}/t.npz", "--step", "0.001"], ("--step 0.001", "memory")),
         (["simulate", "--table", "{tmp}/t.npy", "--sigma", "20"], ("--table", ".npz")),
         (["stereo", "--demo", "--lights", "l.json", "-o", "{tmp}/o"], ("--demo", "--lights")),
         (["figures", "--only", "", "-o", "{tmp}/f"], ("--only",)),

@@ -350,3 +350,32 @@ def test_tiny_and_huge_direction_vectors_are_normalised_before_judging():
 )
 def test_a_bound_typed_in_degrees_is_inside_its_range(argv, capsys):
     assert run(argv) == 0, capsys.readouterr().err
+
+
+def test_kernel_cache_under_a_folder_others_can_write_is_not_used(tmp_path, monkeypatch):
+    from roughdiffuse import fastpath
+
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    os.chmod(shared, 0o777)  # writable by every user, not sticky: a parent others control
+    monkeypatch.setenv("ROUGHDIFFUSE_CACHE_DIR", str(shared / "me" / "cache"))
+    (shared / "me").mkdir()
+    assert fastpath.private_cache_dir() is None
+    os.chmod(shared, 0o1777)  # sticky, like /tmp: others cannot rename what is not theirs
+    assert fastpath.private_cache_dir() == shared / "me" / "cache"
+
+
+def test_albedo_computes_each_curve_once(tmp_path, monkeypatch):
+    from roughdiffuse import energy
+
+    calls = []
+    real = energy.albedo_curves
+
+    def counted(models, th, progress=False):
+        calls.extend(models)
+        return real(models, th, progress)
+
+    monkeypatch.setattr(energy, "albedo_curves", counted)
+    argv = ["albedo", "--model", "lambert,oren-nayar", "--sigma", "0,30"]
+    assert run([*argv, "-o", str(tmp_path / "a.png"), "--table", str(tmp_path / "a.csv")]) == 0
+    assert len(calls) == 3  # lambert once, oren-nayar at two σ: each computed once

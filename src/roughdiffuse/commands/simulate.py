@@ -176,6 +176,12 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         ang = _grid(args.step, 0.0, 90.0, "step")
         dphi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+        cells = float(ang.size) ** 2 * dphi.size * len(args.sigma)
+        fits_in_memory(  # the values and their K-differences, float64, assembled at the end
+            16.0 * cells,
+            f"--step {args.step:g} --delta-phi-step {args.delta_phi_step:g} with "
+            f"{len(args.sigma)} σ ({cells:.3g} table values, 16 bytes each)",
+        )
         # checked before any chunk is computed; an existing table is resumed or reused
         output_file(args.table, (".npz",), option="--table", overwrite=True)
         chunks = f"{args.table}.chunks"
