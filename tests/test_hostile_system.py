@@ -309,10 +309,7 @@ def test_stalled_upload_message_says_the_enforced_time(monkeypatch):
     [("false", False), ("0", False), ("", False), ("TRUE", True), ("1", True)],
 )
 def test_boolean_environment_flags_parse_one_way(value, traceback, monkeypatch, capsys):
-    from roughdiffuse import commands
-
     monkeypatch.setenv("ROUGHDIFFUSE_DEBUG", value)
-    monkeypatch.setattr(commands, "COMMANDS", commands.COMMANDS)
     assert run(["eval", "--model", "no-such"]) == 2
     assert ("Traceback" in capsys.readouterr().err) is traceback
 

@@ -157,6 +157,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 128 + 13
     except Exception as exc:  # noqa: BLE001 - sorted into user errors and bugs
         return report_error(exc, prog, debug)
+    finally:
+        from .io.atomic import allow_replacing
+
+        allow_replacing(None)  # the outputs this command kept are its own business only
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -127,9 +127,13 @@ def keep_existing(path: PathLike) -> None:
     _keep.add(os.path.abspath(path))
 
 
-def allow_replacing(path: PathLike) -> None:
-    """Undo :func:`keep_existing` for ``path`` (a command run with ``--force``)."""
-    _keep.discard(os.path.abspath(path))
+def allow_replacing(path: PathLike | None = None) -> None:
+    """Undo :func:`keep_existing` for ``path`` (a command run with ``--force``), or for every
+    path (``None``: the command line does this when a command ends)."""
+    if path is None:
+        _keep.clear()
+    else:
+        _keep.discard(os.path.abspath(path))
 
 
 def check_output_path(path: PathLike, what: str = "output file") -> Path:
