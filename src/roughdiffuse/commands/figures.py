@@ -34,13 +34,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..figures import FIGURES, figure_matches, kept_figures, make_figures
     from . import UsageError
-    from ._checks import output_folder
 
-    # checked before the folder is created or anything drawn
-    if args.only is not None and not any(o.strip() for o in args.only):
+    # checked before the folder is created or anything drawn (or imported)
+    if args.only is not None and not all(o.strip() for o in args.only):
         raise UsageError("--only needs figure names or numbers (got an empty name)")
+    from ..figures import FIGURES, figure_matches, kept_figures, make_figures
+    from ._checks import output_folder
     if args.only:
         unknown = [o for o in args.only if not any(figure_matches(f.name, o) for f in FIGURES)]
         if unknown:
