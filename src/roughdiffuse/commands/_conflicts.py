@@ -70,7 +70,11 @@ _SCENE = (
 RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
     "render": (
         *_SCENE,
-        AppliesOnly(("--bits", "--alpha", "--exposure"), _suffix("output", ".png"), "a .png -o"),
+        AppliesOnly(
+            ("--bits", "--alpha", "--exposure"),
+            _suffix("output", ".png"),
+            "a .png output (-o FILE.png)",
+        ),
     ),
     "plot": _SCENE,
     "fit": (
