@@ -335,9 +335,15 @@ def _finish(tmp: Path, path: Path) -> None:
     _commit(tmp, path, exclusive)
 
 
+def _move(src: Path, dst: Path) -> None:
+    """Rename ``src`` to ``dst`` (a file over a file, or a folder onto a free name or an empty
+    folder): the one rename of the package, here beside the writers that rely on it."""
+    os.replace(src, dst)
+
+
 def _commit(tmp: Path, path: Path, exclusive: bool) -> None:
     if not exclusive:
-        os.replace(tmp, path)
+        _move(tmp, path)
         return
     try:
         os.link(tmp, path)  # fails if path exists, however it came to exist
@@ -353,7 +359,7 @@ def _commit(tmp: Path, path: Path, exclusive: bool) -> None:
             raise WriteError(
                 errno.EEXIST, "it exists; use --force to overwrite it", str(path)
             ) from None
-        os.replace(tmp, path)
+        _move(tmp, path)
         return
     tmp.unlink()
 

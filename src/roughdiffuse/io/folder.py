@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import secrets
 import shutil
 from collections.abc import Iterator
 from pathlib import Path
@@ -37,6 +36,7 @@ from pathlib import Path
 from .atomic import (
     WriteError,
     _guard,
+    _move,
     _temporary_name,
     _write_error,
     check_output_path,
@@ -121,13 +121,13 @@ def _swap(tmp: Path, target: Path, replace: bool, marker: str | None) -> None:
     check_output_folder(target, replace=replace, marker=marker)  # again: it may have changed
     old = None
     if target.is_dir():
-        old = target.with_name(f"{tmp.name}-old{secrets.token_hex(2)}")
-        os.rename(target, old)
+        old = _temporary_name(target)  # a killed swap leaves it for the next run to remove
+        _move(target, old)
     try:
-        os.rename(tmp, target)  # onto a name that is free (or an empty folder) only
+        _move(tmp, target)  # onto a name that is free (or an empty folder) only
     except OSError as exc:
         if old is not None:
-            os.rename(old, target)
+            _move(old, target)
         raise WriteError(
             exc.errno or 0, f"could not move the results into place ({exc.strerror})", str(target)
         ) from exc
