@@ -233,7 +233,9 @@ def run(args: argparse.Namespace) -> int:
     if args.model not in CANDIDATES:
         raise UsageError(f"unknown model {args.model!r}; choose one of: {', '.join(CANDIDATES)}")
     if args.report:  # checked before the data is read or fitted; kept unless --force
-        output_file(args.report, (".html", ".htm"), force=args.force, option="--report")
+        if not args.report.lower().endswith((".html", ".htm")):
+            raise UsageError(f"--report must name an .html file (got {args.report!r})")
+        output_file(args.report, force=args.force, option="--report")
     data = _load(args)
     _check_values(data.value, args.data)
     print(f"data: {data.source}: {data.size} samples ({data.kind})")
