@@ -183,7 +183,9 @@ def run(args: argparse.Namespace) -> int:
             f"{len(args.sigma)} σ ({cells:.3g} table values, 16 bytes each)",
         )
         # checked before any chunk is computed; an existing table is resumed or reused
-        output_file(args.table, (".npz",), option="--table", overwrite=True)
+        output_file(args.table, option="--table", overwrite=True)
+        if not args.table.lower().endswith(".npz"):  # an .npz archive under another name
+            raise UsageError(f"--table must name an .npz file (got {args.table!r})")
         chunks = f"{args.table}.chunks"
         if os.path.exists(chunks) and not os.path.isdir(chunks):
             raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")
