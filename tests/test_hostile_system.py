@@ -350,16 +350,16 @@ def test_a_bound_typed_in_degrees_is_inside_its_range(argv, capsys):
 
 
 def test_kernel_cache_under_a_folder_others_can_write_is_not_used(tmp_path, monkeypatch):
-    from roughdiffuse import fastpath
+    from roughdiffuse.engine import cache
 
     shared = tmp_path / "shared"
     shared.mkdir()
     os.chmod(shared, 0o777)  # writable by every user, not sticky: a parent others control
     monkeypatch.setenv("ROUGHDIFFUSE_CACHE_DIR", str(shared / "me" / "cache"))
     (shared / "me").mkdir()
-    assert fastpath.private_cache_dir() is None
+    assert cache.private_cache_dir() is None
     os.chmod(shared, 0o1777)  # sticky, like /tmp: others cannot rename what is not theirs
-    assert fastpath.private_cache_dir() == shared / "me" / "cache"
+    assert cache.private_cache_dir() == shared / "me" / "cache"
 
 
 def test_albedo_computes_each_curve_once(tmp_path, monkeypatch):
