@@ -63,6 +63,8 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
         rd.Hapke(a, 0.8, 0.1, -0.3, 0.35),
         rd.Hapke(a, 0.0, 0.0, 0.2, 0.0),
         rd.Minnaert(a, 0.7),
+        rd.Coated(rd.OrenNayar(a, 0.3, "full"), 1.5),
+        rd.Coated(rd.Lambert(a), 1.5, 0.3, "beckmann", 0.2),
     ]
 
 

@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 import pytest
-from mitsuba_setup import mitsuba_variant
 
 import roughdiffuse as rd
+from mitsuba_setup import mitsuba_variant
 from roughdiffuse.models.microfacet import fresnel_dielectric
 from roughdiffuse.simulate import layered
 

@@ -232,6 +232,7 @@ def _register_builtins() -> None:
         Burley2015,
         BurleyRenormalized,
         Chan,
+        Coated,
         Fujii,
         Hammon,
         Hapke,
@@ -269,6 +270,8 @@ def _register_builtins() -> None:
         SmithDiffuse,
         # issue 15: the exact V-cavity surface, tabulated from the solver
         VCavity,
+        # a dielectric coat over a rough-diffuse base (closed form; truth: simulate.layered)
+        Coated,
     )
     for cls in builtins:
         register_model(cls, source="roughdiffuse")

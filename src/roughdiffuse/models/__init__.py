@@ -3,6 +3,7 @@
 from .base import MODEL_CLASSES, BSDFSample, Model, register_pytree
 from .burley import Burley, Burley2015, BurleyRenormalized
 from .chan import Chan
+from .coated import Coated
 from .declaration import Param
 from .eon import EON
 from .fujii import Fujii, fon_albedo, fon_average_albedo
@@ -34,6 +35,7 @@ __all__ = [
     "LommelSeeliger",
     "LunarLambert",
     "Minnaert",
+    "Coated",
     "Mix",
     "Model",
     "OrenNayar",

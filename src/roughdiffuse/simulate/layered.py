@@ -235,7 +235,6 @@ def _walk(base: Model, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float,
           tau: np.ndarray, max_k: int, rng) -> tuple[np.ndarray, int]:
     """Per-path sums of the next-event scores (P, C) for paths with directions wi, wo (P, 3);
     and the number of path segments (arrivals on the base) traced."""
-    n = wi.shape[0]
     d, beta = _enter(wi, eta, alpha, dist, rng)
     beta = beta[:, None] * np.exp(-tau[None, :] / np.abs(d[:, 2:3]))
     # the exit (next-event) direction for each path is redrawn at every vertex when rough
