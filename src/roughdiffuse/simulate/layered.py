@@ -231,6 +231,26 @@ def _as_channels(x: Any, n: int) -> np.ndarray:
     return x[:, None] if x.ndim == 1 else x.reshape(n, -1)
 
 
+def _base_f(base: Model, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The base's BRDF for unit directions a, b (P, 3) above the horizon (its compiled
+    ``brdf_cosines``: the cosines are known here)."""
+    return np.asarray(base.brdf_cosines(a[:, 2], b[:, 2], np.sum(a * b, axis=-1)))
+
+
+def _base_sample(base: Model, strategy: Any, params: dict, u: np.ndarray, wo: np.ndarray):
+    """A direction from the base's own sampler for light leaving towards ``wo`` (by
+    reciprocity, where light from ``wo`` goes) and its weight f cos / pdf (P, C); 0 for an
+    invalid sample (pdf 0 or below the horizon), as :func:`~roughdiffuse.models.sampling.
+    sample_model` gives."""
+    x, y, z, pdf = strategy.sample(np, u[0], u[1], wo[:, 0], wo[:, 1], wo[:, 2], params)
+    w = np.stack([x, y, np.maximum(z, 1e-12)], axis=-1)
+    w = w / np.linalg.norm(w, axis=-1, keepdims=True)
+    valid = (pdf > 0) & (z > 0)
+    f = _as_channels(_base_f(base, w, wo), w.shape[0])
+    ratio = np.where(valid, w[:, 2] / np.where(valid, pdf, 1.0), 0.0)
+    return w, f * ratio[:, None]
+
+
 def _walk(base: Model, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, dist: str,
           tau: np.ndarray, max_k: int, rng) -> tuple[np.ndarray, int]:
     """Per-path sums of the next-event scores (P, C) for paths with directions wi, wo (P, 3);
@@ -239,6 +259,8 @@ def _walk(base: Model, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float,
     beta = beta[:, None] * np.exp(-tau[None, :] / np.abs(d[:, 2:3]))
     # the exit (next-event) direction for each path is redrawn at every vertex when rough
     score = np.zeros_like(beta)
+    strategy = base.sampling_strategy()
+    params = base.parameter_arrays(np, np.float64)
     alive = np.flatnonzero(np.any(beta > BETA_CUT, axis=1))
     segments = 0
     inv_eta2 = 1.0 / (eta * eta)
@@ -251,15 +273,11 @@ def _walk(base: Model, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float,
         # next event: ω' (up, inside) for the view ωo
         t, w_exit = _enter(o, eta, alpha, dist, rng)
         u = -t
-        f = _as_channels(base.brdf(up_in, u), alive.size)
+        f = _as_channels(_base_f(base, up_in, u), alive.size)
         att = np.exp(-tau[None, :] / u[:, 2:3])
         score[alive] += b * (w_exit * inv_eta2)[:, None] * f * att
-        # continue: sample the base, go up, reflect inside, come down
-        s = base.sample(rng.random((alive.size, 2)), up_in)
-        wgt = _as_channels(s.weight, alive.size)
-        w = np.asarray(s.wi, dtype=np.float64)
-        w[:, 2] = np.maximum(w[:, 2], 1e-12)
-        w = w / np.linalg.norm(w, axis=-1, keepdims=True)
+        # continue: sample the base (its own strategy), go up, reflect inside, come down
+        w, wgt = _base_sample(base, strategy, params, rng.random((2, alive.size)), up_in)
         r, refl = _reflect_inside(w, eta, alpha, dist, rng)
         b = b * wgt * refl[:, None] * np.exp(-tau[None, :] / w[:, 2:3])
         b = b * np.exp(-tau[None, :] / np.abs(r[:, 2:3]))
