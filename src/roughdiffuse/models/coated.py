@@ -51,6 +51,7 @@ from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
 from .microfacet import fresnel_dielectric, slope_distribution
+from .lambert import Lambert
 from .oren_nayar import SIGMA_MAX, OrenNayar
 from .sampling import Strategy
 from .torrance_sparrow import ETA_MAX
@@ -431,19 +432,21 @@ class Coated(Model):
         return xp.where(above, val, xp.zeros_like(val))
 
     def directional_albedo(self, wo: Array) -> Array:
-        """∫ f cos θi dωi: the coat's rough reflection by its half-vector rule
-        (:meth:`TorranceSparrow.directional_albedo`'s substitution), the rest by the
-        default quadrature over the hemisphere (the smooth coat's mirror reflection, a delta,
-        is not included, as it is not in the BRDF)."""
-        body = Model.directional_albedo(
-            Coated(self.base, self.eta, 0.0, self.distribution, self.absorption), wo)
-        alpha = float(np.max(np.asarray(self.roughness)))
-        if alpha == 0.0:
-            return body
-        spec = _coat_albedo(self, wo)
+        """∫ f cos θi dωi: the default quadrature over the hemisphere, with the rough coat's
+        own reflection (a narrow lobe the rule may miss) taken out of it and integrated by
+        its half-vector rule instead (:meth:`TorranceSparrow.directional_albedo`'s
+        substitution). The coat's reflection alone is this coat over a black base. The
+        smooth coat's mirror reflection, a delta, is not included, as it is not in the
+        BRDF."""
+        total = Model.directional_albedo(self, wo)
+        if float(np.max(np.asarray(self.roughness))) == 0.0:
+            return total
+        black = Coated(Lambert(0.0), self.eta, self.roughness, self.distribution,
+                       self.absorption)
+        correction = _coat_albedo(self, wo) - np.asarray(Model.directional_albedo(black, wo))
         if self.channels:
-            spec = spec[..., None]
-        return body + spec
+            correction = correction[..., None]
+        return total + correction
 
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
