@@ -50,8 +50,8 @@ from .._array import Array, asarray, clip, maximum, safe_div, safe_sqrt
 from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
-from .microfacet import fresnel_dielectric, slope_distribution
 from .lambert import Lambert
+from .microfacet import fresnel_dielectric, slope_distribution
 from .oren_nayar import SIGMA_MAX, OrenNayar
 from .sampling import Strategy
 from .torrance_sparrow import ETA_MAX
