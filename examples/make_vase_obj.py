@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from roughdiffuse.io.atomic import atomic_write
 from roughdiffuse.render import clay_vase_profile
-from roughdiffuse.render.imagefile import atomic_write
 
 HEIGHTS, AROUND = 48, 64
 

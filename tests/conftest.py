@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
+from roughdiffuse import registry
 
 
 def random_hemisphere(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -36,36 +37,19 @@ def midpoint_albedo(model: rd.Model, mu_o: float, n_mu: int = 600, n_phi: int = 
 
 
 def all_models(rgb: bool = False) -> list[rd.Model]:
-    """One instance of every model (several parameter sets), for interface-wide tests."""
-    a = np.array([0.9, 0.5, 0.2]) if rgb else 0.7
-    return [
-        rd.Lambert(a),
-        rd.OrenNayar(a, 0.0),
-        rd.OrenNayar(a, 0.4),
-        rd.OrenNayar(a, 0.4, "full"),
-        rd.OrenNayar(a, np.pi / 2, "full"),
-        rd.Fujii(a, 0.6),
-        rd.EON(a, 0.0),
-        rd.EON(a, 1.0),
-        rd.TorranceSparrow(1.5, 0.3),
-        rd.TorranceSparrow(1.5, 0.3, "beckmann"),
-        rd.TorranceSparrow(0.7, 0.2),
-        rd.LommelSeeliger(a),
-        rd.LunarLambert(a, 0.6),
-        rd.Mix([(0.9, rd.OrenNayar(a, 0.3)), (0.1, rd.TorranceSparrow(1.5, 0.2))]),
-        rd.Burley(a, 0.5),
-        rd.BurleyRenormalized(a, 0.7),
-        rd.Burley2015(a, 0.3),
-        rd.Hammon(a, 0.5),
-        rd.Chan(a, 0.4),
-        rd.LambertSphere(a, "full"),
-        rd.LambertSphere(a, "fast"),
-        rd.Hapke(a, 0.8, 0.1, -0.3, 0.35),
-        rd.Hapke(a, 0.0, 0.0, 0.2, 0.0),
-        rd.Minnaert(a, 0.7),
-        rd.Coated(rd.OrenNayar(a, 0.3, "full"), 1.5),
-        rd.Coated(rd.Lambert(a), 1.5, 0.3, "beckmann", 0.2),
-    ]
+    """One instance per test point of every closed-form model of the package, for
+    interface-wide tests: each registry id's declared ``example`` point and its class's
+    ``test_points`` (:meth:`roughdiffuse.registry.Entry.test_points`), with every colour
+    parameter set to 0.7 (or three channels with ``rgb``)."""
+    a = [0.9, 0.5, 0.2] if rgb else 0.7
+    out = []
+    for entry in registry.entries():
+        if entry.source != "roughdiffuse" or not entry.cls.closed_form:
+            continue
+        channels = {p.name for p in entry.parameters if p.channels}
+        for point in entry.test_points():
+            out.append(entry.create(**{**point, **dict.fromkeys(channels, a)}))
+    return out
 
 
 @pytest.fixture

@@ -40,7 +40,7 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
     for r in data["brdf"]:
         errors = r["max_rel_error_vs_reference"]
         assert errors["default"] < 1e-4  # model.brdf: the reference path's values
-        if shutil.which("gcc"):
+        if shutil.which("gcc") and "c" in errors:  # (a model with no C kernel has none)
             # the C transcription of the same formula (float32: rounding of a few dozen
             # operations, amplified near the kinks; float64: the same, 2^29 times smaller)
             assert errors["c"] < (2e-3 if r["dtype"] == "float32" else 1e-9)
@@ -52,7 +52,7 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
         errors = r["max_rel_error_vs_reference"]
         assert errors["fast"] < 1e-4  # the fast path computes the reference's values
         assert errors["numpy"] == 0.0
-        if shutil.which("gcc"):
+        if shutil.which("gcc") and "c" in errors:
             assert errors["c"] < 2e-3  # the C transcription is the same formula
             assert r["fast_over_c"] > 0
         assert r["fast"]["runs"] == 1

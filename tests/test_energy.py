@@ -7,7 +7,7 @@ import pytest
 
 import roughdiffuse as rd
 from conftest import midpoint_albedo
-from roughdiffuse.models._quadrature import hemisphere_albedo
+from roughdiffuse.models._hemisphere_albedo import hemisphere_albedo
 
 
 def _wo(mu):

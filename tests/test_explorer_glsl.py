@@ -33,45 +33,32 @@ import pytest
 
 from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
 from roughdiffuse.explorer import model_from_params
+from roughdiffuse.explorer.params import flat_key, glsl_entries
 
 RTOL = 1e-4
 ATOL = 1e-7
 
-RGB = [0.9, 0.5, 0.05]
-PARAMETER_SETS: dict[str, list[dict]] = {
-    "lambert": [{"albedo": RGB}, {"albedo": [0.0, 1.0, 0.3]}],
-    "oren-nayar": [{"albedo": RGB, "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)],
-    "oren-nayar-full": [
-        {"albedo": [1.0, 0.6, 0.1], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)
-    ],
-    "fujii": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)],
-    "eon": [{"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)],
-    "torrance-sparrow": [
-        {"sigma": s, "eta": eta, "distribution": d}
-        for d in ("gaussian", "beckmann")
-        for s in (0.0, 0.03, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
-        for eta in (1.5, 0.75, 2.5)
-    ],
-    "mix": [
-        {"albedo": RGB, "sigma": 0.3, "weight": 0.3, "eta": 1.5},
-        {"albedo": [0.2, 0.4, 0.6], "sigma": 0.8, "weight": 0.7, "eta": 2.0},
-        {"albedo": RGB, "sigma": 0.1, "weight": 0.1, "eta": 1.3, "distribution": "beckmann"},
-    ],
-    "lommel-seeliger": [{"albedo": RGB}],
-    "lunar-lambert": [{"albedo": RGB, "limb": L} for L in (0.0, 0.6, 1.0)],
-    "burley": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
-    "frostbite": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
-    "burley-2015": [{"albedo": RGB, "roughness": r} for r in (0.0, 0.5, 1.0)],
-    "hammon": [{"albedo": RGB, "alpha": a} for a in (0.0, 0.3, 1.0)],
-    "chan": [{"albedo": RGB, "alpha": a} for a in (0.0, 0.01, 0.3, 1.0)],
-    "lambert-sphere": [{"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast")],
-    "hapke": [
-        {"albedo": RGB, "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
-        {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
-        {"albedo": RGB, "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
-    ],
-    "minnaert": [{"albedo": RGB, "k": k} for k in (0.0, 0.5, 1.0, 1.7)],
-}
+
+
+def _parameter_sets() -> dict[str, list[dict]]:
+    """Registry id -> the flat records (``model_from_params``'s input) the GLSL is checked at:
+    each model class's ``glsl_test_points`` (else its example and test points), colour
+    parameters as three channels, parameter names as the GLSL's keys."""
+    out = {}
+    for entry in glsl_entries():
+        sets = []
+        for point in entry.glsl_test_points():
+            record = {}
+            for name, value in point.items():
+                if entry.param(name).channels and np.ndim(value) == 0:
+                    value = [value] * 3
+                record[flat_key(entry, name)] = value
+            sets.append(record)
+        out[entry.id] = sets
+    return out
+
+
+PARAMETER_SETS = _parameter_sets()
 
 
 def _geometries() -> np.ndarray:
@@ -133,7 +120,7 @@ def test_glsl_matches_python(page, model):
         assert np.all(np.isfinite(py)), f"{params}: Python model not finite"
         rtol = 3e-4 if model == "lambert-sphere" else RTOL
         bad = ~(np.abs(glsl - py) <= rtol * np.abs(py) + ATOL)
-        if model == "hapke" and params["theta_bar"] > 0:
+        if model == "hapke" and params.get("theta_bar", 0.0) > 0:
             bad &= ~_near_principal_plane(c64)[:, None]
         for k in np.flatnonzero(bad.any(axis=1))[:3]:
             failures.append(

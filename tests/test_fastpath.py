@@ -19,7 +19,7 @@ import pytest
 import roughdiffuse as rd
 from conftest import all_models
 from roughdiffuse import fastpath
-from roughdiffuse._trace import Graph, TraceError, TraceNamespace, scalar_source
+from roughdiffuse.engine.trace import Graph, TraceError, TraceNamespace, scalar_source
 from roughdiffuse.models.base import Model, register_pytree
 
 
@@ -326,7 +326,7 @@ def test_python_branch_on_values_is_refused():
 def _compiled(fn_name: str, arity: int, dtype: Any = np.float32):
     import numba
 
-    from roughdiffuse._numba_math import exp2i, exp2i_f64
+    from roughdiffuse.engine.numba_math import exp2i, exp2i_f64
 
     g = Graph(dtype)
     xp = TraceNamespace(g)
@@ -406,7 +406,7 @@ def _stride3_loop(hint: bool) -> Any:
     """A loop shaped like the generated kernels: (N, 3) rows read in place, float32 (n·l)."""
     import numba
 
-    from roughdiffuse._numba_math import tuned_vector_width
+    from roughdiffuse.engine.numba_math import tuned_vector_width
 
     def f(n, l, out):  # noqa: E741 - the kernels' names
         if hint:
@@ -425,7 +425,7 @@ def _prefers_256_bit_vectors_with_avx512() -> str | None:
     import numba
     from llvmlite import binding
 
-    from roughdiffuse._numba_math import tuned_vector_width
+    from roughdiffuse.engine.numba_math import tuned_vector_width
 
     cpu = binding.get_host_cpu_name()
     if "avx512f" not in binding.get_host_cpu_features().flatten():
@@ -484,7 +484,7 @@ def test_generated_kernels_ask_for_the_preferred_vector_width():
 @pytest.fixture
 def dispatch_now(monkeypatch):
     """Compile on the first large call (not after 2^20 rows), and count compiled calls."""
-    from roughdiffuse import _dispatch
+    from roughdiffuse.engine import dispatch as _dispatch
 
     monkeypatch.setattr(_dispatch, "BUILD_ROWS", 0)
     calls = []
@@ -543,7 +543,7 @@ def test_default_brdf_and_brdf_cosines_run_compiled_with_the_reference_values(
 
 
 def _min_rows() -> int:
-    from roughdiffuse import _dispatch
+    from roughdiffuse.engine import dispatch as _dispatch
 
     return _dispatch.MIN_ROWS
 

@@ -37,7 +37,7 @@ def test_erfinv_and_erfcx_against_scipy():
     from scipy.special import erfcx as sp_erfcx
     from scipy.special import erfinv as sp_erfinv
 
-    from roughdiffuse._numba_math import erfcx, erfinv
+    from roughdiffuse.engine.numba_math import erfcx, erfinv
 
     tail = 1.0 - np.logspace(-16, -1, 200)
     y = np.concatenate([np.linspace(-0.999, 0.999, 4001), tail, -tail, np.logspace(-300, -1, 50)])
@@ -52,7 +52,7 @@ def test_erfinv_and_erfcx_against_scipy():
 
 def test_counter_based_uniforms():
     """Mean 1/2 and variance 1/12 of the draws, uncorrelated along a path and across paths."""
-    from roughdiffuse._numba_random import path_key, uniform
+    from roughdiffuse.engine.numba_random import path_key, uniform
 
     @numba.njit
     def draws(seed, paths, per_path):

@@ -149,7 +149,7 @@ def _speed_rows(entry: Any, results: list[dict[str, Any]]) -> list[str]:
 def _scores(docs: Path) -> dict[str, Any]:
     """The accuracy report's scoreboard as committed (``docs/accuracy/model_scores.json``,
     written by ``roughdiffuse simulate --report``): the build reads it, never recomputes it."""
-    from roughdiffuse.simulate.report_models import SCORES_FILE
+    from roughdiffuse.accuracy.model_scores import SCORES_FILE
 
     try:
         return json.loads((docs / "accuracy" / SCORES_FILE).read_text(encoding="utf-8"))
@@ -178,7 +178,7 @@ def _accuracy_lines(entry: Any, scores: dict[str, Any]) -> list[str]:
         + ", ".join(f"{t:g}" for t in settings.get("theta_deg", []))
         + "°, Δφ ∈ " + ", ".join(f"{t:g}" for t in settings.get("delta_phi_deg", []))
         + "°), as measured by the accuracy report (`roughdiffuse simulate --report`, "
-        "{mod}`roughdiffuse.simulate.report_models`; numbers from "
+        "{mod}`roughdiffuse.accuracy.model_scores`; numbers from "
         "`docs/accuracy/model_scores.json`). The V-cavity surface has the σ of the same mean "
         "square slope as the Beckmann surface of α ("
         + ", ".join(f"α = {a} → σ = {v:.3f}" for a, v in sig.items())
@@ -316,7 +316,7 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
     if speed:
         lines += [
             "Million evaluations per second from `bench/results.json` "
-            "({doc}`/benchmarks`; `fast` is {func}`roughdiffuse.fastpath.evaluate`, `C` the "
+            "({doc}`/benchmarks`; `fast` is {func}`roughdiffuse.engine.fastpath.evaluate`, `C` the "
             "hand-written reference kernel, `NumPy` `model.radiance`):",
             "",
             "| N | fast | C | NumPy | fast/NumPy |",

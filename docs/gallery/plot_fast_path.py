@@ -7,7 +7,7 @@ the model's own formula — the values are those of the array-API code, to float
 Here the full Oren–Nayar BRDF is evaluated for one light and a million random viewing
 directions, once on the compiled path and once on the reference path
 (``rd.use_fastpath(False)``); the two agree to float32 rounding
-(:func:`roughdiffuse.fastpath.brdf` is the explicit form, with control of the output buffer,
+(:func:`roughdiffuse.engine.fastpath.brdf` is the explicit form, with control of the output buffer,
 chunks and threads). The timings printed are those
 of this build, on whatever machine built it (the benchmark suite, ``bench/RESULTS.md``,
 measures against a C reference).

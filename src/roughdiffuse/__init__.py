@@ -11,41 +11,20 @@ against the array API standard, so they run on NumPy, JAX and PyTorch arrays.
 
 from typing import Any
 
-from . import _lazy, roughness
-from ._dispatch import fastpath_enabled, use_fastpath
-from .frames import spherical_to_vector, vector_to_spherical
-from .models import (
-    EON,
-    BSDFSample,
-    Burley,
-    Burley2015,
-    BurleyRenormalized,
-    Chan,
-    Coated,
-    Fujii,
-    Hammon,
-    Hapke,
-    Lambert,
-    LambertSphere,
-    LommelSeeliger,
-    LunarLambert,
-    Minnaert,
-    Mix,
-    Model,
-    OrenNayar,
-    SmithDiffuse,
-    TorranceSparrow,
-    VCavity,
-    oren_nayar,
-)
-from .models.declaration import Param
-from .registry import register_model
+from . import _lazy
+from . import roughness as roughness
+from .engine.dispatch import fastpath_enabled as fastpath_enabled
+from .engine.dispatch import use_fastpath as use_fastpath
+from .frames import spherical_to_vector as spherical_to_vector
+from .frames import vector_to_spherical as vector_to_spherical
+from .registry import register_model as register_model
 
 SUBMODULES = (
+    "accuracy",
     "bench",
     "energy",
+    "engine",
     "explorer",
-    "fastpath",
     "figures",
     "fit",
     "integrations",
@@ -57,51 +36,54 @@ SUBMODULES = (
 roughdiffuse`` stays light (NumPy and the models), JAX, SciPy, matplotlib, Numba and Mitsuba
 are imported by the code that needs them."""
 
-_submodule, __dir__ = _lazy.attach(__name__, SUBMODULES)
+_submodule, _dir = _lazy.attach(__name__, SUBMODULES)
+
+
+def _models() -> Any:
+    from . import models
+
+    return models
+
+
+def _from_models() -> list[str]:
+    """The names of :mod:`roughdiffuse.models` served here: its models, ``Model``, ``Param``,
+    ``BSDFSample`` and helper functions (not its registry plumbing)."""
+    return [n for n in _models().__all__ if n not in ("builtin_classes", "register_pytree")]
 
 
 def __getattr__(name: str) -> Any:
-    if name == "__version__":  # importlib.metadata costs about 0.1 s: read on first use
-        from importlib.metadata import PackageNotFoundError, version
+    if name == "__version__":  # importlib.metadata is imported on first use
+        from ._version import version
 
-        try:
-            value = version("roughdiffuse")
-        except PackageNotFoundError:  # pragma: no cover - running from a source tree
-            value = "0.0.0+unknown"
-        globals()["__version__"] = value
+        globals()["__version__"] = version()
+        return globals()["__version__"]
+    if name == "__all__":
+        return sorted(_OWN + _from_models())
+    if name in SUBMODULES:
+        return _submodule(name)
+    if name == "fastpath":  # the compiled engine's public face
+        from .engine import fastpath
+
+        return fastpath
+    if name in _from_models():
+        value = getattr(_models(), name)
+        globals()[name] = value
         return value
     return _submodule(name)
 
 
-__all__ = [
-    "EON",
-    "BSDFSample",
-    "Burley",
-    "Burley2015",
-    "BurleyRenormalized",
-    "Chan",
-    "Fujii",
-    "Hammon",
-    "Hapke",
-    "Lambert",
-    "LambertSphere",
-    "LommelSeeliger",
-    "LunarLambert",
-    "Minnaert",
-    "Mix",
-    "Coated",
-    "Model",
-    "OrenNayar",
-    "Param",
-    "SmithDiffuse",
-    "TorranceSparrow",
-    "VCavity",
+def __dir__() -> list[str]:
+    return sorted(set(_dir()) | set(__getattr__("__all__")) | {"fastpath"})
+
+
+_OWN = [
     "__version__",
     "fastpath_enabled",
-    "oren_nayar",
     "register_model",
     "roughness",
     "spherical_to_vector",
     "use_fastpath",
     "vector_to_spherical",
 ]
+"""Names defined here; the models (``rd.OrenNayar``...), ``Model``, ``Param``, ``BSDFSample``
+and the helper functions of :mod:`roughdiffuse.models` are served from it on first use."""

@@ -24,8 +24,8 @@ import traceback
 from collections.abc import Sequence
 from pathlib import Path
 
-from . import __version__
 from ._validate import ParameterError
+from ._version import version
 from .commands import COMMANDS, UsageError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -57,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"roughdiffuse {__version__}")
+    parser.add_argument("--version", action="version", version=f"roughdiffuse {version()}")
     parser.add_argument(
         "--debug", action="store_true", help="print the traceback of any error (for bug reports)"
     )
@@ -120,7 +120,7 @@ def report_error(exc: BaseException, prog: str, debug: bool) -> int:
         return 2
     hint = "" if debug else "; rerun with --debug for the traceback"
     print(
-        f"{prog}: internal error (a bug in roughdiffuse {__version__}, please report it): "
+        f"{prog}: internal error (a bug in roughdiffuse {version()}, please report it): "
         f"{type(exc).__name__}: {exc}{_where(exc)}{hint}",
         file=sys.stderr,
     )

@@ -98,7 +98,28 @@ class Entry:
     @property
     def glsl(self) -> bool:
         """Whether the explorer's GLSL holds a copy of the formula."""
-        return bool(self.cls.glsl)
+        return self.id in self.cls.glsl
+
+    @property
+    def glsl_id(self) -> int | None:
+        """The model number ``brdf.glsl`` dispatches on for this id (``None``: no GLSL)."""
+        return self.cls.glsl.get(self.id)
+
+    def test_points(self) -> list[dict[str, Any]]:
+        """Parameter sets the interface-wide tests run: the declared ``example`` (else the
+        default) of each parameter, then the class's ``test_points`` for this id (duplicates
+        dropped)."""
+        points = [{p.name: p.default if p.example is None else p.example for p in self.parameters}]
+        for point in self.cls.test_points.get(self.id, ()):
+            if point not in points:
+                points.append(dict(point))
+        return points
+
+    def glsl_test_points(self) -> list[dict[str, Any]]:
+        """Parameter sets the GLSL copy is checked at: the class's ``glsl_test_points`` for
+        this id, else :meth:`test_points`."""
+        declared = self.cls.glsl_test_points.get(self.id)
+        return [dict(p) for p in declared] if declared else self.test_points()
 
     @property
     def parameters(self) -> tuple[Param, ...]:
@@ -153,6 +174,8 @@ class Entry:
             "reference": self.reference,
             "source": self.source,
             "glsl": self.glsl,
+            "glsl_id": self.glsl_id,
+            "glsl_keys": dict(self.cls.glsl_keys) if self.glsl else {},
             "fixed": dict(self.fixed),
             "parameters": [p.to_json() for p in self.parameters],
         }
@@ -226,54 +249,9 @@ def register_model(cls: M, *, source: str | None = None, replace: bool = False) 
 
 
 def _register_builtins() -> None:
-    from .models import (
-        EON,
-        Burley,
-        Burley2015,
-        BurleyRenormalized,
-        Chan,
-        Coated,
-        Fujii,
-        Hammon,
-        Hapke,
-        Lambert,
-        LambertSphere,
-        LommelSeeliger,
-        LunarLambert,
-        Minnaert,
-        Mix,
-        OrenNayar,
-        SmithDiffuse,
-        TorranceSparrow,
-        VCavity,
-    )
+    from .models import builtin_classes
 
-    builtins = (
-        Lambert,
-        OrenNayar,
-        Fujii,
-        EON,
-        TorranceSparrow,
-        Mix,
-        LommelSeeliger,
-        LunarLambert,
-        # issue 17: what production renderers and planetary photometry use instead
-        Burley,
-        BurleyRenormalized,
-        Burley2015,
-        Hammon,
-        Chan,
-        LambertSphere,
-        Hapke,
-        Minnaert,
-        # issue 16: the Smith microsurface of Lambertian facets, by Monte Carlo
-        SmithDiffuse,
-        # issue 15: the exact V-cavity surface, tabulated from the solver
-        VCavity,
-        # a dielectric coat over a rough-diffuse base (closed form; truth: simulate.layered)
-        Coated,
-    )
-    for cls in builtins:
+    for cls in builtin_classes():
         register_model(cls, source="roughdiffuse")
 
 

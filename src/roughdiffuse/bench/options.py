@@ -22,7 +22,9 @@ def parser(add_help: bool = True) -> argparse.ArgumentParser:
         help="log2 of the numbers of geometries, comma-separated (default: 22,24)",
     )
     p.add_argument("--repeat", type=int, default=7, help="timed runs per variant (>= 1)")
-    p.add_argument("--models", default="", help="only models whose label contains this text")
+    p.add_argument(
+        "--models", default="", help="only models whose label or registry id contains this text"
+    )
     p.add_argument("--no-numpy", action="store_true", help="skip the NumPy reference path")
     p.add_argument("--no-c", action="store_true", help="skip the C reference")
     p.add_argument(

@@ -15,7 +15,7 @@ For each model and size it builds float32 (N, 3) arrays of normals, light and vi
 (as a user would pass them) and times, interleaved run by run so that the machine's noise hits
 all three alike:
 
-* ``fast``  — :func:`roughdiffuse.fastpath.evaluate` (compiled from the model's own code);
+* ``fast``  — :func:`roughdiffuse.engine.fastpath.evaluate` (compiled from the model's own code);
 * ``numpy`` — ``model.radiance(n, l, v)`` on the NumPy arrays with the fast path switched
   off (``roughdiffuse.use_fastpath(False)``: the array-API reference path);
 * ``c``     — the same formula in C (``roughdiffuse/bench/c/kernels.c``, shipped with the
@@ -56,7 +56,7 @@ import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -77,45 +77,72 @@ TARGET_NUMPY = 10.0
 
 
 # ------------------------------------------------------------------ models and C bindings
-def bench_models() -> list[tuple[str, Any, str, tuple[float, ...]]]:
-    """(label, model, C function, C parameters) for every benchmarked model."""
-    import roughdiffuse as rd
-    from roughdiffuse import registry
+class BenchCase(NamedTuple):
+    """One benchmarked model: its registry id, its label in the tables, the instance, and the
+    C reference kernel of ``kernels.c`` with its arguments (``None``: no C kernel; the model
+    is then measured against NumPy, and the tables say so)."""
+
+    id: str
+    label: str
+    model: Any
+    c_name: str | None
+    c_params: tuple[float, ...]
+
+
+def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
     from roughdiffuse.models import microfacet
 
-    sigma_ts = 0.3
-    s = max(sigma_ts, microfacet.SIGMA_FLOOR)
+    s = max(float(model.sigma), microfacet.SIGMA_FLOOR)
     norm = float(microfacet.gaussian_norm(np, np.float64(s), np.float64))
-    cases = [  # (registry id, model, C function, C parameters); labels from the registry
-        ("lambert", rd.Lambert(0.8), "rd_lambert", (0.8,)),
-        ("oren-nayar", rd.OrenNayar(0.8, 0.3), "rd_oren_nayar_qualitative", (0.8, 0.3)),
-        ("oren-nayar-full", rd.OrenNayar(0.8, 0.3, "full"), "rd_oren_nayar_full", (0.8, 0.3)),
-        ("fujii", rd.Fujii(0.8, 0.5), "rd_fujii", (0.8, 0.5)),
-        ("eon", rd.EON(0.8, 0.5), "rd_eon", (0.8, 0.5)),
-        (
-            "torrance-sparrow",
-            rd.TorranceSparrow(1.5, sigma_ts),
-            "rd_torrance_sparrow",
-            (1.5, s, norm),
-        ),
-        # issue 17: the models production renderers and planetary photometry use
-        ("burley", rd.Burley(0.8, 0.5), "rd_burley", (0.8, 0.5)),
-        ("frostbite", rd.BurleyRenormalized(0.8, 0.5), "rd_frostbite", (0.8, 0.5)),
-        ("burley-2015", rd.Burley2015(0.8, 0.5), "rd_burley_2015", (0.8, 0.5)),
-        ("hammon", rd.Hammon(0.8, 0.3), "rd_hammon", (0.8, 0.3)),
-        ("chan", rd.Chan(0.8, 0.3), "rd_chan", (0.8, 0.3)),
-        ("minnaert", rd.Minnaert(0.8, 0.7), "rd_minnaert", (0.8, 0.7)),
-        ("lambert-sphere", rd.LambertSphere(0.8, "fast"), "rd_lambert_sphere_fast", (0.8,)),
-        ("lambert-sphere", rd.LambertSphere(0.8, "full"), "rd_lambert_sphere_full", (0.8,)),
-        (
-            "hapke",
-            rd.Hapke(0.5, 0.8, 0.06, -0.3, 0.35),
-            "rd_hapke",
-            (0.5, 0.8, 0.06, -0.3, 0.35),
-        ),
-    ]
-    labels = {"rd_lambert_sphere_fast": " (fast)", "rd_lambert_sphere_full": " (full)"}
-    return [(registry.get(i).label + labels.get(c, ""), m, c, p) for i, m, c, p in cases]
+    return "rd_torrance_sparrow", (float(model.eta), s, norm)
+
+
+def _c_args(*names: str) -> Callable[[Any], tuple[float, ...]]:
+    return lambda m: tuple(float(getattr(m, n)) for n in names)
+
+
+C_KERNELS: dict[str, Callable[[Any], tuple[str, tuple[float, ...]]]] = {
+    "lambert": lambda m: ("rd_lambert", _c_args("albedo")(m)),
+    "oren-nayar": lambda m: ("rd_oren_nayar_qualitative", _c_args("albedo", "sigma")(m)),
+    "oren-nayar-full": lambda m: ("rd_oren_nayar_full", _c_args("albedo", "sigma")(m)),
+    "fujii": lambda m: ("rd_fujii", _c_args("albedo", "roughness")(m)),
+    "eon": lambda m: ("rd_eon", _c_args("albedo", "roughness")(m)),
+    "torrance-sparrow": _c_torrance_sparrow,
+    "burley": lambda m: ("rd_burley", _c_args("albedo", "roughness")(m)),
+    "frostbite": lambda m: ("rd_frostbite", _c_args("albedo", "roughness")(m)),
+    "burley-2015": lambda m: ("rd_burley_2015", _c_args("albedo", "roughness")(m)),
+    "hammon": lambda m: ("rd_hammon", _c_args("albedo", "alpha")(m)),
+    "chan": lambda m: ("rd_chan", _c_args("albedo", "alpha")(m)),
+    "minnaert": lambda m: ("rd_minnaert", _c_args("albedo", "k")(m)),
+    "lambert-sphere": lambda m: (f"rd_lambert_sphere_{m.variant}", _c_args("albedo")(m)),
+    "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "g", "theta_bar")(m)),
+}
+"""Registry id -> (C function of ``kernels.c``, its arguments) for a model instance: the C
+references are this benchmark's business, not the models'."""
+
+
+def bench_models() -> list[BenchCase]:
+    """Every closed-form model of the package, from the registry: each id at its declared
+    example point, once per choice of a categorical parameter the id leaves free."""
+    from roughdiffuse import registry
+
+    cases = []
+    for entry in registry.entries():
+        if entry.source != "roughdiffuse" or not entry.cls.closed_form:
+            continue
+        point = entry.test_points()[0]
+        free = [p for p in entry.parameters if p.categorical]
+        choices = [(None, point)]
+        if free:
+            choices = [(c, {**point, free[0].name: c}) for c in free[0].choices or ()]
+        for choice, params in choices:
+            model = entry.create(**params)
+            label = entry.label + (f" ({choice})" if choice is not None else "")
+            c_name, c_params = C_KERNELS[entry.id](model) if entry.id in C_KERNELS else (None, ())
+            if c_name is None:
+                label += " [no C kernel: against NumPy]"
+            cases.append(BenchCase(entry.id, label, model, c_name, c_params))
+    return cases
 
 
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
@@ -129,8 +156,8 @@ def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     if proc.returncode != 0:
         return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
     # Idle OpenMP threads spin (libgomp's default), and spinning after each C call took a
-    # core from the variant timed next: the fast path ran at 0.57 of C interleaved with it,
-    # 0.81 with passive waiting. Passive waiting cost C itself nothing measurable.
+    # core from the variant timed next (bench/RESULTS.md). Passive waiting cost C itself
+    # nothing measurable.
     os.environ.setdefault("OMP_WAIT_POLICY", "passive")
     version = subprocess.run([gcc, "--version"], capture_output=True, text=True).stdout
     line = version.splitlines()[0] if version else "gcc"
@@ -231,7 +258,7 @@ def bench_brdf(
     log_rows: int,
     repeat: int,
     lib: ctypes.CDLL | None,
-    models: list[tuple[str, Any, str, tuple[float, ...]]],
+    models: list[BenchCase],
     dtype: Any,
 ) -> list[dict[str, Any]]:
     """The default call ``model.brdf(wi, wo)`` (compiled automatically) against a C loop of the
@@ -241,14 +268,15 @@ def bench_brdf(
     out_c = np.empty(rows, dtype)
     check = slice(0, min(rows, 1 << 16))
     results = []
-    for label, model, c_name, c_params in models:
+    for case in models:
+        label, model, c_name, c_params = case.label, case.model, case.c_name, case.c_params
         variants: dict[str, Callable[[], Any]] = {"default": lambda m=model: m.brdf(wi, wo)}
-        if lib is not None:
+        if lib is not None and c_name is not None:
             c_call = c_brdf_caller(lib, c_name, c_params, dtype)
             variants["c"] = lambda c_call=c_call: c_call(wi, wo, out_c)
         ref = np.asarray(reference(model.brdf, wi[check], wo[check]))
         errors = {}
-        from roughdiffuse._dispatch import BUILD_ROWS, MIN_ROWS
+        from roughdiffuse.engine.dispatch import BUILD_ROWS, MIN_ROWS
 
         warm = -(-BUILD_ROWS // rows) if rows >= MIN_ROWS else 0
         for _ in range(warm):  # the calls after which the kernel is built
@@ -260,6 +288,7 @@ def bench_brdf(
         times = interleaved(variants, repeat, steady=list(variants))
         entry: dict[str, Any] = {
             "model": label,
+            "id": case.id,
             "dtype": np.dtype(dtype).name,
             "log2_rows": log_rows,
             "rows": rows,
@@ -285,7 +314,7 @@ def bench_size(
     log_rows: int,
     repeat: int,
     lib: ctypes.CDLL | None,
-    models: list[tuple[str, Any, str, tuple[float, ...]]],
+    models: list[BenchCase],
     with_numpy: bool,
 ) -> list[dict[str, Any]]:
     from roughdiffuse import fastpath
@@ -296,14 +325,15 @@ def bench_size(
     out_c = np.empty(rows, np.float32)
     check = slice(0, min(rows, 1 << 16))
     results = []
-    for label, model, c_name, c_params in models:
+    for case in models:
+        label, model, c_name, c_params = case.label, case.model, case.c_name, case.c_params
         variants: dict[str, Callable[[], Any]] = {
             "fast": lambda m=model: fastpath.evaluate(m, n, l, v, out=out_fast),
         }
-        if lib is not None:
+        if lib is not None and c_name is not None:
             c_call = c_caller(lib, c_name, c_params)
             variants["c"] = lambda c_call=c_call: c_call(n, l, v, out_c)
-        if with_numpy:
+        if with_numpy or c_name is None:  # no C kernel: measured against NumPy
             variants["numpy"] = lambda m=model: reference(m.radiance, n, l, v)
         ref = np.asarray(reference(model.radiance, n[check], l[check], v[check]))
         errors = {}
@@ -318,6 +348,7 @@ def bench_size(
         times = interleaved(variants, repeat, steady=[k for k in variants if k != "numpy"])
         entry: dict[str, Any] = {
             "model": label,
+            "id": case.id,
             "repr": repr(model),
             "log2_rows": log_rows,
             "rows": rows,
@@ -595,8 +626,8 @@ def markdown(meta: dict[str, Any], results: list[dict[str, Any]], extra: dict[st
         f"per second: median of {meta['repeat']} runs after a warm-up, (min–max); the "
         "variants take turns in a rotating order, and each timed run of `fast` and `C` "
         "follows an untimed run of itself (steady state). "
-        "`fast` is `roughdiffuse.fastpath.evaluate`, `NumPy` is `model.radiance` on the same "
-        "NumPy arrays (fast path off), `C` is `roughdiffuse/bench/c/kernels.c`. The ratios "
+        "`fast` is `roughdiffuse.engine.fastpath.evaluate`, `NumPy` is `model.radiance` on the "
+        "same NumPy arrays (fast path off), `C` is `roughdiffuse/bench/c/kernels.c`. The ratios "
         "are what counts: this machine "
         "is shared and noisy. Targets: fast/C ≥ 0.5 (≥ 0.8 for the qualitative Oren–Nayar "
         "model), fast/NumPy ≥ 10.",
@@ -837,9 +868,10 @@ def run(args: argparse.Namespace, command: str) -> int:
         raise ValueError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
     import numba
 
-    from roughdiffuse.fastpath import cpu_count
+    from roughdiffuse.engine.fastpath import cpu_count
 
-    models = [m for m in bench_models() if args.models.lower() in m[0].lower()]
+    wanted = args.models.lower()
+    models = [m for m in bench_models() if wanted in m.label.lower() or wanted in m.id]
     if not models:
         raise ValueError(f"--models {args.models!r} matches no model")
     with tempfile.TemporaryDirectory() as tmp:

@@ -193,8 +193,8 @@ def bench_simulate(
 
 
 BASELINE_REVISION = "1c092a6"
-"""The solver before issue 15 (per-cavity element radiosity): the "old" column of
-:func:`bench_versus`."""
+"""The solver before the tabulated V-cavity model (per-cavity element radiosity): the "old"
+column of :func:`bench_versus`."""
 
 
 def _baseline(revision: str) -> Any:

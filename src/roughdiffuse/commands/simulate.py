@@ -6,6 +6,7 @@ import argparse
 import math
 import os
 
+from .._version import version
 from . import UsageError
 from ._checks import finite_float, fits_in_memory, output_file, output_folder, require_finite
 from ._common import float_list
@@ -158,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--workers must be >= 1 (got {args.workers})")
     settings = Settings(measure=args.measure, elements=args.elements)
     if args.report:
-        from ..simulate.report import write_report
+        from ..accuracy.report import write_report
 
         output_folder(args.output, option="-o")
         out = write_report(
@@ -192,6 +193,7 @@ def run(args: argparse.Namespace) -> int:
             progress=not args.no_progress,
             backend=args.backend,
             force=args.force,
+            package_version=version(),
         )
         if table.meta.get("reused"):
             print(

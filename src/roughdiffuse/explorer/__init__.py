@@ -8,11 +8,10 @@ overlays measured data (a MERL file or a CSV of samples) that the server fits
 (:func:`roughdiffuse.explorer.server.make_server`).
 """
 
-from .params import MODEL_IDS, model_from_params
+from .params import model_from_params
 from .server import STATIC_DIR, make_server, serve_in_thread, url_of
 
 __all__ = [
-    "MODEL_IDS",
     "STATIC_DIR",
     "make_server",
     "model_from_params",

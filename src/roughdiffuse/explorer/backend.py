@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
+from .._version import version
 from .datasets import MAX_CSV_BYTES, MAX_MERL_BYTES
 from .params import model_from_params
 
@@ -250,7 +250,7 @@ def _plane_of_incidence(
 def info() -> dict[str, Any]:
     """Capabilities of this server, for the page."""
     return {
-        "version": __version__,
+        "version": version(),
         "vase": _render_vase() is not None,
         "groundtruth": _solver() is not None,
         "upload_bytes": {"merl": MAX_MERL_BYTES, "csv": MAX_CSV_BYTES},

@@ -16,42 +16,27 @@ from typing import Any
 from .. import registry
 from ..models import Model
 
-__all__ = ["MODEL_IDS", "DEFAULTS", "FLAT_KEYS", "model_from_params"]
+__all__ = ["DEFAULTS", "flat_key", "glsl_entries", "model_from_params"]
 
-MODEL_IDS: dict[str, int] = {
-    "lambert": 0,
-    "oren-nayar": 1,
-    "oren-nayar-full": 2,
-    "fujii": 3,
-    "eon": 4,
-    "torrance-sparrow": 5,
-    "torrance-sparrow-beckmann": 5,
-    "mix": 6,
-    "lommel-seeliger": 7,
-    "lunar-lambert": 8,
-    "burley": 9,
-    "frostbite": 10,
-    "burley-2015": 11,
-    "hammon": 12,
-    "chan": 13,
-    "lambert-sphere": 14,
-    "hapke": 15,
-    "minnaert": 16,
-}
-"""The registry ids the GLSL has a copy of, and the numbers ``brdf.glsl`` dispatches on (the
-same in ``static/js/models.js``). A registry model missing here (``"glsl": false`` in
-``/api/models``) is not in the page's menus."""
 
-FLAT_KEYS: dict[str, str] = {"limb_darkening": "limb"}
-"""Declared parameter name -> its key in the flat record (the GLSL's ``RDParams``), where the
-two differ."""
+def glsl_entries() -> list[registry.Entry]:
+    """The registry ids the explorer's GLSL holds a copy of (each model class's ``glsl``
+    declaration, published as ``glsl_id`` in ``/api/models``); the page leaves the others
+    out."""
+    return [e for e in registry.entries() if e.glsl]
+
+
+def flat_key(entry: registry.Entry, name: str) -> str:
+    """The key of parameter ``name`` of ``entry`` in the flat record (the GLSL's
+    ``RDParams``): the class's ``glsl_keys`` declaration, else the parameter's name."""
+    return entry.cls.glsl_keys.get(name, name)
 
 
 def _flat_defaults() -> dict[str, Any]:
     out: dict[str, Any] = {"model": "oren-nayar"}
-    for model_id in MODEL_IDS:
-        for p in registry.get(model_id).parameters:
-            key = FLAT_KEYS.get(p.name, p.name)
+    for entry in glsl_entries():
+        for p in entry.parameters:
+            key = flat_key(entry, p.name)
             if key not in out:
                 out[key] = [p.default] * 3 if p.channels else p.default
     out.setdefault("distribution", "gaussian")
@@ -68,11 +53,12 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     Parameters
     ----------
     params : mapping
-        ``model`` (a key of :data:`MODEL_IDS`), then the model's declared parameters (see
-        ``roughdiffuse models``) under their flat keys: ``albedo`` (three numbers in [0, 1]),
-        ``sigma`` (radians), ``roughness``, ``eta``, ``weight`` (Mix), ``limb``
-        (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``. Keys the model does not
-        take are ignored (the page sends every slider); missing keys take :data:`DEFAULTS`.
+        ``model`` (a registry id with a GLSL copy, :func:`glsl_entries`), then the model's
+        declared parameters (see ``roughdiffuse models``) under their flat keys: ``albedo``
+        (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
+        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``. Keys the
+        model does not take are ignored (the page sends every slider); missing keys take
+        :data:`DEFAULTS`.
         ``torrance-sparrow`` with ``distribution="beckmann"`` is the GLSL's reading of a σ
         for Beckmann: α = √2 σ.
 
@@ -89,15 +75,16 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     """
     p = {**DEFAULTS, **params}
     name = p["model"]
-    if name not in MODEL_IDS:
-        raise ValueError(f"model must be one of {', '.join(MODEL_IDS)} (got {name!r})")
+    offered = [e.id for e in glsl_entries()]
+    if name not in offered:
+        raise ValueError(f"model must be one of {', '.join(offered)} (got {name!r})")
     if name == "torrance-sparrow" and p.get("distribution") == "beckmann":
         name = "torrance-sparrow-beckmann"
         p = {**p, "alpha": math.sqrt(2.0) * float(p["sigma"])}
     entry = registry.get(name)
     kwargs: dict[str, Any] = {}
     for param in entry.parameters:
-        value = p[FLAT_KEYS.get(param.name, param.name)]
+        value = p[flat_key(entry, param.name)]
         if param.channels:
             value = [float(a) for a in value]
             if len(value) != 3:

@@ -62,7 +62,7 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qs, unquote, urlsplit
 
-from .. import __version__
+from .._version import version
 from . import backend, datasets
 
 __all__ = [
@@ -142,7 +142,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
     """GET and HEAD for the static page and the ``/api/`` endpoints, POST for the measured
     data endpoints; nothing else."""
 
-    server_version = f"roughdiffuse-explorer/{__version__}"
+    server_version = f"roughdiffuse-explorer/{version()}"
     quiet = True
     timeout = IDLE_TIMEOUT  # socket timeout: a half-open connection does not hold a thread
 

@@ -14,7 +14,7 @@ no cosine in it (pbrt's convention); it is 0 when either direction is below the 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, ClassVar, NamedTuple
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -28,37 +28,16 @@ from .._array import (
     namespace,
     result_dtype,
 )
-from .._dispatch import compiled
 from .._lazy import when_imported
+from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
 from .declaration import Param
-from .sampling import COSINE, Strategy
+from .sampling import COSINE, BSDFSample, Strategy
 
-__all__ = ["BSDFSample", "Model", "MODEL_CLASSES"]
+__all__ = ["BSDFSample", "Model"]
 
 LOBES: tuple[str, ...] = ("diffuse", "glossy")
 """The lobe types a model may declare (Mitsuba 3's DiffuseReflection, GlossyReflection)."""
-
-MODEL_CLASSES: dict[str, type[Model]] = {}
-"""Every concrete model class by name (filled as classes are defined)."""
-
-
-class BSDFSample(NamedTuple):
-    """A sampled incident direction.
-
-    Attributes
-    ----------
-    wi : array (..., 3)
-        Sampled direction towards the light (local frame).
-    pdf : array (...)
-        Its probability density per unit solid angle.
-    weight : array (...) or (..., C)
-        ``brdf(wi, wo) * cos θi / pdf`` (0 where the sample is invalid).
-    """
-
-    wi: Array
-    pdf: Array
-    weight: Array
 
 
 _JITTED: dict[str, Any] = {}
@@ -98,8 +77,22 @@ class Model:
         The importance-sampling strategy (:mod:`.sampling`): ``COSINE``, ``CLTC``, ...
     reference : str
         The source paper.
-    glsl : bool
-        Whether the explorer's ``brdf.glsl`` holds a copy of the formula.
+    glsl : dict
+        Registry id -> the model number ``brdf.glsl`` dispatches on, for each id the explorer's
+        GLSL holds a copy of (``{}``: none; the explorer then leaves the model out).
+    glsl_keys : dict
+        Declared parameter name -> its field in the GLSL's ``RDParams`` record, where the two
+        differ (``{"limb_darkening": "limb"}``).
+    order : int
+        Where the model's ids come in the registry (``roughdiffuse models``): classes are
+        sorted by ``order``, then module name, then definition order. Default 1000 (after
+        the package's first models).
+    test_points : dict
+        Registry id -> parameter sets (keyword arguments of ``registry.get(id).create``) that
+        the interface-wide tests run besides each parameter's ``example``.
+    glsl_test_points : dict
+        Registry id -> parameter sets the GLSL copy is checked at (float32 edge cases);
+        default: the ``example`` point and ``test_points``.
     traceable : bool
         False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
         it cannot be traced by ``jax.jit`` (the renderer, fits).
@@ -130,7 +123,11 @@ class Model:
     lobe: ClassVar[str] = "diffuse"
     sampling: ClassVar[Strategy] = COSINE
     reference: ClassVar[str] = ""
-    glsl: ClassVar[bool] = False
+    glsl: ClassVar[dict[str, int]] = {}
+    glsl_keys: ClassVar[dict[str, str]] = {}
+    order: ClassVar[int] = 1000
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True
     mitsuba: ClassVar[bool] = True
@@ -139,7 +136,6 @@ class Model:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        MODEL_CLASSES[cls.__name__] = cls
         if not any("mitsuba" in c.__dict__ for c in cls.__mro__ if c is not Model):
             cls.mitsuba = cls.closed_form  # a closed form is a plugin unless it says otherwise
         if "params" in cls.__dict__:
@@ -250,7 +246,7 @@ class Model:
 
         This is the entry point of renderers and tables that already hold cosines. Output
         shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
-        NumPy inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+        NumPy inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
         if fast is not None:
@@ -284,7 +280,7 @@ class Model:
         array (...) or (..., C)
             In the namespace of the inputs (NumPy, JAX, PyTorch); a channel axis is added
             for an RGB albedo. 0 where either direction is below the horizon. Large NumPy
-            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+            inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         fast = compiled(self, "brdf", wi, wo)
         if fast is not None:
@@ -313,7 +309,7 @@ class Model:
         -------
         array (...) or (..., C)
             Radiance; 0 where the point faces away from the light or the viewer. Large NumPy
-            inputs run compiled, on every core (:mod:`roughdiffuse._dispatch`).
+            inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
         """
         _check_irradiance(irradiance)
         fast = compiled(self, "radiance", n, l, v, irradiance=irradiance)
@@ -342,7 +338,7 @@ class Model:
         φ = ±π/2), accurate to about 1e-6 for the diffuse models; models with a closed form
         override this.
         """
-        from ._quadrature import hemisphere_albedo
+        from ._hemisphere_albedo import hemisphere_albedo
 
         return hemisphere_albedo(self, wo)
 

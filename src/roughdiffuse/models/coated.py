@@ -336,6 +336,14 @@ class Coated(Model):
         "A. Weidlich, A. Wilkie, Arbitrarily layered micro-facet surfaces, GRAPHITE (2007); "
         "Mitsuba 3 plastic"
     )
+    order: ClassVar[int] = 55
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "coated": (
+            {"sigma": 0.3, "eta": 1.5},
+            {"sigma": 0.0, "eta": 1.5, "roughness": 0.3, "distribution": "beckmann",
+             "absorption": 0.2},
+        )
+    }
 
     @classmethod
     def from_params(
@@ -359,9 +367,7 @@ class Coated(Model):
 
         base = self.base
         if isinstance(base, str):
-            from .. import registry
-
-            base = registry.create(base, **dict(self.base_params or {}))
+            base = _model_by_id(base, dict(self.base_params or {}))
         elif self.base_params is not None:
             raise ValueError("base_params applies only with a base given by id (a string)")
         elif base is None:
@@ -447,6 +453,18 @@ class Coated(Model):
         if self.channels:
             correction = correction[..., None]
         return total + correction
+
+
+def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
+    """The package's model of id ``model_id`` (its class's ``ids``) with ``params``."""
+    from . import builtin_classes
+
+    for cls in builtin_classes():
+        if model_id in cls.ids:
+            factory = getattr(cls, "from_params", cls)
+            return factory(**{**cls.ids[model_id], **params})
+    known = ", ".join(i for c in builtin_classes() for i in c.ids)
+    raise ValueError(f"base: unknown model id {model_id!r}; choose one of: {known}")
 
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:

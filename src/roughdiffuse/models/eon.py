@@ -83,7 +83,14 @@ class EON(Model):
         "J. Portsmouth, P. Kutz, S. Hill, EON: A practical energy-preserving rough diffuse BRDF, "
         "JCGT 2025"
     )
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"eon": 4}
+    order: ClassVar[int] = 30
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "eon": ({"roughness": 0.0}, {"roughness": 1.0})
+    }
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "eon": tuple({"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0))
+    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

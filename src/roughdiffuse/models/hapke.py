@@ -129,7 +129,21 @@ class Hapke(Model):
         "B. Hapke, Theory of Reflectance and Emittance Spectroscopy,"
         " 2nd ed. (2012); roughness: Hapke, Icarus 59 (1984) 41"
     )
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"hapke": 15}
+    order: ClassVar[int] = 140
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke": (
+            {"b0": 0.8, "h": 0.1, "g": -0.3, "theta_bar": 0.35},
+            {"b0": 0.0, "h": 0.0, "g": 0.2, "theta_bar": 0.0},
+        )
+    }
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "hapke": (
+            {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
+            {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
+            {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
+        )
+    }
 
     def _kernel(
         self,

@@ -198,7 +198,14 @@ class LambertSphere(Model):
     reference: ClassVar[str] = (
         "E. d'Eon, An analytic BRDF for materials with spherical Lambertian scatterers, EGSR 2021"
     )
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"lambert-sphere": 14}
+    order: ClassVar[int] = 130
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "lambert-sphere": ({"variant": "full"}, {"variant": "fast"})
+    }
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "lambert-sphere": tuple({"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast"))
+    }
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         c = single_scattering_albedo(albedo)

@@ -64,7 +64,11 @@ class LommelSeeliger(Model):
     reference: ClassVar[str] = (
         "B. Hapke, Theory of Reflectance and Emittance Spectroscopy, 2nd ed. (2012), Eq. 9.13"
     )
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"lommel-seeliger": 7}
+    order: ClassVar[int] = 60
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "lommel-seeliger": ({"albedo": [0.9, 0.5, 0.05]},)
+    }
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         # I/F = (w/4) μ0/(μ0 + μ)
@@ -124,7 +128,17 @@ class LunarLambert(Model):
         "A. S. McEwen, Photometric functions for photoclinometry and other applications, "
         "Icarus 92 (1991)"
     )
-    glsl: ClassVar[bool] = True
+    glsl: ClassVar[dict[str, int]] = {"lunar-lambert": 8}
+    order: ClassVar[int] = 70
+    glsl_keys: ClassVar[dict[str, str]] = {"limb_darkening": "limb"}
+    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "lunar-lambert": ({"limb_darkening": 0.6},)
+    }
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "lunar-lambert": tuple(
+            {"albedo": [0.9, 0.5, 0.05], "limb_darkening": v} for v in (0.0, 0.6, 1.0)
+        )
+    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array

@@ -47,9 +47,10 @@ from ..frames import unit_components
 from .microfacet import normal_pdf, normal_sample
 
 if TYPE_CHECKING:
-    from .base import BSDFSample, Model
+    from .base import Model
 
 __all__ = [
+    "BSDFSample",
     "CLTC",
     "COSINE",
     "MICROFACET_BECKMANN",
@@ -61,6 +62,25 @@ __all__ = [
     "strategy_for",
     "weight_variance",
 ]
+
+
+class BSDFSample(NamedTuple):
+    """A sampled incident direction.
+
+    Attributes
+    ----------
+    wi : array (..., 3)
+        Sampled direction towards the light (local frame).
+    pdf : array (...)
+        Its probability density per unit solid angle.
+    weight : array (...) or (..., C)
+        ``brdf(wi, wo) * cos θi / pdf`` (0 where the sample is invalid).
+    """
+
+    wi: Array
+    pdf: Array
+    weight: Array
+
 
 _INV_PI = 1.0 / math.pi
 _INV_2PI = 0.5 / math.pi
@@ -249,8 +269,6 @@ def sample_model(model: Model, u: Array, wo: Array, strategy: Strategy | None = 
     Returns wi, its pdf and the weight f cos θi / pdf (0 where pdf = 0 or wo is below
     the horizon).
     """
-    from .base import BSDFSample
-
     strategy = strategy or strategy_for(model)
     xp = model._xp(u, wo)
     dtype = result_dtype(xp, u, wo)

@@ -83,6 +83,7 @@ class SmithDiffuse(Model):
     traceable: ClassVar[bool] = False
     closed_form: ClassVar[bool] = False
 
+    order: ClassVar[int] = 160
     def __post_init__(self) -> None:
         super().__post_init__()
         for name, lo in (("samples", 2), ("seed", 0)):

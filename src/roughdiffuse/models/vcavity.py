@@ -123,7 +123,7 @@ class VCavity(Model):
     ``roughdiffuse_v_cavity`` (:mod:`roughdiffuse.integrations.mitsuba`, class attribute
     ``mitsuba = True``) reads the same table with ``dr.gather``. σ and ρ are static, not
     differentiable: gradients with respect to them do not exist here. The compiled fast
-    path (:mod:`roughdiffuse.fastpath`) refuses it with a ``TypeError`` (class attribute
+    path (:mod:`roughdiffuse.engine.fastpath`) refuses it with a ``TypeError`` (class attribute
     ``closed_form = False``: its scalar Numba code has no gather).
 
     Parameters
@@ -181,7 +181,7 @@ class VCavity(Model):
         "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994 "
         "(Sec. 3-4); solved exactly by roughdiffuse.simulate"
     )
-    glsl: ClassVar[bool] = False
+    order: ClassVar[int] = 170
     closed_form: ClassVar[bool] = False
     """A table, not a closed form: the compiled fast path (scalar Numba code) cannot trace
     its gathers, and ``compare_models`` leaves it out."""
@@ -205,7 +205,7 @@ class VCavity(Model):
         σ, ρ, bounces and measure are static (no pytree leaves: the table is computed from
         their concrete values). The fast path's scalar tracer has no ``take`` and is refused.
         """
-        from .._trace import TraceNamespace
+        from ..engine.trace import TraceNamespace
 
         if isinstance(xp, TraceNamespace) or not hasattr(xp, "take"):
             raise TypeError(

@@ -54,8 +54,6 @@ from typing import Any
 import numpy as np
 
 from .._validate import check_range
-from ..models.base import Model
-from ..models.microfacet import fresnel_dielectric
 from .cavity import Bounces, check_bounces
 from .smith import THETA_GRAZING
 from .smith_slopes import sample_visible_normals, smith_lambda
@@ -67,6 +65,7 @@ __all__ = [
     "brdf",
     "check_base",
     "directional_albedo",
+    "fresnel_dielectric",
     "interface_brdf",
 ]
 
@@ -86,16 +85,36 @@ INTERFACE_DISTRIBUTIONS = ("ggx", "beckmann")
 _BATCH = 1 << 16
 
 
-def check_base(base: object) -> Model:
+def fresnel_dielectric(cos_t: np.ndarray, eta: float) -> np.ndarray:
+    """Unpolarised Fresnel reflectance of a dielectric of relative index η at cos θ, from the
+    s and p amplitudes (Born and Wolf, Sec. 1.5.2): with cos θt = √(1 − (1 − c²)/η²),
+    r_s = (c − η cos θt)/(c + η cos θt), r_p = (η c − cos θt)/(η c + cos θt),
+    F = (r_s² + r_p²)/2; F = 1 under total internal reflection. Written here from the
+    amplitudes, not shared with the models' form (Cook and Torrance's), so that the truth
+    and the closed forms check each other."""
+    c = np.clip(np.asarray(cos_t, dtype=np.float64), 0.0, 1.0)
+    k = 1.0 - (1.0 - c * c) / (eta * eta)
+    ct = np.sqrt(np.maximum(k, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rs = (c - eta * ct) / (c + eta * ct)
+        rp = (eta * c - ct) / (eta * c + ct)
+    f = 0.5 * (rs * rs + rp * rp)
+    return np.where(k > 0, np.nan_to_num(f, nan=1.0), 1.0)
+
+
+def check_base(base: object) -> Any:
     """The base model, or ``ValueError`` naming why it cannot be one.
 
-    A base must be a :class:`~roughdiffuse.models.base.Model` that can be sampled and
-    evaluated at any pair of directions: not a simulation (``SmithDiffuse``: every value is
-    a Monte Carlo run of its own) and not a coat itself (a coat on a coat is not supported).
+    A base must be a roughdiffuse model (it has ``brdf_cosines`` and ``sampling_strategy``)
+    that can be sampled and evaluated at any pair of directions: not a simulation
+    (``SmithDiffuse``: every value is a Monte Carlo run of its own, ``traceable`` False) and
+    not a coat itself (a coat on a coat is not supported).
     """
-    if not isinstance(base, Model):
+    if isinstance(base, str) or not all(
+        hasattr(base, a) for a in ("brdf_cosines", "sampling_strategy", "parameter_arrays")
+    ):
         raise ValueError(f"base must be a roughdiffuse model (got {base!r})")
-    if not type(base).traceable:
+    if not getattr(type(base), "traceable", True):
         raise ValueError(
             f"base {type(base).__name__} cannot be a base: it is a simulation that cannot be "
             "sampled or evaluated at arbitrary directions (use a closed form or VCavity)"
@@ -175,7 +194,7 @@ def interface_brdf(wi: np.ndarray, wo: np.ndarray, eta: float, roughness: float,
     h = h / np.linalg.norm(h, axis=-1, keepdims=True)
     mu_i, mu_o = wi[..., 2], wo[..., 2]
     c = np.sum(wi * h, axis=-1)
-    f = fresnel_dielectric(np, np.clip(c, 0.0, 1.0), eta)
+    f = fresnel_dielectric(np.clip(c, 0.0, 1.0), eta)
     d = _ndf(distribution, h[..., 2], roughness)
     g = _g1(distribution, mu_i, roughness) * _g1(distribution, mu_o, roughness)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -191,7 +210,7 @@ def _refract_in(w: np.ndarray, m: np.ndarray, eta: float) -> tuple[np.ndarray, n
     ok = k > 0
     ct = np.sqrt(np.where(ok, k, 0.0))
     t = -w / eta + ((c / eta) - ct)[:, None] * m
-    trans = np.where(ok, 1.0 - fresnel_dielectric(np, c, eta), 0.0)
+    trans = np.where(ok, 1.0 - fresnel_dielectric(c, eta), 0.0)
     return t, trans
 
 
@@ -213,13 +232,13 @@ def _reflect_inside(w: np.ndarray, eta: float, alpha: float, dist: str, rng):
     direction and the weight F(·, 1/η) (times G1 when rough; 0 if it goes up again)."""
     if alpha == 0.0:
         r = w * np.array([1.0, 1.0, -1.0])
-        return r, fresnel_dielectric(np, w[:, 2], 1.0 / eta)
+        return r, fresnel_dielectric(w[:, 2], 1.0 / eta)
     # the underside seen along −w is the top side seen along w mirrored in z
     v = w * np.array([-1.0, -1.0, 1.0])
     m = sample_visible_normals(dist, v, alpha, rng) * np.array([1.0, 1.0, -1.0])
     c = np.sum(w * m, axis=-1)  # < 0: the facet faces the ray
     r = w - 2.0 * c[:, None] * m
-    f = fresnel_dielectric(np, np.clip(-c, 0.0, 1.0), 1.0 / eta)
+    f = fresnel_dielectric(np.clip(-c, 0.0, 1.0), 1.0 / eta)
     weight = f * _g1(dist, r[:, 2], alpha) * (r[:, 2] < 0)
     r[:, 2] = np.minimum(r[:, 2], -1e-12)
     return r / np.linalg.norm(r, axis=-1, keepdims=True), weight
@@ -231,13 +250,13 @@ def _as_channels(x: Any, n: int) -> np.ndarray:
     return x[:, None] if x.ndim == 1 else x.reshape(n, -1)
 
 
-def _base_f(base: Model, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _base_f(base: Any, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The base's BRDF for unit directions a, b (P, 3) above the horizon (its compiled
     ``brdf_cosines``: the cosines are known here)."""
     return np.asarray(base.brdf_cosines(a[:, 2], b[:, 2], np.sum(a * b, axis=-1)))
 
 
-def _base_sample(base: Model, strategy: Any, params: dict, u: np.ndarray, wo: np.ndarray):
+def _base_sample(base: Any, strategy: Any, params: dict, u: np.ndarray, wo: np.ndarray):
     """A direction from the base's own sampler for light leaving towards ``wo`` (by
     reciprocity, where light from ``wo`` goes) and its weight f cos / pdf (P, C); 0 for an
     invalid sample (pdf 0 or below the horizon), as :func:`~roughdiffuse.models.sampling.
@@ -251,7 +270,7 @@ def _base_sample(base: Model, strategy: Any, params: dict, u: np.ndarray, wo: np
     return w, f * ratio[:, None]
 
 
-def _walk(base: Model, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, dist: str,
+def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, dist: str,
           tau: np.ndarray, max_k: int, rng) -> tuple[np.ndarray, int]:
     """Per-path sums of the next-event scores (P, C) for paths with directions wi, wo (P, 3);
     and the number of path segments (arrivals on the base) traced."""
@@ -333,7 +352,7 @@ def brdf(
     theta_i,
     theta_r,
     delta_phi,
-    base: Model,
+    base: Any,
     eta: float = 1.5,
     roughness: float = 0.0,
     distribution: str = "ggx",
@@ -412,7 +431,7 @@ def _check_samples(samples: object) -> None:
 
 def directional_albedo(
     theta_i,
-    base: Model,
+    base: Any,
     eta: float = 1.5,
     roughness: float = 0.0,
     distribution: str = "ggx",
@@ -451,7 +470,7 @@ def directional_albedo(
 def _interface_albedo(wi, eta, alpha, dist, samples, seed):
     mu = wi[:, 2]
     if alpha == 0.0:
-        return fresnel_dielectric(np, mu, eta), np.zeros_like(mu)
+        return fresnel_dielectric(mu, eta), np.zeros_like(mu)
     rng = np.random.default_rng([seed, 1])
     out, err = np.empty_like(mu), np.empty_like(mu)
     for k in range(mu.size):
@@ -459,7 +478,7 @@ def _interface_albedo(wi, eta, alpha, dist, samples, seed):
         m = sample_visible_normals(dist, w, alpha, rng)
         c = np.sum(w * m, axis=-1)
         r = 2.0 * c[:, None] * m - w
-        val = fresnel_dielectric(np, np.clip(c, 0, 1), eta) * _g1(dist, r[:, 2], alpha)
+        val = fresnel_dielectric(np.clip(c, 0, 1), eta) * _g1(dist, r[:, 2], alpha)
         val = np.where(r[:, 2] > 0, val, 0.0)
         out[k], err[k] = val.mean(), val.std() / math.sqrt(samples)
     return out, err

@@ -7,18 +7,18 @@ arrays, built here from scalar primitives), so the two engines differ only in th
 numbers and in the order they add scores:
 
 * random numbers come from a counter-based generator keyed by (seed, path index, draw
-  index) (:mod:`roughdiffuse._numba_random`), not from a generator's state, so the numbers do
+  index) (:mod:`roughdiffuse.engine.numba_random`), not from a generator's state, so the numbers do
   not depend on the thread count or the schedule;
 * each block of :data:`BLOCK` paths of one geometry adds its scores in its own slot, and the
   slots are added in block order afterwards: the sums are the same for any thread count.
 
 Imported only when the compiled engine is used (it imports Numba). The kernel is compiled on
 first use (tens of seconds, once per machine) and cached on disk in the fast path's private
-cache folder (:func:`roughdiffuse.fastpath.private_cache_dir`), in a subfolder named by a hash
-of the sources it is compiled from (this module, :mod:`.smith_formulas`,
-:mod:`roughdiffuse._numba_math`, :mod:`roughdiffuse._numba_random`): Numba's cache notices a
-change of this file only, not of the functions it calls. Without a private folder it is
-compiled in memory, in every process.
+cache folder (:func:`roughdiffuse.engine.cache.private_cache_dir`), in a subfolder named by
+a hash of the sources it is compiled from (this module, :mod:`.smith_formulas`,
+:mod:`roughdiffuse.engine.numba_math`, :mod:`roughdiffuse.engine.numba_random`): Numba's
+cache notices a change of this file only, not of the functions it calls. Without a private
+folder it is compiled in memory, in every process.
 """
 
 from __future__ import annotations
@@ -34,8 +34,8 @@ import numba
 import numpy as np
 from numba import prange
 
-from .._numba_math import erfcx, erfinv
-from .._numba_random import path_key, uniform
+from ..engine.numba_math import erfcx, erfinv
+from ..engine.numba_random import path_key, uniform
 from .smith_formulas import build
 
 __all__ = ["BLOCK", "run_blocks", "walk_blocks"]
@@ -183,8 +183,8 @@ def _sources_digest() -> str:
     files = (
         here,
         here.with_name("smith_formulas.py"),
-        here.parent.parent / "_numba_math.py",
-        here.parent.parent / "_numba_random.py",
+        here.parent.parent / "engine" / "numba_math.py",
+        here.parent.parent / "engine" / "numba_random.py",
     )
     h = hashlib.sha1(numba.__version__.encode())
     for f in files:
@@ -197,7 +197,7 @@ def walk_blocks() -> Any:
     global _KERNEL
     with _LOCK:
         if _KERNEL is None:
-            from ..fastpath import private_cache_dir
+            from ..engine.cache import private_cache_dir
 
             flags = dict(parallel=True, nogil=True, error_model="numpy")
             jit = numba.njit(cache=True, **flags)

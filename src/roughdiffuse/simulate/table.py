@@ -55,12 +55,6 @@ FORMAT = "roughdiffuse.GroundTruth"
 FORMAT_VERSION = 1
 
 
-def _package_version() -> str:
-    from .. import __version__
-
-    return __version__
-
-
 @dataclass
 class GroundTruth:
     """Exact V-cavity BRDF values f[θi, θr, Δφ, σ] (1/sr) with what produced them.
@@ -99,7 +93,7 @@ class GroundTruth:
             **{k: v for k, v in self.meta.items() if k != "reused"},
             "format": FORMAT,
             "format_version": FORMAT_VERSION,
-            "package_version": _package_version(),
+            "package_version": self.meta.get("package_version", "unknown"),
             "albedo": self.albedo,
             "bounces": self.bounces,
             "settings": asdict(self.settings),
@@ -213,6 +207,7 @@ def compute_table(
     progress: bool = True,
     backend: str = "auto",
     force: bool = False,
+    package_version: str = "unknown",
 ) -> GroundTruth:
     """Compute a :class:`GroundTruth` table into ``path``, resumably (module docstring).
 
@@ -244,6 +239,9 @@ def compute_table(
         per process: several workers). "auto": JAX in this process (``workers=1``, no
         scheduler), else NumPy (bench/RESULTS.md: on 2 cores two NumPy workers beat one JAX
         process). Both give the same values to 1e-9 relative, so a resumed run may switch.
+    package_version : str
+        The version of the code computing it, recorded in the table's metadata (the command
+        line passes ``roughdiffuse.__version__``; this module does not import the package).
     force : bool
         Recompute and replace a finished table at ``path`` (and discard chunks of other
         settings in ``path.chunks/``). Without it a finished table with the same grid and
@@ -291,7 +289,7 @@ def compute_table(
         **{k: v.tolist() for k, v in axes.items()},
     }
     key = _digest(json.dumps(identity, sort_keys=True).encode())
-    manifest = {**identity, "package_version": _package_version(), "key": key}
+    manifest = {**identity, "package_version": package_version, "key": key}
     with _TableLock(path):
         if path.exists():
             kept = _finished_table(path, axes, float(albedo), bounces, settings, force)
@@ -349,6 +347,7 @@ def compute_table(
             float(albedo),
             bounces,
             settings,
+            {"package_version": package_version},
         )
         table.save(path)
         shutil.rmtree(chunk_dir, ignore_errors=True)

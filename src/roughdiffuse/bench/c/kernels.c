@@ -97,7 +97,7 @@ MODEL(eon, P2(float), P2(double), (mi, mo, cio, p0, p1))
 /* Gaussian-in-slope-angle Torrance-Sparrow; p2 is the distribution's normalisation (times
  * sigma^2), a parameter-only quantity that run.py takes from the model module. */
 MODEL(torrance_sparrow, P3(float), P3(double), (mi, mo, cio, p0, p1, p2))
-/* issue 17: the production and photometric models (src/roughdiffuse/models/burley.py,
+/* the production and photometric models (src/roughdiffuse/models/burley.py,
  * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) */
 #define P5(T) T p0, T p1, T p2, T p3, T p4
 MODEL(burley, P2(float), P2(double), (mi, mo, cio, p0, p1))
@@ -204,7 +204,7 @@ static inline real RD_F(torrance_sparrow)(real mi, real mo, real cio, real eta, 
     return fr * d * g_over / C(4);
 }
 
-/* ---- issue 17 ---- */
+/* ---- production and photometric models ---- */
 static inline real RD_F(pow5)(real x) { real x2 = x * x; return x2 * x2 * x; }
 static inline real RD_F(cos_h)(real mi, real mo, real cio) {
     real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));

@@ -15,7 +15,7 @@ const float RD_SUM_FLOOR = 1e-6;   // lunar._SUM_FLOOR
 const float RD_K1 = 0.5 - 2.0 / (3.0 * RD_PI);            // fujii.K1
 const float RD_K2 = 2.0 / 3.0 - 28.0 / (15.0 * RD_PI);    // fujii.K2
 
-// model ids: the same numbers as MODEL_IDS in roughdiffuse/explorer/params.py
+// model ids: the numbers each model class declares in its `glsl` attribute (roughdiffuse/models/)
 const int RD_LAMBERT = 0;
 const int RD_ON_QUALITATIVE = 1;
 const int RD_ON_FULL = 2;
@@ -229,7 +229,7 @@ vec3 rd_lunar_lambert(float mu_i, float mu_o, vec3 albedo, float limb) {
   return albedo / RD_PI * ((1.0 - limb) + limb * ls);
 }
 
-// ---------------------------------------------------------------- production diffuse (issue 17)
+// ---------------------------------------------------------------- production diffuse
 // burley.schlick_weight: (1 - mu)^5
 float rd_schlick_weight(float mu) { float m = 1.0 - mu; float m2 = m * m; return m2 * m2 * m; }
 

@@ -1,34 +1,12 @@
 // The models the explorer offers come from the server's /api/models: the registry
 // (roughdiffuse/registry.py), the same JSON as `roughdiffuse models --json`, with each
-// model's parameters, units, ranges and defaults. What is written here belongs to the GLSL,
-// the one second copy of the formulas: the number brdf.glsl dispatches on for each id (as
-// MODEL_IDS in roughdiffuse/explorer/params.py) and the field of its RDParams record each
-// declared parameter fills.
+// model's parameters, units, ranges and defaults, and what each model class declares about
+// its GLSL copy: `glsl_id`, the number brdf.glsl dispatches on (null: no GLSL copy), and
+// `glsl_keys`, the RDParams field of each declared parameter whose name differs.
 
-/** brdf.glsl's model numbers; a registry model missing here has no GLSL copy. */
-export const GLSL_IDS = {
-  lambert: 0,
-  "oren-nayar": 1,
-  "oren-nayar-full": 2,
-  fujii: 3,
-  eon: 4,
-  "torrance-sparrow": 5,
-  "torrance-sparrow-beckmann": 5,
-  mix: 6,
-  "lommel-seeliger": 7,
-  "lunar-lambert": 8,
-  burley: 9,
-  frostbite: 10,
-  "burley-2015": 11,
-  hammon: 12,
-  chan: 13,
-  "lambert-sphere": 14,
-  hapke: 15,
-  minnaert: 16,
-};
-
-/** Declared parameter name -> key of the page's state and of RDParams, where they differ. */
-const FLAT_KEY = { limb_darkening: "limb" };
+/** Declared parameter name -> key of the page's state and of RDParams, where they differ
+ * (the union of the models' published glsl_keys). */
+const FLAT_KEY = {};
 export const flatKey = (name) => FLAT_KEY[name] ?? name;
 
 /** Every model of the registry with a GLSL copy: {key, id, label, short, uses, params}. */
@@ -45,14 +23,16 @@ export function setModels(records) {
   LEFT_OUT.length = 0;
   for (const k of Object.keys(BY_KEY)) delete BY_KEY[k];
   for (const k of Object.keys(PARAMS)) delete PARAMS[k];
+  for (const k of Object.keys(FLAT_KEY)) delete FLAT_KEY[k];
+  for (const r of records) Object.assign(FLAT_KEY, r.glsl_keys ?? {});
   for (const r of records) {
-    if (!r.glsl || !(r.id in GLSL_IDS)) {
+    if (!r.glsl || r.glsl_id === null || r.glsl_id === undefined) {
       LEFT_OUT.push({ key: r.id, label: r.label, reason: "no GLSL copy of its formula" });
       continue;
     }
     const params = {};
     for (const p of r.parameters) params[flatKey(p.name)] = p;
-    const m = { key: r.id, id: GLSL_IDS[r.id], label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {} };
+    const m = { key: r.id, id: r.glsl_id, label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {} };
     MODELS.push(m);
     BY_KEY[m.key] = m;
     for (const [k, p] of Object.entries(params)) {
@@ -121,7 +101,7 @@ export function gpuParams(s) {
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
     distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
-    // issue 17's models (brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar)
+    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar
     alpha: s.alpha ?? 0.3,
     variant: (s.variant ?? "full") === "fast" ? 1 : 0,
     k: s.k ?? 1.0,

@@ -10,7 +10,7 @@ smooth integrand (about 1e-7 with 48 nodes a piece, see tests/test_energy.py).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._array import Array, asarray, clip, result_dtype, safe_sqrt
 from ..frames import unit_components
@@ -45,7 +45,3 @@ def hemisphere_albedo(model: Model, wo: Array, n: int = 48) -> Array:
         return xp.sum(xp.sum(f * weights, axis=-2), axis=-2)
     return xp.sum(xp.sum(f * weights, axis=-1), axis=-1)
 
-
-def directional_albedo_any(model: Model, wo: Array, **kw: Any) -> Array:
-    """Quadrature albedo even for models that override :meth:`directional_albedo`."""
-    return hemisphere_albedo(model, wo, **kw)

@@ -4,16 +4,16 @@ arrays, in place, on every core.
 The array-API reference path makes one pass over memory per operation (about 25 million
 evaluations per second for Oren–Nayar); the compiled kernel computes the same values in one
 pass: it compiles the model's own code, not a second copy of its formula. The models' own
-methods run it by default on large NumPy arrays (:mod:`roughdiffuse._dispatch`, switched off
+methods run it by default on large NumPy arrays (:mod:`roughdiffuse.engine.dispatch`, switched off
 by ``roughdiffuse.use_fastpath(False)`` or ``ROUGHDIFFUSE_FASTPATH=0``); :func:`evaluate`,
 :func:`brdf` and :func:`brdf_cosines` are the explicit forms (``out``, ``chunk``, ``threads``).
 
 How: the model's method, e.g. :meth:`~roughdiffuse.models.base.Model.radiance` (with its
 ``_kernel``, the frame normalisation and the horizon test of ``models/base.py``) is run once
-on *symbols* for one row of the inputs (see :mod:`roughdiffuse._trace`); the recorded operations
-are printed as the body of a scalar loop over the rows, and Numba compiles that loop
+on *symbols* for one row of the inputs (see :mod:`roughdiffuse.engine.trace`); the recorded
+operations are printed as the body of a scalar loop over the rows, and Numba compiles that loop
 (float32 code for float32 input, ``fastmath`` without the no-NaN/no-Inf assumptions,
-vectors no wider than the CPU's tuning prefers: see ``_numba_math.tuned_vector_width``). The
+vectors no wider than the CPU's tuning prefers: see ``numba_math.tuned_vector_width``). The
 model's parameters are run-time arguments, so a new σ or albedo does not recompile.
 
 Threads: the rows are cut into chunks (by default one contiguous part per core, like
@@ -38,7 +38,6 @@ import dataclasses
 import hashlib
 import importlib.util
 import os
-import stat
 import sys
 import threading
 import types
@@ -49,9 +48,11 @@ from typing import Any
 
 import numpy as np
 
-from ._trace import Graph, SymVec, TraceError, scalar_source
-from .io.atomic import write_text
-from .models.base import Model
+from ..io.atomic import write_text
+from .cache import cache_dir, private_cache_dir
+from .protocol import CompilableModel as Model
+from .protocol import is_model
+from .trace import Graph, SymVec, TraceError, scalar_source
 
 __all__ = [
     "DEFAULT_CHUNK",
@@ -69,12 +70,11 @@ DEFAULT_CHUNK = 1 << 18
 """Rows per unit of work when inputs must be converted (another dtype, not contiguous): one
 chunk of buffers per thread (about 10 MB in float32). Inputs read in place are split in one
 contiguous part per thread instead, like OpenMP's static schedule: each chunk costs Python
-overhead and a GIL hand-over, and on 2^22 rows chunks of 2^16, 2^18, 2^20 and 2^21 rows ran
-at 380, 510, 575 and 590 million rows/s here (two direct halves: 620)."""
+overhead and a GIL hand-over, so fewer, larger chunks run faster (bench/RESULTS.md)."""
 
 ROWS_PER_THREAD = 1 << 15
-"""Fewest rows worth a thread of their own (by default): a hand-over to a pool thread costs
-tens of µs, hundreds on a loaded machine, and 2^15 rows take 50-150 µs on one core."""
+"""Fewest rows worth a thread of their own (by default): below it, handing rows over to a
+pool thread costs about as much as computing them on one core (bench/RESULTS.md)."""
 
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 _LOCK = threading.Lock()
@@ -93,15 +93,6 @@ def cpu_count() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def cache_dir() -> Path:
-    """Directory of the generated kernels and Numba's cache (created when first needed)."""
-    env = os.environ.get("ROUGHDIFFUSE_CACHE_DIR")
-    if env:
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "roughdiffuse" / "fastpath"
-
-
 # ------------------------------------------------------------------ entry points
 _ENTRIES: dict[str, tuple[tuple[str, int], ...]] = {
     "radiance": (("n", 3), ("l", 3), ("v", 3)),
@@ -115,7 +106,7 @@ _ENTRIES: dict[str, tuple[tuple[str, int], ...]] = {
 # ------------------------------------------------------------------ tracing
 def _value_key(x: Any) -> Any:
     """A hashable key of a model's (or a value's) type and every value it holds."""
-    if isinstance(x, Model):
+    if is_model(x):
         fields = tuple((f.name, _value_key(getattr(x, f.name))) for f in dataclasses.fields(x))
         return (type(x).__module__, type(x).__qualname__, fields)
     if isinstance(x, str | bool | int | float | type(None)):
@@ -129,7 +120,7 @@ def _value_key(x: Any) -> Any:
 def _structure_key(x: Any) -> Any:
     """What the generated code depends on besides parameter values: the class, its static
     fields and the shapes of its parameters (a new σ or albedo reuses the kernel)."""
-    if isinstance(x, Model):
+    if is_model(x):
         fields = []
         for f in dataclasses.fields(x):
             value = getattr(x, f.name)
@@ -183,13 +174,13 @@ def _source(
     names = ", ".join(name for name, _ in inputs)
     lines = [
         "# Generated by roughdiffuse.fastpath from a model's array-API code; do not edit.",
-        f"# helpers: roughdiffuse._numba_math {_helpers_digest()}",
+        f"# helpers: roughdiffuse.engine.numba_math {_helpers_digest()}",
         "import math",
         "",
         "import numba",
         "import numpy as np",
         "",
-        "from roughdiffuse._numba_math import exp2i, exp2i_f64, tuned_vector_width",
+        "from roughdiffuse.engine.numba_math import exp2i, exp2i_f64, tuned_vector_width",
         "",
         *constants,
         f"_INF = np.{graph.dtype.name}(np.inf)",
@@ -217,37 +208,12 @@ def _helpers_digest() -> str:
     so a change to them must change the generated source (and so the cache entry)."""
     global _HELPERS
     if _HELPERS is None:
-        path = Path(__file__).with_name("_numba_math.py")
+        path = Path(__file__).with_name("numba_math.py")
         _HELPERS = hashlib.sha1(path.read_bytes()).hexdigest()[:12]
     return _HELPERS
 
 
 _HELPERS: str | None = None
-
-
-def private_cache_dir() -> Path | None:
-    """:func:`cache_dir`, created with mode 0700 if missing, if it is safe to use: a real
-    directory (not a symbolic link) owned by this user that no one else may write to.
-    Otherwise ``None``: kernels are then compiled in memory, without a disk cache (Numba
-    unpickles its cache index files, so a folder others can write to could run their code).
-    """
-    path = cache_dir()
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        try:
-            path.mkdir(mode=0o700)
-        except FileExistsError:
-            pass
-        st = os.lstat(path)
-    except OSError:
-        return None
-    if not stat.S_ISDIR(st.st_mode) or st.st_mode & 0o022:
-        return None
-    if hasattr(os, "getuid") and st.st_uid != os.getuid():
-        return None
-    if not os.access(path, os.W_OK | os.X_OK):
-        return None
-    return path
 
 
 def _load(source: str) -> Any:
@@ -466,7 +432,7 @@ def _run(
         bad = [work(s) for s in starts]
     elif len(starts) <= threads:
         # one chunk per thread: the calling thread computes the first itself, a hand-over
-        # less (64 rows on 2 threads: 53 instead of 70 µs a call here)
+        # less
         futures = [_pool(threads).submit(work, s) for s in starts[1:]]
         try:
             first = work(starts[0])
@@ -497,8 +463,9 @@ def evaluate(
 
     The same values as ``model.radiance(n, l, v, irradiance)`` (the same code is compiled),
     to float rounding: float32 input is computed in float32, float64 input in float64.
-    ``model.radiance`` itself runs this on large NumPy arrays (see :mod:`roughdiffuse._dispatch`);
-    this is the explicit form, with control of ``out``, ``chunk`` and ``threads``.
+    ``model.radiance`` itself runs this on large NumPy arrays (see
+    :mod:`roughdiffuse.engine.dispatch`); this is the explicit form, with control of ``out``,
+    ``chunk`` and ``threads``.
 
     Parameters
     ----------
@@ -611,7 +578,7 @@ def brdf_cosines(
 
 
 def _check_model(model: Any) -> None:
-    if not isinstance(model, Model):
+    if not is_model(model):
         raise ValueError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     if not type(model).closed_form:
         raise ValueError(
@@ -622,8 +589,8 @@ def _check_model(model: Any) -> None:
 
 # ------------------------------------------------------------------ automatic dispatch
 def kernel_key(model: Model, entry: str, args: tuple[Any, ...], irradiance: Any) -> _Call:
-    """The laid-out call ``model.<entry>(*args)`` (used by :mod:`roughdiffuse._dispatch`), with
-    the reference path's dtype rule (Python numbers do not count)."""
+    """The laid-out call ``model.<entry>(*args)`` (used by :mod:`roughdiffuse.engine.dispatch`),
+    with the reference path's dtype rule (Python numbers do not count)."""
     dtype = _result_dtype(*(a for a in args if isinstance(a, np.ndarray)))
     call = _prepare(entry, args, irradiance, dtype)
     call.key = (entry, _structure_key(model), dtype.str, call.pattern, call.e0.shape)

@@ -271,7 +271,7 @@ def _traced(*xs: Any) -> bool:
 class TraceNamespace:
     """The array namespace of traced values: records symbolic operations, evaluates the rest."""
 
-    __name__ = "roughdiffuse._trace"
+    __name__ = "roughdiffuse.engine.trace"
     float32 = np.dtype("float32")
     float64 = np.dtype("float64")
     bool = np.dtype("bool")
@@ -451,8 +451,8 @@ def _exp_polynomial(xp: TraceNamespace, x: Any) -> Any:
 def _acos_polynomial(xp: TraceNamespace, x: Any) -> Any:
     """acos for float32 kernels: atan2(√(1 − x²), x) through :func:`_atan2_polynomial`.
 
-    libm's acosf is a call the loop vectoriser cannot widen, as atan2f is; the Lambert-sphere
-    models (acos in the phase function and the azimuth) ran at 0.16 of C with it. Same
+    libm's acosf is a call the loop vectoriser cannot widen, as atan2f is, which made the
+    Lambert-sphere models (acos in the phase function and the azimuth) far slower than C. Same
     accuracy as the atan2 polynomial (about 1e-7 relative); √(1 − x²) is clamped at 0 so
     |x| slightly above 1 from rounding gives 0 or π as NumPy's clipped inputs do.
     """

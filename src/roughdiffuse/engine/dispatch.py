@@ -1,8 +1,8 @@
 """When ``brdf``, ``brdf_cosines`` and ``radiance`` run compiled: the fast path by default.
 
 :class:`~roughdiffuse.models.base.Model` asks :func:`compiled` first; it answers with the
-compiled result (:mod:`roughdiffuse.fastpath`) or ``None`` for the array-API path. This module
-imports nothing heavy: Numba is imported only when a kernel is first needed.
+compiled result (:mod:`roughdiffuse.engine.fastpath`) or ``None`` for the array-API path.
+This module imports nothing heavy: Numba is imported only when a kernel is first needed.
 
 The rule (the measurements behind the two thresholds are in their docstrings):
 
@@ -35,17 +35,15 @@ import numpy as np
 __all__ = ["BUILD_ROWS", "MIN_ROWS", "compiled", "fastpath_enabled", "use_fastpath"]
 
 MIN_ROWS = 1 << 10
-"""Fewest rows a call must have to run compiled. The compiled call's fixed cost is about
-50 µs (laying out the call, looking up the kernel; one thread below 2^16 rows, see
-``fastpath.ROWS_PER_THREAD``), the reference path's about 100 µs plus its per-row cost;
-measured on 2 busy cores, float32 ``brdf``, medians of 30 calls: at 2^10 rows the compiled
-call took 49-81 µs, the reference path 142-217 µs (Lambert, Oren–Nayar, EON: 2.7-2.9 times
-faster); at 2^16 rows 7.6 (Lambert) to 124 (EON) times."""
+"""Fewest rows a call must have to run compiled: the compiled call has a fixed cost (laying
+out the call, looking up the kernel; one thread below 2^16 rows, see
+``fastpath.ROWS_PER_THREAD``) that the reference path's per-row cost outweighs from about
+this many rows on (measurements: bench/RESULTS.md, "Thresholds of the compiled engine")."""
 
 BUILD_ROWS = 1 << 20
 """Rows evaluated on the reference path after which a kernel is built (one call of this many
-rows builds it at once): about 0.05 s of NumPy work for Oren–Nayar here, the order of a kernel
-load from the disk cache (a cold compilation takes 1–4 s, once per machine)."""
+rows builds it at once): NumPy work of the order of a kernel load from the disk cache (a cold
+compilation is far longer, once per machine; bench/RESULTS.md)."""
 
 _ENABLED = os.environ.get("ROUGHDIFFUSE_FASTPATH", "1").strip().lower() not in (
     "0",
@@ -71,7 +69,7 @@ class use_fastpath:  # noqa: N801 - used as a function
     ----------
     enabled : bool
         ``False``: every call takes the array-API reference path (as
-        ``ROUGHDIFFUSE_FASTPATH=0`` does). :func:`roughdiffuse.fastpath.evaluate` stays
+        ``ROUGHDIFFUSE_FASTPATH=0`` does). :func:`roughdiffuse.engine.fastpath.evaluate` stays
         available either way.
 
     Examples

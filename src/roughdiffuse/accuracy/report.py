@@ -13,10 +13,10 @@ Comparisons (Oren & Nayar 1994, Secs. 3–4; docs/accuracy.md):
   against all bounces (FON: against one bounce, as it is a single-scattering model), and
   prints it.
 * The slope-measure question: Oren–Nayar's L1 against one bounce under both readings.
-* A second ground truth (:mod:`.report_smith`): the Smith microsurface's checks, and
+* A second ground truth (:mod:`.smith_checks`): the Smith microsurface's checks, and
   rendered Gaussian heightfields against both solvers; and every registry model against the
   V-cavity, Smith-Beckmann and Smith-GGX surfaces at ρ = 0.5 and 0.9
-  (:mod:`.report_models`).
+  (:mod:`.model_scores`).
 
 L1 is taken from the model code, not re-derived: the full model is f = a ρ + b ρ², so
 L1(ρ) = a ρ = 4 f(ρ/2) − f(ρ).
@@ -29,10 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import registry
+from .._version import version
 from ..io.atomic import atomic_write, write_text
-from ..models import EON, Fujii, Lambert, OrenNayar
-from .surface import Settings
-from .table import compute_table, load_table
+from ..simulate.surface import Settings
+from ..simulate.table import compute_table, load_table
 
 __all__ = ["SIGMAS", "write_report"]
 
@@ -46,28 +47,29 @@ def _cosines(ti, tr, dp):
 
 def _label(model_id: str, suffix: str = "") -> str:
     """The registry's label of a model (:mod:`roughdiffuse.registry`), plus ``suffix``."""
-    from .. import registry
-
     return registry.get(model_id).label + suffix
 
 
-def model_values(name: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
-    """BRDF of a named comparison model at angle arrays (1/sr)."""
+L1 = "oren-nayar-full:L1"
+"""The full Oren–Nayar model's direct term alone (not a registry model): L1(ρ) = 4 f(ρ/2) − f(ρ)."""
+
+
+def model_values(model_id: str, ti, tr, dp, sigma: float, albedo: float, r: float | None = None):
+    """BRDF (1/sr) at angle arrays of the registry model ``model_id`` (its σ or its roughness
+    r, whichever it takes), or of :data:`L1`."""
     mi, mo, c = _cosines(ti, tr, dp)
-    if name == "lambert":
-        return Lambert(albedo).brdf_cosines(mi, mo, c)
-    if name == "on-qualitative":
-        return OrenNayar(albedo, sigma, "qualitative").brdf_cosines(mi, mo, c)
-    if name == "on-full":
-        return OrenNayar(albedo, sigma, "full").brdf_cosines(mi, mo, c)
-    if name == "on-L1":
-        half = OrenNayar(albedo / 2, sigma, "full").brdf_cosines(mi, mo, c)
-        return 4.0 * half - OrenNayar(albedo, sigma, "full").brdf_cosines(mi, mo, c)
-    if name == "fujii":
-        return Fujii(albedo, r).brdf_cosines(mi, mo, c)
-    if name == "eon":
-        return EON(albedo, r).brdf_cosines(mi, mo, c)
-    raise ValueError(f"unknown model {name!r}")
+    if model_id == L1:
+        full = registry.get("oren-nayar-full")
+        half = full.create(albedo=albedo / 2, sigma=sigma).brdf_cosines(mi, mo, c)
+        return 4.0 * half - full.create(albedo=albedo, sigma=sigma).brdf_cosines(mi, mo, c)
+    entry = registry.get(model_id)
+    takes = {p.name for p in entry.parameters}
+    kw = {"albedo": albedo}
+    if "sigma" in takes:
+        kw["sigma"] = sigma
+    if "roughness" in takes:
+        kw["roughness"] = r
+    return entry.create(**kw).brdf_cosines(mi, mo, c)
 
 
 def _errors(model: np.ndarray, truth: np.ndarray) -> np.ndarray:
@@ -100,23 +102,10 @@ def _where(t, idx) -> str:
     )
 
 
-def write_report(
-    out: str | Path,
-    quick: bool = False,
-    progress: bool = True,
-    workers: int = 1,
-    scheduler: str | None = None,
-) -> Path:
-    """Compute the ground truth and write the accuracy report into folder ``out``.
-
-    The tables are computed by :func:`compute_table` (``workers`` processes, or the Dask
-    ``scheduler`` at that address) and reused by later runs with the same grid.
-    """
-    from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
-
-    out = Path(out)
-    (out / "tables").mkdir(parents=True, exist_ok=True)
-    ti, tr, dp, sigmas = _grid(quick)
+def _table_source(out: Path, grid, workers: int, scheduler: str | None, progress: bool):
+    """``table(measure, bounces)``: the report's truth table, reused from ``out/tables`` when
+    it holds this grid, else computed (and a table of another grid replaced)."""
+    ti, tr, dp, sigmas = grid
 
     def table(measure: str, bounces):
         path = out / "tables" / f"truth_{measure}_{bounces}.npz"
@@ -141,11 +130,15 @@ def write_report(
             scheduler=scheduler,
             progress=progress,
             force=True,  # a table of this report's other grid (checked above) is replaced
+            package_version=version(),
         )
 
-    one = {m: table(m, 1) for m in ("angle", "solid-angle")}
-    g = np.meshgrid(ti, tr, dp, indexing="ij")
-    lines = [
+    return table
+
+
+def _settings_lines(quick: bool, ti, dp, sigmas) -> list[str]:
+    """The report's title and the settings that produced it."""
+    return [
         "# V-cavity ground truth: accuracy of the reflectance models",
         "",
         "Generated by `roughdiffuse simulate --report" + (" --quick" if quick else "") + "`.",
@@ -162,6 +155,12 @@ def write_report(
         "< 1e-4 relative",
         "* error = (model − truth) / truth; RMS and maximum |error| over the grid",
         "",
+    ]
+
+
+def _measure_lines(g, sigmas, one) -> tuple[list[str], str]:
+    """Which reading of the slope measure Oren–Nayar's L1 fits (the lines, and the reading)."""
+    lines = [
         "## Which reading of the slope measure do the Oren–Nayar coefficients fit?",
         "",
         "Oren–Nayar L1 (the full model's direct term) against one bounce, per reading:",
@@ -170,7 +169,7 @@ def write_report(
         "| --- | --- | --- |",
     ]
     rms_measure = {"angle": [], "solid-angle": []}
-    l1 = [model_values("on-L1", *g, s, ALBEDO) for s in sigmas]
+    l1 = [model_values(L1, *g, s, ALBEDO) for s in sigmas]
     for k, s in enumerate(sigmas):
         row = []
         for m in ("angle", "solid-angle"):
@@ -199,26 +198,33 @@ def write_report(
         ],
         "",
     ]
-    two = table(better, 2)
-    inf = table(better, "all")
-    truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
-    comparisons = [
-        (_label("lambert"), "lambert", "all bounces"),
-        (_label("oren-nayar"), "on-qualitative", "1 bounce"),
-        (_label("oren-nayar"), "on-qualitative", "all bounces"),
-        ("Oren–Nayar L1", "on-L1", "1 bounce"),
-        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "2 bounces"),
-        (_label("oren-nayar-full", " (L1 + L2)"), "on-full", "all bounces"),
-        (_label("fujii", ", best r"), "fujii", "1 bounce"),
-        (_label("eon", ", best r"), "eon", "all bounces"),
-    ]
-    lines += [
+    return lines, better
+
+
+COMPARISONS = (
+    ("lambert", "", "all bounces"),
+    ("oren-nayar", "", "1 bounce"),
+    ("oren-nayar", "", "all bounces"),
+    (L1, "", "1 bounce"),
+    ("oren-nayar-full", " (L1 + L2)", "2 bounces"),
+    ("oren-nayar-full", " (L1 + L2)", "all bounces"),
+    ("fujii", ", best r", "1 bounce"),
+    ("eon", ", best r", "all bounces"),
+)
+"""(registry id or :data:`L1`, label suffix, truth) of each row group of the error table."""
+
+
+def _error_lines(g, sigmas, truths, better: str) -> list[str]:
+    """Each model's RMS and maximum error against its truths, per σ."""
+    inf = truths["all bounces"]
+    lines = [
         f"## Model errors (measure `{better}`)",
         "",
         "| model | against | σ | RMS | max | where the max is | r |",
         "| --- | --- | --- | --- | --- | --- | --- |",
     ]
-    for label, name, against in comparisons:
+    for name, suffix, against in COMPARISONS:
+        label = "Oren–Nayar L1" if name == L1 else _label(name, suffix)
         for k, s in enumerate(sigmas):
             truth = truths[against].values[..., k]
             r = None
@@ -230,6 +236,36 @@ def write_report(
                 f"| {label} | {against} | {s:g} | {np.sqrt(np.mean(e**2)):.4f} | "
                 f"{np.abs(e).max():.4f} | {_where(inf, idx)} | {'' if r is None else f'{r:.2f}'} |"
             )
+    return lines
+
+
+def write_report(
+    out: str | Path,
+    quick: bool = False,
+    progress: bool = True,
+    workers: int = 1,
+    scheduler: str | None = None,
+) -> Path:
+    """Compute the ground truth and write the accuracy report into folder ``out``.
+
+    The tables are computed by :func:`compute_table` (``workers`` processes, or the Dask
+    ``scheduler`` at that address) and reused by later runs with the same grid.
+    """
+    from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
+
+    out = Path(out)
+    (out / "tables").mkdir(parents=True, exist_ok=True)
+    ti, tr, dp, sigmas = _grid(quick)
+    table = _table_source(out, (ti, tr, dp, sigmas), workers, scheduler, progress)
+    one = {m: table(m, 1) for m in ("angle", "solid-angle")}
+    g = np.meshgrid(ti, tr, dp, indexing="ij")
+    lines = _settings_lines(quick, ti, dp, sigmas)
+    measure_lines, better = _measure_lines(g, sigmas, one)
+    lines += measure_lines
+    two = table(better, 2)
+    inf = table(better, "all")
+    truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
+    lines += _error_lines(g, sigmas, truths, better)
     lines += _convergence_lines(quick)
     lines += _second_truth_lines(out, quick, progress)
     # figures: plane of incidence and error maps
@@ -246,10 +282,10 @@ def write_report(
 
 
 def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
-    """The Smith microsurface's checks and the rendered heightfields (:mod:`.report_smith`),
-    and every registry model against the three all-bounce truths (:mod:`.report_models`)."""
-    from .report_models import model_score_lines
-    from .report_smith import heightfield_lines, smith_check_lines
+    """The Smith microsurface's checks and the rendered heightfields (:mod:`.smith_checks`),
+    and every registry model against the three all-bounce truths (:mod:`.model_scores`)."""
+    from .model_scores import model_score_lines
+    from .smith_checks import heightfield_lines, smith_check_lines
 
     return (
         smith_check_lines(quick)
@@ -260,7 +296,7 @@ def _second_truth_lines(out: Path, quick: bool, progress: bool) -> list[str]:
 
 def _convergence_lines(quick: bool) -> list[str]:
     """Relative change of f when each quadrature rule (and K) is doubled."""
-    from .surface import quadrature_convergence
+    from ..simulate.surface import quadrature_convergence
 
     g = np.radians([[0, 0, 0], [30, 45, 0], [60, 60, 180], [80, 85, 90], [89, 30, 30]])
     if quick:
@@ -289,7 +325,7 @@ def _convergence_lines(quick: bool) -> list[str]:
 
 
 def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: bool, workers: int):
-    from .surface import brdf
+    from ..simulate.surface import brdf
 
     figs = []
     theta_i = math.radians(60.0)
@@ -306,7 +342,7 @@ def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: boo
         truth = brdf(ti, xs, dps, s, ALBEDO, "all", st)
         ax.plot(np.degrees(x), truth * math.pi, "k-", lw=2, label="V-cavity, all bounces")
         ax.plot(np.degrees(x), truth1 * math.pi, "k--", lw=1, label="V-cavity, 1 bounce")
-        for name, style in (("on-full", "C0-"), ("on-qualitative", "C1-"), ("lambert", "C2:")):
+        for name, style in (("oren-nayar-full", "C0-"), ("oren-nayar", "C1-"), ("lambert", "C2:")):
             ax.plot(
                 np.degrees(x),
                 model_values(name, ti, xs, dps, s, ALBEDO) * math.pi,
@@ -325,7 +361,7 @@ def _plots(subplots, out: Path, measure: str, sigmas, quick: bool, progress: boo
     a, b = np.meshgrid(ang, ang, indexing="ij")
     s = 0.3
     truth = brdf(a, b, 0.0, s, ALBEDO, "all", Settings(measure=measure))
-    names = ("on-full", "on-qualitative", "lambert")
+    names = ("oren-nayar-full", "oren-nayar", "lambert")
     fig, axes = subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
     for ax, name in zip(axes[0], names, strict=True):
         e = _errors(model_values(name, a, b, 0.0, s, ALBEDO), truth)
@@ -364,8 +400,8 @@ def _pixels_figure(subplots, mi, out: Path, quick: bool) -> None:
 def _pixels_render(subplots, mi, out: Path, quick: bool) -> None:
     import tempfile
 
-    from .cavity import cavity_radiance
-    from .grooves import render_grooves, write_groove_ply
+    from ..simulate.cavity import cavity_radiance
+    from ..simulate.grooves import render_grooves, write_groove_ply
 
     theta_a, theta_i, rho = 0.6, math.radians(50.0), 0.8
     wi = np.array([math.sin(theta_i), 0.0, math.cos(theta_i)])

@@ -3,7 +3,7 @@
 Truths (all bounces, facet albedo ρ = 0.5 and 0.9), on one grid of (θi, θr, Δφ):
 
 * the V-cavity surface (:mod:`.surface`, ``Settings()``), at the σ whose mean square slope
-  angle equals that of the Beckmann surface of each α (:func:`.report_smith.matching_sigma`);
+  angle equals that of the Beckmann surface of each α (:func:`.smith_checks.matching_sigma`);
 * the Smith microsurface with Lambertian facets, Beckmann slopes of roughness α;
 * the same with GGX slopes (:mod:`.smith`, random walk; the Monte Carlo error is printed).
 
@@ -25,10 +25,12 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize
 
-from . import smith
-from .report_smith import matching_sigma
-from .surface import Settings
-from .surface import brdf as cavity_brdf
+from .. import registry
+from ..io.atomic import write_text
+from ..simulate import smith
+from ..simulate.surface import Settings
+from ..simulate.surface import brdf as cavity_brdf
+from .smith_checks import matching_sigma
 
 __all__ = ["SCORES_FILE", "model_score_lines"]
 
@@ -77,8 +79,6 @@ def _truths(quick: bool, progress: bool):
 
 
 def _entries():
-    from .. import registry
-
     chosen = []
     for e in registry.entries():
         if e.lobe != "diffuse" or not e.cls.closed_form or e.id == "mix":
@@ -117,6 +117,74 @@ def _best(entry, param, rho, cosines, truth, quick=False):
     return x, *_rms_and_max(entry, param, x, rho, cosines, truth)
 
 
+def _score_cells(entry, param, truth, alphas, truths, cosines, quick):
+    """One model against one truth over every α and ρ: the table cells (best fit, and
+    published value where there is one), the RMS errors, and the JSON records."""
+    cells, pub_cells, rms_all, rows = [], [], [], []
+    for a in alphas:
+        for rho in ALBEDOS:
+            values = truths[truth, a, rho][0]
+            if param is None:
+                rms, mx = _rms_and_max(entry, None, None, rho, cosines, values)
+                cells.append(f"{rms:.3f} (max {mx:.2f})")
+                x, how = None, "none"
+            else:
+                x, rms, mx = _best(entry, param, rho, cosines, values, quick)
+                cells.append(f"{rms:.3f} (max {mx:.2f}) [{x:.2f}]")
+                how = "best fit"
+            rows.append({"alpha": a, "rho": rho, "mapping": how, "value": x,
+                         "rms": rms, "max": mx})  # fmt: skip
+            rms_all.append(rms)
+            pname = PUBLISHED.get((entry.id, truth))
+            if pname is not None and param is not None and param.name == pname:
+                value = matching_sigma(a) if pname == "sigma" else a
+                value = min(value, float(param.max))
+                prms, pmx = _rms_and_max(entry, param, value, rho, cosines, values)
+                pub_cells.append(f"{prms:.3f} (max {pmx:.2f})")
+                rows.append({"alpha": a, "rho": rho, "mapping": "published",
+                             "value": value, "rms": prms, "max": pmx})  # fmt: skip
+    return cells, pub_cells, rms_all, rows
+
+
+def _intro_lines(ti, dp, alphas, samples, rel_se) -> list[str]:
+    """The section's heading and what its tables compare."""
+    return [
+        "",
+        "## Every model against three surfaces",
+        "",
+        f"All bounces, ρ ∈ {{{', '.join(f'{r:g}' for r in ALBEDOS)}}}, α ∈ "
+        f"{{{', '.join(f'{a:g}' for a in alphas)}}}, on {ti.size} geometries (θi, θr ∈ "
+        f"{{{', '.join(f'{math.degrees(x):.0f}' for x in np.unique(ti))}}}°, Δφ ∈ "
+        f"{{{', '.join(f'{math.degrees(x):.0f}' for x in np.unique(dp))}}}°). Truths: the "
+        "V-cavity surface at the σ of the same mean square slope angle ("
+        + ", ".join(f"σ = {matching_sigma(a):.3f} for α = {a:g}" for a in alphas)
+        + f"), and the Smith Lambertian microsurface with Beckmann and GGX slopes "
+        f"({samples:,} paths per geometry; largest relative standard error "
+        f"{100 * rel_se:.1f} %, so RMS errors below about {100 * rel_se:.0f} % are at the "
+        "noise level). Error = (model − truth) / truth; RMS and maximum over the grid. Each "
+        "model's roughness parameter is fitted per truth, α and ρ (value in brackets); "
+        "'published' rows use the truth's own σ or α.",
+        "",
+    ]
+
+
+def _write_scores(out, data, ti, dp, alphas, samples, rel_se, quick) -> None:
+    """The scoreboard as JSON, ``out / SCORES_FILE``."""
+    settings = {
+        "albedos": list(ALBEDOS),
+        "alphas": list(alphas),
+        "sigmas": {f"{a:g}": matching_sigma(a) for a in alphas},
+        "theta_deg": [round(math.degrees(x), 6) for x in np.unique(ti)],
+        "delta_phi_deg": [round(math.degrees(x), 6) for x in np.unique(dp)],
+        "geometries": ti.size,
+        "smith_samples": samples,
+        "largest_relative_stderr": rel_se,
+        "quick": quick,
+    }
+    payload = {"settings": settings, "models": data}
+    write_text(Path(out) / SCORES_FILE, json.dumps(payload, indent=1) + "\n")
+
+
 def model_score_lines(quick: bool, progress: bool = True, out: Path | None = None) -> list[str]:
     """The scoreboard section: tables per truth, and which model for which surface.
 
@@ -132,25 +200,7 @@ def model_score_lines(quick: bool, progress: bool = True, out: Path | None = Non
     )
     truths, rel_se, alphas, samples = _truths(quick, progress)
     entries = _entries()
-    n = ti.size
-    lines = [
-        "",
-        "## Every model against three surfaces",
-        "",
-        f"All bounces, ρ ∈ {{{', '.join(f'{r:g}' for r in ALBEDOS)}}}, α ∈ "
-        f"{{{', '.join(f'{a:g}' for a in alphas)}}}, on {n} geometries (θi, θr ∈ "
-        f"{{{', '.join(f'{math.degrees(x):.0f}' for x in np.unique(ti))}}}°, Δφ ∈ "
-        f"{{{', '.join(f'{math.degrees(x):.0f}' for x in np.unique(dp))}}}°). Truths: the "
-        "V-cavity surface at the σ of the same mean square slope angle ("
-        + ", ".join(f"σ = {matching_sigma(a):.3f} for α = {a:g}" for a in alphas)
-        + f"), and the Smith Lambertian microsurface with Beckmann and GGX slopes "
-        f"({samples:,} paths per geometry; largest relative standard error "
-        f"{100 * rel_se:.1f} %, so RMS errors below about {100 * rel_se:.0f} % are at the "
-        "noise level). Error = (model − truth) / truth; RMS and maximum over the grid. Each "
-        "model's roughness parameter is fitted per truth, α and ρ (value in brackets); "
-        "'published' rows use the truth's own σ or α.",
-        "",
-    ]
+    lines = _intro_lines(ti, dp, alphas, samples, rel_se)
     summary: dict[str, dict[str, list[float]]] = {t: {} for t in TRUTHS}
     data: dict[str, dict[str, list[dict]]] = {}
     for truth in TRUTHS:
@@ -163,30 +213,10 @@ def model_score_lines(quick: bool, progress: bool = True, out: Path | None = Non
             "| --- | --- |" + " --- |" * (len(alphas) * len(ALBEDOS)),
         ]
         for entry, param in entries:
-            cells, pub_cells, rms_all = [], [], []
-            for a in alphas:
-                for rho in ALBEDOS:
-                    values = truths[truth, a, rho][0]
-                    rows = data.setdefault(entry.id, {}).setdefault(truth, [])
-                    if param is None:
-                        rms, mx = _rms_and_max(entry, None, None, rho, cosines, values)
-                        cells.append(f"{rms:.3f} (max {mx:.2f})")
-                        x, how = None, "none"
-                    else:
-                        x, rms, mx = _best(entry, param, rho, cosines, values, quick)
-                        cells.append(f"{rms:.3f} (max {mx:.2f}) [{x:.2f}]")
-                        how = "best fit"
-                    rows.append({"alpha": a, "rho": rho, "mapping": how, "value": x,
-                                 "rms": rms, "max": mx})
-                    rms_all.append(rms)
-                    pname = PUBLISHED.get((entry.id, truth))
-                    if pname is not None and param is not None and param.name == pname:
-                        value = matching_sigma(a) if pname == "sigma" else a
-                        value = min(value, float(param.max))
-                        prms, pmx = _rms_and_max(entry, param, value, rho, cosines, values)
-                        pub_cells.append(f"{prms:.3f} (max {pmx:.2f})")
-                        rows.append({"alpha": a, "rho": rho, "mapping": "published",
-                                     "value": value, "rms": prms, "max": pmx})
+            cells, pub_cells, rms_all, rows = _score_cells(
+                entry, param, truth, alphas, truths, cosines, quick
+            )
+            data.setdefault(entry.id, {}).setdefault(truth, []).extend(rows)
             summary[truth][entry.label] = rms_all
             mapping = "none" if param is None else f"{param.name}: best fit"
             lines.append(f"| {entry.label} | {mapping} | " + " | ".join(cells) + " |")
@@ -209,19 +239,5 @@ def model_score_lines(quick: bool, progress: bool = True, out: Path | None = Non
         best = ", ".join(f"{name} {np.mean(v):.3f}" for name, v in ranked[:4])
         lines.append(f"* **{truth}**: {best}.")
     if out is not None:
-        from ..io.atomic import write_text
-
-        settings = {
-            "albedos": list(ALBEDOS),
-            "alphas": list(alphas),
-            "sigmas": {f"{a:g}": matching_sigma(a) for a in alphas},
-            "theta_deg": [round(math.degrees(x), 6) for x in np.unique(ti)],
-            "delta_phi_deg": [round(math.degrees(x), 6) for x in np.unique(dp)],
-            "geometries": n,
-            "smith_samples": samples,
-            "largest_relative_stderr": rel_se,
-            "quick": quick,
-        }
-        payload = {"settings": settings, "models": data}
-        write_text(Path(out) / SCORES_FILE, json.dumps(payload, indent=1) + "\n")
+        _write_scores(out, data, ti, dp, alphas, samples, rel_se, quick)
     return lines

@@ -1,6 +1,6 @@
 """The accuracy report's sections on the Smith microsurface and the rendered heightfields.
 
-Called by :func:`roughdiffuse.simulate.report.write_report`; each function returns Markdown
+Called by :func:`roughdiffuse.accuracy.report.write_report`; each function returns Markdown
 lines (and writes its figures into the report folder).
 
 * :func:`smith_check_lines` — the Smith solver's own checks: white furnace and one bounce by
@@ -23,9 +23,9 @@ import numpy as np
 from scipy import integrate, optimize
 
 from ..io import atomic_write
-from . import smith
-from .surface import SIGMA_MAX, Settings
-from .surface import brdf as cavity_brdf
+from ..simulate import smith
+from ..simulate.surface import SIGMA_MAX, Settings
+from ..simulate.surface import brdf as cavity_brdf
 
 __all__ = ["heightfield_lines", "matching_sigma", "smith_check_lines"]
 
@@ -107,22 +107,13 @@ HF_GEOMETRIES = ((0, 0, 0), (40, 30, 150), (60, 60, 0), (60, 60, 180), (75, 20, 
 HF_ALPHAS = (0.3, 0.7)
 
 
-def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str]:
-    """Heightfield renders against both solvers; convergence; an image to look at."""
-    try:
-        import mitsuba  # noqa: F401
-    except ImportError:
-        return ["", "## Smith and the heightfields", "", "(skipped: Mitsuba 3 is not installed)"]
+def _heightfield_rows(alphas, geoms, settings, samples: int, progress: bool) -> list[tuple]:
+    """(α, σ, geometry, bounces, heightfield f, its s.e., Smith, its s.e., V-cavity) for every
+    α and geometry, and 1, 2 and all bounces."""
     from tqdm import tqdm
 
-    from .heightfield import HeightfieldSettings, heightfield_brdf
+    from ..simulate.heightfield import heightfield_brdf
 
-    settings = (
-        HeightfieldSettings(n=64, res=64, spp=8, realisations=3) if quick else HeightfieldSettings()
-    )
-    geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
-    alphas = (0.5,) if quick else HF_ALPHAS
-    samples = 5_000 if quick else 100_000
     bounces = (1, 2, "all")
     rows = []
     todo = [(a, g) for a in alphas for g in geoms]
@@ -145,6 +136,25 @@ def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str
             v = float(cavity_brdf(ti, tr, dp, sigma, ALBEDO, b, Settings()))
             f, se = rendered[b]
             rows.append((alpha, sigma, (gi, gr, gp), b, f, se, s, sse, v))
+    return rows
+
+
+def heightfield_lines(out: Path, quick: bool, progress: bool = True) -> list[str]:
+    """Heightfield renders against both solvers; convergence; an image to look at."""
+    try:
+        import mitsuba  # noqa: F401
+    except ImportError:
+        return ["", "## Smith and the heightfields", "", "(skipped: Mitsuba 3 is not installed)"]
+    from ..simulate.heightfield import HeightfieldSettings
+
+    settings = (
+        HeightfieldSettings(n=64, res=64, spp=8, realisations=3) if quick else HeightfieldSettings()
+    )
+    geoms = HF_GEOMETRIES[1:2] if quick else HF_GEOMETRIES
+    alphas = (0.5,) if quick else HF_ALPHAS
+    samples = 5_000 if quick else 100_000
+    bounces = (1, 2, "all")
+    rows = _heightfield_rows(alphas, geoms, settings, samples, progress)
     lines = [
         "",
         "## Smith and the heightfields: a rendered arbiter",
@@ -201,7 +211,7 @@ def _convergence_lines(base) -> list[str]:
     """The change of the rendered f with mesh resolution, patch size and samples."""
     from dataclasses import replace
 
-    from .heightfield import heightfield_brdf
+    from ..simulate.heightfield import heightfield_brdf
 
     ti, tr, dp, alpha = math.radians(60), math.radians(60), math.pi, 0.7
     variants = [
@@ -231,7 +241,7 @@ def _heightfield_picture(out: Path, quick: bool) -> None:
     import mitsuba as mi
 
     from .._figure import subplots  # Figure objects, no pyplot (see roughdiffuse._figure)
-    from .heightfield import (
+    from ..simulate.heightfield import (
         gaussian_heightfield,
         heightfield_mesh,
         render_heightfield,

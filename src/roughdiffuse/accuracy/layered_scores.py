@@ -13,7 +13,7 @@ V-cavity bases under a smooth and a rough coat:
 Errors are relative, |f − f_truth| / f_truth, RMS and maximum over the grid; the walk's own
 relative standard error is listed beside them (an error below about twice it is noise).
 
-Run ``python -m roughdiffuse.simulate.report_layered docs/accuracy/layered.md`` to write the
+Run ``python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md`` to write the
 page (a few CPU-minutes).
 """
 
@@ -30,7 +30,7 @@ import numpy as np
 from ..io.atomic import write_text
 from ..models import Lambert, Mix, Model, OrenNayar, TorranceSparrow, VCavity
 from ..models.coated import Coated
-from . import layered
+from ..simulate import layered
 
 __all__ = ["Case", "layered_lines", "score_case"]
 
@@ -171,7 +171,7 @@ def layered_lines(samples: int = 20_000) -> list[str]:
         "specular lobe is a delta, so it is (1 − w) × base, the tuned weight standing in for",
         "the Fresnel transmittances and the internal reflections.",
         "",
-        "Regenerate: `python -m roughdiffuse.simulate.report_layered docs/accuracy/layered.md`.",
+        "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md`.",
         "",
     ]
     return lines
