@@ -42,14 +42,18 @@ system-deps:
 figures: install
 	$(VENV)/bin/roughdiffuse figures
 
-# `make test` leaves out the tests marked slow (pyproject.toml); `make test-all` runs every one
+# pytest-xdist: one worker per core (WORKERS=0: one process); a test file runs on one worker,
+# so module- and session-scoped fixtures are made once (docs/developer/testing.md)
+WORKERS ?= $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
+# `make test` leaves out the tests marked slow (pyproject.toml); `make test SLOW=1` (CI) and
+# `make test-all` run every one
+SLOW ?=
 test: install-test system-deps
 	$(PY) -m ruff check src tests $(wildcard bench examples)
-	$(PY) -m pytest -m "not slow"
+	$(PY) -m pytest -n $(WORKERS) --dist loadfile $(if $(SLOW),,-m "not slow")
 
-test-all: install-test system-deps
-	$(PY) -m ruff check src tests $(wildcard bench examples)
-	$(PY) -m pytest
+test-all:
+	$(MAKE) test SLOW=1
 
 # Sphinx runs the gallery and the notebooks; nothing is downloaded (see docs/conf.py)
 docs: install-docs

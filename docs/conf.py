@@ -21,7 +21,13 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
     [str(ROOT / "src"), *filter(None, [os.environ.get("PYTHONPATH")])]
 )
 sys.path.insert(0, str(DOCS / "_ext"))
-os.environ.setdefault("MPLBACKEND", "Agg")
+# The notebooks' kernels show figures inline (ipykernel's own default, set here so that a
+# caller's MPLBACKEND=Agg, inherited by the kernels, cannot hide them); this process draws
+# with Agg (the model pages' pictures; the gallery sets its own)
+os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
 
 import rd_lecture  # noqa: E402
 import rd_pages  # noqa: E402
@@ -43,6 +49,10 @@ extensions = [
     "sphinx.ext.napoleon",
     "myst_nb",
     "sphinx_gallery.gen_gallery",
+    "sphinx.ext.mathjax",
+    # MathJax 3 shipped with the site (the package vendors its JS and fonts and copies them to
+    # _static/mathjax/): formulas are typeset in the browser without asking another host
+    "sphinx-mathjax-offline",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
@@ -115,8 +125,8 @@ html_theme_options = {
 html_context = {"default_mode": "auto"}  # else the theme logs "invalid theme mode"
 html_show_sourcelink = False
 html_copy_source = False
-# No MathJax from a CDN: formulas are written as text and images in these pages.
-mathjax_path = "no-mathjax.js"
+# MathJax from this site's own _static/mathjax/ (sphinx-mathjax-offline), never from a CDN
+mathjax_path = "mathjax/tex-chtml.js"
 suppress_warnings = ["config.cache"]
 
 # Docstrings write |θa|, |wi + wo| and so on for absolute values and norms, as papers do;

@@ -1,12 +1,40 @@
-"""Shared helpers of the test suite: random directions and an independent quadrature."""
+"""Shared helpers of the test suite: random directions, an independent quadrature, and the
+session-wide fixtures (one explorer server and one Chromium per worker, one docs build per run).
+
+The suite runs under pytest-xdist (``make test``: ``-n`` workers, ``--dist loadfile``); see
+``docs/developer/testing.md`` for what may be shared and what must stay per test.
+"""
 
 from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import roughdiffuse as rd
+from explorer_browser import browser, explorer_url  # noqa: F401 - session fixtures for all modules
 from roughdiffuse import registry
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """JAX's persistent compilation cache in pytest's cache folder (``.pytest_cache``), shared
+    by the xdist workers and kept from one run to the next: the fits compile a few programs per
+    model, and reading them back instead cut the fit tests' CPU time about fourfold. JAX keys
+    each entry by the program, its compile options and the JAX/XLA versions. Nothing is cached
+    under ``-p no:cacheprovider``."""
+    cache = getattr(config, "cache", None)
+    if cache is None:
+        return
+    import jax
+
+    jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation")))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 
 def random_hemisphere(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -55,3 +83,37 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(1994)
+
+
+def shared_tmp(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder of this pytest run shared by all its xdist workers (each worker's own base
+    temporary folder without xdist): for work done once per run under a file lock."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
+@pytest.fixture(scope="session")
+def docs_site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The documentation site, built once per test run (as ``make docs``: -W --keep-going)
+    into a temporary folder; its HTML folder. Under xdist the first worker to ask builds it
+    while the others wait on a file lock, then all read the same build (a failed build is
+    reported to each of them, not rebuilt)."""
+    pytest.importorskip("sphinx")
+    from filelock import FileLock
+
+    root = shared_tmp(tmp_path_factory)
+    out = root / "docs-site"
+    failed = root / "docs-site.failed"
+    with FileLock(str(root / "docs-site.lock")):
+        if failed.exists():
+            pytest.fail(failed.read_text(encoding="utf-8"))
+        if not (out / "html" / "index.html").is_file():
+            path = os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")])
+            env = {**os.environ, "PYTHONPATH": path}
+            cmd = [sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
+                   "-d", str(out / "doctrees"), str(ROOT / "docs"), str(out / "html")]
+            proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
+            if proc.returncode != 0:
+                failed.write_text(f"sphinx failed:\n{proc.stderr[-4000:]}", encoding="utf-8")
+                pytest.fail(failed.read_text(encoding="utf-8"))
+    return out / "html"

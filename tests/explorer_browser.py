@@ -1,8 +1,11 @@
 """Shared set-up of the explorer tests: the server in a thread, headless Chromium, the page.
 
-Fixtures are module-scoped (each test module imports them: one Playwright at a time).
+The fixtures are session-scoped and made available to every test module by ``conftest.py``
+(a test module imports only :func:`open_page`): one server and one Chromium per pytest
+process (per xdist worker), shared by the explorer and docs tests. A test opens its own page
+(:func:`open_page`, a new browser context) and closes it.
 Debian's Chromium through Playwright (``playwright install`` cannot download browsers here),
-WebGL2 through SwiftShader (software), flags as in issue 8.
+WebGL2 through SwiftShader (software).
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ def _require_chromium() -> None:
         )
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def explorer_url() -> Iterator[str]:
     from roughdiffuse.explorer import make_server, serve_in_thread, url_of
 
@@ -44,7 +47,7 @@ def explorer_url() -> Iterator[str]:
     server.server_close()
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def browser() -> Iterator[object]:
     _require_chromium()
     from playwright.sync_api import sync_playwright

@@ -20,7 +20,7 @@ import time
 import numpy as np
 import pytest
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 
 TRUTH = {"albedo": (0.6, 0.45, 0.3), "sigma": 0.35}
 

@@ -31,7 +31,7 @@ import math
 import numpy as np
 import pytest
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 from roughdiffuse.explorer import model_from_params
 from roughdiffuse.explorer.params import flat_key, glsl_entries
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 from roughdiffuse import OrenNayar
 
 VIEWS = ("plane", "polar", "lobe", "albedo", "slice")

@@ -24,10 +24,17 @@ from roughdiffuse.models.base import Model, register_pytree
 
 
 @pytest.fixture(autouse=True, scope="module")
-def _cache(tmp_path_factory: pytest.TempPathFactory) -> None:
-    """A cache directory of this module's own (the generated kernels are written there)."""
+def _cache(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> None:
+    """A cache directory of this module's own (the generated kernels are written there), kept
+    in pytest's cache folder (``.pytest_cache``) from one run to the next: compiling every
+    model's kernels anew costs about 100 CPU-seconds, loading them 6. A kernel's file is
+    named by the digest of its generated source, so a changed generator compiles afresh
+    (``-p no:cacheprovider``: a new folder each run)."""
+    cache = getattr(request.config, "cache", None)
+    folder = (cache.mkdir("fastpath-kernels") if cache is not None
+              else tmp_path_factory.mktemp("fastpath-kernels")) / "cache"
     mp = pytest.MonkeyPatch()
-    mp.setenv("ROUGHDIFFUSE_CACHE_DIR", str(tmp_path_factory.mktemp("fastpath-cache")))
+    mp.setenv("ROUGHDIFFUSE_CACHE_DIR", str(folder))
     yield
     mp.undo()
 

@@ -65,3 +65,27 @@ def test_roughness_series_has_one_panel_per_sigma():
     second = fig.axes[1].get_images()[0].get_array()
     # head-on: roughness lowers the centre (A < 1) and brightens the limb relative to it
     assert second[8, 8] < first[8, 8]
+
+
+def test_plots_register_their_figures_with_pyplot():
+    """A figure made without ``ax=`` is known to pyplot (so ``plt.show()`` and Jupyter show
+    it), and making it does not change the backend the user has."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from roughdiffuse.energy import plot_albedo
+
+    backend = matplotlib.get_backend()
+    plt.close("all")
+    try:
+        ax = plots.plot_plane_of_incidence({"Lambert": rd.Lambert(0.5)}, 0.3, n=5)
+        assert plt.get_fignums() == [ax.figure.number]
+        plots.plot_cross_section({"a": np.ones((4, 4))})
+        fig = plot_albedo({"Lambert": {"ρ = 1": rd.Lambert(1.0)}}, np.radians([0.0, 45.0]))
+        assert len(plt.get_fignums()) == 3 and fig.number in plt.get_fignums()
+        own = plt.figure()  # with ax=, the caller's figure is drawn on: no new one
+        plots.plot_plane_of_incidence({"Lambert": rd.Lambert(0.5)}, 0.3, ax=own.gca(), n=5)
+        assert len(plt.get_fignums()) == 4
+        assert matplotlib.get_backend() == backend
+    finally:
+        plt.close("all")

@@ -93,6 +93,9 @@ def test_demo_recovers_its_sigma(tmp_path):
     from roughdiffuse.commands.stereo import DEMO_SIGMA
 
     assert abs(rough["value"] - DEMO_SIGMA) < 4 * rough["standard_error"] + 1e-4
+    assert params["truth"]["sigma"] == DEMO_SIGMA  # the report states it beside the fit
+    report = (tmp_path / "demo" / "report.html").read_text()
+    assert f"the true sigma of the rendered object is {DEMO_SIGMA:.4g}" in report
     assert (
         params["rough"]["angular_error_deg"]["mean"]
         < params["lambertian"]["angular_error_deg"]["mean"] / 3

@@ -25,6 +25,22 @@ SPP = 4
 """Samples per pixel."""
 
 
+def _legend_below(fig: Figure, *axes: Any) -> None:
+    """One legend for ``axes`` below the figure, in type as large as the axis labels: an
+    x-small legend inside a panel is unreadable once the figure is shrunk to the column, and
+    covers the curves."""
+    handles, labels = [], []
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+        if ax.get_legend() is not None:
+            ax.get_legend().remove()
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 3),
+               fontsize="medium", frameon=False)
+
+
 def _sphere_row(models: dict[str, Any], light: Any, shape: Any = None, size: int = SIZE,
                 scale: str = "shared") -> tuple[Figure, dict[str, tuple[np.ndarray, Any]]]:
     from roughdiffuse.plots import plot_cross_section, show_radiance
@@ -43,7 +59,7 @@ def _sphere_row(models: dict[str, Any], light: Any, shape: Any = None, size: int
     plot_cross_section({k: v[0] for k, v in out.items()}, masks={k: v[1] for k, v in out.items()},
                        ax=ax, normalize=scale != "shared",
                        x=pixel_coordinates(shape, None, size)[0])
-    ax.legend(fontsize="x-small")
+    _legend_below(fig, ax)
     ax.set_title("across the middle row" + ("" if scale == "shared" else ", ÷ centre"),
                  fontsize="small")
     return fig, out
@@ -57,7 +73,9 @@ def lambert_sphere() -> Figure:
     ax = fig.axes[-1]
     x = np.linspace(-1, 1, 201)
     ax.plot(x, 0.8 / math.pi * np.sqrt(1 - x**2), "k--", lw=1, label="ρ/π √(1 − x²)")
-    ax.legend(fontsize="x-small")
+    for legend in list(fig.legends):
+        legend.remove()
+    _legend_below(fig, ax)
     return fig
 
 
@@ -71,6 +89,7 @@ def lambert_angles() -> Figure:
         plot_plane_of_incidence({"Lambert, ρ = 0.8": Lambert(0.8)}, math.radians(deg), ax=ax,
                                 n=91)
         ax.set_title(f"θi = {deg:.0f}°", fontsize="small")
+    _legend_below(fig, *fig.axes)
     return fig
 
 
@@ -119,7 +138,7 @@ def v_cavity() -> Figure:
     ax.axis("off")
     ax.set_xlim(-2.2 * w, 2.2 * w)
     ax.set_ylim(-1.3, 1.0)
-    ax.legend(fontsize="x-small", loc="center right")
+    left = ax
 
     ax = fig.add_subplot(1, 2, 2)
     sigma, rho, deg = 0.3, 0.9, 60.0
@@ -143,7 +162,7 @@ def v_cavity() -> Figure:
     ax.set_xlabel("θr (degrees; > 0 on the light's side)")
     ax.set_ylabel("radiance (E0 = 1)")
     ax.set_title(f"σ = {sigma} rad, ρ = {rho}, θi = {deg:.0f}°", fontsize="small")
-    ax.legend(fontsize="x-small")
+    _legend_below(fig, left, ax)
     return fig
 
 
@@ -163,10 +182,7 @@ def oren_nayar_plane() -> Figure:
         ax = fig.add_subplot(1, 2, i + 1)
         plot_plane_of_incidence(models, math.radians(deg), ax=ax, styles=styles, n=91)
         ax.set_title(f"θi = {deg:.0f}°", fontsize="small")
-        if i == 0:
-            ax.get_legend().remove()
-        else:
-            ax.legend(fontsize="x-small")
+    _legend_below(fig, *fig.axes)
     return fig
 
 
@@ -209,7 +225,7 @@ def torrance_sparrow() -> Figure:
                             math.radians(60.0), ax=ax, n=181)
     ax.set_title("θi = 60°: the peak lies beyond the mirror direction", fontsize="small")
     ax.axvline(-60.0, color="0.6", lw=0.8, ls=":")
-    ax.legend(fontsize="x-small")
+    _legend_below(fig, ax)
     return fig
 
 
@@ -233,7 +249,7 @@ def mix() -> Figure:
     ax = fig.add_subplot(grid[0, 3])
     plot_plane_of_incidence(models, math.radians(45.0), ax=ax, n=181)
     ax.set_ylabel("radiance (mean of R, G, B)")
-    ax.legend(fontsize="x-small")
+    _legend_below(fig, ax)
     return fig
 
 
@@ -253,6 +269,8 @@ FIGURES: dict[str, Callable[[], Figure]] = {
 
 def generate(docs: Path) -> list[Path]:
     """Draw the figures missing from ``docs/lecture/figures/`` or made by another version."""
+    import matplotlib.pyplot as plt
+
     import roughdiffuse
 
     folder = docs / "lecture" / "figures"
@@ -272,6 +290,9 @@ def generate(docs: Path) -> list[Path]:
             continue
         fig = draw()
         fig.savefig(path, dpi=90)
+        # a figure of a public plotting function is known to pyplot: forgotten here, or the
+        # gallery's first example would show it as its own
+        plt.close(fig)
         done[name] = key
     stamp.write_text(json.dumps(done, indent=1), encoding="utf-8")
     return out

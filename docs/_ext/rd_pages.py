@@ -57,6 +57,16 @@ def _fmt_value(p: Any, v: float) -> str:
     return f"{p.name} = {v:.3g}"
 
 
+def _title(entry: Any, values: dict[str, Any]) -> str:
+    """``label: name = value, ...`` with numbers rounded (σ = 0.349 rad (20°), not its repr)."""
+    parts = []
+    for p in entry.parameters:
+        if p.name in values and p.name not in entry.fixed:
+            v = values[p.name]
+            parts.append(f"{p.name} = {v}" if isinstance(v, str) else _fmt_value(p, v))
+    return f"{entry.label}: " + ", ".join(parts) if parts else entry.label
+
+
 def _start(entry: Any) -> dict[str, Any]:
     """Parameters the pictures use: each one's example value (else its default)."""
     out = {}
@@ -83,7 +93,7 @@ def _figures(entry: Any, folder: Path) -> dict[str, str]:
         image = np.asarray(image, dtype=np.float64)
         show_radiance(ax, image, float(np.nanmax(image)) or 1.0,
                       f"light at θ = {math.degrees(theta):.0f}°")
-    fig.suptitle(repr(model), fontsize="small")
+    fig.suptitle(_title(entry, start), fontsize="small")
     fig.tight_layout()
     names["sphere"] = f"{entry.id}-sphere.png"
     fig.savefig(folder / names["sphere"], dpi=90)
@@ -232,6 +242,39 @@ def _param_table(entry: Any) -> list[str]:
     return lines
 
 
+NOTATION = (
+    "{math}`\\theta_i, \\theta_r`: angles of the light and the viewer from the normal "
+    "({math}`\\mu_i = \\cos\\theta_i`, {math}`\\mu_o = \\cos\\theta_r`); "
+    "{math}`\\phi_r - \\phi_i`: their azimuth difference; {math}`\\omega_i, \\omega_o`: "
+    "the unit vectors towards them, n the normal, h the half vector; {math}`f_r` in 1/sr, the "
+    "radiance {math}`L = f_r E_0 \\cos\\theta_i` for irradiance {math}`E_0` (the package's "
+    "{mod}`roughdiffuse.frames`)."
+)
+
+
+def formula_of(entry: Any) -> str:
+    """The formula text a registry entry's class declares (``Model.formula``), dedented."""
+    text = entry.cls.formula
+    if isinstance(text, dict):
+        text = text.get(entry.id, "")
+    return textwrap.dedent(text).strip()
+
+
+def _formula_section(entry: Any) -> list[str]:
+    """"The formula" of a model page: the declared LaTeX, the symbols of the declared
+    parameters, the common notation."""
+    text = formula_of(entry)
+    if not text:
+        return ["## The formula", "", "This model declares no formula (`Model.formula`).", ""]
+    rows = ["| symbol | parameter | meaning |", "| --- | --- | --- |"]
+    for p in entry.parameters:
+        symbol = entry.cls.symbols.get(p.name)
+        if symbol and p.name not in entry.fixed:
+            rows.append(f"| {{math}}`{symbol}` | `{p.name}` | {p.description} |")
+    return ["## The formula", "", text, "", *(rows if len(rows) > 2 else []), "",
+            NOTATION, ""]
+
+
 def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
                 accuracy: list[str]) -> str:
     cls = entry.cls
@@ -251,6 +294,7 @@ def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
         "",
         f"**Paper:** {entry.reference}",
         "",
+        *_formula_section(entry),
         "## The model",
         "",
         "```{eval-rst}",
@@ -344,7 +388,11 @@ def generate_models(docs: Path) -> list[str]:
         cache = json.loads(cache_file.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         cache = {}
-    generator = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    # the pictures are redrawn when what draws them changes, not on any edit of this file
+    drawing = (_figures, _title, _fmt_value, _varied, _start)
+    generator = hashlib.sha256(
+        "".join(inspect.getsource(fn) for fn in drawing).encode()
+    ).hexdigest()
     for entry in registry.entries():
         source = inspect.getsource(inspect.getmodule(entry.cls))
         key = hashlib.sha256(
@@ -415,58 +463,136 @@ def _exports(module: Any) -> list[tuple[str, str]]:
     return out
 
 
+TASKS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
+    ("Models", "The reflectance models and the registry that lists them: "
+     "{func}`roughdiffuse.registry.create`, {class}`roughdiffuse.OrenNayar` and the others.",
+     ("roughdiffuse.registry", "roughdiffuse.models")),
+    ("Evaluation", "Evaluating a model: directions and angles, the compiled fast path, "
+     "directional albedo and the white furnace, sampling, quadrature, roughness conversions.",
+     ("roughdiffuse", "roughdiffuse.frames", "roughdiffuse.fastpath",
+      "roughdiffuse.engine.fastpath",
+      "roughdiffuse.energy", "roughdiffuse.quadrature", "roughdiffuse.roughness",
+      "roughdiffuse.models.sampling", "roughdiffuse.models.photometry",
+      "roughdiffuse.models.microfacet", "roughdiffuse.models.declaration",
+      "roughdiffuse.models.base")),
+    ("Rendering and plots", "Images of shapes under distant lights, and the lecture's plots "
+     "and figures.", ("roughdiffuse.render", "roughdiffuse.plots", "roughdiffuse.figures")),
+    ("Fitting", "Fitting models to BRDF samples, MERL files and images: "
+     "{func}`roughdiffuse.fit.fit`, {func}`roughdiffuse.fit.compare_models`, the shipped "
+     "data.", ("roughdiffuse.fit", "roughdiffuse.data")),
+    ("Ground truth", "Exact surfaces the models approximate: V-cavities, Smith walks, "
+     "heightfields, their tables and accuracy reports.",
+     ("roughdiffuse.simulate", "roughdiffuse.accuracy", "roughdiffuse.models.vcavity",
+      "roughdiffuse.models.smith_diffuse")),
+    ("Photometric stereo", "Normals, albedo and roughness from images under several lights.",
+     ("roughdiffuse.stereo",)),
+    ("Integrations", "Mitsuba 3 plugins, the browser explorer, reading and writing files.",
+     ("roughdiffuse.integrations", "roughdiffuse.explorer", "roughdiffuse.io")),
+)
+"""The API reference's sections: title, what it is for, module prefixes (longest match wins)."""
+
+INTERNALS = ("roughdiffuse.bench", "roughdiffuse.commands", "roughdiffuse.cli",
+             "roughdiffuse.engine",
+             "roughdiffuse.deprecation", "roughdiffuse.io.atomic",
+             "roughdiffuse.integrations.drjit_namespace", "roughdiffuse.simulate.smith_walk_numba")
+"""Modules for the package's own commands and machinery: on the internals page only."""
+
+
+def task_of(module: str) -> str:
+    """The API section of ``module``: the task whose longest prefix matches, or "Internals"."""
+    best, length = "Internals", -1
+    for title, _, prefixes in (*TASKS, ("Internals", "", INTERNALS)):
+        for prefix in prefixes:
+            matches = module == prefix or (prefix != "roughdiffuse"
+                                           and module.startswith(prefix + "."))
+            if matches and len(prefix) > length:
+                best, length = title, len(prefix)
+    return best
+
+
+def _module_page(name: str) -> list[str]:
+    module = importlib.import_module(name)
+    title = f"``{name}``"
+    lines = [title, "=" * len(title), "", f".. automodule:: {name}", "   :members:",
+             "   :ignore-module-all:", "   :show-inheritance:", ""]
+    exports = _exports(module)
+    if not exports:
+        return lines
+    if hasattr(module, "__path__") and name != "roughdiffuse":
+        # a subpackage documents what it offers in full (``roughdiffuse.fit.fit`` here, not
+        # only a link): :no-index: keeps the home page as the target of cross-references
+        lines += ["What it offers", "-" * 14, ""]
+        for short, full in exports:
+            obj = getattr(module, short, None)
+            if inspect.isclass(obj):
+                directive = "autoclass"
+            elif callable(obj):
+                directive = "autofunction"
+            else:
+                continue
+            lines += [f".. {directive}:: {full}", "   :no-index:", ""]
+    lines += ["Also available here", "-" * 19, "",
+              "Defined in another module and importable from this one:", ""]
+    for short, full in exports:
+        obj = getattr(module, short, None)
+        role = "mod" if inspect.ismodule(obj) else "obj"
+        lines.append(f"- ``{short}``: :py:{role}:`{full}`")
+    lines.append("")
+    return lines
+
+
 def generate_api(docs: Path) -> list[str]:
-    """Write ``docs/api/<module>.md`` (autodoc of what each module defines) and the index."""
+    """Write ``docs/api/<module>.rst`` (autodoc of what each module defines), the index by
+    task and the internals page."""
     folder = docs / "api"
     folder.mkdir(exist_ok=True)
     modules = public_modules()
     for name in modules:
-        module = importlib.import_module(name)
-        title = f"``{name}``"
-        lines = [
-            title,
-            "=" * len(title),
-            "",
-            f".. automodule:: {name}",
-            "   :members:",
-            "   :ignore-module-all:",
-            "   :show-inheritance:",
-            "",
-        ]
-        exports = _exports(module)
-        if exports:
-            lines += ["Also available here", "-" * 19, "",
-                      "Defined in another module and importable from this one:", ""]
-            for short, full in exports:
-                obj = getattr(module, short, None)
-                role = "mod" if inspect.ismodule(obj) else "obj"
-                lines.append(f"- ``{short}``: :py:{role}:`{full}`")
-            lines.append("")
         old = folder / f"{name}.md"
         if old.exists():
             old.unlink()
-        _write(folder / f"{name}.rst", "\n".join(lines))
+        _write(folder / f"{name}.rst", "\n".join(_module_page(name)))
+    by_task: dict[str, list[str]] = {}
+    for name in modules:
+        by_task.setdefault(task_of(name), []).append(name)
     summary = [
         "# API reference",
         "",
-        "Every public module of the package (generated from the docstrings when the site is "
-        "built; a module that imports an optional backend, e.g. Mitsuba, appears when that "
-        "backend is installed).",
+        "The package by task (generated from the docstrings when the site is built; a module "
+        "that imports an optional backend, e.g. Mitsuba, appears when that backend is "
+        "installed). The modules behind the command line and the benchmarks are on "
+        "{doc}`internals`.",
+        "",
+    ]
+    for title, blurb, _ in TASKS:
+        if not by_task.get(title):
+            continue
+        summary += [f"## {title}", "", blurb, "", "```{eval-rst}", ".. autosummary::", "",
+                    *[f"   {name}" for name in by_task[title]], "```", ""]
+    summary += ["```{toctree}", ":hidden:", "", *[n for n in modules
+                                                   if task_of(n) != "Internals"],
+                "internals", "```", ""]
+    _write(folder / "index.md", "\n".join(summary))
+    internals = [
+        "# Internals",
+        "",
+        "Modules of the command line (`roughdiffuse ...`), the benchmarks and the package's "
+        "own machinery: public in name, not meant to be imported by users.",
         "",
         "```{eval-rst}",
         ".. autosummary::",
         "",
-        *[f"   {name}" for name in modules],
+        *[f"   {name}" for name in by_task.get("Internals", [])],
         "```",
         "",
         "```{toctree}",
         ":hidden:",
         "",
-        *modules,
+        *by_task.get("Internals", []),
         "```",
         "",
     ]
-    _write(folder / "index.md", "\n".join(summary))
+    _write(folder / "internals.md", "\n".join(internals))
     return modules
 
 
@@ -475,5 +601,5 @@ def generate(docs: Path) -> None:
     generate_api(docs)
 
 
-__all__ = ["generate", "generate_api", "generate_models", "public_modules"]
-del textwrap
+__all__ = ["TASKS", "formula_of", "generate", "generate_api", "generate_models", "public_modules",
+           "task_of"]

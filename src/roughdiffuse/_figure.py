@@ -1,21 +1,32 @@
-"""Matplotlib figures made as a library should make them: ``matplotlib.figure.Figure``
-objects, without pyplot, so that no backend is chosen or changed and no figure is kept in
-pyplot's registry (see matplotlib's "Embedding in a web application server" example).
+"""Matplotlib figures, made as seaborn and scikit-image make theirs.
 
-Save with ``fig.savefig(path)``; to show one interactively, hand it to pyplot yourself
-(``plt.figure(fig.number)`` does not apply: make it with ``plt.figure`` and draw on its axes,
-or display the saved image).
+Two kinds:
+
+* :func:`pyplot_figure` and :func:`pyplot_subplots` make the figures of the public plotting
+  functions (:mod:`roughdiffuse.plots`, :func:`roughdiffuse.energy.plot_albedo`) through
+  ``matplotlib.pyplot``, so that pyplot knows them: ``plt.show()`` in a script and Jupyter's
+  inline display show them, and ``plt.get_fignums()`` lists them. No backend is chosen or
+  changed here: pyplot uses the user's (``MPLBACKEND``, ``matplotlibrc``, ``%matplotlib``),
+  and resolves it only when the first figure is made. Those functions also take ``ax=`` (or
+  ``fig=``) to draw on the caller's own axes instead.
+* :func:`figure` and :func:`subplots` make plain ``matplotlib.figure.Figure`` objects, not
+  known to pyplot, for the writers that save a file and forget the figure (``roughdiffuse
+  figures``, the reports): nothing accumulates in pyplot's registry during a long run (see
+  matplotlib's "Embedding in a web application server" example). :func:`release` lets a
+  writer drop a figure that a public plotting function registered.
 """
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
-__all__ = ["colormap", "figure", "subplots"]
+__all__ = ["colormap", "figure", "pyplot_figure", "pyplot_subplots", "release", "subplots"]
 
 
 def figure(**kwargs: Any) -> Any:
-    """A new ``matplotlib.figure.Figure(**kwargs)`` (``figsize``, ``layout``...)."""
+    """A new ``matplotlib.figure.Figure(**kwargs)`` (``figsize``, ``layout``...), unknown to
+    pyplot: for a writer that saves it and lets it go."""
     from matplotlib.figure import Figure
 
     return Figure(**kwargs)
@@ -29,9 +40,37 @@ def subplots(
     layout: str | None = None,
     **kwargs: Any,
 ) -> tuple[Any, Any]:
-    """``(figure, axes)`` as ``pyplot.subplots`` returns them, without pyplot."""
+    """``(figure, axes)`` as ``pyplot.subplots`` returns them, on a :func:`figure`."""
     fig = figure(figsize=figsize, layout=layout)
     return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def pyplot_figure(**kwargs: Any) -> Any:
+    """A new figure made by ``matplotlib.pyplot.figure(**kwargs)``: registered with pyplot,
+    on the user's backend (none is chosen here)."""
+    import matplotlib.pyplot as plt
+
+    return plt.figure(**kwargs)
+
+
+def pyplot_subplots(
+    nrows: int = 1,
+    ncols: int = 1,
+    *,
+    figsize: tuple[float, float] | None = None,
+    layout: str | None = None,
+    **kwargs: Any,
+) -> tuple[Any, Any]:
+    """``matplotlib.pyplot.subplots(...)``: ``(figure, axes)``, the figure registered."""
+    fig = pyplot_figure(figsize=figsize, layout=layout)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def release(fig: Any) -> None:
+    """Forget ``fig`` in pyplot's registry if it is there (after a writer saved it)."""
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close(fig)
 
 
 def colormap(name: str) -> Any:

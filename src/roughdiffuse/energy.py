@@ -70,19 +70,22 @@ def plot_albedo(
     groups : {title: {curve label: model}}
         Models of each panel (ρ should be 1 for a white-furnace test).
     theta_r : angles in radians, default 0 to 89.5° every 0.5°.
+    fig : matplotlib Figure, optional
+        Drawn on; default a new figure made through ``matplotlib.pyplot`` (so ``plt.show()``
+        shows it).
 
     Returns
     -------
     matplotlib Figure
     """
-    from ._figure import colormap, figure
+    from ._figure import colormap, pyplot_figure
 
     th = np.radians(np.arange(0.0, 89.75, 0.5)) if theta_r is None else np.asarray(theta_r)
     n = len(groups)
     ncols = n if n <= 3 else (2 if n == 4 else 3)
     nrows = -(-n // ncols)
     if fig is None:
-        fig = figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
+        fig = pyplot_figure(figsize=(3.8 * ncols + 0.6, 3.3 * nrows + 0.5))
     axes = fig.subplots(nrows, ncols, sharey=True, squeeze=False).ravel()
     for ax in axes[n:]:
         ax.set_visible(False)

@@ -1,8 +1,10 @@
 """Plots of the lecture (matplotlib): cross-sections, the plane of incidence, roughness series.
 
-Every function draws on a matplotlib ``Axes`` (or makes a ``Figure``) and returns it; nothing
-is shown or saved here. Images are shown on a *linear* grey scale from 0 to a common maximum,
-so that brightness in the picture and in the profiles plotted beside it agree.
+Every function draws on a matplotlib ``Axes`` (``ax=``) or, without one, on a new figure made
+through ``matplotlib.pyplot`` (so ``plt.show()`` and Jupyter show it; no backend is chosen here),
+and returns it; nothing is shown or saved here. Images are shown on a *linear* grey scale
+from 0 to a common maximum, so that brightness in the picture and in the profiles plotted
+beside it agree.
 
 The plane of incidence (Oren and Nayar 1994, Figs. 9–12): the light at θi in the xz-plane,
 the viewer in the same plane at a signed angle θr in [−90°, 90°], positive on the light's
@@ -18,7 +20,7 @@ from typing import Any
 import matplotlib.ticker
 import numpy as np
 
-from ._figure import figure, subplots
+from ._figure import pyplot_figure, pyplot_subplots
 from .models import Model
 from .render import DistantLight, OrthographicCamera, Shape, Sphere, render
 
@@ -100,7 +102,7 @@ def plot_cross_section(
         World coordinates of the columns (see :func:`cross_section`).
     """
     if ax is None:
-        _, ax = subplots(figsize=(5, 3.5))
+        _, ax = pyplot_subplots(figsize=(5, 3.5))
     for label, img in images.items():
         m = masks.get(label) if masks else None
         xs, v = cross_section(img, row, m, x)
@@ -113,7 +115,7 @@ def plot_cross_section(
     ax.set_xlabel(
         "position across the image (−1 left edge, 1 right edge)"
         if x is None
-        else "x along the image's horizontal axis (object units)"
+        else "x across the image (object units)"
     )
     ax.set_ylabel("radiance / centre radiance" if normalize else "radiance (E0 = 1)")
     ax.set_ylim(bottom=0)
@@ -167,7 +169,7 @@ def plot_plane_of_incidence(
     styles : mapping of label -> keyword arguments of ``ax.plot``, optional
     """
     if ax is None:
-        fig = figure(figsize=(5, 3.5 if not polar else 4))
+        fig = pyplot_figure(figsize=(5, 3.5 if not polar else 4))
         ax = fig.add_subplot(projection="polar" if polar else None)
     tr = np.linspace(-math.pi / 2, math.pi / 2, n)
     top = 0.0
@@ -263,7 +265,7 @@ def plot_roughness_series(
                 progress()
         images.append(row)
     vmax = max(float(np.max(im)) for row in images for im in row)
-    fig, axes = subplots(
+    fig, axes = pyplot_subplots(
         len(lights),
         len(sigmas),
         figsize=(2.0 * len(sigmas), 2.1 * len(lights) + 0.4),
@@ -271,6 +273,6 @@ def plot_roughness_series(
     )
     for r, light in enumerate(lights):
         for c, s in enumerate(sigmas):
-            show_radiance(axes[r, c], images[r][c], vmax, f"σ = {s:g} rad" if r == 0 else "")
+            show_radiance(axes[r, c], images[r][c], vmax, f"σ = {s:.3g} rad" if r == 0 else "")
         axes[r, 0].set_ylabel(f"light θi = {math.degrees(light.theta):.0f}°")
     return fig

@@ -1,4 +1,4 @@
-"""Time fitting (ρ, σ) to a one-megapixel image (the issue's target: under 2 seconds), against
+"""Time fitting (ρ, σ) to a one-megapixel image (the target: under 2 seconds), against
 a plain SciPy baseline timed in the same run.
 
 ``roughdiffuse bench`` (:mod:`roughdiffuse.bench.run`) runs :func:`bench_fit` and puts its rows

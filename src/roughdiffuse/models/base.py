@@ -77,6 +77,14 @@ class Model:
         The importance-sampling strategy (:mod:`.sampling`): ``COSINE``, ``CLTC``, ...
     reference : str
         The source paper.
+    formula : str or dict
+        The BRDF as the model's page states it: MyST Markdown (indented as it likes: it is
+        dedented) with MyST ``math`` directive blocks of LaTeX carrying the paper's equation
+        numbers, and the conventions of the implementation (floors, clamps, limits); a dict
+        id -> text when the ids of a class differ. The site's model pages show it
+        (docs/_ext/rd_pages.py).
+    symbols : dict
+        Parameter name -> its LaTeX symbol in ``formula`` (``{"albedo": r"\\rho"}``).
     glsl : dict
         Registry id -> the model number ``brdf.glsl`` dispatches on, for each id the explorer's
         GLSL holds a copy of (``{}``: none; the explorer then leaves the model out).
@@ -123,6 +131,8 @@ class Model:
     lobe: ClassVar[str] = "diffuse"
     sampling: ClassVar[Strategy] = COSINE
     reference: ClassVar[str] = ""
+    formula: ClassVar[str | dict[str, str]] = ""
+    symbols: ClassVar[dict[str, str]] = {}
     glsl: ClassVar[dict[str, int]] = {}
     glsl_keys: ClassVar[dict[str, str]] = {}
     order: ClassVar[int] = 1000

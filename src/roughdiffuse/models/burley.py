@@ -114,6 +114,24 @@ class Burley(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "burley": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\bigl(1 + (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 +
+        (F_{D90}-1)(1-\mu_o)^5\bigr), \tag{Eq. 3}
+        ```
+        ```{math}
+        F_{D90} = 0.5 + 2r\cos^2\theta_d
+        ```
+
+        Burley (SIGGRAPH 2012 course notes, Sec. 5.3). {math}`\cos\theta_d = \omega_i\cdot h`
+        with h the half vector, computed as {math}`\cos^2\theta_d =
+        (1+\omega_i\cdot\omega_o)/2`. r is Disney's roughness, not squared. Not
+        energy-conserving.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -169,6 +187,23 @@ class BurleyRenormalized(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "frostbite": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\Bigl(1 - r\bigl(1 - \tfrac{1}{1.51}\bigr)\Bigr)\bigl(1 +
+        (F_{D90}-1)(1-\mu_i)^5\bigr)\bigl(1 + (F_{D90}-1)(1-\mu_o)^5\bigr),
+        ```
+        ```{math}
+        F_{D90} = 0.5\,r + 2r\cos^2\theta_d
+        ```
+
+        Lagarde and de Rousiers (SIGGRAPH 2014 course notes, Listing 1); {math}`\cos^2\theta_d
+        = (1+\omega_i\cdot\omega_o)/2`. At r = 0 it is the product of two Schlick
+        transmissions, not Lambert.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -231,6 +266,24 @@ class Burley2015(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "burley-2015": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\Bigl[\bigl(1-\tfrac{F_L}{2}\bigr)\bigl(1-\tfrac{F_V}{2}\bigr)
+        + R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr], \tag{Eq. 4–5}
+        ```
+        ```{math}
+        F_L = (1-\mu_i)^5,\ F_V = (1-\mu_o)^5,\ R_R = 2r\cos^2\theta_d
+        ```
+
+        Burley (SIGGRAPH 2015 course notes, Sec. 5.3), the diffuse of Mitsuba 3's
+        ``principled`` without sheen and flatness; {math}`\cos^2\theta_d =
+        (1+\omega_i\cdot\omega_o)/2`. Expanded, it is Burley 2012 with {math}`F_{D90} =
+        \tfrac12 + R_R`.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

@@ -88,6 +88,32 @@ class Chan(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "chan": tuple({"albedo": [0.9, 0.5, 0.05], "alpha": a} for a in (0.0, 0.01, 0.3, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "alpha": r"\alpha",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\,(F_d + F_b)
+        ```
+        ```{math}
+        F_d &= \operatorname{lerp}\Bigl(\omega_i\cdot h + (1-\omega_i\cdot h)^5,\ \\
+        &\qquad \bigl(1-0.75(1-\mu_i)^5\bigr)\bigl(1-0.75(1-\mu_o)^5\bigr),\
+        \operatorname{sat}(2.2g-0.5)\Bigr)
+        ```
+        ```{math}
+        F_b = \bigl((34.5g-59)g+24.5\bigr)\,(\omega_i\cdot h)\;2^{-\max(73.2g-21.2,\
+        8.9)\sqrt{n\cdot h}},
+        ```
+        ```{math}
+        g = \operatorname{sat}\Bigl(\frac{\log_2(2/\alpha^2-1)}{18}\Bigr)
+        ```
+
+        Chan (SIGGRAPH 2018, "Material Advances in Call of Duty: WWII", Sec. 5), as Unreal
+        Engine's ``Diffuse_Chan``; g is the gloss, the inverse of Chan's {math}`\alpha =
+        \sqrt{2/(1+2^{18g})}` (notes Eq. 1); sat clamps to [0, 1]. α² is floored at 10⁻¹² (g =
+        1 there).
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

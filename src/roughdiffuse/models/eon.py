@@ -91,6 +91,51 @@ class EON(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "eon": tuple({"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = f_{ss} + f_{ms}, \tag{Eq. 11–13}
+        ```
+        ```{math}
+        f_{ss} = \frac{\rho}{\pi}A_F\Bigl(1 + r\,\frac{s}{t}\Bigr),
+        ```
+        ```{math}
+        f_{ms} =
+        \frac{\rho_{ms}}{\pi}\,\frac{\bigl(1-E_F(\mu_o)\bigr)\bigl(1-E_F(\mu_i)\bigr)}{1-\bar
+        E_F}
+        ```
+        ```{math}
+        \rho_{ms} = \frac{\rho^2\,\bar E_F}{1-\rho\,(1-\bar E_F)},
+        ```
+        ```{math}
+        A_F = \frac{1}{1+K_1 r},
+        ```
+        ```{math}
+        K_1 = \frac12 - \frac{2}{3\pi}
+        ```
+        ```{math}
+        E_F(\mu) = A_F + \frac{r A_F}{\pi}\,G(\mu), \tag{Eq. 8}
+        ```
+        ```{math}
+        G(\mu) = S\,(\arccos\mu - S\mu) + \frac23\Bigl[\frac{S}{\mu}(1-S^3) - S\Bigr],
+        ```
+        ```{math}
+        S = \sqrt{1-\mu^2}
+        ```
+        ```{math}
+        \bar E_F = A_F\,(1 + K_2 r),
+        ```
+        ```{math}
+        K_2 = \frac23 - \frac{28}{15\pi}
+        ```
+
+        Portsmouth, Kutz and Hill (JCGT 2025): s and t as in {doc}`fujii`. With ρ = 1 the
+        directional albedo is 1 at every angle. {math}`(S/\mu)(1-S^3)` is evaluated as
+        {math}`S\mu(1+S+S^2)/(1+S)`, finite at μ = 0; at r = 0 the 0/0 of f_ms is 0.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

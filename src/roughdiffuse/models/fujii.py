@@ -104,6 +104,28 @@ class Fujii(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "fujii": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "roughness": r"r",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \rho\,\Bigl(A + B\,\frac{s}{t}\Bigr),\qquad s = \omega_i\cdot\omega_o -
+        \mu_i\mu_o,\qquad t = \begin{cases}\max(\mu_i,\mu_o) & s > 0,\\ 1 & s \le
+        0,\end{cases}
+        ```
+        ```{math}
+        A = \frac{1}{\pi + (\pi/2 - 2/3)\,r},
+        ```
+        ```{math}
+        B = r\,A
+        ```
+
+        Fujii (2012); the same as {math}`f_r = \frac{\rho}{\pi}A_F\bigl(1 + r\,s/t\bigr)`,
+        {math}`A_F = 1/(1 + K_1 r)`, {math}`K_1 = \tfrac12 - \tfrac{2}{3\pi}` (EON paper, Eq.
+        3–5). Negative s is kept (no clamp, unlike Oren–Nayar's max(0, ·)); t is floored at
+        10⁻⁶. r is not an angle; r = 0 is Lambert.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array

@@ -85,6 +85,33 @@ class Hammon(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "hammon": tuple({"albedo": [0.9, 0.5, 0.05], "alpha": a} for a in (0.0, 0.3, 1.0))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "alpha": r"\alpha",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\bigl[(1-\alpha)f_{\mathrm{smooth}} + \alpha
+        f_{\mathrm{rough}}\bigr] + \rho^2 f_{\mathrm{multi}}
+        ```
+        ```{math}
+        f_{\mathrm{smooth}} = 1.05\bigl(1-(1-\mu_i)^5\bigr)\bigl(1-(1-\mu_o)^5\bigr),
+        ```
+        ```{math}
+        f_{\mathrm{rough}} = F\,(0.9-0.4F)\,\frac{0.5 + n\cdot h}{n\cdot h},
+        ```
+        ```{math}
+        F = \frac{1+\omega_i\cdot\omega_o}{2},
+        ```
+        ```{math}
+        f_{\mathrm{multi}} = 0.1159\,\alpha
+        ```
+
+        Hammon (GDC 2017, slide 113), a fit to Lambertian facets on a GGX–Smith microsurface;
+        α is the GGX roughness (perceptual roughness²). f_multi carries no 1/π, as in Unity's
+        ``DiffuseGGXNoPI``. n·h is floored at 10⁻⁶. At α = 0 it is 1.05 ρ/π times two Schlick
+        transmissions, not Lambert.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, alpha: Array

@@ -144,6 +144,42 @@ class Hapke(Model):
             {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
         )
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"w",
+        "b0": r"B_0",
+        "h": r"h",
+        "g": r"\xi",
+        "theta_bar": r"\bar\theta",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{I/F}{\pi\mu_i}, \tag{Eq. 9.40, 12.55}
+        ```
+        ```{math}
+        \frac{I}{F} =
+        \frac{w}{4}\,\frac{\mu_{0e}}{\mu_{0e}+\mu_e}\Bigl[\bigl(1+B(g)\bigr)p(g) - 1 +
+        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g;\bar\theta)
+        ```
+        ```{math}
+        B(g) = \frac{B_0}{1+\tan(g/2)/h},
+        ```
+        ```{math}
+        p(g) = \frac{1-\xi^2}{(1+2\xi\cos g+\xi^2)^{3/2}},
+        ```
+        ```{math}
+        H(x) = \frac{1+2x}{1+2\gamma x},
+        ```
+        ```{math}
+        \gamma = \sqrt{1-w}
+        ```
+
+        Hapke (2012; roughness after Hapke 1984, Eq. 46–51), as USGS ISIS's ``HapkeHen``: g is
+        the phase angle (between ωi and ωo), ξ the Henyey–Greenstein asymmetry (ξ < 0
+        backscatters), {math}`\mu_{0e}, \mu_e` the effective cosines and S the shadowing
+        function of the macroscopic roughness θ̄ (θ̄ = 0: {math}`\mu_{0e}=\mu_i`,
+        {math}`\mu_e=\mu_o`, S = 1); the 1981 H-function approximation (Eq. 8.55), as ISIS. μᵢ
+        cancels in closed form; tan θ̄ is floored at 10⁻⁶.
+        """
 
     def _kernel(
         self,

@@ -44,6 +44,17 @@ class Lambert(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lambert": ({"albedo": [0.9, 0.5, 0.05]}, {"albedo": [0.0, 1.0, 0.3]})
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}
+        ```
+
+        Lambert (1760): the same radiance in every direction. The directional albedo is ρ at
+        every angle.
+        """
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         return albedo / math.pi + 0.0 * mu_i

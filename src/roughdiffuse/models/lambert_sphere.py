@@ -206,6 +206,46 @@ class LambertSphere(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lambert-sphere": tuple({"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast"))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"k_d",
+    }
+    formula: ClassVar[str | dict[str, str]] = {
+        "lambert-sphere": r"""
+            ```{math}
+            f_r &= \max\Bigl(0,\ c\,f_1 + f_0(\mu_i,\mu_o,c) - c\,f_{0,1}(\mu_i,\mu_o) \\ &\qquad +
+            f_{1m}(\mu_i,\mu_o,c)\,\sin\theta_i\sin\theta_o\cos\phi\Bigr)\quad(\text{variant
+            full})
+            ```
+            ```{math}
+            f_1 = \frac{P(u)}{\mu_i+\mu_o},
+            ```
+            ```{math}
+            P(u) = \frac{2\bigl(\sqrt{1-u^2} - u\arccos u\bigr)}{3\pi^2},
+            ```
+            ```{math}
+            u = -\,\omega_i\cdot\omega_o
+            ```
+            ```{math}
+            c = \frac{1-(1-k_d)^{2.73556}}{1-0.184096\,(1-k_d)^{2.48423}} \tag{Eq. 46}
+            ```
+            ```{math}
+            f_r &= \max\Bigl(0,\ 0.995917\,c\,f_1 \\ &\qquad +
+            0.0684744\Bigl[\frac{(\phi+\sqrt{\mu_i\mu_o})(c-0.249978)\,S}{4.50996\,(\arccos S +
+            0.113706\,S)} \\ &\qquad + (1.94208\,k_d)^{1.85432}\Bigr]\Bigr)
+            \quad(\text{variant fast})
+            ```
+
+            d'Eon (EGSR 2021): a half-space of spherical Lambertian particles with the
+            Lambert-sphere phase function P; {math}`c\,f_1` is single scattering, f₀ and f₁ₘ the
+            azimuthal Fourier orders 0 and 1 of multiple scattering with the fitted H functions of
+            the paper's Eq. 28 and 37 and the rational fits of its Sec. 5 (their coefficients in
+            ``roughdiffuse/models/lambert_sphere.py``, ``_f0``, ``_f1m``), {math}`f_{0,1} =
+            \frac{207 + 256\mu_i\mu_o - 45\mu_o^2 + 45\mu_i^2(3\mu_o^2-1)}{768\pi(\mu_i+\mu_o)}`
+            the single-scattering part of f₀; {math}`S = \sin\theta_i\sin\theta_o`. The fast
+            variant is the paper's symbolic regression of the full one. {math}`\mu_i+\mu_o` is
+            floored at 10⁻⁶, both variants are clamped at 0.
+            """,
+    }
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         c = single_scattering_albedo(albedo)

@@ -69,6 +69,19 @@ class LommelSeeliger(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lommel-seeliger": ({"albedo": [0.9, 0.5, 0.05]},)
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"w",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{w}{4\pi\,(\mu_i+\mu_o)}
+        ```
+
+        Single scattering in a dim semi-infinite particulate medium with an isotropic phase
+        function (Hapke 2012, Eq. 9.13), as the radiance factor {math}`I/F =
+        \frac{w}{4}\frac{\mu_i}{\mu_i+\mu_o}` divided by {math}`\pi\mu_i`. {math}`\mu_i+\mu_o`
+        is floored at 10⁻⁶ (both directions grazing).
+        """
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         # I/F = (w/4) μ0/(μ0 + μ)
@@ -139,6 +152,19 @@ class LunarLambert(Model):
             {"albedo": [0.9, 0.5, 0.05], "limb_darkening": v} for v in (0.0, 0.6, 1.0)
         )
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "limb_darkening": r"L",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\Bigl[(1-L) + \frac{2L}{\mu_i+\mu_o}\Bigr]
+        ```
+
+        McEwen (1991): the reflectance {math}`r = (1-L)\cos i + 2L\cos i/(\cos i+\cos e)`,
+        normalised so that L = 0 is Lambert with albedo ρ. {math}`\mu_i+\mu_o` is floored at
+        10⁻⁶.
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array

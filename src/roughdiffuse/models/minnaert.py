@@ -79,6 +79,19 @@ class Minnaert(Model):
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "minnaert": tuple({"albedo": [0.9, 0.5, 0.05], "k": k} for k in (0.0, 0.5, 1.0, 1.7))
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "k": r"k",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = \frac{\rho}{\pi}\,(\mu_i\,\mu_o)^{k-1}
+        ```
+
+        Minnaert (1941), Eq. 1, as the radiance factor {math}`I/F = \rho\,\mu_i^k\mu_o^{k-1}`
+        divided by {math}`\pi\mu_i`. k = 1 is Lambert; each cosine is floored at 10⁻⁶ (k < 1
+        diverges at the limb).
+        """
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, k: Array

@@ -92,6 +92,23 @@ class Mix(Model):
              "distribution": "beckmann"},
         )
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "sigma": r"\sigma",
+        "weight": r"w",
+        "eta": r"\eta",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = (1-w)\,f_{\text{Oren–Nayar full}}(\rho,\sigma) +
+        w\,f_{\text{Torrance–Sparrow}}(\eta,\sigma)
+        ```
+
+        The lecture's rough surface with body and surface reflection: the two models of
+        {doc}`oren-nayar-full` and {doc}`torrance-sparrow` with one σ (with
+        ``distribution="beckmann"``, the specular part's α is √2 σ). In general a
+        {class}`~roughdiffuse.models.mix.Mix` is {math}`f_r = \sum_k w_k f_k`.
+        """
 
     @classmethod
     def from_params(

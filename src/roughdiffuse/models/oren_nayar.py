@@ -173,6 +173,79 @@ class OrenNayar(Model):
             {"albedo": [1.0, 0.6, 0.1], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)
         ),
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "sigma": r"\sigma",
+    }
+    formula: ClassVar[str | dict[str, str]] = {
+        "oren-nayar": r"""
+            ```{math}
+            f_r = \frac{\rho}{\pi}\Bigl(A +
+            B\,\max\bigl(0,\cos(\phi_r-\phi_i)\bigr)\,\sin\alpha\,\tan\beta\Bigr) \tag{Eq. 30}
+            ```
+            ```{math}
+            A = 1 - 0.5\,\frac{\sigma^2}{\sigma^2+0.33},
+            ```
+            ```{math}
+            B = 0.45\,\frac{\sigma^2}{\sigma^2+0.09},
+            ```
+            ```{math}
+            \alpha = \max(\theta_i,\theta_r),
+            ```
+            ```{math}
+            \beta = \min(\theta_i,\theta_r)
+            ```
+
+            The qualitative model of Oren and Nayar (1994), their Eq. 30: the main effect of the
+            V-cavity surface, without the interreflection term. Evaluated in vector form:
+            {math}`\max(0,\cos(\phi_r-\phi_i))\sin\alpha\tan\beta = \max(0, s)/\max(\mu_i,\mu_o)`
+            with {math}`s = \omega_i\cdot\omega_o - \mu_i\mu_o`; the denominator is floored at
+            10⁻⁶ (both directions grazing). σ = 0 gives Lambert exactly.
+            """,
+        "oren-nayar-full": r"""
+            ```{math}
+            f_r = \max\Bigl(0,\ \frac{L_1 + L_2}{E_0\cos\theta_i}\Bigr)
+            ```
+
+            the one-bounce term (the paper's Eq. 27, with its coefficients C1, C2, C3),
+
+            ```{math}
+            L_1 = \frac{\rho}{\pi}E_0\cos\theta_i\Bigl[C_1 + c\,C_2\tan\beta +
+            \bigl(1-|c|\bigr)\,C_3\tan\frac{\alpha+\beta}{2}\Bigr] \tag{Eq. 27}
+            ```
+            ```{math}
+            C_1 = 1 - 0.5\,\frac{\sigma^2}{\sigma^2+0.33}
+            ```
+            ```{math}
+            C_2 = \begin{cases} 0.45\,\dfrac{\sigma^2}{\sigma^2+0.09}\,\sin\alpha & c \ge
+            0,\\[6pt] 0.45\,\dfrac{\sigma^2}{\sigma^2+0.09}\Bigl(\sin\alpha -
+            \bigl(\tfrac{2\beta}{\pi}\bigr)^3\Bigr) & c < 0,\end{cases}
+            ```
+            ```{math}
+            C_3 = 0.125\,\frac{\sigma^2}{\sigma^2+0.09}\Bigl(\frac{4\alpha\beta}{\pi^2}\Bigr)^2
+            ```
+
+            and the two-bounce interreflection term (Eq. 31)
+
+            ```{math}
+            L_2 = 0.17\,\frac{\rho^2}{\pi}E_0\cos\theta_i\,\frac{\sigma^2}{\sigma^2+0.13}\Bigl[1 -
+            c\Bigl(\frac{2\beta}{\pi}\Bigr)^2\Bigr] \tag{Eq. 31}
+            ```
+
+            with {math}`c = \cos(\phi_r-\phi_i)`, {math}`\alpha = \max(\theta_i,\theta_r)`,
+            {math}`\beta = \min(\theta_i,\theta_r)` (as in Mitsuba 0.6's ``roughdiffuse`` plugin).
+
+            Conventions of this implementation: c is computed as
+            {math}`(\omega_i\cdot\omega_o-\mu_i\mu_o)/(\sin\theta_i\sin\theta_r)`, clamped to [−1,
+            1] (and irrelevant where either angle is 0, since β = 0 there);
+            {math}`\tan\frac{\alpha+\beta}{2}` is computed exactly as
+            {math}`(\sin\alpha+\sin\beta)/(\cos\alpha+\cos\beta)`, the denominator floored at
+            2·10⁻⁶, and cos β in tan β at 10⁻⁶ (both directions grazing). The result is clamped at
+            0: near grazing backscatter with σ above about 1 rad the fitted C2 term makes L1 + L2
+            negative (the paper's formula is not clamped). L2 is quadratic in ρ, so f is not
+            linear in the albedo. σ = 0 gives Lambert exactly.
+            """,
+    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, sigma: Array

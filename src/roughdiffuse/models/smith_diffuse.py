@@ -82,6 +82,25 @@ class SmithDiffuse(Model):
     )
     traceable: ClassVar[bool] = False
     closed_form: ClassVar[bool] = False
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "alpha": r"\alpha",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r(\omega_i,\omega_o) = \sum_{k\ge 1}\rho^k f_k(\omega_i,\omega_o;\alpha)
+        ```
+        ```{math}
+        D_{\mathrm{Beckmann}}(h) =
+        \frac{e^{-\tan^2\theta_h/\alpha^2}}{\pi\alpha^2\cos^4\theta_h},\qquad
+        D_{\mathrm{GGX}}(h) = \frac{\alpha^2}{\pi\cos^4\theta_h\,(\alpha^2+\tan^2\theta_h)^2}
+        ```
+
+        No closed form: f_k, the k-bounce part on a Smith microsurface (uncorrelated heights)
+        of Lambertian facets with normal distribution D, is estimated by the random walk of
+        Heitz, Hanika, d'Eon and Dachsbacher (SIGGRAPH 2016), ``samples`` paths per geometry
+        with a fixed seed (standard error ∝ 1/√samples). α = 0 is Lambert.
+        """
 
     order: ClassVar[int] = 160
     def __post_init__(self) -> None:

@@ -162,6 +162,47 @@ class TorranceSparrow(Model):
             for eta in (1.5, 0.75, 2.5)
         ),
     }
+    symbols: ClassVar[dict[str, str]] = {
+        "eta": r"\eta",
+        "sigma": r"\sigma",
+        "alpha": r"\alpha",
+    }
+    formula: ClassVar[str | dict[str, str]] = {
+        "torrance-sparrow": r"""
+            ```{math}
+            f_r = \frac{F_\eta(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
+            D(\theta_h) = \frac{e^{-\theta_h^2/2\sigma^2}}{N(\sigma)},\quad \int D\,(n\cdot
+            h)\,\mathrm{d}\omega_h = 1
+            ```
+            ```{math}
+            G = \min\Bigl(1,\ \frac{2(n\cdot h)(n\cdot\omega_o)}{\omega_o\cdot h},\ \frac{2(n\cdot
+            h)(n\cdot\omega_i)}{\omega_o\cdot h}\Bigr)
+            ```
+
+            Torrance and Sparrow (1967): mirror V-groove facets, Gaussian in the slope angle θh of
+            the half vector h with standard deviation σ; N(σ) is computed by quadrature over [0,
+            π/2]. F is the unpolarised Fresnel reflectance of a dielectric of relative index η at
+            {math}`\cos\theta_i' = \omega_i\cdot h` (F = 1 under total internal reflection, η <
+            1). σ = 0 is a perfect mirror, a delta the BRDF cannot hold: f is 0 there (σ is
+            floored at 10⁻⁴).
+            """,
+        "torrance-sparrow-beckmann": r"""
+            ```{math}
+            f_r = \frac{F_\eta(\theta_i')\,G\,D(\theta_h)}{4\cos\theta_i\cos\theta_r},\qquad
+            D(\theta_h) = \frac{e^{-\tan^2\theta_h/\alpha^2}}{\pi\alpha^2\cos^4\theta_h}
+            ```
+            ```{math}
+            G = \min\Bigl(1,\ \frac{2(n\cdot h)(n\cdot\omega_o)}{\omega_o\cdot h},\ \frac{2(n\cdot
+            h)(n\cdot\omega_i)}{\omega_o\cdot h}\Bigr)
+            ```
+
+            Torrance and Sparrow (1967) with Beckmann's distribution (Gaussian in the slope tan
+            θh; α the RMS slope, as pbrt-v4's and Mitsuba 3's ``alpha``), normalised so that
+            {math}`\int D\,(n\cdot h)\,\mathrm{d}\omega_h = 1`. F is the unpolarised Fresnel
+            reflectance of relative index η at {math}`\cos\theta_i' = \omega_i\cdot h`; α = 0 is a
+            mirror, f = 0 there.
+            """,
+    }
 
     def __post_init__(self) -> None:
         if self.distribution == "beckmann" and self.alpha is None and self.sigma is not None:

@@ -189,6 +189,31 @@ class VCavity(Model):
     """A Mitsuba plugin all the same: the Dr.Jit namespace gathers from the table
     (``xp.take``), σ and ρ are fixed when the BSDF is loaded."""
     array_fields: ClassVar[tuple[str, ...]] = ()
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "sigma": r"\sigma",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r(\omega_i,\omega_o) =
+        \frac{1}{E_0\cos\theta_i}\int_0^{\pi/2}\!\frac{1}{\pi}\int_0^{\pi}
+        L_{\mathrm{cavity}}(\theta_a,\phi_a;\omega_i,\omega_o,\rho)\,\mathrm{d}\phi_a\;P(\theta_a)\,\mathrm{d}\theta_a
+        ```
+        ```{math}
+        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\ (\text{measure angle}),
+        ```
+        ```{math}
+        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\sin\theta_a\ (\text{measure
+        solid-angle})
+        ```
+
+        Oren and Nayar (1994, Sec. 3–4): long symmetric V-cavities with Lambertian facets of
+        albedo ρ and slope θa, azimuth φa uniform, {math}`L_{\mathrm{cavity}}` the radiance of
+        one cavity with shadowing, masking and ``bounces`` orders of interreflection, P
+        truncated to θa < π/2 and normalised there. Computed exactly by
+        {func}`roughdiffuse.simulate.brdf` and interpolated (tricubic in log f) from a table
+        per (σ, ρ, bounces, measure).
+        """
     """No pytree leaves: σ and ρ select a table, they are static under ``jax.jit``."""
 
     def __post_init__(self) -> None:

@@ -9,7 +9,7 @@ Every file is written whole or not at all (the image writers of
 ``depth.ply``        the depth as a triangle mesh
 ``params.json``      model, fitted global parameters with standard errors, error statistics
 ``*.png``, ``*.exr`` normal, albedo, roughness (per-pixel fits) and residual maps
-``report.html``      the images and statistics, the Lambertian result beside the rough one
+``report.html``      inputs, lights, maps with colour bars (Lambertian and rough on one scale)
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import numpy as np
 
 from .inputs import StereoInput
 from .lambertian import LambertianResult
+from .report_figures import NORMAL_KEY, report_pngs
 from .rough import RoughResult
 
 __all__ = ["result_maps", "write_outputs"]
@@ -80,17 +81,6 @@ def _png_of(image: np.ndarray, kind: str) -> np.ndarray:
     return np.clip(v / (top if top > 0 else 1.0), 0.0, 1.0)
 
 
-def _encode_png(linear: np.ndarray, mask: np.ndarray) -> bytes:
-    import tempfile
-
-    from ..io.images import write_png
-
-    with tempfile.TemporaryDirectory() as d:
-        p = Path(d) / "x.png"
-        write_png(p, linear, exposure=0.0, mask=mask.astype(np.float64))
-        return p.read_bytes()
-
-
 def write_outputs(
     folder: str | os.PathLike[str],
     data: StereoInput,
@@ -118,18 +108,12 @@ def write_outputs(
     write_npy(out / "albedo.npy", maps["albedo"])
     write_npy(out / "depth.npy", depth)
     write_ply(out / "depth.ply", depth)
-    shown = {}
     for key, image in maps.items():
-        if key == "normals":
-            write_exr(out / "normals.exr", np.nan_to_num(image))
-        else:
-            write_exr(out / f"{key}.exr", np.nan_to_num(image))
+        write_exr(out / f"{key}.exr", np.nan_to_num(image))
         lin = _png_of(image, key)
         write_png(out / f"{key}.png", lin, exposure=0.0, mask=m.astype(np.float64))
-        shown[key] = (out / f"{key}.png").read_bytes()
-    shown["depth"] = _encode_png(_png_of(depth, "depth"), m & np.isfinite(depth))
-    shown["lambertian normals"] = _encode_png(_png_of(lmaps["normals"], "normals"), m)
-    shown["lambertian residual"] = _encode_png(_png_of(lmaps["residual"], "residual"), m)
+    shown = report_pngs(data, maps, lmaps, depth, model_id,
+                        rough.roughness_name if np.ndim(rough.roughness) else None)
     rough_val = rough.roughness
     params: dict[str, Any] = {
         "model": model_id,
@@ -172,12 +156,15 @@ def write_outputs(
 def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     def img(name: str) -> str:
         b64 = base64.b64encode(images[name]).decode()
+        note = f" ({NORMAL_KEY})" if name == "normals" else ""
         return (
             f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{b64}">'
-            f"<figcaption>{html.escape(name)}</figcaption></figure>"
+            f"<figcaption>{html.escape(name + note)}</figcaption></figure>"
         )
 
     r = params["roughness"]
+    truth = params.get("truth") or {}
+    true_value = truth.get(r["name"])
     if r["per_pixel"]:
         rline = (
             f"{r['name']} per pixel: median {r['median']:.4g} "
@@ -185,28 +172,35 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
         )
     else:
         rline = f"{r['name']} = {r['value']:.4g} ± {r['standard_error']:.2g} (one for the object)"
+    if true_value is not None:
+        rline += f"; the true {r['name']} of the rendered object is {true_value:.4g}"
+        if not r["per_pixel"] and r["standard_error"] > 0:
+            off = abs(r["value"] - true_value) / r["standard_error"]
+            rline += f" ({off:.1f} standard errors away)"
     rows = []
     for label, key in (("rough model", "rough"), ("Lambertian", "lambertian")):
         s = params[key]
         res = s["relative_rms_residual"]
         ang = s.get("angular_error_deg")
         rows.append(
-            f"<tr><td>{label}</td><td>{res['median']:.3g}</td><td>{res['p95']:.3g}</td>"
+            f"<tr><td>{label}</td><td class=num>{res['median']:.3g}</td>"
+            f"<td class=num>{res['p95']:.3g}</td>"
             + (
-                f"<td>{ang['mean']:.3g}°</td><td>{ang['median']:.3g}°</td>"
+                f"<td class=num>{ang['mean']:.3g}°</td><td class=num>{ang['median']:.3g}°</td>"
                 if ang
-                else "<td>–</td><td>–</td>"
+                else ""
             )
             + "</tr>"
         )
+    angles = any(params[k].get("angular_error_deg") for k in ("rough", "lambertian"))
     buf = io.StringIO()
     buf.write(
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>"
         "<title>roughdiffuse stereo report</title><style>"
-        "body{font-family:system-ui,sans-serif;margin:2em;max-width:70em}"
-        "figure{display:inline-block;margin:0 1em 1em 0}"
-        "img{width:256px;image-rendering:pixelated;background:#222}"
+        "body{font-family:system-ui,sans-serif;margin:2em;max-width:80em}"
+        "figure{margin:0 0 1.5em 0}img{max-width:100%}"
         "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px}"
+        "td.num{text-align:right}"
         "</style></head><body>"
     )
     buf.write(f"<h1>Photometric stereo: {html.escape(params['model'])}</h1>")
@@ -216,15 +210,12 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     )
     buf.write(
         "<table><tr><th>method</th><th>median relative RMS residual</th><th>95th percentile</th>"
-        "<th>mean angular error</th><th>median angular error</th></tr>" + "".join(rows) + "</table>"
+        + ("<th>mean angular error (vs truth)</th><th>median angular error</th>" if angles
+           else "")
+        + "</tr>" + "".join(rows) + "</table>"
     )
-    buf.write("<h2>Rough model</h2>")
+    buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>")
     for name in images:
-        if not name.startswith("lambertian"):
-            buf.write(img(name))
-    buf.write("<h2>Lambertian photometric stereo</h2>")
-    for name in images:
-        if name.startswith("lambertian"):
-            buf.write(img(name))
+        buf.write(img(name))
     buf.write("</body></html>\n")
     return buf.getvalue()

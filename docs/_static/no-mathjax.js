@@ -1,1 +1,0 @@
-/* MathJax is not loaded: the site downloads nothing. Formulas are text and images. */
