@@ -336,6 +336,27 @@ class Coated(Model):
         "A. Weidlich, A. Wilkie, Arbitrarily layered micro-facet surfaces, GRAPHITE (2007); "
         "Mitsuba 3 plastic"
     )
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"\rho",
+        "sigma": r"\sigma",
+        "eta": r"\eta",
+        "roughness": r"\alpha",
+        "absorption": r"\tau",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f_r = f_{\text{coat}}(\eta,\alpha) + \frac{T_\alpha(\mu_i)\,T_\alpha(\mu_o)}{\eta^2}
+        \Big[f_b(\omega_i',\omega_o')\,e^{-\tau/\mu_i'-\tau/\mu_o'}
+        + \frac{a(\mu_i')\,a(\mu_o')\,e^{-\tau/\mu_i'-\tau/\mu_o'}\,K}{\pi\,(1-\bar a K)}\Big]
+        ```
+
+        A dielectric coat of index {math}`\eta` and roughness {math}`\alpha` over the base
+        {math}`f_b` = {doc}`oren-nayar-full` ({math}`\rho`, {math}`\sigma`), evaluated at the
+        refracted directions; {math}`T_\alpha` the coat's transmittance, {math}`a` the base's
+        directional albedo, {math}`K` the coat's internal diffuse reflectance,
+        {math}`\tau` the layer's optical depth. The exact truth is
+        {mod}`roughdiffuse.simulate.layered`.
+        """
     order: ClassVar[int] = 55
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "coated": (
