@@ -106,6 +106,7 @@ def test_bad_input_named(kwargs: dict, name: str) -> None:
         rd.Coated(**args)
 
 
+@pytest.mark.slow  # JAX compiles the coat's unrolled node rules: minutes on a shared machine
 @pytest.mark.parametrize("fit_eta", [False, True])
 def test_fit_recovers_parameters(fit_eta: bool) -> None:
     truth = {"albedo": 0.7, "sigma": 0.35, "eta": 1.6, "roughness": 0.25}
