@@ -47,6 +47,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .._array import Array, asarray, clip, maximum, safe_div, safe_sqrt
+from .._validate import ParameterError
 from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
@@ -390,9 +391,9 @@ class Coated(Model):
         if isinstance(base, str):
             base = _model_by_id(base, dict(self.base_params or {}))
         elif self.base_params is not None:
-            raise ValueError("base_params applies only with a base given by id (a string)")
+            raise ParameterError("base_params applies only with a base given by id (a string)")
         elif base is None:
-            raise ValueError("base must be a model or a registry id (got None)")
+            raise ParameterError("base must be a model or a registry id (got None)")
         object.__setattr__(self, "base", check_base(base))
         object.__setattr__(self, "base_params", None)
         super().__post_init__()
@@ -485,7 +486,7 @@ def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
             factory = getattr(cls, "from_params", cls)
             return factory(**{**cls.ids[model_id], **params})
     known = ", ".join(i for c in builtin_classes() for i in c.ids)
-    raise ValueError(f"base: unknown model id {model_id!r}; choose one of: {known}")
+    raise ParameterError(f"base: unknown model id {model_id!r}; choose one of: {known}")
 
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:

@@ -53,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import check_range
+from .._validate import ParameterError, check_range
 from .cavity import Bounces, check_bounces
 from .smith import THETA_GRAZING
 from .smith_slopes import sample_visible_normals, smith_lambda
@@ -113,14 +113,14 @@ def check_base(base: object) -> Any:
     if isinstance(base, str) or not all(
         hasattr(base, a) for a in ("brdf_cosines", "sampling_strategy", "parameter_arrays")
     ):
-        raise ValueError(f"base must be a roughdiffuse model (got {base!r})")
+        raise ParameterError(f"base must be a roughdiffuse model (got {base!r})")
     if not getattr(type(base), "traceable", True):
-        raise ValueError(
+        raise ParameterError(
             f"base {type(base).__name__} cannot be a base: it is a simulation that cannot be "
             "sampled or evaluated at arbitrary directions (use a closed form or VCavity)"
         )
     if getattr(type(base), "is_coat", False):
-        raise ValueError(f"base {type(base).__name__}: a coat on a coat is not supported")
+        raise ParameterError(f"base {type(base).__name__}: a coat on a coat is not supported")
     return base
 
 
@@ -128,7 +128,7 @@ def _check_interface(eta: object, roughness: object, distribution: object) -> tu
     check_range("eta", eta, ETA_RANGE[0], ETA_RANGE[1], lo_open=True)
     check_range("roughness", roughness, 0.0, 2.0)
     if distribution not in INTERFACE_DISTRIBUTIONS:
-        raise ValueError(
+        raise ParameterError(
             f"distribution must be one of {INTERFACE_DISTRIBUTIONS} (got {distribution!r})"
         )
     return float(eta), float(roughness)  # type: ignore[arg-type]
@@ -137,7 +137,7 @@ def _check_interface(eta: object, roughness: object, distribution: object) -> tu
 def _check_absorption(absorption: object) -> np.ndarray:
     a = np.atleast_1d(np.asarray(absorption, dtype=np.float64))
     if a.ndim != 1 or not np.all(np.isfinite(a)) or np.any(a < 0):
-        raise ValueError(
+        raise ParameterError(
             "absorption (thickness × absorption coefficient) must be finite and >= 0, a number "
             f"or one per channel (got {absorption!r})"
         )
@@ -151,7 +151,7 @@ def _directions(theta_i, theta_r, delta_phi):
     for name, val in (("theta_i", ti), ("theta_r", tr)):
         check_range(name, val, 0.0, math.pi / 2, unit="radians", scalar=False)
     if not np.all(np.isfinite(dp)):
-        raise ValueError("delta_phi must be finite")
+        raise ParameterError("delta_phi must be finite")
     shape = ti.shape
     ti = np.minimum(ti.reshape(-1), THETA_GRAZING)
     tr = np.minimum(tr.reshape(-1), THETA_GRAZING)
@@ -311,7 +311,7 @@ def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, per_geomet
     channels = max(base.channels, tau.size if tau.size > 1 else 0)
     c = max(channels, 1)
     if tau.size not in (1, c):
-        raise ValueError(f"absorption has {tau.size} channels, the base {base.channels}")
+        raise ParameterError(f"absorption has {tau.size} channels, the base {base.channels}")
     sum1 = np.zeros((g, c))
     sum2 = np.zeros((g, c))
     rng = np.random.default_rng(seed)
@@ -426,7 +426,7 @@ def brdf(
 
 def _check_samples(samples: object) -> None:
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
-        raise ValueError(f"samples must be an integer >= 2 (got {samples!r})")
+        raise ParameterError(f"samples must be an integer >= 2 (got {samples!r})")
 
 
 def directional_albedo(
