@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
-    ("leaves", frozenset(("_array _figure _lazy _validate _version deprecation frames io "
+    ("leaves", frozenset(("_array _env _figure _lazy _validate _version deprecation frames io "
                           "progress quadrature roughness").split())),  # fmt: skip
     ("engine", frozenset({"engine"})),
     ("solvers", frozenset({"simulate"})),

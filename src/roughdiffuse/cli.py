@@ -25,9 +25,11 @@ import sys
 import traceback
 from collections.abc import Sequence
 
+from ._env import env_flag
 from ._validate import ParameterError
 from ._version import version
 from .commands import COMMANDS, UsageError
+from .commands._conflicts import check_options
 
 EPILOG = """\
 examples:
@@ -118,8 +120,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 0
     prog = f"roughdiffuse {args.command}"
-    debug = bool(args.debug) or os.environ.get("ROUGHDIFFUSE_DEBUG", "") not in ("", "0")
     try:
+        debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
+    except ValueError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        check_options(parser, args, argv)  # conflicting or inapplicable flags: exit 2
         return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
@@ -133,6 +140,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 128 + 13
     except Exception as exc:  # noqa: BLE001 - sorted into user errors and bugs
         return report_error(exc, prog, debug)
+    finally:
+        from .io.atomic import allow_replacing
+
+        allow_replacing(None)  # the outputs this command kept are its own business only
 
 
 if __name__ == "__main__":  # pragma: no cover

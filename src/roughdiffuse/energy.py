@@ -31,17 +31,26 @@ __all__ = ["albedo_curves", "plot_albedo", "variance_table", "write_albedo_csv"]
 
 
 @renamed_parameter("theta_o", "theta_r", since="0.2")
-def albedo_curves(models: Mapping[str, Model], theta_r: Sequence[float]) -> dict[str, np.ndarray]:
+def albedo_curves(
+    models: Mapping[str, Model], theta_r: Sequence[float], progress: bool = False
+) -> dict[str, np.ndarray]:
     """Directional albedo of each model at viewing angles ``theta_r`` (radians).
 
-    Colour models give channel 0. Returns label -> array of len(theta_r).
+    Colour models give channel 0. Returns label -> array of len(theta_r). ``progress`` shows
+    a tqdm bar of the models on stderr (on a terminal only): a model without a closed-form
+    albedo (e.g. ``smith-diffuse-*`` at large α) can take minutes.
     """
+    from tqdm.auto import tqdm
+
     th = np.asarray(theta_r, dtype=np.float64)
     if th.ndim != 1 or np.any(~np.isfinite(th)) or np.any(th < 0) or np.any(th > math.pi / 2):
         raise ParameterError("theta_r must be a 1-D array of angles in [0, π/2] radians")
     wo = spherical_to_vector(th, 0.0)
     out = {}
-    for label, model in models.items():
+    items = tqdm(
+        models.items(), desc="albedo", unit="curve", disable=None if progress else True
+    )
+    for label, model in items:
         a = np.asarray(model.directional_albedo(wo), dtype=np.float64)
         out[label] = a[..., 0] if a.ndim == 2 else a
     return out
@@ -63,6 +72,7 @@ def plot_albedo(
     groups: Mapping[str, Mapping[str, Model]],
     theta_r: Sequence[float] | None = None,
     fig: Any = None,
+    curves: Mapping[str, Mapping[str, np.ndarray]] | None = None,
 ) -> Any:
     """White-furnace plot: one panel per model family, one curve per roughness.
 
@@ -74,6 +84,8 @@ def plot_albedo(
     fig : matplotlib Figure, optional
         Drawn on; default a new figure made through ``matplotlib.pyplot`` (so ``plt.show()``
         shows it).
+    curves : {title: {curve label: albedo array}}, optional
+        The :func:`albedo_curves` of each panel at ``theta_r``, if already computed.
 
     Returns
     -------
@@ -93,9 +105,9 @@ def plot_albedo(
     lo = 1.0
     hi = 1.0
     for ax, (title, models) in zip(axes[:n], groups.items(), strict=True):
-        curves = albedo_curves(models, th)
-        colors = colormap("viridis")(np.linspace(0.0, 0.9, max(len(curves), 1)))
-        for color, (label, a) in zip(colors, curves.items(), strict=True):
+        panel = albedo_curves(models, th) if curves is None else curves[title]
+        colors = colormap("viridis")(np.linspace(0.0, 0.9, max(len(panel), 1)))
+        for color, (label, a) in zip(colors, panel.items(), strict=True):
             ax.plot(np.degrees(th), a, color=color, label=label)
             lo, hi = min(lo, float(a.min())), max(hi, float(a.max()))
         ax.axhline(1.0, color="0.5", lw=0.8, ls="--")

@@ -55,7 +55,7 @@ from .render import (
     render,
 )
 
-__all__ = ["FIGURES", "Figure", "figure_matches", "make_figures"]
+__all__ = ["FIGURES", "Figure", "figure_matches", "kept_figures", "make_figures"]
 
 SIZE = 200
 """Pixels across a rendered object in the figures."""
@@ -615,9 +615,34 @@ def _write_index(folder: Path) -> Path:
     return atomic_write(folder / "index.html", lambda tmp: tmp.write_text(page, "utf-8"))
 
 
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _check_kept(path: Path) -> None:
+    """Refuse to keep ``path`` as a figure unless it is a PNG file (not a folder, link or
+    other data planted under the figure's name)."""
+    if path.is_symlink() or not path.is_file():
+        raise ValueError(f"{str(path)!r} is not a regular file; remove it or use --force")
+    with open(path, "rb") as fh:
+        head = fh.read(len(PNG_SIGNATURE))
+    if head != PNG_SIGNATURE:
+        raise ValueError(
+            f"{str(path)!r} is not a PNG image: not kept as a figure; remove it or use --force"
+        )
+
+
+def kept_figures(folder: str | os.PathLike[str], only: list[str] | None = None) -> list[str]:
+    """Names of the figures ``make_figures`` (without ``force``) would keep in ``folder``."""
+    folder = Path(folder)
+    chosen = [f for f in FIGURES if not only or any(figure_matches(f.name, o) for o in only)]
+    return [f.name for f in chosen if (folder / f"{f.name}.png").exists()]
+
+
 def figure_matches(name: str, key: str) -> bool:
     """Whether ``--only`` ``key`` names the figure ``name``: a number is the figure's number
     (``1`` is ``1-lambert-sphere``, not ``10-…``), other text a prefix of the name."""
+    if not key:
+        return False  # an empty name matches no figure (not every one)
     if key.isdigit():
         return name.split("-", 1)[0] == key
     return name.startswith(key)
@@ -637,7 +662,9 @@ def make_figures(
         Created if missing (its parent must exist).
     force : bool
         Redraw figures whose PNG exists (otherwise they are kept, so an interrupted run
-        resumes where it stopped).
+        resumes where it stopped; a kept file must be a PNG, else ``ValueError``).
+        ``index.html`` is written last and removed while figures are redrawn: a folder
+        without it is unfinished.
     progress : bool
         Show a progress bar (:func:`roughdiffuse.progress.progress`, on standard error).
     only : list of str, optional
@@ -660,13 +687,20 @@ def make_figures(
             f"no figure matches {only}; names: {', '.join(f.name for f in FIGURES)}"
         )
     out = []
+    kept = [f for f in chosen if (folder / f"{f.name}.png").exists() and not force]
+    for f in kept:  # a file under a figure's name that is not a PNG is not kept silently
+        _check_kept(folder / f"{f.name}.png")
+    if len(kept) < len(chosen):
+        # index.html is the folder's completion marker: it is removed while figures are
+        # redrawn and written last, so a folder without it is visibly unfinished
+        (folder / "index.html").unlink(missing_ok=True)
     bar = progress_bar(len(chosen), "figures", unit="fig", enabled=progress)
     for f in chosen:
         bar.set_postfix_str(f.name)
         bar.update(1)
         path = folder / f"{f.name}.png"
         out.append(path)
-        if path.exists() and not force:
+        if f in kept:
             continue
         fig = f.draw()
         fig.text(0.995, 0.005, "roughdiffuse", ha="right", va="bottom", fontsize=6, color="0.6")

@@ -87,13 +87,24 @@ def unit_components(xp: Any, w: Array, name: str, dtype: Any = None) -> tuple[Ar
     if w.ndim < 1 or w.shape[-1] != 3:
         raise ParameterError(f"{name} must have shape (..., 3) (got shape {tuple(w.shape)})")
     x, y, z = w[..., 0], w[..., 1], w[..., 2]
-    n2 = x * x + y * y + z * z
+    with np.errstate(over="ignore", under="ignore"):  # judged below, not warned about
+        n2 = x * x + y * y + z * z
     c = concrete(n2)
     if c is not None and (not np.all(np.isfinite(c)) or np.any(c == 0)):
-        raise ParameterError(
-            f"{name} must contain non-zero, finite direction vectors "
-            f"({int(np.sum(~np.isfinite(c) | (c == 0)))} are zero, NaN or infinite)"
-        )
+        # The squared length under- or overflowed, or a vector is zero or not finite. A
+        # vector of finite components, not all zero, is scaled by its largest component
+        # first ([1e-200, 0, 1e-200] is a direction); the others are refused.
+        wc = np.asarray(concrete(w), dtype=np.float64)
+        big = np.max(np.abs(wc), axis=-1)
+        bad = ~np.all(np.isfinite(wc), axis=-1) | (big == 0)
+        if np.any(bad):
+            raise ParameterError(
+                f"{name} must contain non-zero, finite direction vectors "
+                f"({int(np.sum(bad))} are zero, NaN or infinite)"
+            )
+        w = w / asarray(xp, big[..., None], dtype)
+        x, y, z = w[..., 0], w[..., 1], w[..., 2]
+        n2 = x * x + y * y + z * z
     inv = 1.0 / xp.sqrt(n2)
     return x * inv, y * inv, z * inv
 

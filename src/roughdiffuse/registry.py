@@ -304,7 +304,11 @@ def get(model_id: str) -> Entry:
     _ensure_loaded()
     entry = _ENTRIES.get(model_id)
     if entry is None:
-        raise ParameterError(f"unknown model {model_id!r}; choose one of: {', '.join(_ENTRIES)}")
+        from .io.reading import short
+
+        raise ParameterError(
+            f"unknown model {short(model_id)}; choose one of: {', '.join(_ENTRIES)}"
+        )
     return entry
 
 

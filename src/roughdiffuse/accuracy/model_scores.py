@@ -18,7 +18,6 @@ a roughness parameter are scored as they are.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -27,6 +26,7 @@ from scipy import optimize
 
 from .. import registry
 from ..io.atomic import write_text
+from ..io.jsonfile import dumps
 from ..simulate import smith
 from ..simulate.surface import Settings
 from ..simulate.surface import brdf as cavity_brdf
@@ -182,7 +182,7 @@ def _write_scores(out, data, ti, dp, alphas, samples, rel_se, quick) -> None:
         "quick": quick,
     }
     payload = {"settings": settings, "models": data}
-    write_text(Path(out) / SCORES_FILE, json.dumps(payload, indent=1) + "\n")
+    write_text(Path(out) / SCORES_FILE, dumps(payload, indent=1) + "\n")
 
 
 def model_score_lines(quick: bool, progress: bool = True, out: Path | None = None) -> list[str]:

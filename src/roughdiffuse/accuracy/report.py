@@ -31,7 +31,7 @@ import numpy as np
 
 from .. import registry
 from .._version import version
-from ..io.atomic import atomic_write, write_text
+from ..io.atomic import atomic_write, deferred, write_text
 from ..simulate.surface import Settings
 from ..simulate.table import compute_table, load_table
 
@@ -266,18 +266,19 @@ def write_report(
     inf = table(better, "all")
     truths = {"1 bounce": one[better], "2 bounces": two, "all bounces": inf}
     lines += _error_lines(g, sigmas, truths, better)
-    lines += _convergence_lines(quick)
-    lines += _second_truth_lines(out, quick, progress)
-    # figures: plane of incidence and error maps
-    figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
-    lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
-    lines += [
-        "",
-        "K-convergence of the all-bounce table: max |f(K) − f(2K)| / f = "
-        f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
-        "",
-    ]
-    write_text(out / "index.md", "\n".join(lines))
+    with deferred(out):  # the report's pages and figures appear together, or none
+        lines += _convergence_lines(quick)
+        lines += _second_truth_lines(out, quick, progress)
+        # figures: plane of incidence and error maps
+        figs = _plots(subplots, out, better, sigmas, quick, progress, workers)
+        lines += ["", "## Figures", ""] + [f"![{t}]({p})" for t, p in figs]
+        lines += [
+            "",
+            "K-convergence of the all-bounce table: max |f(K) − f(2K)| / f = "
+            f"{np.max(np.abs(inf.k_difference) / inf.values):.2e} (before extrapolation).",
+            "",
+        ]
+        write_text(out / "index.md", "\n".join(lines))
     return out / "index.md"
 
 

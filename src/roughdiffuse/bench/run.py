@@ -899,6 +899,23 @@ def main(
         return 2
 
 
+def check_output_dir(folder: Path) -> None:
+    """Refuse an --output-dir that cannot take RESULTS.md and results.json, before any
+    benchmark runs: a file, a path under a file, or a folder that cannot be written."""
+    folder = Path(folder)
+    for parent in (folder, *folder.parents):
+        if parent.exists():
+            if not parent.is_dir():
+                raise ParameterError(
+                    f"--output-dir {str(folder)!r}: {str(parent)!r} is not a folder"
+                )
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise ParameterError(
+                    f"--output-dir {str(folder)!r}: {str(parent)!r} is not writable"
+                )
+            return
+
+
 def _check_options(args: argparse.Namespace) -> tuple[list[int], list[int]]:
     """Refuse out-of-range options (:class:`ParameterError`); the fast-path and ``brdf`` sizes
     (log2 row counts)."""
@@ -935,6 +952,7 @@ def _check_options(args: argparse.Namespace) -> tuple[list[int], list[int]]:
         raise ParameterError(f"--simulate-cavities must be >= 100 (got {args.simulate_cavities})")
     if args.memory_log2 and not 10 <= args.memory_log2 <= 28:
         raise ParameterError(f"--memory-log2 must be 0 or in [10, 28] (got {args.memory_log2})")
+    check_output_dir(args.output_dir)
     return sizes, brdf_sizes
 
 
@@ -1039,7 +1057,11 @@ def run(args: argparse.Namespace, command: str) -> int:
     out_dir = args.output_dir
     out_dir.mkdir(parents=True, exist_ok=True)
     payload = {"meta": meta, "results": results, **extra}
-    write_atomic(out_dir / "results.json", json.dumps(payload, indent=1) + "\n")
-    write_atomic(out_dir / "RESULTS.md", markdown(meta, results, extra))
+    from roughdiffuse.io import deferred
+    from roughdiffuse.io.jsonfile import dumps
+
+    with deferred(out_dir):  # both files or neither
+        write_atomic(out_dir / "results.json", dumps(payload, indent=1) + "\n")
+        write_atomic(out_dir / "RESULTS.md", markdown(meta, results, extra))
     print(f"wrote {out_dir / 'RESULTS.md'} and {out_dir / 'results.json'}")
     return 0

@@ -18,7 +18,7 @@ import struct
 import tempfile
 import zipfile
 import zlib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +26,7 @@ from . import UsageError
 
 __all__ = [
     "available_memory",
+    "bounded_float",
     "finite_float",
     "fits_in_memory",
     "output_file",
@@ -33,6 +34,22 @@ __all__ = [
     "reading",
     "require_finite",
 ]
+
+
+def bounded_float(lo: float, hi: float) -> Callable[[str], float]:
+    """argparse type: a number in [lo, hi], refused when parsed rather than when a later
+    product with it overflows (the message states the range)."""
+
+    def parse(text: str) -> float:
+        value = finite_float(text)
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(
+                f"expected a number in [{lo:g}, {hi:g}] (got {text!r})"
+            )
+        return value
+
+    parse.__name__ = "number"
+    return parse
 
 
 def finite_float(text: str) -> float:
@@ -110,6 +127,14 @@ def output_file(
     if out.exists() and not out.is_file():
         raise UsageError(f"{option}: {str(path)!r} is not a regular file")
     _probe(folder, option)
+    from ..io.atomic import allow_replacing, keep_existing
+
+    # the check above and the write at the end are not one step: without --force the file is
+    # created exclusively, so a file another run wrote meanwhile is not replaced either
+    if force or overwrite:
+        allow_replacing(out)
+    else:
+        keep_existing(out)
     return out
 
 

@@ -186,6 +186,11 @@ def _degrees(p: Param, value: float, flag: str) -> float:
     """Degrees -> radians, refusing values outside the parameter's range in degrees."""
     lo = math.degrees(p.min) if p.min is not None else -math.inf
     hi = math.degrees(p.max) if p.max is not None else math.inf
+    # a bound typed as printed ("60" for π/3) is the bound itself: degrees(radians(x)) is
+    # not always x, so values within rounding of a bound are snapped to it, not refused
+    for bound, radians in ((lo, p.min), (hi, p.max)):
+        if radians is not None and math.isclose(value, bound, rel_tol=1e-12, abs_tol=1e-12):
+            return radians
     if not lo <= value <= hi:
         raise UsageError(f"{flag} must be in [{lo:g}, {hi:g}] degrees (got {value:g})")
     return math.radians(value)

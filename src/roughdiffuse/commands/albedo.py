@@ -87,15 +87,37 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _sweep(entry: Any, args: argparse.Namespace) -> tuple[str, str, list[Any]] | None:
+def _sweep(
+    entry: Any, args: argparse.Namespace, only: str | None = None
+) -> tuple[str, str, list[Any]] | None:
     """The declared roughness parameter of ``entry`` that a panel sweeps: its name, the
-    symbol for the curve labels and the values (``None`` when the model has none)."""
+    symbol for the curve labels and the values (``None`` when the model has none, or when it
+    is not ``only``)."""
     names = {p.name for p in entry.parameters}
     for name, (option, symbol, degrees) in SWEEPS.items():
         if name in names:
+            if only is not None and name != only:
+                return None
             values = getattr(args, option)
             return name, symbol, [(v, math.radians(v) if degrees else v) for v in values]
     return None
+
+
+def _typed_sweeps_apply(args: argparse.Namespace, names: list[str]) -> None:
+    """Refuse a typed --sigma, --roughness or --alpha that none of the models sweeps (it
+    would be ignored, its values unchecked)."""
+    from .. import registry
+    from ._conflicts import given
+
+    typed = given(args)
+    for name, (option, symbol, _) in SWEEPS.items():
+        if option not in typed:
+            continue
+        if not any(_sweep(registry.get(n), args, only=name) for n in names):
+            raise UsageError(
+                f"--{option} applies only to models with a roughness {symbol} named {name!r}; "
+                f"--model {','.join(names)} has none (see `roughdiffuse models`)"
+            )
 
 
 def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
@@ -112,6 +134,7 @@ def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
+    _typed_sweeps_apply(args, names)
     rho = args.albedo
     groups: dict[str, dict[str, object]] = {}
     for n in names:
@@ -156,19 +179,19 @@ def run(args: argparse.Namespace) -> int:
     from ..io.atomic import atomic_write
 
     th = np.radians(np.arange(0.0, 89.75, 0.5))
-    fig = energy.plot_albedo(groups, th)
+    flat = {f"{g}\0{k}": m for g, models in groups.items() for k, m in models.items()}
+    computed = energy.albedo_curves(flat, th, progress=True)  # once, with a progress bar
+    per_group = {
+        g: {k: computed[f"{g}\0{k}"] for k in models} for g, models in groups.items()
+    }
+    fig = energy.plot_albedo(groups, th, curves=per_group)
     atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=110))
     print(f"wrote {out}")
     if args.table:
-        curves = {
-            f"{g}, {k}": v
-            for g, models in groups.items()
-            for k, v in energy.albedo_curves(models, th).items()
-        }
-        energy.write_albedo_csv(args.table, th, curves)
+        table = {f"{g}, {k}": v for g, curves in per_group.items() for k, v in curves.items()}
+        energy.write_albedo_csv(args.table, th, table)
         print(f"wrote {args.table}")
-    for g, models in groups.items():
-        curves = energy.albedo_curves(models, th)
+    for g, curves in per_group.items():
         lo = min(float(a.min()) for a in curves.values())
         hi = max(float(a.max()) for a in curves.values())
         print(f"{g}: albedo between {lo:.4f} and {hi:.4f} over θr in [0°, 89.5°]")

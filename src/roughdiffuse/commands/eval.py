@@ -43,8 +43,11 @@ def parameters_defaulted(args: argparse.Namespace) -> list[str]:
     from .. import registry
 
     given = {n for n, _ in getattr(args, "param", None) or []}
-    typed = getattr(args, "shorthand_params", ())
-    given |= {name for name in typed if getattr(args, name, None) is not None}
+    given |= {
+        name
+        for name in getattr(args, "shorthand_params", ())
+        if getattr(args, name, None) is not None
+    }
     entry = registry.get(args.model)
     return [p.name for p in entry.parameters if p.name not in given]
 

@@ -27,6 +27,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="address to bind (default: 127.0.0.1, this machine only)",
     )
     p.add_argument("--port", type=int, default=None, help="port (default: a free one)")
+    p.add_argument(
+        "--expose-to-network",
+        action="store_true",
+        help="allow a --host that other machines can reach (an address of a network "
+        "interface, 0.0.0.0 or ::); without it only loopback addresses are accepted",
+    )
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
     p.set_defaults(func=run)
 
@@ -51,7 +57,9 @@ def run(args: argparse.Namespace) -> int:
     from . import UsageError
 
     try:
-        server = make_server(args.host, args.port)
+        server = make_server(args.host, args.port, expose_to_network=args.expose_to_network)
+    except ValueError as exc:
+        raise UsageError(f"--host: {exc}") from None
     except OSError as exc:
         raise UsageError(f"cannot listen on {args.host}:{args.port or 0}: {exc.strerror}") from None
     url = url_of(server)

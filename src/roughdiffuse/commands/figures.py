@@ -34,12 +34,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..figures import FIGURES, figure_matches, make_figures
-    from ..progress import progress_enabled
     from . import UsageError
-    from ._checks import output_folder
 
-    # checked before the folder is created or anything drawn
+    # checked before the folder is created or anything drawn (or imported)
+    if args.only is not None and not all(o.strip() for o in args.only):
+        raise UsageError("--only needs figure names or numbers (got an empty name)")
+    from ..figures import FIGURES, figure_matches, kept_figures, make_figures
+    from ..progress import progress_enabled
+    from ._checks import output_folder
     if args.only:
         unknown = [o for o in args.only if not any(figure_matches(f.name, o) for f in FIGURES)]
         if unknown:
@@ -48,11 +50,14 @@ def run(args: argparse.Namespace) -> int:
                 f"{', '.join(f.name for f in FIGURES)}"
             )
     output_folder(args.output, option="-o")
+    kept = [] if args.force else kept_figures(args.output, args.only)
     paths = make_figures(
         args.output,
         force=args.force,
         progress=progress_enabled() and not args.no_progress,
         only=args.only,
     )
-    print(f"wrote {len(paths) - 1} figures and {paths[-1]}")
+    drawn = len(paths) - 1 - len(kept)
+    note = f" (kept {len(kept)} already there: {', '.join(kept)}; --force redraws them)"
+    print(f"wrote {drawn} figures and {paths[-1]}" + (note if kept else ""))
     return 0

@@ -8,13 +8,18 @@ import os
 import warnings
 
 from . import UsageError
-from ._checks import finite_float, output_file, reading, require_finite
+from ._checks import bounded_float, finite_float, output_file, reading, require_finite
 from ._inputs import angle_pair, input_file, known_id
+from .render import MAX_EXPOSURE
 
 DATA_RANGE = (1e-100, 1e100)
 """Magnitudes of data values the fit accepts: their squares, and sums of a few million of
 them, stay normal float64 numbers (about 2.2e-308 to 1.8e308), so RMS, AIC and BIC are
 finite and meaningful."""
+
+MAX_F_SCALE = 1e6
+"""Largest --f-scale: a relative residual scale beyond any data's (the robust losses act as
+the linear one long before), and far from overflowing when multiplied by the data."""
 
 EXAMPLES = """\
 examples:
@@ -86,12 +91,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--f-scale",
-        type=finite_float,
+        type=bounded_float(0.0, MAX_F_SCALE),
         default=None,
         help="residual scale where a robust loss sets in: a fraction of the value "
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --report file")
+    _add_input_arguments(p)
+    p.set_defaults(func=run)
+
+
+def _add_input_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the two kinds of input: samples/MERL files and images."""
     g = p.add_argument_group("samples and MERL files")
     g.add_argument("--irradiance", type=finite_float, default=None, help="E0 for radiance data")
     g.add_argument(
@@ -128,17 +140,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=1,
         help="drop this many pixels along silhouettes and shadow edges (default 1)",
     )
-    g.add_argument("--exposure", type=finite_float, default=None, help="PNG: exposure in stops")
+    g.add_argument(
+        "--exposure",
+        type=bounded_float(-MAX_EXPOSURE, MAX_EXPOSURE),
+        default=None,
+        help=f"PNG: exposure in stops, in [-{MAX_EXPOSURE:g}, {MAX_EXPOSURE:g}]",
+    )
     g.add_argument("--encoding", choices=("srgb", "linear"), default=None, help="PNG curve")
-    p.set_defaults(func=run)
 
 
 def _load(args: argparse.Namespace):  # noqa: ANN202 - returns Measurements
     from ..fit import read_csv, read_merl
 
     path = args.data
-    if not os.path.isfile(path):
-        raise UsageError(f"data file {path!r} does not exist")
     ext = os.path.splitext(path)[1].lower()
     if ext in (".csv", ".txt", ".tsv"):
         with reading(path, "data file"):
@@ -223,6 +237,12 @@ def _check_values(value: object, path: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..io.reading import check_regular
+
+    try:  # before the fit's imports and any work
+        check_regular(args.data, "data file")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     import numpy as np
 
     from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
@@ -238,10 +258,10 @@ def run(args: argparse.Namespace) -> int:
         models = [m.strip() for m in args.models.split(",") if m.strip()]
         for m in models:
             known_id(m, CANDIDATES, "--models")
-    if args.report:  # checked before the data is read or fitted; replaced if it exists
+    if args.report:  # checked before the data is read or fitted; kept unless --force
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
-        output_file(args.report, option="--report", overwrite=True)
+        output_file(args.report, force=args.force, option="--report")
     data = _load(args)
     _check_values(data.value, args.data)
     say = (lambda *a: None) if args.json else print
@@ -262,23 +282,32 @@ def run(args: argparse.Namespace) -> int:
         if args.compare:
             comparison = compare_models(data, models, progress=progress_enabled(), **options)
             results = list(comparison.results)
-            say("models ranked by BIC (lower is better):")
-            say(comparison.table())
-            say()
-            say(results[0].table())
         else:
             c = CANDIDATES[args.model]
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
-            say(results[0].table())
     for r in results:
         require_finite(
             [r.rms, r.aic, r.bic, *np.ravel(r.values)],
             f"the fit of {r.model_name} (RMS, AIC, BIC, parameters)",
             args.data,
         )
+    from ..fit.sanity import fit_problem
+
+    problem = fit_problem(
+        results[0].rms_relative, results[0].warnings, f"the fit of {results[0].model_name}"
+    )
+    if problem is not None:  # never a quiet result: refused before anything is printed
+        raise UsageError(problem)
     if args.json:
         _print_json(data, results, comparison, args.model)
-    elif any(issubclass(w.category, DegenerateDataWarning) for w in caught) and not args.compare:
+    else:
+        if comparison is not None:
+            print("models ranked by BIC (lower is better):")
+            print(comparison.table())
+            print()
+        print(results[0].table())
+    degenerate = any(issubclass(w.category, DegenerateDataWarning) for w in caught)
+    if degenerate and not args.compare and not args.json:
         print("warning: the data cannot identify every parameter (see the table)")
     if args.report:
         write_report(args.report, data, results, comparison)

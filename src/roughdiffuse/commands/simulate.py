@@ -166,6 +166,9 @@ def _check(args: argparse.Namespace) -> None:
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
             raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+    if len(set(args.sigma)) != len(args.sigma):
+        twice = next(s for s in args.sigma if args.sigma.count(s) > 1)
+        raise UsageError(f"--sigma gives {twice:g} more than once; give each value once")
     if args.bounces != "all" and not 1 <= args.bounces <= MAX_BOUNCES:
         raise UsageError(
             f"--bounces must be an integer in [1, {MAX_BOUNCES}] or 'all' (got {args.bounces})"
@@ -188,8 +191,16 @@ def _run_table(args: argparse.Namespace, settings: Any) -> int:
 
     ang = _grid(args.step, 0.0, 90.0, "step")
     delta_phi = _grid(args.delta_phi_step, 0.0, 180.0, "delta-phi-step")
+    cells = float(ang.size) ** 2 * delta_phi.size * len(args.sigma)
+    fits_in_memory(  # the values and their K-differences, float64, assembled at the end
+        16.0 * cells,
+        f"--step {args.step:g} --delta-phi-step {args.delta_phi_step:g} with "
+        f"{len(args.sigma)} σ ({cells:.3g} table values, 16 bytes each)",
+    )
     # checked before any chunk is computed; an existing table is resumed or reused
     output_file(args.table, option="--table", overwrite=True)
+    if not args.table.lower().endswith(".npz"):  # an .npz archive under another name
+        raise UsageError(f"--table must name an .npz file (got {args.table!r})")
     chunks = f"{args.table}.chunks"
     if os.path.exists(chunks) and not os.path.isdir(chunks):
         raise UsageError(f"--table: {chunks!r} (the chunk folder) is not a folder")

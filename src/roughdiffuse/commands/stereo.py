@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import os
+import math
+import sys
 from pathlib import Path
 
 from ..progress import progress_enabled
 from . import UsageError
+from ._checks import bounded_float
 from ._inputs import input_file, known_id
+from .render import MAX_EXPOSURE
 
 EXAMPLES = """\
 examples:
@@ -59,7 +62,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="object mask (PNG or .npy; default: lit pixels)",
     )
-    p.add_argument("--exposure", type=float, help="PNG exposure in stops (linear = value / 2^E)")
+    p.add_argument(
+        "--exposure",
+        type=bounded_float(-MAX_EXPOSURE, MAX_EXPOSURE),
+        help="PNG exposure in stops (linear = value / 2^E)",
+    )
     p.add_argument("--diligent", metavar="DIR", help="read a DiLiGenT object folder instead")
     p.add_argument(
         "--demo", action="store_true", help="run on a rendered sphere of known shape (no input)"
@@ -101,21 +108,19 @@ def _model(model_id: str):  # noqa: ANN202
     return None if model_id == LAMBERT else create(model_id)
 
 
+RESULT_MARKER = "params.json"
+"""The file every stereo result folder holds: only such a folder is replaced by --force."""
+
+
 def _prepare_output(folder: str, force: bool) -> Path:
-    out = Path(folder)
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--output {folder!r} exists and is not a folder")
-    if (out / "params.json").exists() and not force:
-        raise UsageError(f"--output {folder!r} already holds results; add --force to replace them")
+    """The -o folder, checked before any work (it is written whole at the end:
+    :func:`roughdiffuse.io.atomic_folder`)."""
+    from ..io import check_output_folder
+
     try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(
-            f"--output {folder!r}: cannot create the folder ({exc.strerror})"
-        ) from None
-    if not os.access(out, os.W_OK):
-        raise UsageError(f"--output {folder!r} is not writable")
-    return out
+        return check_output_folder(folder, replace=force, marker=RESULT_MARKER)
+    except ValueError as exc:
+        raise UsageError(f"--output: {exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -165,20 +170,35 @@ def run(args: argparse.Namespace) -> int:
         shadow=args.shadow,
         progress=progress_enabled(),
     )
+    from ..fit.sanity import fit_problem
+
+    problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
+    if problem is not None:  # never a quiet result
+        raise UsageError(problem)
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
     extra = None
     if args.demo:  # the report states the truth beside the fit
         extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
-    params = stereo.write_outputs(
-        out, data, res, lam, depth, model_id=args.model, truth_normals=truth, extra=extra
-    )
+    from ..io import atomic_folder
+
+    with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
+        params = stereo.write_outputs(
+            tmp, data, res, lam, depth, model_id=args.model, truth_normals=truth, extra=extra
+        )
     r = params["roughness"]
     if r["per_pixel"]:
         line = f"{r['name']}: per pixel, median {r['median']:.4g}"
     else:
-        line = f"{r['name']} = {r['value']:.4g} ± {r['standard_error']:.2g}"
+        se = r["standard_error"]
+        line = f"{r['name']} = {r['value']:.4g} ± {se:.2g}"
+        if not math.isfinite(se):
+            print(
+                f"warning: the images cannot determine {r['name']} (its standard error is "
+                "infinite, e.g. every image lit alike): the value is not a measurement",
+                file=sys.stderr,
+            )
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
 

@@ -57,12 +57,25 @@ def names() -> list[str]:
 
 def cache_dir() -> Path:
     """Where generated sample files go: ``$ROUGHDIFFUSE_DATA_DIR``, else
-    ``$XDG_CACHE_HOME/roughdiffuse/data`` (``~/.cache/roughdiffuse/data``)."""
+    ``$XDG_CACHE_HOME/roughdiffuse/data`` (``~/.cache/roughdiffuse/data``).
+
+    Raises
+    ------
+    ValueError
+        If that path, or the nearest of its parents that exists, is not a folder.
+    """
     env = os.environ.get("ROUGHDIFFUSE_DATA_DIR")
     if env:
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "roughdiffuse" / "data"
+        folder, what = Path(env), "ROUGHDIFFUSE_DATA_DIR"
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        folder, what = Path(base) / "roughdiffuse" / "data", "the data cache"
+    for parent in (folder, *folder.parents):
+        if parent.exists():
+            if not parent.is_dir():
+                raise ValueError(f"{what} {str(folder)!r}: {str(parent)!r} is not a folder")
+            break
+    return folder
 
 
 def _make_merl(target: Path) -> None:

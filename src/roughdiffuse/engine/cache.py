@@ -3,7 +3,9 @@
 The fast path's generated kernels and Numba's cache files (:mod:`.fastpath`), and the
 compiled Smith random walk (:mod:`roughdiffuse.simulate.smith_walk_numba`), live in
 ``$ROUGHDIFFUSE_CACHE_DIR`` or else ``$XDG_CACHE_HOME/roughdiffuse/fastpath`` (default
-``~/.cache/roughdiffuse/fastpath``, created with mode 0700).
+``~/.cache/roughdiffuse/fastpath``, created with mode 0700). The folder is used only if it
+is private, and so are the folders above it (none writable by another user, unless sticky
+like ``/tmp``).
 """
 
 from __future__ import annotations
@@ -46,4 +48,26 @@ def private_cache_dir() -> Path | None:
         return None
     if not os.access(path, os.W_OK | os.X_OK):
         return None
+    if not _safe_parents(path):
+        return None
     return path
+
+
+def _safe_parents(path: Path) -> bool:
+    """Whether no other user can replace ``path`` by renaming one of its parent folders, as
+    ``ssh`` checks the folders above its key files: every parent is owned by this user or
+    root and is not writable by group or others -- unless its sticky bit is set (as on
+    ``/tmp``), which keeps others from renaming or removing what they do not own."""
+    if not hasattr(os, "getuid"):  # pragma: no cover - not POSIX
+        return True
+    uid = os.getuid()
+    for parent in Path(os.path.realpath(path)).parents:
+        try:
+            st = os.stat(parent)
+        except OSError:
+            return False
+        if st.st_uid not in (0, uid):
+            return False
+        if st.st_mode & 0o022 and not st.st_mode & stat.S_ISVTX:
+            return False
+    return True

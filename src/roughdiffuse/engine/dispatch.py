@@ -25,12 +25,13 @@ for the process, or as a context manager).
 from __future__ import annotations
 
 import dataclasses
-import os
 import threading
 from types import TracebackType
 from typing import Any
 
 import numpy as np
+
+from .._env import env_flag
 
 __all__ = ["BUILD_ROWS", "MIN_ROWS", "compiled", "fastpath_enabled", "use_fastpath"]
 
@@ -45,12 +46,10 @@ BUILD_ROWS = 1 << 20
 rows builds it at once): NumPy work of the order of a kernel load from the disk cache (a cold
 compilation is far longer, once per machine; bench/RESULTS.md)."""
 
-_ENABLED = os.environ.get("ROUGHDIFFUSE_FASTPATH", "1").strip().lower() not in (
-    "0",
-    "false",
-    "no",
-    "off",
-)
+try:
+    _ENABLED = env_flag("ROUGHDIFFUSE_FASTPATH", default=True)
+except ValueError:  # an unreadable value: the fast path stays on, as before
+    _ENABLED = True
 _LOCK = threading.Lock()
 _SEEN_ROWS: dict[Any, int] = {}
 _FAILED: set[Any] = set()

@@ -27,7 +27,8 @@ and written as they are computed. :func:`evaluate_batches` streams an iterable o
 Compiled code is cached on disk: the generated modules and Numba's cache files live in
 ``$ROUGHDIFFUSE_CACHE_DIR`` or else ``$XDG_CACHE_HOME/roughdiffuse/fastpath`` (default
 ``~/.cache/roughdiffuse/fastpath``, created with mode 0700); a new process loads them instead
-of compiling. The folder is used only if it is private (:func:`private_cache_dir`): Numba
+of compiling. The folder is used only if it is private (:func:`private_cache_dir`), and so
+are the folders above it (none writable by another user, unless sticky like ``/tmp``): Numba
 unpickles its index files, so a folder another user can write to could run their code here.
 Otherwise kernels are compiled in memory.
 """

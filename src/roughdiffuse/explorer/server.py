@@ -51,7 +51,6 @@ once (more get 503), and a client that goes away is one quiet line, not a traceb
 from __future__ import annotations
 
 import ipaddress
-import json
 import mimetypes
 import posixpath
 import socket
@@ -65,6 +64,8 @@ from urllib.parse import parse_qs, unquote, urlsplit
 
 from .._validate import ParameterError
 from .._version import version
+from ..io.jsonfile import dumps
+from ..io.reading import loads_json
 from . import backend, datasets
 
 __all__ = [
@@ -163,7 +164,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self.wfile.write(body)
 
     def _json(self, status: int, obj: Any, head: bool = False) -> None:
-        self._send(status, json.dumps(obj).encode(), "application/json", head)
+        self._send(status, dumps(obj).encode(), "application/json", head)
 
     def _not_found(self, head: bool = False) -> None:
         self._send(HTTPStatus.NOT_FOUND, b"404 not found\n", "text/plain; charset=utf-8", head)
@@ -225,11 +226,13 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         deadline = time.monotonic() + UPLOAD_SECONDS
         chunks: list[bytes] = []
         got = 0
+        stalled = False
         try:
             while got < n:
                 left = deadline - time.monotonic()
                 if left <= 0:
                     raise TimeoutError
+                stalled = IDLE_TIMEOUT < left  # a timeout now is silence, not the deadline
                 self.connection.settimeout(min(IDLE_TIMEOUT, left))
                 chunk = self.rfile.read1(min(n - got, 1 << 20))
                 if not chunk:
@@ -238,10 +241,13 @@ class ExplorerHandler(BaseHTTPRequestHandler):
                 chunks.append(chunk)
                 got += len(chunk)
         except TimeoutError:
-            self._error(
-                HTTPStatus.REQUEST_TIMEOUT,
-                f"the upload did not arrive within {UPLOAD_SECONDS:g} s ({got} of {n} bytes)",
+            # say which limit was enforced: silence for IDLE_TIMEOUT s, or the whole deadline
+            why = (
+                f"nothing arrived for {IDLE_TIMEOUT:g} s"
+                if stalled
+                else f"the body did not arrive within {UPLOAD_SECONDS:g} s"
             )
+            self._error(HTTPStatus.REQUEST_TIMEOUT, f"{why} ({got} of {n} bytes)")
             return None
         finally:
             self.connection.settimeout(IDLE_TIMEOUT)
@@ -283,11 +289,14 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         if body is None:
             return
         try:
-            req = json.loads(body.decode("utf-8"))
+            req = loads_json(body.decode("utf-8"), "the body")
             if not isinstance(req, dict):
                 raise ParameterError("the body must be a JSON object")
-        except (ValueError, UnicodeDecodeError) as exc:
-            self._json(HTTPStatus.BAD_REQUEST, {"error": f"the body is not JSON: {exc}"})
+        except UnicodeDecodeError:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the body is not UTF-8 text"})
+            return
+        except ValueError as exc:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc)})
             return
         try:
             ds = datasets.STORE.get(str(req.get("dataset")))
@@ -489,14 +498,31 @@ class _ExplorerServerV6(ExplorerServer):
     address_family = socket.AF_INET6
 
 
-def make_server(host: str = "127.0.0.1", port: int | None = None) -> ExplorerServer:
+def make_server(
+    host: str = "127.0.0.1", port: int | None = None, *, expose_to_network: bool = False
+) -> ExplorerServer:
     """A server bound to ``host``:``port`` (a free port when ``port`` is None or 0).
 
     Call ``serve_forever()`` on it (or :func:`serve_in_thread`); ``server_address`` holds the
     port actually bound.
+
+    Raises
+    ------
+    ValueError
+        If ``host`` is not a loopback address or ``localhost`` -- an empty host or a wildcard
+        (``0.0.0.0``, ``::``) binds every interface -- unless ``expose_to_network`` is True
+        (``roughdiffuse explore --expose-to-network``).
     """
     if port is not None and not 0 <= port <= 65535:
         raise ParameterError(f"port must be in [0, 65535] (got {port})")
+    if not expose_to_network and not (host.strip() and _is_loopback(host.strip().lower())):
+        from ..io.reading import short
+
+        raise ParameterError(
+            f"host {short(host)} is not this machine only (an empty host or a wildcard binds "
+            "every network interface); use a loopback address such as 127.0.0.1, or add "
+            "--expose-to-network to let other machines reach the explorer"
+        )
     cls = _ExplorerServerV6 if ":" in host else ExplorerServer
     return cls((host, port or 0), ExplorerHandler)
 

@@ -29,6 +29,7 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.atomic import atomic_open
+from ..io.reading import MAX_CSV_BYTES, MAX_CSV_LINE, read_text, short
 from .measurements import Measurements
 
 __all__ = ["csv_from_text", "read_csv", "samples_from_table", "write_csv"]
@@ -150,15 +151,28 @@ def _angles(t: _Table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             rng = "[0, 90] degrees" if unit == "deg" else "[0, π/2] radians"
             raise ParameterError(f"{t.cell.at(k, raw)}: angle {vals[k]:g} out of range {rng}")
         angles[role] = np.minimum(np.radians(vals) if unit == "deg" else vals, math.pi / 2)
-    if "delta_phi" in t:
-        vals, _, unit = t.column("delta_phi")
-        delta_phi = np.radians(vals) if unit == "deg" else vals
-    elif "phi_i" in t and "phi_r" in t:
+    delta_phi = None
+    if "phi_i" in t and "phi_r" in t:
         pi_, _, ui = t.column("phi_i")
         pr, _, ur = t.column("phi_r")
-        delta_phi = np.radians(pr) if ur == "deg" else pr
-        delta_phi = delta_phi - (np.radians(pi_) if ui == "deg" else pi_)
-    else:
+        delta_phi = (np.radians(pr) if ur == "deg" else pr) - (
+            np.radians(pi_) if ui == "deg" else pi_
+        )
+    if "delta_phi" in t:
+        vals, raw, unit = t.column("delta_phi")
+        given = np.radians(vals) if unit == "deg" else vals
+        if delta_phi is not None:  # both ways of giving the azimuth: they must agree
+            off = np.abs(np.angle(np.exp(1j * (given - delta_phi))))
+            bad = np.flatnonzero(off > 1e-6)
+            if bad.size:
+                k = bad[0]
+                raise ParameterError(
+                    f"{t.cell.at(k, raw)}: contradicts phi_r - phi_i "
+                    f"({math.degrees(delta_phi[k]):.6g}° against {math.degrees(given[k]):.6g}°); "
+                    "give one of them"
+                )
+        delta_phi = given
+    if delta_phi is None:
         raise ParameterError(
             f"{t.source}: no azimuth: give delta_phi, or phi_i and phi_r (with units)"
         )
@@ -250,8 +264,7 @@ def read_csv(path: str | os.PathLike[str], *, irradiance: float | None = None) -
         value, or the missing column.
     """
     path = os.fspath(path)
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        text = fh.read()
+    text = read_text(path, MAX_CSV_BYTES, "CSV file")
     return csv_from_text(text, name=os.path.basename(path), irradiance=irradiance)
 
 
@@ -285,6 +298,11 @@ def csv_from_text(
         if dialect is None:
             delim = max((",", ";", "\t"), key=stripped.count)
             dialect = delim if stripped.count(delim) else ","
+        if len(line) > MAX_CSV_LINE:
+            raise ValueError(
+                f"{name} line {k}: {len(line)} characters; a line may have at most "
+                f"{MAX_CSV_LINE}"
+            )
         cells = next(csv.reader([line], delimiter=dialect))
         if header is None:
             header = [c.strip() for c in cells]
@@ -297,6 +315,11 @@ def csv_from_text(
         raise ParameterError(f"{name}: no header line (column names)")
     if not rows:
         raise ParameterError(f"{name}: no data rows")
+    twice = sorted({h for h in header if header.count(h) > 1})
+    if twice:
+        raise ParameterError(
+            f"{name}: column {short(twice[0])} appears more than once; each column once"
+        )
     columns = {h: [r[j] for r in rows] for j, h in enumerate(header)}
     return _build(columns, _Cell(name, line_no), irradiance, name)
 

@@ -24,6 +24,7 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.images import read_png, srgb_to_linear
+from ..io.reading import MAX_IMAGE_BYTES, check_regular, load_npy, short
 from .measurements import Measurements
 
 __all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]
@@ -91,14 +92,13 @@ def read_image(
     path = os.fspath(path)
     name = os.path.basename(path)
     ext = os.path.splitext(path)[1].lower()
-    if not os.path.isfile(path):
-        raise ParameterError(f"image file {path!r} does not exist")
+    size = check_regular(path, "image file")
+    if size > MAX_IMAGE_BYTES:
+        raise ParameterError(
+            f"image file {short(name)} has {size} bytes; at most {MAX_IMAGE_BYTES}"
+        )
     if ext == ".npy":
-        try:
-            img = np.load(path, allow_pickle=False)
-        except Exception as exc:  # noqa: BLE001 - any unreadable file is one message
-            raise ParameterError(f"{name}: not a readable .npy file ({exc})") from None
-        img = np.asarray(img, dtype=np.float64)
+        img = np.asarray(load_npy(path, "image file"), dtype=np.float64)
     elif ext == ".exr":
         import OpenEXR
 
@@ -132,9 +132,7 @@ def read_normals(path: str | os.PathLike[str]) -> np.ndarray:
     path = os.fspath(path)
     if not path.lower().endswith(".npy"):
         raise ParameterError(f"normal map must be a .npy file of shape (H, W, 3) (got {path!r})")
-    if not os.path.isfile(path):
-        raise ParameterError(f"normal map {path!r} does not exist")
-    n = np.asarray(np.load(path, allow_pickle=False), dtype=np.float64)
+    n = np.asarray(load_npy(path, "normal map"), dtype=np.float64)
     if n.ndim != 3 or n.shape[2] != 3:
         raise ParameterError(f"normal map must have shape (H, W, 3) (got {n.shape})")
     length = np.linalg.norm(n, axis=-1)

@@ -240,9 +240,10 @@ def read_merl(path: str | os.PathLike[str]) -> MERLBRDF:
         If the file is shorter or longer than its header says (truncated), the dimensions
         are not 90 × 90 × 180, or an entry is NaN or infinite.
     """
+    from ..io.reading import read_bytes
+
     path = os.fspath(path)
-    with open(path, "rb") as fh:
-        blob = fh.read()
+    blob = read_bytes(path, MERL_FILE_SIZE, "MERL file")
     return merl_from_bytes(blob, os.path.basename(path))
 
 

@@ -20,6 +20,18 @@ The rules every file written by roughdiffuse follows:
   non-folder parent, or a parent that cannot be written is a ``ValueError`` naming the path
   (:func:`check_output_path`), raised before any work is done when a command calls it
   up front.
+- **Failures are named.** Any OS error while writing (a full disk, a name too long, no
+  permission), and a library's own exception when the disk is full, is a :class:`WriteError`
+  (an ``OSError``) naming the target, never an internal error.
+- **Temporary names fit.** The temporary name is shortened so that it is never longer than
+  the file system allows for a name (``NAME_MAX``, 255 bytes) when the target's name is legal.
+- **Existing files are kept when asked.** :func:`keep_existing` marks a target that must not
+  replace an existing file (a command without ``--force``): it is then created exclusively
+  (``link``), so of two concurrent writers only one writes it; the other gets a
+  :class:`WriteError` "exists".
+- **Several files together.** Inside :func:`deferred`, every file written by these writers
+  is staged and all appear at the end of the block, or none (an exception removes them all).
+  :func:`roughdiffuse.io.folder.atomic_folder` does the same for a whole folder.
 
 >>> import pathlib, tempfile
 >>> with tempfile.TemporaryDirectory() as d:
@@ -38,9 +50,12 @@ The rules every file written by roughdiffuse follows:
 from __future__ import annotations
 
 import contextlib
+import contextvars
+import errno
 import os
 import re
 import secrets
+import shutil
 import signal
 import threading
 from collections.abc import Callable, Iterator
@@ -50,9 +65,13 @@ from typing import IO, Any
 from .._validate import ParameterError
 
 __all__ = [
+    "WriteError",
+    "allow_replacing",
     "atomic_open",
     "atomic_write",
     "check_output_path",
+    "deferred",
+    "keep_existing",
     "remove_stale_temporaries",
     "write_bytes",
     "write_text",
@@ -67,6 +86,56 @@ _lock = threading.RLock()
 _active: set[Path] = set()  # temporary files being written now
 _previous: dict[int, Any] = {}  # signal handlers replaced while writes are in progress
 _depth = 0  # writes in progress in the main thread
+_keep: set[str] = set()  # targets that must not replace an existing file (keep_existing)
+_Stage = tuple[str, list[tuple[Path, Path, bool]]]  # folder, staged (tmp, target, exclusive)
+_staged: contextvars.ContextVar[_Stage | None] = contextvars.ContextVar(
+    "roughdiffuse_staged", default=None
+)
+
+
+class WriteError(OSError):
+    """A file could not be written: the target, and why (``errno``, ``strerror``).
+
+    ``str()`` is one line: ``cannot write 'PATH': REASON``.
+    """
+
+    def __str__(self) -> str:
+        return f"cannot write {os.fsdecode(self.filename)!r}: {self.strerror}"
+
+
+def _write_error(exc: BaseException, path: Path) -> WriteError | None:
+    """The :class:`WriteError` an exception raised while writing ``path`` stands for, or None
+    (a bug, left as it is). An ``OSError`` anywhere in the exception's chain counts; so does
+    any exception when the folder has no free space left."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, WriteError):
+            return seen
+        if isinstance(seen, OSError) and seen.errno is not None:
+            return WriteError(seen.errno, seen.strerror or os.strerror(seen.errno), str(path))
+        seen = seen.__cause__ or seen.__context__
+    try:
+        full = os.statvfs(path.parent if str(path.parent) else ".").f_bavail == 0
+    except (OSError, AttributeError):
+        full = False
+    if full:
+        return WriteError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+    return None
+
+
+def keep_existing(path: PathLike) -> None:
+    """Make every later write of ``path`` in this process refuse to replace an existing file
+    (the rule of a command run without ``--force``): the file is created exclusively."""
+    _keep.add(os.path.abspath(path))
+
+
+def allow_replacing(path: PathLike | None = None) -> None:
+    """Undo :func:`keep_existing` for ``path`` (a command run with ``--force``), or for every
+    path (``None``: the command line does this when a command ends)."""
+    if path is None:
+        _keep.clear()
+    else:
+        _keep.discard(os.path.abspath(path))
 
 
 def check_output_path(path: PathLike, what: str = "output file") -> Path:
@@ -94,9 +163,35 @@ def check_output_path(path: PathLike, what: str = "output file") -> Path:
     return p
 
 
-def _temporary_name(path: Path) -> Path:
+def _name_max(folder: Path) -> int:
+    try:
+        return int(os.pathconf(folder if str(folder) else ".", "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):
+        return 255
+
+
+def _fit_bytes(text: str, limit: int) -> str:
+    """``text`` cut to at most ``limit`` bytes of UTF-8, never inside a character."""
+    raw = os.fsencode(text)
+    if len(raw) <= limit:
+        return text
+    return raw[: max(limit, 0)].decode("utf-8", "ignore")
+
+
+def _temporary_parts(path: Path) -> tuple[str, str]:
+    """The prefix ``.STEM.rdtmp-`` and suffix of ``path``'s temporary names, shortened so that
+    a whole temporary name fits in ``NAME_MAX`` bytes."""
     # The target's suffix is kept: writers such as matplotlib's savefig choose the format by it.
-    return path.with_name(f".{path.stem}{_TAG}{os.getpid()}-{secrets.token_hex(4)}{path.suffix}")
+    stem, suffix = path.stem, path.suffix
+    room = _name_max(path.parent) - len(f".{_TAG}{os.getpid()}-{'0' * 8}".encode())
+    suffix = _fit_bytes(suffix, min(len(os.fsencode(suffix)), max(room - 1, 0)))
+    stem = _fit_bytes(stem, room - len(os.fsencode(suffix)))
+    return f".{stem}{_TAG}", suffix
+
+
+def _temporary_name(path: Path) -> Path:
+    prefix, suffix = _temporary_parts(path)
+    return path.with_name(f"{prefix}{os.getpid()}-{secrets.token_hex(4)}{suffix}")
 
 
 def _pid_alive(pid: int) -> bool:
@@ -116,9 +211,8 @@ def remove_stale_temporaries(path: PathLike) -> list[Path]:
     no longer exists, are removed. Returns the removed paths.
     """
     path = Path(path)
-    pattern = re.compile(
-        re.escape(f".{path.stem}{_TAG}") + r"(\d+)-[0-9a-f]{8}" + re.escape(path.suffix) + "$"
-    )
+    prefix, suffix = _temporary_parts(path)
+    pattern = re.compile(re.escape(prefix) + r"(\d+)-[0-9a-f]{8}" + re.escape(suffix) + "$")
     removed = []
     try:
         entries = list(path.parent.iterdir()) if str(path.parent) else list(Path(".").iterdir())
@@ -128,9 +222,17 @@ def remove_stale_temporaries(path: PathLike) -> list[Path]:
         m = pattern.match(entry.name)
         if m and int(m.group(1)) != os.getpid() and not _pid_alive(int(m.group(1))):
             with contextlib.suppress(OSError):
-                entry.unlink()
+                _remove(entry)
                 removed.append(entry)
     return removed
+
+
+def _remove(tmp: Path) -> None:
+    """Remove a temporary file, or a temporary folder and what it holds."""
+    if tmp.is_dir() and not tmp.is_symlink():
+        shutil.rmtree(tmp, ignore_errors=True)
+    else:
+        tmp.unlink()
 
 
 def _on_signal(signum: int, frame: Any) -> None:
@@ -142,18 +244,20 @@ def _on_signal(signum: int, frame: Any) -> None:
         return
     for tmp in list(_active):
         with contextlib.suppress(OSError):
-            tmp.unlink()
+            _remove(tmp)
     signal.signal(signum, signal.SIG_DFL)
     os.kill(os.getpid(), signum)  # the default action, as if no handler had been installed
 
 
 @contextlib.contextmanager
-def _guard(tmp: Path) -> Iterator[None]:
-    """Track ``tmp`` (and, in the main thread, remove it on SIGTERM/SIGHUP) while writing."""
+def _guard(tmp: Path | None) -> Iterator[None]:
+    """Track ``tmp`` (and, in the main thread, remove it on SIGTERM/SIGHUP) while writing;
+    ``None`` only installs the signal handlers (for files added to the tracked set later)."""
     global _depth
     main = threading.current_thread() is threading.main_thread()
     with _lock:
-        _active.add(tmp)
+        if tmp is not None:
+            _active.add(tmp)
         if main:
             if _depth == 0:
                 for sig in _SIGNALS:
@@ -164,7 +268,8 @@ def _guard(tmp: Path) -> Iterator[None]:
         yield
     finally:
         with _lock:
-            _active.discard(tmp)
+            if tmp is not None:
+                _active.discard(tmp)
             if main:
                 _depth -= 1
                 if _depth == 0:
@@ -208,12 +313,96 @@ def atomic_write(path: PathLike, write: Callable[[Path], Any]) -> Path:
             if not tmp.is_file():
                 raise RuntimeError(f"the writer of {path} did not write its temporary file {tmp}")
             _fsync(tmp)
-            os.replace(tmp, path)
-        except BaseException:
+            _finish(tmp, path)
+        except BaseException as exc:
             with contextlib.suppress(OSError):
                 tmp.unlink()
+            mapped = _write_error(exc, path) if isinstance(exc, Exception) else None
+            if mapped is not None and mapped is not exc:
+                raise mapped from exc
             raise
     return path
+
+
+def _finish(tmp: Path, path: Path) -> None:
+    """Put the written temporary ``tmp`` at ``path`` now, or stage it (:func:`deferred`)."""
+    target = os.path.abspath(path)
+    exclusive = target in _keep
+    stage = _staged.get()
+    if stage is not None and os.path.commonpath([stage[0], target]) == stage[0]:
+        stage[1].append((tmp, path, exclusive))
+        with _lock:
+            _active.add(tmp)
+        return
+    _commit(tmp, path, exclusive)
+
+
+def _move(src: Path, dst: Path) -> None:
+    """Rename ``src`` to ``dst`` (a file over a file, or a folder onto a free name or an empty
+    folder): the one rename of the package, here beside the writers that rely on it."""
+    os.replace(src, dst)
+
+
+def _commit(tmp: Path, path: Path, exclusive: bool) -> None:
+    if not exclusive:
+        _move(tmp, path)
+        return
+    try:
+        os.link(tmp, path)  # fails if path exists, however it came to exist
+    except FileExistsError:
+        raise WriteError(
+            errno.EEXIST, "it exists; use --force to overwrite it", str(path)
+        ) from None
+    except OSError as exc:
+        if exc.errno not in (errno.EPERM, errno.ENOTSUP, errno.EXDEV, errno.EMLINK):
+            raise
+        # no hard links on this file system: the check and the rename are not one step
+        if os.path.lexists(path):
+            raise WriteError(
+                errno.EEXIST, "it exists; use --force to overwrite it", str(path)
+            ) from None
+        _move(tmp, path)
+        return
+    tmp.unlink()
+
+
+@contextlib.contextmanager
+def deferred(folder: PathLike) -> Iterator[None]:
+    """Write several files together: every file under ``folder`` that the writers of this
+    module write inside the block appears when the block ends normally, and none does if it
+    raises. (Files elsewhere, e.g. in a temporary folder the block reads back, are written
+    at once.)
+
+    The files are staged as temporaries beside their targets and renamed in the order they
+    were written. Nested blocks join the outer one.
+    """
+    if _staged.get() is not None:
+        yield
+        return
+    staged: list[tuple[Path, Path, bool]] = []
+    token = _staged.set((os.path.abspath(folder), staged))
+    with _guard(None):
+        try:
+            yield
+            _staged.reset(token)
+            token = None
+            for tmp, path, exclusive in staged:
+                try:
+                    _commit(tmp, path, exclusive)
+                except BaseException as exc:
+                    mapped = _write_error(exc, path) if isinstance(exc, Exception) else None
+                    if mapped is not None and mapped is not exc:
+                        raise mapped from exc
+                    raise
+        finally:
+            if token is not None:
+                _staged.reset(token)
+            with _lock:
+                for tmp, _, _ in staged:
+                    _active.discard(tmp)
+                    with contextlib.suppress(OSError):
+                        if tmp.exists():
+                            tmp.unlink()
 
 
 @contextlib.contextmanager
@@ -236,10 +425,13 @@ def atomic_open(path: PathLike, mode: str = "wb", **kwargs: Any) -> Iterator[IO[
                 yield fh
                 fh.flush()
                 os.fsync(fh.fileno())
-            os.replace(tmp, path)
-        except BaseException:
+            _finish(tmp, path)
+        except BaseException as exc:
             with contextlib.suppress(OSError):
                 tmp.unlink()
+            mapped = _write_error(exc, path) if isinstance(exc, OSError) else None
+            if mapped is not None and mapped is not exc:
+                raise mapped from exc
             raise
 
 

@@ -265,10 +265,11 @@ def read_png(path: str | os.PathLike[str]) -> tuple[np.ndarray, int, dict[str, s
     Written here for the same reason as the encoder: Pillow reads 16-bit colour PNGs as
     8-bit. Raises ``ValueError`` naming the file for anything it cannot read.
     """
+    from .reading import MAX_IMAGE_BYTES, read_bytes
+
     path = os.fspath(path)
     name = os.path.basename(path)
-    with open(path, "rb") as fh:
-        blob = fh.read()
+    blob = read_bytes(path, MAX_IMAGE_BYTES, "PNG file")
     if blob[:8] != b"\x89PNG\r\n\x1a\n":
         raise ParameterError(f"{name}: not a PNG file")
     pos, idat, text = 8, [], {}

@@ -91,6 +91,12 @@ THETA_GRAZING = math.pi / 2 - 1e-7
 
 SIGMA_MAX = math.pi / 2
 
+SIGMA_FLAT = 1e-12
+"""σ (radians) below which the surface is computed as flat (σ = 0): the BRDF differs from the
+flat one by about (σ / cos θ)² relative (measured: 1.1e-10 at σ = 1e-9, θ = 89.994°), below
+float64 rounding for σ < 1e-12 and θ < 89.99°; smaller σ would underflow the slope
+quadrature's weights (NaN at σ = 1e-200, 0.2 % off at 1e-160)."""
+
 
 @dataclass(frozen=True)
 class Settings:
@@ -435,6 +441,8 @@ def _jitted(sigma: float, albedo: float, bounces: Bounces, s: Settings, differen
 def _validate(sigma, albedo, bounces, settings) -> tuple[float, float, Bounces, Settings]:
     check_range("sigma", sigma, 0.0, SIGMA_MAX, unit="radians")
     check_range("albedo", albedo, 0.0, 1.0)
+    if float(sigma) < SIGMA_FLAT:
+        sigma = 0.0  # flat to float64 rounding (SIGMA_FLAT)
     bounces = check_bounces(bounces)
     if settings is None:
         settings = Settings()

@@ -185,6 +185,12 @@ def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
         raise ParameterError(f"{name} must be a non-empty 1-D array of finite angles (radians)")
     if np.any(a < lo) or (hi is not None and np.any(a > hi)):
         raise ParameterError(f"{name} must lie in [{lo:g}, {hi:g}] radians")
+    values, counts = np.unique(a, return_counts=True)
+    if np.any(counts > 1):
+        raise ParameterError(
+            f"{name} holds {values[counts > 1][0]:.6g} more than once: a table axis takes each "
+            "value once"
+        )
     return a
 
 
@@ -282,22 +288,62 @@ def compute_table(
             kept = _finished_table(path, axes, float(albedo), bounces, settings, force)
             if kept is not None:
                 return kept
-        _prepare_chunk_dir(chunk_dir, manifest, force)
-        common = {
-            "key": key,
-            "albedo": float(albedo),
-            "bounces": bounces,
-            "settings": asdict(settings),
-            "backend": backend,
-        }
-        specs = _chunk_specs(axes, rows_per_chunk, common)
-        todo = _chunks_to_do(specs, chunk_dir)
-        _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
-        table = _assemble(
-            specs, chunk_dir, axes, float(albedo), bounces, settings, package_version
-        )
-        table.save(path)
+        fresh = not chunk_dir.exists()
+        try:
+            return _compute_chunks(
+                path, chunk_dir, manifest, axes, key, albedo, bounces, settings, workers,
+                scheduler, progress, backend, force, rows_per_chunk, package_version,
+            )
+        except BaseException:
+            # a run refused or failed before its first chunk leaves no folder that would
+            # make the next run (with other settings) refuse
+            if fresh:
+                _remove_if_no_chunks(chunk_dir)
+            raise
+
+
+def _remove_if_no_chunks(chunk_dir: Path) -> None:
+    """Remove ``chunk_dir`` if it holds no computed chunk (at most its manifest)."""
+    try:
+        entries = list(chunk_dir.iterdir())
+    except OSError:
+        return
+    if all(e.name == "manifest.json" or e.name.startswith(".") for e in entries):
         shutil.rmtree(chunk_dir, ignore_errors=True)
+
+
+def _compute_chunks(
+    path,
+    chunk_dir,
+    manifest,
+    axes,
+    key,
+    albedo,
+    bounces,
+    settings,
+    workers,
+    scheduler,
+    progress,
+    backend,
+    force,
+    rows_per_chunk,
+    package_version,
+):  # noqa: ANN001, ANN202
+    """The body of :func:`compute_table` once the lock is held and no finished table is kept."""
+    _prepare_chunk_dir(chunk_dir, manifest, force)
+    common = {
+        "key": key,
+        "albedo": float(albedo),
+        "bounces": bounces,
+        "settings": asdict(settings),
+        "backend": backend,
+    }
+    specs = _chunk_specs(axes, rows_per_chunk, common)
+    todo = _chunks_to_do(specs, chunk_dir)
+    _run_chunks(todo, chunk_dir, workers, scheduler, progress, len(specs))
+    table = _assemble(specs, chunk_dir, axes, float(albedo), bounces, settings, package_version)
+    table.save(path)
+    shutil.rmtree(chunk_dir, ignore_errors=True)
     return table
 
 
@@ -467,6 +513,8 @@ def _prepare_chunk_dir(chunk_dir: Path, manifest: dict[str, Any], force: bool) -
             old = None
         if isinstance(old, dict) and old.get("key") == manifest["key"]:
             return
+        if not force and not any(p.suffix == ".npz" for p in chunk_dir.iterdir()):
+            force = True  # only a manifest, no chunk: nothing is lost by starting anew
         if not force:
             raise ParameterError(
                 f"{chunk_dir} holds chunks computed with other settings or grids; refusing to "
@@ -589,8 +637,13 @@ class _TableLock:
             if same:
                 break
             os.close(fd)
-        os.ftruncate(fd, 0)
-        os.write(fd, f"{os.getpid()} on {socket.gethostname()}\n".encode())
+        try:
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()} on {socket.gethostname()}\n".encode())
+        except OSError:  # e.g. a full disk: leave no empty lock file behind
+            self.path.unlink(missing_ok=True)
+            os.close(fd)
+            raise
         self.fd = fd
         return self
 

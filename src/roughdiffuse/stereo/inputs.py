@@ -17,7 +17,7 @@ image, listed in ``filenames.txt``) with ``mask.png``; :func:`read_diligent` rea
 
 from __future__ import annotations
 
-import json
+import io
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -181,16 +181,10 @@ def read_lights(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     Returns the raw directions (K, 3) and intensities (K,) or (K, 3); a missing
     ``intensities`` means 1 for every light.
     """
+    from ..io.reading import read_json
+
     name = os.fspath(path)
-    try:
-        with open(name, encoding="utf-8") as f:
-            spec = json.load(f)
-    except FileNotFoundError:
-        raise ParameterError(f"lights file {name!r} does not exist") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ParameterError(
-            f"{os.path.basename(name)}: not a readable JSON lights file ({exc})"
-        ) from None
+    spec = read_json(name, "lights file")
     if not isinstance(spec, dict) or "directions" not in spec:
         raise ParameterError(f"{os.path.basename(name)}: expected an object with 'directions'")
     try:
@@ -205,16 +199,14 @@ def read_lights(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
 
 def read_mask(path: str | os.PathLike[str]) -> np.ndarray:
     """A mask image (PNG or ``.npy``): non-zero pixels belong to the object."""
+    from ..io.reading import check_regular
+
     name = os.fspath(path)
-    if not os.path.isfile(name):
-        raise ParameterError(f"mask file {name!r} does not exist")
+    check_regular(name, "mask file")
     if name.lower().endswith(".npy"):
-        try:
-            m = np.load(name, allow_pickle=False)
-        except (OSError, ValueError) as exc:
-            raise ParameterError(
-                f"{os.path.basename(name)}: not a readable .npy mask ({exc})"
-            ) from None
+        from ..io.reading import load_npy
+
+        m = load_npy(name, "mask file")
     else:
         from PIL import Image, UnidentifiedImageError
 
@@ -276,16 +268,28 @@ def read_diligent(folder: str | os.PathLike[str]) -> StereoInput:
     read with exposure 0 and the identity transfer curve.
     """
     from ..fit.images import read_image
+    from ..io.reading import MAX_LIST_BYTES, read_text, short
 
     root = Path(folder)
     need = ["filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png"]
-    missing = [n for n in need if not (root / n).is_file()]
+    missing = [n for n in need if not (root / n).exists()]
     if missing:
         raise ParameterError(f"{root}: not a DiLiGenT object folder (missing {', '.join(missing)})")
-    names = [s.strip() for s in (root / "filenames.txt").read_text().splitlines() if s.strip()]
+    text = read_text(root / "filenames.txt", MAX_LIST_BYTES, "DiLiGenT list")
+    names = [s.strip() for s in text.splitlines() if s.strip()]
+    for n in names:  # image names stay inside the object's folder
+        inside = os.path.normpath(n)
+        if os.path.isabs(n) or inside == ".." or inside.startswith(".." + os.sep):
+            raise ParameterError(
+                f"{root}/filenames.txt names {short(n)}, outside the object's folder: refused"
+            )
     try:
-        dirs = np.loadtxt(root / "light_directions.txt", ndmin=2)
-        ints = np.loadtxt(root / "light_intensities.txt", ndmin=2)
+        dirs = np.loadtxt(
+            io.StringIO(read_text(root / "light_directions.txt", MAX_LIST_BYTES)), ndmin=2
+        )
+        ints = np.loadtxt(
+            io.StringIO(read_text(root / "light_intensities.txt", MAX_LIST_BYTES)), ndmin=2
+        )
     except ValueError as exc:
         raise ParameterError(f"{root}: unreadable light file ({exc})") from None
     if len(names) != dirs.shape[0] or len(names) != ints.shape[0]:

@@ -17,7 +17,6 @@ from __future__ import annotations
 import base64
 import html
 import io
-import json
 import math
 import os
 from pathlib import Path
@@ -154,8 +153,9 @@ def write_outputs(
         params["rough"]["angular_error_deg"] = _stats(angular_error(rough.normals, t))
         params["lambertian"]["angular_error_deg"] = _stats(angular_error(lambert.normals, t))
     params.update(extra or {})
-    text = json.dumps(params, indent=2, allow_nan=True)
-    write_text(out / "params.json", text + "\n")
+    from ..io.jsonfile import write_json
+
+    write_json(out / "params.json", params, indent=2)
     page = _report_html(params, shown)
     write_text(out / "report.html", page)
     return params
@@ -186,7 +186,9 @@ def _write_params(
         err = angular_error(lambert.normals, truth_normals[m])
         params["lambertian"]["angular_error_deg"] = _stats(err)
     params.update(extra or {})
-    write_text(out / "params.json", json.dumps(params, indent=2, allow_nan=True) + "\n")
+    from ..io.jsonfile import write_json
+
+    write_json(out / "params.json", params, indent=2)
     write_text(out / "report.html", _report_html(params, shown))
     return params
 
