@@ -383,8 +383,7 @@ def test_each_renderer_variant_agrees_with_its_transcription(rng, model_id, para
     nv, nl, lv = _random_cosines(rng)
     model = _variant(model_id, **params)
     assert model.reference  # the other project's file and function
-    rtol = 1e-9 if model_id == "mitsuba06-roughdiffuse" else 1e-12
-    np.testing.assert_allclose(_ours(model, nv, nl, lv), reference(nv, nl, lv), rtol=rtol)
+    np.testing.assert_allclose(_ours(model, nv, nl, lv), reference(nv, nl, lv), rtol=1e-12)
 
 
 def test_variants_that_are_a_conversion_equal_their_base_model(rng):
