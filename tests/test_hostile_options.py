@@ -76,8 +76,11 @@ MINIMAL = {
 
 def _rules():
     for command, rules in _conflicts.RULES.items():
-        for rule in rules:
-            yield pytest.param(command, rule, id=f"{command}:{rule}"[:80])
+        for k, rule in enumerate(rules):
+            # the id names the flags, not the rule's repr (a lambda's address differs between
+            # pytest-xdist workers, which must collect the same ids)
+            flags = "+".join(getattr(rule, "flags", None) or (rule.first, rule.second))
+            yield pytest.param(command, rule, id=f"{command}:{type(rule).__name__}:{k}:{flags}")
 
 
 @pytest.mark.parametrize(("command", "rule"), list(_rules()))
