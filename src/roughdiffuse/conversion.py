@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from . import registry
+from ._validate import ParameterError
 from .engine.dispatch import use_fastpath
 from .models.base import Model
 
@@ -172,7 +173,7 @@ def convert(
 
     entry = registry.get(target)
     if not getattr(entry.cls, "closed_form", True):
-        raise ValueError(f"target {target!r} is not a closed-form model; choose another target")
+        raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")
     fixed = dict(fixed or {})
     numeric = [p for p in entry.parameters if not p.categorical and p.name not in fixed]
     colour = [p for p in numeric if p.channels]
@@ -310,7 +311,7 @@ def _check_albedo_range(
             a = _albedos(entry.create(**fixed, **top, **values), mu)
         best = max(best, float(np.sum(wmu * mu * 2.0 * a)))
     if src > best * (1.0 + 1e-3):
-        raise ValueError(
+        raise ParameterError(
             f"target {entry.id!r} cannot represent the source's albedo: its largest "
             f"hemispherical albedo is {best:.4f} (albedo parameter at its maximum), the "
             f"source's is {src:.4f}; choose a target that reaches it or lower the source's albedo"

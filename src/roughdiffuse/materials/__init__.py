@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from .. import registry
+from .._validate import ParameterError
 from ..models.base import Model
 from .common import Export, material_for, model_record
 
@@ -70,17 +71,17 @@ def load_result(path: str | Path) -> Model:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path}: not a readable fit result ({exc})") from None
+        raise ParameterError(f"{path}: not a readable fit result ({exc})") from None
     if not isinstance(data, dict):
-        raise ValueError(f"{path}: not a fit result (expected a JSON object)")
+        raise ParameterError(f"{path}: not a fit result (expected a JSON object)")
     if isinstance(data.get("fits"), list) and data["fits"]:
         try:
             data = _from_fit_json(data)
         except (KeyError, TypeError, ValueError, IndexError) as exc:
-            raise ValueError(f"{path}: not a readable fit --json output ({exc})") from None
+            raise ParameterError(f"{path}: not a readable fit --json output ({exc})") from None
     model_id = data.get("model", data.get("target"))
     if not isinstance(model_id, str):
-        raise ValueError(f"{path}: names no model (expected a 'model' entry)")
+        raise ParameterError(f"{path}: names no model (expected a 'model' entry)")
     entry = registry.get(model_id)
     params = data.get("params")
     if isinstance(params, dict):
@@ -90,7 +91,7 @@ def load_result(path: str | Path) -> Model:
         value = rough.get("value", rough.get("median"))
         albedo = _stereo_albedo(path.parent)
         return entry.create(**{rough["name"]: value, **albedo})
-    raise ValueError(f"{path}: no parameters found (expected 'params' or 'roughness')")
+    raise ParameterError(f"{path}: no parameters found (expected 'params' or 'roughness')")
 
 
 def _stereo_albedo(folder: Path) -> dict[str, Any]:
@@ -131,7 +132,9 @@ def export(
         If the file cannot be written.
     """
     if target not in TARGETS:
-        raise ValueError(f"unknown export target {target!r}; choose one of: {', '.join(TARGETS)}")
+        raise ParameterError(
+            f"unknown export target {target!r}; choose one of: {', '.join(TARGETS)}"
+        )
     path = Path(path)
     if target == "mitsuba":
         from .mitsuba import write
