@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import os
 
+from ._validate import ParameterError
+
 __all__ = ["FALSE", "TRUE", "env_flag"]
 
 TRUE = frozenset({"1", "true", "yes", "on"})
@@ -38,6 +40,6 @@ def env_flag(name: str, default: bool = False) -> bool:
     if word in FALSE:
         return False
     shown = raw if len(raw) <= 20 else raw[:20] + "…"
-    raise ValueError(
+    raise ParameterError(
         f"{name} must be one of 1, true, yes, on (on) or 0, false, no, off (off); got {shown!r}"
     )

@@ -622,11 +622,11 @@ def _check_kept(path: Path) -> None:
     """Refuse to keep ``path`` as a figure unless it is a PNG file (not a folder, link or
     other data planted under the figure's name)."""
     if path.is_symlink() or not path.is_file():
-        raise ValueError(f"{str(path)!r} is not a regular file; remove it or use --force")
+        raise ParameterError(f"{str(path)!r} is not a regular file; remove it or use --force")
     with open(path, "rb") as fh:
         head = fh.read(len(PNG_SIGNATURE))
     if head != PNG_SIGNATURE:
-        raise ValueError(
+        raise ParameterError(
             f"{str(path)!r} is not a PNG image: not kept as a figure; remove it or use --force"
         )
 

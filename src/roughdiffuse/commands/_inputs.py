@@ -17,6 +17,7 @@ import math
 import os
 from collections.abc import Iterable
 
+from .._validate import ParameterError
 from . import UsageError
 
 __all__ = [
@@ -98,7 +99,7 @@ def _number_with_unit(text: str) -> float:
         t = t.removesuffix("deg").removesuffix("°")
     value = float(t)  # ValueError for anything else
     if not math.isfinite(value):
-        raise ValueError(text)
+        raise ParameterError(text)
     return math.degrees(value) if radians else value
 
 

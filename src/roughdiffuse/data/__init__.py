@@ -73,7 +73,7 @@ def cache_dir() -> Path:
     for parent in (folder, *folder.parents):
         if parent.exists():
             if not parent.is_dir():
-                raise ValueError(f"{what} {str(folder)!r}: {str(parent)!r} is not a folder")
+                raise ParameterError(f"{what} {str(folder)!r}: {str(parent)!r} is not a folder")
             break
     return folder
 

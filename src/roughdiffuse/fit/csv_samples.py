@@ -299,7 +299,7 @@ def csv_from_text(
             delim = max((",", ";", "\t"), key=stripped.count)
             dialect = delim if stripped.count(delim) else ","
         if len(line) > MAX_CSV_LINE:
-            raise ValueError(
+            raise ParameterError(
                 f"{name} line {k}: {len(line)} characters; a line may have at most "
                 f"{MAX_CSV_LINE}"
             )

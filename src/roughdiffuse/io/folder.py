@@ -33,6 +33,7 @@ import shutil
 from collections.abc import Iterator
 from pathlib import Path
 
+from .._validate import ParameterError
 from .atomic import (
     WriteError,
     _guard,
@@ -65,15 +66,15 @@ def check_output_folder(
     else:
         check_output_path(target.parent / ".probe", "output folder")  # writable parent
     if target.exists() and not target.is_dir():
-        raise ValueError(f"output folder {str(target)!r} exists and is not a folder")
+        raise ParameterError(f"output folder {str(target)!r} exists and is not a folder")
     if target.is_dir() and any(target.iterdir()):
         if marker is not None and not (target / marker).is_file():
-            raise ValueError(
+            raise ParameterError(
                 f"output folder {str(target)!r} holds files but no {marker}: it is not a "
                 "result of this command and is not replaced; choose another folder"
             )
         if not replace:
-            raise ValueError(
+            raise ParameterError(
                 f"output folder {str(target)!r} already holds results; add --force to replace them"
             )
     return target

@@ -31,6 +31,8 @@ import os
 import stat
 from typing import Any
 
+from .._validate import ParameterError
+
 __all__ = [
     "MAX_CSV_BYTES",
     "MAX_CSV_LINE",
@@ -92,13 +94,15 @@ def check_regular(path: str | os.PathLike[str], what: str = "file") -> int:
     try:
         st = os.stat(name)
     except FileNotFoundError:
-        raise ValueError(f"{what} {short(name)} does not exist") from None
+        raise ParameterError(f"{what} {short(name)} does not exist") from None
     except OSError as exc:
-        raise ValueError(f"cannot read {what} {short(name)}: {exc.strerror}") from None
+        raise ParameterError(f"cannot read {what} {short(name)}: {exc.strerror}") from None
     if stat.S_ISDIR(st.st_mode):
-        raise ValueError(f"{what} {short(name)} is a folder, not a file")
+        raise ParameterError(f"{what} {short(name)} is a folder, not a file")
     if not stat.S_ISREG(st.st_mode):
-        raise ValueError(f"{what} {short(name)} is not a regular file (a device, FIFO or socket)")
+        raise ParameterError(
+            f"{what} {short(name)} is not a regular file (a device, FIFO or socket)"
+        )
     return st.st_size
 
 
@@ -107,11 +111,11 @@ def read_bytes(path: str | os.PathLike[str], limit: int, what: str = "file") -> 
     size = check_regular(path, what)
     name = os.fspath(path)
     if size > limit:
-        raise ValueError(f"{what} {short(name)} has {size} bytes; at most {limit} are read")
+        raise ParameterError(f"{what} {short(name)} has {size} bytes; at most {limit} are read")
     with open(name, "rb") as fh:
         data = fh.read(limit + 1)
     if len(data) > limit:  # it grew after the check
-        raise ValueError(f"{what} {short(name)} has more than {limit} bytes; at most {limit}")
+        raise ParameterError(f"{what} {short(name)} has more than {limit} bytes; at most {limit}")
     return data
 
 
@@ -122,7 +126,7 @@ def read_text(path: str | os.PathLike[str], limit: int, what: str = "file") -> s
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise ValueError(
+        raise ParameterError(
             f"{what} {short(os.fspath(path))}: not UTF-8 text (byte 0x{data[exc.start]:02x} at "
             f"offset {exc.start})"
         ) from None
@@ -160,17 +164,17 @@ def loads_json(text: str, what: str, max_depth: int = MAX_JSON_DEPTH) -> Any:
         Naming ``what`` and the problem.
     """
     if _depth(text) > max_depth:
-        raise ValueError(f"{what}: JSON nested deeper than {max_depth} levels")
+        raise ParameterError(f"{what}: JSON nested deeper than {max_depth} levels")
 
     def constant(name: str) -> Any:
-        raise ValueError(f"{what}: {name} is not JSON (write a number or null)")
+        raise ParameterError(f"{what}: {name} is not JSON (write a number or null)")
 
     try:
         return json.loads(text, parse_constant=constant)
     except json.JSONDecodeError as exc:
-        raise ValueError(f"{what}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
+        raise ParameterError(f"{what}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
     except RecursionError:  # pragma: no cover - the depth check comes first
-        raise ValueError(f"{what}: JSON nested too deeply") from None
+        raise ParameterError(f"{what}: JSON nested too deeply") from None
 
 
 def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
@@ -197,15 +201,15 @@ def load_npy(path: str | os.PathLike[str], what: str = "array file") -> Any:
     name = os.fspath(path)
     size = check_regular(name, what)
     if size > MAX_IMAGE_BYTES:
-        raise ValueError(f"{what} {short(name)} has {size} bytes; at most {MAX_IMAGE_BYTES}")
+        raise ParameterError(f"{what} {short(name)} has {size} bytes; at most {MAX_IMAGE_BYTES}")
     base = short(os.path.basename(name))
     try:
         arr = np.load(name, allow_pickle=False)
     except Exception as exc:  # noqa: BLE001 - any unreadable file is one message
-        raise ValueError(f"{what} {base}: not a readable .npy file ({exc})") from None
+        raise ParameterError(f"{what} {base}: not a readable .npy file ({exc})") from None
     if not isinstance(arr, np.ndarray):
-        raise ValueError(f"{what} {base}: an .npz archive, not one .npy array")
+        raise ParameterError(f"{what} {base}: an .npz archive, not one .npy array")
     if arr.dtype.kind not in "biuf":
         kind = "complex numbers" if arr.dtype.kind == "c" else f"{arr.dtype} values"
-        raise ValueError(f"{what} {base} holds {kind}; give real numbers")
+        raise ParameterError(f"{what} {base} holds {kind}; give real numbers")
     return arr

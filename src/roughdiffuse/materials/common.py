@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from .. import registry
+from .._validate import ParameterError
 from ..conversion import Conversion, convert
 from ..io.atomic import write_text
 from ..models.base import Model
@@ -76,7 +77,7 @@ def model_record(model: Model) -> dict[str, Any]:
     for a model the registry does not name)."""
     model_id = registry.id_of(model)
     if model_id is None:
-        raise ValueError(f"{type(model).__name__} is not a registry model")
+        raise ParameterError(f"{type(model).__name__} is not a registry model")
     return {"model": model_id, "params": params_of(model, model_id)}
 
 

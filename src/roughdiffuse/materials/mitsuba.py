@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
 from .common import Export, error_lines, params_of, write_files
@@ -33,7 +34,9 @@ def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
     """The BSDF: the model's roughdiffuse plugin, or (``builtin``) Mitsuba's own counterpart."""
     model_id = registry.id_of(model)
     if model_id is None:
-        raise ValueError(f"{type(model).__name__} is not a registry model; Mitsuba cannot hold it")
+        raise ParameterError(
+            f"{type(model).__name__} is not a registry model; Mitsuba cannot hold it"
+        )
     params = params_of(model, model_id)
     albedo = params.get("albedo", 1.0)
     colour = {"type": "rgb", "value": albedo if isinstance(albedo, list) else [albedo] * 3}
@@ -48,7 +51,7 @@ def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
                 "roughness": params["roughness"],
                 "specular": 0.0,
             }
-        raise ValueError(f"Mitsuba has no built-in BSDF equal to {model_id!r}")
+        raise ParameterError(f"Mitsuba has no built-in BSDF equal to {model_id!r}")
     out: dict[str, Any] = {"type": plugin_name(model_id)}
     for name, value in params.items():
         out[name] = colour if isinstance(value, list) or name == "albedo" else value
