@@ -378,7 +378,9 @@ VARIANT_CASES = [
 ]  # fmt: skip
 
 
-@pytest.mark.parametrize("model_id, params, reference", VARIANT_CASES, ids=lambda c: str(c)[:30])
+@pytest.mark.parametrize(
+    "model_id, params, reference", VARIANT_CASES, ids=[c[0] for c in VARIANT_CASES]
+)
 def test_each_renderer_variant_agrees_with_its_transcription(rng, model_id, params, reference):
     nv, nl, lv = _random_cosines(rng)
     model = _variant(model_id, **params)
