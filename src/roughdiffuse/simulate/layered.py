@@ -55,7 +55,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_range
 from .cavity import Bounces, check_bounces
-from .smith import THETA_GRAZING
+from .smith import check_angles
 from .smith_slopes import sample_visible_normals, smith_lambda
 
 __all__ = [
@@ -145,17 +145,8 @@ def _check_absorption(absorption: object) -> np.ndarray:
 
 
 def _directions(theta_i, theta_r, delta_phi):
-    ti, tr, dp = np.broadcast_arrays(
-        *(np.asarray(a, dtype=np.float64) for a in (theta_i, theta_r, delta_phi))
-    )
-    for name, val in (("theta_i", ti), ("theta_r", tr)):
-        check_range(name, val, 0.0, math.pi / 2, unit="radians", scalar=False)
-    if not np.all(np.isfinite(dp)):
-        raise ParameterError("delta_phi must be finite")
-    shape = ti.shape
-    ti = np.minimum(ti.reshape(-1), THETA_GRAZING)
-    tr = np.minimum(tr.reshape(-1), THETA_GRAZING)
-    dp = dp.reshape(-1)
+    """The checked angles (the Smith walk's rules) as unit vectors wi, wo, and their shape."""
+    ti, tr, dp, shape = check_angles(theta_i, theta_r, delta_phi)
     wi = np.stack([np.sin(ti), 0.0 * ti, np.cos(ti)], axis=-1)
     wo = np.stack([np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], axis=-1)
     return wi, wo, shape

@@ -105,7 +105,9 @@ def _check_alpha(alpha: object) -> float:
     return float(alpha)  # type: ignore[arg-type]
 
 
-def _check_angles(theta_i, theta_r, delta_phi):
+def check_angles(theta_i, theta_r, delta_phi):
+    """θi, θr in [0, π/2] and a finite Δφ, refused by name otherwise; returns them flat, with
+    θ capped at ``THETA_GRAZING``, and their broadcast shape (shared by the walks)."""
     ti, tr, dp = np.broadcast_arrays(
         *(np.asarray(a, dtype=np.float64) for a in (theta_i, theta_r, delta_phi))
     )
@@ -179,7 +181,7 @@ def single_scattering(
     distribution = check_distribution(distribution)
     n_theta = _check_count("n_theta", n_theta)
     n_phi = _check_count("n_phi", n_phi)
-    ti, tr, dp, shape = _check_angles(theta_i, theta_r, delta_phi)
+    ti, tr, dp, shape = check_angles(theta_i, theta_r, delta_phi)
     if alpha == 0.0:
         return np.full(shape, albedo / math.pi)
     out = np.empty_like(ti)
@@ -547,7 +549,7 @@ def random_walk(
         alpha, albedo, bounces, distribution, samples, seed, max_order
     )
     engine = _check_engine(engine)
-    ti, tr, dp, shape = _check_angles(theta_i, theta_r, delta_phi)
+    ti, tr, dp, shape = check_angles(theta_i, theta_r, delta_phi)
     n_groups = ti.size
     if alpha == 0.0:  # a flat Lambertian plane: exactly ρ/π, one bounce
         vals = np.broadcast_to(np.asarray(albedos)[:, None] / math.pi, (len(albedos), n_groups))
