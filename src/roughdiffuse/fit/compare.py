@@ -46,11 +46,12 @@ def candidate(model_id: str) -> Candidate:
 
 
 def _fittable_ids() -> list[str]:
-    """Registry ids of the closed-form models (a simulation or a table, ``closed_form =
-    False``, has no parameters to differentiate)."""
+    """Registry ids of the closed-form models that JAX can trace (a simulation or a table,
+    ``closed_form = False``, has no parameters to differentiate; a model with ``traceable =
+    False`` has no gradient from JAX)."""
     from .. import registry
 
-    return [e.id for e in registry.entries() if e.cls.closed_form]
+    return [e.id for e in registry.entries() if e.cls.closed_form and e.cls.traceable]
 
 
 class _Candidates(Mapping[str, Candidate]):

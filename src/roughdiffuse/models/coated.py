@@ -358,6 +358,10 @@ class Coated(Model):
         {math}`\tau` the layer's optical depth. The exact truth is
         {mod}`roughdiffuse.simulate.layered`.
         """
+    traceable: ClassVar[bool] = False
+    """Not traced by jax.jit or the fast path (NumPy and Dr.Jit evaluate it): the fixed node
+    rules unroll into tens of thousands of operations, which XLA and Numba take minutes and
+    gigabytes to compile. Vectorising the rules over an array axis would lift this."""
     order: ClassVar[int] = 55
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "coated": (
