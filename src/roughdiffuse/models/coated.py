@@ -362,7 +362,7 @@ class Coated(Model):
     """Not traced by jax.jit or the fast path (NumPy and Dr.Jit evaluate it): the fixed node
     rules unroll into tens of thousands of operations, which XLA and Numba take minutes and
     gigabytes to compile. Vectorising the rules over an array axis would lift this."""
-    order: ClassVar[int] = 55
+    order: ClassVar[int] = 175
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "coated": (
             {"sigma": 0.3, "eta": 1.5},
