@@ -363,6 +363,7 @@ class Hapke(Model):
         "h": r"h",
         "g": r"\xi",
         "theta_bar": r"\bar\theta",
+        "hg2": r"c",
     }
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
@@ -377,7 +378,8 @@ class Hapke(Model):
         B(g) = \frac{B_0}{1+\tan(g/2)/h},
         ```
         ```{math}
-        p(g) = \frac{1-\xi^2}{(1+2\xi\cos g+\xi^2)^{3/2}},
+        p(g) = (1-c)\,P(\xi) + c\,P(-\xi),\quad
+        P(\xi) = \frac{1-\xi^2}{(1+2\xi\cos g+\xi^2)^{3/2}},
         ```
         ```{math}
         H(x) = \frac{1+2x}{1+2\gamma x},
@@ -469,6 +471,27 @@ class HapkeLegendre(Model):
         ),
         _THETA_BAR,
     )
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"w",
+        "b0": r"B_0",
+        "h": r"h",
+        "bh": r"b",
+        "ch": r"c",
+        "theta_bar": r"\bar\theta",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        \frac{I}{F} =
+        \frac{w}{4}\,\frac{\mu_{0e}}{\mu_{0e}+\mu_e}\Bigl[\bigl(1+B(g)\bigr)p(g) - 1 +
+        H(\mu_{0e})H(\mu_e)\Bigr]\,S(i,e,g;\bar\theta)
+        ```
+        ```{math}
+        p(g) = 1 + b\cos g + c\,\frac{3\cos^2 g - 1}{2},\quad B(g) = \frac{B_0}{1+\tan(g/2)/h}
+        ```
+
+        As :class:`Hapke` (ISIS ``HapkeHen``, Hapke 2012 Eq. 12.55 with the 1984 roughness
+        S) with ISIS ``HapkeLeg``'s Legendre phase function; f = (I/F)/(π μi).
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke-legendre": {}}
     labels: ClassVar[dict[str, str]] = {"hapke-legendre": "Hapke, Legendre phase (planetary)"}
     reference: ClassVar[str] = _REFERENCE
@@ -577,6 +600,43 @@ class Hapke2012(Model):
         _HG2,
         _THETA_BAR,
     )
+    symbols: ClassVar[dict[str, str]] = {
+        "albedo": r"w",
+        "bs0": r"B_{S0}",
+        "h_s": r"h_S",
+        "bc0": r"B_{C0}",
+        "h_c": r"h_C",
+        "porosity": r"K",
+        "g": r"\xi",
+        "hg2": r"c",
+        "theta_bar": r"\bar\theta",
+    }
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        \frac{I}{F} = K\frac{w}{4}\,\frac{\mu_{0e}\,B_{CB}\,S}{\mu_{0e}+\mu_e}\Bigl[B_{SH}\,p(g)
+        - 1 + H\bigl(\tfrac{\mu_{0e}}{K}\bigr)H\bigl(\tfrac{\mu_e}{K}\bigr)\Bigr]
+        ```
+        ```{math}
+        B_{SH} = 1 + \frac{B_{S0}}{1+\tan(g/2)/h_S},\quad
+        B_{CB} = 1 + B_{C0}\,\frac{1 + (1-e^{-y})/y}{2(1+y)^2}
+        ```
+        ```{math}
+        y = \frac{\tan(g/2)}{h_C},\quad S = S(i,e,g;\bar\theta)
+        ```
+        ```{math}
+        H(x) = \Bigl[1 - w x\Bigl(r_0 + \frac{1-2r_0x}{2}\ln\frac{1+x}{x}\Bigr)\Bigr]^{-1}
+        ```
+        ```{math}
+        r_0 = \frac{1-\sqrt{1-w}}{1+\sqrt{1-w}}
+        ```
+        ```{math}
+        p(g) = (1-c)\,P(\xi) + c\,P(-\xi),\quad
+        P(\xi) = \frac{1-\xi^2}{(1+2\xi\cos g+\xi^2)^{3/2}}
+        ```
+
+        Hapke 2012 (Eq. 12.55, the 2002 H-function Eq. 8.56, the coherent-backscatter term of
+        Hapke 2002 Eq. 31) with the 1984 roughness S; f = (I/F)/(π μi).
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke-2012": {}}
     labels: ClassVar[dict[str, str]] = {"hapke-2012": "Hapke 2012 (planetary)"}
     reference: ClassVar[str] = (

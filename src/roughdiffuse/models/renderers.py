@@ -91,6 +91,17 @@ class CyclesDiffuse(Model):
             default="diffuse",
         ),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = \frac{\rho}{\pi}\,A_F\Bigl(1 + r\,\frac{s}{t}\Bigr) + \rho\,f_{\mathrm{ms}}(\rho, r),
+        \quad A_F = \frac{1}{1 + (\pi/2 - 2/3)\,r}
+        ```
+
+        s = ωi·ωo − μi μo, t = max(μi, μo) where s > 0 and 1 elsewhere (Fujii's model), and
+        {math}`f_{\mathrm{ms}}` EON's multiple-scattering lobe (the `eon` page), so the lobe
+        carries ρ³ where EON's carries ρ².
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {
         "cycles-diffuse": {"node": "diffuse"},
         "cycles-principled": {"node": "principled"},
@@ -140,6 +151,16 @@ class MaterialXEON(Model):
         _colour("color ρ"),
         _unit("roughness", "roughness r (EON's, not an angle)"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{EON}}\bigl(\rho, r;\ \hat\mu_i, \hat\mu_o, \hat c\bigr),\quad
+        c = \omega_i\cdot\omega_o,\ \hat x = \min\bigl(\max(x, 10^{-8}), 1\bigr)
+        ```
+
+        EON (the `eon` page) on the cosines clamped as MaterialX's node clamps them; the L·V
+        clamp changes every value with ωi·ωo < 0.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"materialx-eon": {}}
     labels: ClassVar[dict[str, str]] = {
         "materialx-eon": "MaterialX oren_nayar_diffuse_bsdf (energy_compensation)"
@@ -187,6 +208,14 @@ class MaterialXOrenNayar(Alias):
         _colour("color ρ"),
         _unit("roughness", "roughness = Oren–Nayar σ in radians"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{ON}}(\rho, \sigma = r)
+        ```
+
+        The qualitative Oren–Nayar model (the `oren-nayar` page) with σ = roughness, in radians.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"materialx-oren-nayar": {}}
     labels: ClassVar[dict[str, str]] = {"materialx-oren-nayar": "MaterialX oren_nayar_diffuse_bsdf"}
     reference: ClassVar[str] = (
@@ -216,6 +245,14 @@ class OpenPBRDiffuse(Alias):
         _colour("base_color ρ"),
         _unit("roughness", "base_diffuse_roughness r"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{EON}}(\rho, r)
+        ```
+
+        EON (the `eon` page), base_color ρ and base_diffuse_roughness r.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"openpbr-diffuse": {}}
     labels: ClassVar[dict[str, str]] = {"openpbr-diffuse": "OpenPBR base_diffuse_roughness"}
     reference: ClassVar[str] = (
@@ -248,6 +285,15 @@ class Mitsuba06RoughDiffuse(Alias):
         _unit("alpha", "alpha = √2 σ (Beckmann RMS slope)", 0.5, ALPHA_MAX),
         Param("variant", "full, or useFastApprox", choices=("full", "fast"), default="full"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "alpha": r"\alpha"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{ON}}\Bigl(\rho, \sigma = \frac{\alpha}{\sqrt{2}}\Bigr)
+        ```
+
+        Full Oren–Nayar (`oren-nayar-full`), or the qualitative model for the fast variant,
+        with Mitsuba 0.6's α = √2 σ.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {
         "mitsuba06-roughdiffuse": {"variant": "full"},
         "mitsuba06-roughdiffuse-fast": {"variant": "fast"},
@@ -289,6 +335,14 @@ class Pbrt3OrenNayar(Alias):
         _colour("R ρ"),
         _unit("sigma_deg", "sigma, σ in degrees", 20.0, 90.0),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "sigma_deg": r"\sigma_{\circ}"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{ON}}\Bigl(\rho, \sigma = \frac{\pi}{180}\,\sigma_{\circ}\Bigr)
+        ```
+
+        The qualitative Oren–Nayar model (the `oren-nayar` page), σ given in degrees.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"pbrt3-oren-nayar": {}}
     labels: ClassVar[dict[str, str]] = {"pbrt3-oren-nayar": "pbrt-v3 OrenNayar"}
     reference: ClassVar[str] = (
@@ -316,6 +370,14 @@ class UnrealBurley(Alias):
         _colour("DiffuseColor ρ"),
         _unit("roughness", "Roughness"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{Burley}}(\rho, r)
+        ```
+
+        Burley's diffuse (the `burley` page) at Unreal's Roughness r.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"unreal-burley": {}}
     labels: ClassVar[dict[str, str]] = {"unreal-burley": "Unreal Diffuse_Burley"}
     reference: ClassVar[str] = "Unreal Engine, Engine/Shaders/Private/BRDF.ush, Diffuse_Burley"
@@ -340,6 +402,14 @@ class FilamentBurley(Alias):
         _colour("baseColor ρ"),
         _unit("roughness", "perceptual roughness (squared before Fd_Burley)"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{Burley}}(\rho, r^2)
+        ```
+
+        Burley's diffuse (the `burley` page) at Filament's perceptual roughness squared.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"filament-burley": {}}
     labels: ClassVar[dict[str, str]] = {"filament-burley": "Filament Fd_Burley"}
     reference: ClassVar[str] = "Filament, shaders/src/brdf.fs, Fd_Burley (roughness = perceptual²)"
@@ -365,6 +435,14 @@ class UnrealChan(Alias):
         _colour("DiffuseColor ρ"),
         _unit("roughness", "Roughness (perceptual; α = Roughness²)"),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{Chan}}(\rho, \alpha = r^2)
+        ```
+
+        Chan's diffuse (the `chan` page) at α = Roughness².
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"unreal-chan": {}}
     labels: ClassVar[dict[str, str]] = {"unreal-chan": "Unreal Diffuse_Chan"}
     reference: ClassVar[str] = "Unreal Engine 5, Engine/Shaders/Private/BRDF.ush, Diffuse_Chan"
@@ -390,6 +468,14 @@ class UnityDiffuseGGX(Alias):
         _colour("albedo ρ"),
         _unit("roughness", "roughness = GGX α (perceptual roughness²)", 0.3),
     )
+    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
+    formula: ClassVar[str | dict[str, str]] = r"""
+        ```{math}
+        f = f_{\mathrm{Hammon}}(\rho, \alpha = r)
+        ```
+
+        Hammon's GGX diffuse (the `hammon` page) with Unity's roughness as the GGX α.
+        """
     ids: ClassVar[dict[str, dict[str, Any]]] = {"unity-diffuse-ggx": {}}
     labels: ClassVar[dict[str, str]] = {"unity-diffuse-ggx": "Unity DiffuseGGX (Hammon)"}
     reference: ClassVar[str] = (
