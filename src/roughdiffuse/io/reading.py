@@ -21,7 +21,7 @@ and exits 2; the explorer answers 400 or 413).
 "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx…' (1000 characters)"
 >>> loads_json("[" * 100 + "]" * 100, "request")
 Traceback (most recent call last):
-ValueError: request: JSON nested deeper than 64 levels
+roughdiffuse._validate.ParameterError: request: JSON nested deeper than 64 levels
 """
 
 from __future__ import annotations

@@ -114,13 +114,13 @@ def check_base(base: object) -> Any:
         hasattr(base, a) for a in ("brdf_cosines", "sampling_strategy", "parameter_arrays")
     ):
         raise ParameterError(f"base must be a roughdiffuse model (got {base!r})")
-    if not getattr(type(base), "traceable", True):
+    if getattr(type(base), "is_coat", False):
+        raise ParameterError(f"base {type(base).__name__}: a coat on a coat is not supported")
+    if not (getattr(type(base), "traceable", True) or getattr(type(base), "closed_form", True)):
         raise ParameterError(
             f"base {type(base).__name__} cannot be a base: it is a simulation that cannot be "
             "sampled or evaluated at arbitrary directions (use a closed form or VCavity)"
         )
-    if getattr(type(base), "is_coat", False):
-        raise ParameterError(f"base {type(base).__name__}: a coat on a coat is not supported")
     return base
 
 
