@@ -184,7 +184,7 @@ def check_angle(name: str, value: Any, hi: float = math.pi) -> np.ndarray:
     >>> check_angle("phase", 4.0)
     Traceback (most recent call last):
     ...
-    roughdiffuse._validate.ParameterError: phase must be in [0, π] radians = [0°, 180°] (got 4 rad = 229.183°)
+    roughdiffuse._validate.ParameterError: phase must be in [0, π] radians = [0°, 180°] ...
     """
     a = np.asarray(value, dtype=np.float64)
     bad = ~np.isfinite(a) | (a < 0.0) | (a > hi)

@@ -83,8 +83,10 @@ def known_id(name: str, choices: Iterable[str], option: str = "--model") -> str:
     choices = list(choices)
     if name in choices:
         return name
+    from ..io.reading import short
+
     raise UsageError(
-        f"{option}: unknown model {name!r}{suggest(name, choices)}; "
+        f"{option}: unknown model {short(name)}{suggest(name, choices)}; "
         f"choose one of: {', '.join(choices)}"
     )
 

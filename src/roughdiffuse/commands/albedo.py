@@ -17,7 +17,7 @@ examples:
   roughdiffuse albedo -o albedo.png
   roughdiffuse albedo --model oren-nayar,eon --sigma 0,20,40,60 --roughness 0,0.5,1 \\
       -o albedo.svg --table albedo.csv
-  roughdiffuse albedo --model hammon,v-cavity --alpha 0.1,0.5 --sigma 10,30
+  roughdiffuse albedo --model hammon,v-cavity --alpha 0.1,0.5 --sigma 10,30 -o ggx.png
   roughdiffuse albedo --variance
 
 Any model of `roughdiffuse models` is accepted. Each panel sweeps the model's roughness:

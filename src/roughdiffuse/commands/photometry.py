@@ -36,6 +36,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="planetary photometry: fit disk-resolved I/F, correct images to a standard geometry",
         description="Planetary photometry in the units and angles of planetary science: "
         "I/F and the incidence, emission and phase angles (i, e, g).",
+        epilog="examples:\n"
+        "  roughdiffuse photometry fit --help       # fit disk-resolved I/F (CSV of i, e, g)\n"
+        "  roughdiffuse photometry correct --help   # normalise an image to a standard geometry\n",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     inner = p.add_subparsers(dest="action", metavar="ACTION", parser_class=type(p))
     inner.required = True

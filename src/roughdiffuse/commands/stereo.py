@@ -212,9 +212,12 @@ def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = lam.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    params = stereo.write_outputs(
-        out, data, None, lam, depth, model_id=LAMBERT, truth_normals=truth
-    )
+    from ..io import atomic_folder
+
+    with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
+        params = stereo.write_outputs(
+            tmp, data, None, lam, depth, model_id=LAMBERT, truth_normals=truth
+        )
     res = params["lambertian"]["relative_rms_residual"]["median"]
     print(
         f"lambert (Woodham): no roughness; median relative residual {res:.3g}; "
