@@ -5,10 +5,10 @@ their formula (Hapke–Legendre, Hapke 2012) are listed as left out, not offered
 from __future__ import annotations
 
 import roughdiffuse as rd
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 
 
-def test_b0_slider_and_left_out_variants(browser, explorer_url):  # noqa: F811 - fixtures
+def test_b0_slider_and_left_out_variants(browser, explorer_url):
     log = open_page(browser, explorer_url, 1000, 700)
     p = log.page
     try:

@@ -16,7 +16,7 @@ import xml.etree.ElementTree as ET
 import pytest
 from PIL import Image
 
-from explorer_browser import browser, explorer_url, open_page  # noqa: F401 - fixtures
+from explorer_browser import open_page
 
 SIZES = [(1280, 720), (1920, 1080)]
 CSV = "theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n" + "".join(
@@ -52,7 +52,7 @@ def overlap(a: dict, b: dict) -> bool:
 
 
 @pytest.fixture()
-def page(browser, explorer_url):  # noqa: F811 - fixtures
+def page(browser, explorer_url):
     log = open_page(browser, explorer_url, 1280, 720)
     yield log
     log.page.close()

@@ -31,7 +31,7 @@ def test_model_declares_a_typeset_formula(entry: registry.Entry) -> None:
         assert symbol in latex, f"{entry.id}: {symbol!r} ({p.name}) is not in the formula"
 
 
-def test_formulas_typeset_without_error_and_fit_the_column(tmp_path) -> None:  # noqa: ANN001
+def test_formulas_typeset_without_error_and_fit_the_column(tmp_path, browser) -> None:  # noqa: ANN001
     """Every display of every model's formula, typeset by the MathJax the site ships, has no
     MathJax error and fits the model page's text column (624 px at a 1280 px window)."""
     import html
@@ -42,11 +42,6 @@ def test_formulas_typeset_without_error_and_fit_the_column(tmp_path) -> None:  #
     if spec is None or spec.origin is None:
         pytest.skip("sphinx-mathjax-offline (the docs extra) is not installed")
     mathjax = Path(spec.origin).parent / "static" / "mathjax" / "tex-chtml.js"
-    from explorer_browser import CHROMIUM, CHROMIUM_ARGS, _require_chromium
-
-    _require_chromium()
-    from playwright.sync_api import sync_playwright
-
     divs = []
     for entry in registry.entries():
         for block in re.findall(r"```\{math\}\n(.*?)\n```", _formula(entry), flags=re.S):
@@ -57,8 +52,7 @@ def test_formulas_typeset_without_error_and_fit_the_column(tmp_path) -> None:  #
     page = tmp_path / "formulas.html"
     page.write_text(f"<html><head><script src='{mathjax.as_uri()}'></script></head>"
                     f"<body style='font-size:16px'>{''.join(divs)}</body></html>", "utf-8")
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+    if True:  # the session's Chromium (the browser fixture of tests/conftest.py)
         tab = browser.new_page(viewport={"width": 1280, "height": 900})
         tab.goto(page.as_uri(), wait_until="load")
         tab.wait_for_function("() => window.MathJax && MathJax.startup && "
@@ -67,7 +61,7 @@ def test_formulas_typeset_without_error_and_fit_the_column(tmp_path) -> None:  #
         rows = tab.evaluate("""() => Array.from(document.querySelectorAll('div.eq')).map(d => [
             d.dataset.id, d.querySelector('mjx-math').getBoundingClientRect().width,
             d.querySelectorAll('mjx-merror').length])""")
-        browser.close()
+        tab.close()
     assert len(rows) == len(divs) > 40
     assert not [r for r in rows if r[2]], [r for r in rows if r[2]]
     assert not [r for r in rows if r[1] > 624], [r for r in rows if r[1] > 624]

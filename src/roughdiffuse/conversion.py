@@ -114,9 +114,21 @@ def _fmt(v: Any, cli: bool = False) -> str:
     return f"{v:.6g}" if isinstance(v, float) else repr(v)
 
 
+def _unpack(x: np.ndarray, colour: list, shape: list, reps: int, channels: int) -> dict[str, Any]:
+    """The parameters from the solver's vector: ``reps`` values per colour parameter (a list
+    when there are channels), then one per shape parameter."""
+    out: dict[str, Any] = {}
+    for k, p in enumerate(colour):
+        vals = [float(v) for v in x[k * reps : (k + 1) * reps]]
+        out[p.name] = vals if channels else vals[0]
+    out.update({p.name: float(v) for p, v in zip(shape, x[len(colour) * reps :], strict=True)})
+    return out
+
+
 def _grid(n: int) -> tuple[np.ndarray, ...]:
-    x, w = np.polynomial.legendre.leggauss(n)
-    mu, wmu = 0.5 * (x + 1.0), 0.5 * w
+    from .quadrature import gauss_legendre
+
+    mu, wmu = gauss_legendre(n, 0.0, 1.0)
     phi = (np.arange(n) + 0.5) * math.pi / n
     mi, mo, ph = np.meshgrid(mu, mu, phi, indexing="ij")
     weight = (wmu[:, None, None] * wmu[None, :, None]) * (math.pi / n) * np.ones_like(ph)
@@ -191,12 +203,7 @@ def convert(
     sqrt_wf, sqrt_wa = np.sqrt(w_f), np.sqrt(wmu[:, None] if channels else wmu)
 
     def unpack(x: np.ndarray) -> dict[str, Any]:
-        out: dict[str, Any] = {}
-        for k, p in enumerate(colour):  # one value per channel
-            vals = [float(v) for v in x[k * reps : (k + 1) * reps]]
-            out[p.name] = vals if channels else vals[0]
-        out.update({p.name: float(v) for p, v in zip(shape, x[len(colour) * reps :], strict=True)})
-        return out
+        return _unpack(x, colour, shape, reps, channels)
 
     def grid_albedo(f_cos: np.ndarray) -> np.ndarray:
         # ∫ f cos θi dωi at each μo node by the same rule (Δφ in [0, π] counted twice)
@@ -223,12 +230,13 @@ def convert(
     params_list = [p for p in colour for _ in range(reps)] + shape
     lo = np.array([p.min if p.min is not None else -1e6 for p in params_list], dtype=float)
     hi = np.array([p.max if p.max is not None else 1e6 for p in params_list], dtype=float)
-    best = None
-    for x0 in _starts(params_list, lo, hi):
-        res = least_squares(residual, x0, bounds=(lo, hi), xtol=1e-15, ftol=1e-15, gtol=1e-15)
-        if best is None or res.cost < best.cost:
-            best = res
-    assert best is not None
+    best = min(
+        (
+            least_squares(residual, x0, bounds=(lo, hi), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+            for x0 in _starts(params_list, lo, hi)
+        ),
+        key=lambda res: res.cost,
+    )
     params = unpack(best.x)
     params = {p.name: params[p.name] for p in numeric}
     model = entry.create(**fixed, **params)

@@ -243,7 +243,9 @@ def read_merl(path: str | os.PathLike[str]) -> MERLBRDF:
     from ..io.reading import read_bytes
 
     path = os.fspath(path)
-    blob = read_bytes(path, MERL_FILE_SIZE, "MERL file")
+    # up to 4 MERL files' size is read, so a file of other dimensions or with extra bytes
+    # gets the format's own message (merl_from_bytes), not only a size
+    blob = read_bytes(path, 4 * MERL_FILE_SIZE, "MERL file")
     return merl_from_bytes(blob, os.path.basename(path))
 
 
