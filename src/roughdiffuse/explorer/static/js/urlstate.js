@@ -8,7 +8,7 @@ import { BY_KEY, PARAMS, defaultState } from "./models.js";
 const DEG = Math.PI / 180;
 
 /** View options in the order of the compact "v=" field. */
-const VIEW_KEYS = ["tab", "log", "gt", "bounces", "yaw", "pitch", "dphi", "channel", "sliceLog"];
+const VIEW_KEYS = ["tab", "log", "gt", "bounces", "yaw", "pitch", "deltaPhi", "channel", "sliceLog"];
 
 const numText = (v) => String(v); // shortest text that reads back as the same number
 
@@ -73,7 +73,7 @@ function parseCompact(hash) {
     const key = VIEW_KEYS[k];
     if (!key || x === "") return;
     if (["log", "gt", "sliceLog"].includes(key)) view[key] = x === "1";
-    else if (["yaw", "pitch", "dphi"].includes(key)) view[key] = Number(x);
+    else if (["yaw", "pitch", "deltaPhi"].includes(key)) view[key] = Number(x);
     else view[key] = x;
   });
   return { a: slot(fields.a), b: slot(fields.b), mode: fields.m, light: fields.l, exposure: fields.e, view: JSON.stringify(view) };
