@@ -4,7 +4,7 @@ request to another host.
 
 Marked ``docs`` (deselect with ``-m "not docs"``) and ``slow``: the build runs the gallery and
 the notebooks, about two minutes of one core, so ``make test`` leaves this file out and
-``make test SLOW=1`` (CI), ``make test-all`` and ``make docs`` build the site.
+``make test SLOW=1``, ``make test-all`` and ``make docs`` build the site.
 """
 
 from __future__ import annotations
