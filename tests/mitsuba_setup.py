@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import glob
+import math
 import os
 from typing import Any
+
+import numpy as np
 
 
 def mitsuba_variant(variant: str) -> Any:
@@ -58,3 +61,23 @@ def can_sample(model: Any) -> bool:
 
     s = model.sample(np.random.default_rng(0).random((256, 2)), np.array([0.3, 0.0, 0.95]))
     return bool(np.any(np.asarray(s.pdf) > 0))
+
+
+def random_geometries(
+    n: int = 20, seed: int = 1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``n`` random (θi, θr, Δφ), θ below 83° (1.45 rad), seeded."""
+    rng = np.random.default_rng(seed)
+    return rng.uniform(0, 1.45, n), rng.uniform(0, 1.45, n), rng.uniform(0, np.pi, n)
+
+
+def mitsuba_brdf(mi: Any, bsdf: Any, ti: Any, tr: Any, dp: Any) -> np.ndarray:
+    """f = eval / cos θ_light of a loaded Mitsuba BSDF at each (θi, θr, Δφ): Mitsuba's
+    ``si.wi`` is the viewer, the argument of ``eval`` the light."""
+    out = []
+    for a, b, c in zip(ti, tr, dp, strict=True):
+        si = mi.SurfaceInteraction3f()
+        si.wi = mi.Vector3f(math.sin(b) * math.cos(c), math.sin(b) * math.sin(c), math.cos(b))
+        v = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(math.sin(a), 0.0, math.cos(a)))
+        out.append(float(v[0]) / math.cos(a))
+    return np.array(out)

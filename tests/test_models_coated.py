@@ -16,38 +16,23 @@ import pytest
 from scipy.integrate import quad
 
 import roughdiffuse as rd
-from mitsuba_setup import mitsuba_variant
+from mitsuba_setup import mitsuba_brdf, mitsuba_variant, random_geometries
 from roughdiffuse.fit import Measurements, fit
 from roughdiffuse.models.microfacet import fresnel_dielectric
-
-
-def _geometry(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    return rng.uniform(0, 1.45, n), rng.uniform(0, 1.45, n), rng.uniform(0, np.pi, n)
 
 
 def _dirs(ti, tr, dp):
     return rd.spherical_to_vector(ti, 0.0), rd.spherical_to_vector(tr, dp)
 
 
-def _mitsuba_eval(mi, bsdf, ti, tr, dp) -> np.ndarray:
-    out = []
-    for a, b, c in zip(ti, tr, dp, strict=True):
-        si = mi.SurfaceInteraction3f()
-        si.wi = mi.Vector3f(math.sin(b) * math.cos(c), math.sin(b) * math.sin(c), math.cos(b))
-        v = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(math.sin(a), 0.0, math.cos(a)))
-        out.append(float(v[0]) / math.cos(a))
-    return np.array(out)
-
-
 @pytest.mark.parametrize("eta", [1.2, 1.5, 2.0])
 def test_smooth_coat_over_lambert_is_mitsuba_plastic(eta: float) -> None:
     mi = mitsuba_variant("scalar_rgb")
-    ti, tr, dp = _geometry(20, 1)
+    ti, tr, dp = random_geometries(20, 1)
     bsdf = mi.load_dict({"type": "plastic", "int_ior": eta, "ext_ior": 1.0, "nonlinear": True,
                          "diffuse_reflectance": {"type": "rgb", "value": [0.6] * 3}})
     f = rd.Coated(rd.Lambert(0.6), eta).brdf(*_dirs(ti, tr, dp))
-    np.testing.assert_allclose(f, _mitsuba_eval(mi, bsdf, ti, tr, dp), rtol=3e-3)
+    np.testing.assert_allclose(f, mitsuba_brdf(mi, bsdf, ti, tr, dp), rtol=3e-3)
 
 
 @pytest.mark.parametrize("eta", [1.3, 1.5, 2.5])
@@ -55,7 +40,7 @@ def test_smooth_coat_over_lambert_exact_sum(eta: float) -> None:
     rho = 0.9
     fdr = quad(lambda m: 2 * m * fresnel_dielectric(np, np.array(m), 1 / eta), 0, 1,
                points=[math.sqrt(1 - 1 / eta**2)], limit=200, epsabs=1e-12)[0]
-    ti, tr, dp = _geometry(10, 2)
+    ti, tr, dp = random_geometries(10, 2)
     ref = (1 - fresnel_dielectric(np, np.cos(ti), eta)) * (
         1 - fresnel_dielectric(np, np.cos(tr), eta)) * rho / (math.pi * eta**2 * (1 - rho * fdr))
     np.testing.assert_allclose(rd.Coated(rd.Lambert(rho), eta).brdf(*_dirs(ti, tr, dp)), ref,
@@ -64,24 +49,24 @@ def test_smooth_coat_over_lambert_exact_sum(eta: float) -> None:
 
 def test_eta_one_is_the_base_alone() -> None:
     base = rd.EON(np.array([0.9, 0.5, 0.2]), 0.7)
-    ti, tr, dp = _geometry(10, 3)
+    ti, tr, dp = random_geometries(10, 3)
     np.testing.assert_allclose(rd.Coated(base, 1.0).brdf(*_dirs(ti, tr, dp)),
                                base.brdf(*_dirs(ti, tr, dp)), rtol=1e-12)
 
 
 def test_black_base_is_mitsuba_roughdielectric_reflection() -> None:
     mi = mitsuba_variant("scalar_rgb")
-    ti, tr, dp = _geometry(10, 4)
+    ti, tr, dp = random_geometries(10, 4)
     bsdf = mi.load_dict({"type": "roughdielectric", "distribution": "ggx", "alpha": 0.3,
                          "int_ior": 1.5, "ext_ior": 1.0})
     f = rd.Coated(rd.Lambert(0.0), 1.5, 0.3).brdf(*_dirs(ti, tr, dp))
-    np.testing.assert_allclose(f, _mitsuba_eval(mi, bsdf, ti, tr, dp), rtol=2e-4, atol=1e-6)
+    np.testing.assert_allclose(f, mitsuba_brdf(mi, bsdf, ti, tr, dp), rtol=2e-4, atol=1e-6)
 
 
 def test_base_by_id_and_parameters() -> None:
     a = rd.Coated(base="eon", base_params={"albedo": 0.7, "roughness": 0.4}, eta=1.4)
     b = rd.Coated(rd.EON(0.7, 0.4), 1.4)
-    w = _dirs(*_geometry(5, 5))
+    w = _dirs(*random_geometries(5, 5))
     np.testing.assert_array_equal(a.brdf(*w), b.brdf(*w))
     assert rd.registry.create("coated", albedo=0.5, sigma=0.0).base == rd.OrenNayar(
         0.5, 0.0, "full")
@@ -115,7 +100,7 @@ def test_bad_input_named(kwargs: dict, name: str) -> None:
 def test_fit_recovers_parameters(fit_eta: bool) -> None:
     truth = {"albedo": 0.7, "sigma": 0.35, "eta": 1.6, "roughness": 0.25}
     model = rd.Coated.from_params(**truth)
-    ti, tr, dp = _geometry(300, 6)
+    ti, tr, dp = random_geometries(300, 6)
     f = np.asarray(model.brdf(*_dirs(ti, tr, dp)))
     rng = np.random.default_rng(7)
     data = Measurements.from_angles(ti, tr, dp, f * (1 + 0.01 * rng.standard_normal(f.shape)))

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
-from mitsuba_setup import mitsuba_variant
+from mitsuba_setup import mitsuba_brdf, mitsuba_variant, random_geometries
 from roughdiffuse.models.microfacet import fresnel_dielectric
 from roughdiffuse.simulate import layered
 
@@ -26,33 +26,17 @@ Z_MAX = 4.5
 """|z| bound per value: with 60 values, a 4.5σ excursion of a correct walk has odds < 1e-3."""
 
 
-def _geometries(n: int = 20, seed: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    return rng.uniform(0, 1.45, n), rng.uniform(0, 1.45, n), rng.uniform(0, np.pi, n)
-
-
-def _mitsuba_eval(mi, bsdf, ti, tr, dp) -> np.ndarray:
-    """f = eval / cos θ_light; Mitsuba's si.wi is the viewer, the eval argument the light."""
-    out = []
-    for a, b, c in zip(ti, tr, dp, strict=True):
-        si = mi.SurfaceInteraction3f()
-        si.wi = mi.Vector3f(math.sin(b) * math.cos(c), math.sin(b) * math.sin(c), math.cos(b))
-        v = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(math.sin(a), 0.0, math.cos(a)))
-        out.append(float(v[0]) / math.cos(a))
-    return np.array(out)
-
-
 @pytest.mark.parametrize("eta", [1.2, 1.5, 2.0])
 def test_walk_matches_mitsuba_plastic(eta: float) -> None:
     mi = mitsuba_variant("scalar_rgb")
-    ti, tr, dp = _geometries()
+    ti, tr, dp = random_geometries()
     z_all = []
     for rho, nonlinear in ((0.6, True), (1.0, False)):
         bsdf = mi.load_dict({
             "type": "plastic", "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear,
             "diffuse_reflectance": {"type": "rgb", "value": [rho] * 3},
         })
-        ref = _mitsuba_eval(mi, bsdf, ti, tr, dp)
+        ref = mitsuba_brdf(mi, bsdf, ti, tr, dp)
         f, se = layered.brdf(ti, tr, dp, rd.Lambert(rho), eta=eta, samples=3_000, seed=3,
                              return_stderr=True)
         z_all.append((f - ref) / se)
@@ -63,10 +47,10 @@ def test_walk_matches_mitsuba_plastic(eta: float) -> None:
 
 def test_black_base_is_mitsuba_roughdielectric_reflection() -> None:
     mi = mitsuba_variant("scalar_rgb")
-    ti, tr, dp = _geometries(8, seed=2)
+    ti, tr, dp = random_geometries(8, seed=2)
     bsdf = mi.load_dict({"type": "roughdielectric", "distribution": "ggx", "alpha": 0.3,
                          "int_ior": 1.5, "ext_ior": 1.0})
-    ref = _mitsuba_eval(mi, bsdf, ti, tr, dp)
+    ref = mitsuba_brdf(mi, bsdf, ti, tr, dp)
     f = layered.brdf(ti, tr, dp, rd.Lambert(0.0), eta=1.5, roughness=0.3, samples=100)
     np.testing.assert_allclose(f, ref, rtol=2e-4, atol=1e-6)  # Mitsuba computes in float32
 
@@ -81,7 +65,7 @@ def test_white_furnace_smooth_coat(eta: float) -> None:
 
 def test_eta_one_is_the_base_alone() -> None:
     base = rd.OrenNayar(0.8, 0.4, "full")
-    ti, tr, dp = _geometries(10, seed=4)
+    ti, tr, dp = random_geometries(10, seed=4)
     f = layered.brdf(ti, tr, dp, base, eta=1.0, samples=50)
     wi = np.stack([np.sin(ti), 0 * ti, np.cos(ti)], -1)
     wo = np.stack([np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], -1)
@@ -91,7 +75,7 @@ def test_eta_one_is_the_base_alone() -> None:
 def test_one_bounce_with_absorption_closed_form() -> None:
     """bounces=1 over Lambert: ρ/(π η²) (1 − F_i)(1 − F_o) e^{−τ/μi'} e^{−τ/μo'} per channel."""
     eta, rho, tau = 1.5, 0.7, np.array([0.0, 0.2, 1.0])
-    ti, tr, dp = _geometries(6, seed=5)
+    ti, tr, dp = random_geometries(6, seed=5)
     f = layered.brdf(ti, tr, dp, rd.Lambert(rho), eta=eta, absorption=tau, bounces=1,
                      samples=20)
     mi_, mo_ = (np.sqrt(1 - np.sin(t) ** 2 / eta**2) for t in (ti, tr))
@@ -104,7 +88,7 @@ def test_one_bounce_with_absorption_closed_form() -> None:
 
 def test_reciprocity_rough_coat() -> None:
     base = rd.OrenNayar(0.9, 0.5, "full")
-    ti, tr, dp = _geometries(10, seed=6)
+    ti, tr, dp = random_geometries(10, seed=6)
     kw = dict(eta=1.5, roughness=0.4, samples=4_000, return_stderr=True)
     f1, s1 = layered.brdf(ti, tr, dp, base, seed=1, **kw)
     f2, s2 = layered.brdf(tr, ti, dp, base, seed=2, **kw)
