@@ -18,6 +18,14 @@ Supported: + − × ÷, integer and real powers, comparisons, & | ~, ``where``, 
 ``abs``, ``minimum``, ``maximum`` and the array constructors used on symbols (``asarray``,
 ``zeros_like``, ``ones_like``, ``broadcast_arrays``); a Python ``if`` on a symbol raises
 (kernels are branch-free by the project's rules).
+
+Node axes: a quadrature written as arrays with a trailing node axis (``mu[..., None]`` times a
+concrete 1-D array of nodes, then ``xp.sum(..., axis=-1)``) is traced as a loop, not unrolled:
+a concrete array of n > 1 values that meets a symbol becomes a run-time array argument read at
+the loop index, every operation that depends on it is a per-node symbol, and ``xp.sum`` over
+the node axis prints as ``for j in range(n)`` accumulating them. So the generated code (and
+Numba's compile time) grows with the quadrature's formula, not with its number of nodes. One
+node axis at a time: a per-node symbol meets no array of another length.
 """
 
 from __future__ import annotations
@@ -73,8 +81,10 @@ class Graph:
     """Expression graph of one traced evaluation.
 
     Operand references are tuples: ``("node", k)``, ``("lit", value)`` (a Python number of
-    the formula), ``("par", k)`` (a concrete NumPy value: a run-time argument) and
-    ``("in", name)`` (an input component).
+    the formula), ``("par", k)`` (a concrete NumPy value: a run-time argument), ``("vec",
+    k)`` (a concrete 1-D array of nodes: a run-time array argument read at the loop index) and
+    ``("in", name)`` (an input component). ``loops[k]`` is the number of nodes node ``k``
+    runs over (0: one value per row).
     """
 
     def __init__(self, dtype: np.dtype) -> None:
@@ -85,6 +95,7 @@ class Graph:
         self._param_ids: dict[int, int] = {}
         self._keep: list[Any] = []  # keeps traced NumPy values alive (ids stay unique)
         self.inputs: list[str] = []
+        self.loops: list[int] = []
 
     # -------------------------------------------------------------- operands
     def ref(self, x: Any) -> tuple[Any, ...]:
@@ -97,18 +108,30 @@ class Graph:
         if isinstance(x, int | float) and not isinstance(x, np.generic):
             return ("lit", float(x))
         arr = np.asarray(x)
-        if arr.size != 1:
+        if arr.size != 1 and max(arr.shape) != arr.size:
             raise TraceError(
                 f"a concrete array of shape {arr.shape} meets a traced value: the fast path "
-                "handles scalar parameters (and per-channel albedo, split before tracing)"
+                "handles scalar parameters, per-channel albedo (split before tracing) and one "
+                "node axis (a 1-D array of nodes)"
             )
         k = self._param_ids.get(id(x))
         if k is None:
             k = len(self.params)
             self._param_ids[id(x)] = k
             self._keep.append(x)
-            self.params.append(self.dtype.type(arr.reshape(())))
-        return ("par", k)
+            if arr.size == 1:
+                self.params.append(self.dtype.type(arr.reshape(())))
+            else:
+                self.params.append(np.ascontiguousarray(arr.reshape(-1), dtype=self.dtype))
+        return ("par", k) if arr.size == 1 else ("vec", k)
+
+    def loop_of(self, ref: tuple[Any, ...]) -> int:
+        """The number of nodes ``ref`` runs over (0: none)."""
+        if ref[0] == "vec":
+            return int(self.params[ref[1]].size)
+        if ref[0] == "node":
+            return self.loops[ref[1]]
+        return 0
 
     def input(self, name: str) -> Sym:
         self.inputs.append(name)
@@ -119,8 +142,17 @@ class Graph:
         key = (name, *refs)
         k = self._index.get(key)
         if k is None:
+            lengths = {self.loop_of(r) for r in refs} - {0}
+            if len(lengths) > 1:
+                raise TraceError(f"node axes of lengths {sorted(lengths)} meet in one operation")
+            loop = lengths.pop() if lengths else 0
+            if name == "sum":
+                if not loop:
+                    raise TraceError("xp.sum over a node axis that the traced value does not have")
+                loop = 0
             k = len(self.nodes)
             self.nodes.append(key)
+            self.loops.append(loop)
             self._index[key] = k
         is_bool = name in _BOOL_OPS or (
             name == "where" and all(_is_bool_ref(self, r) for r in refs[1:])
@@ -145,7 +177,7 @@ def _is_bool_ref(g: Graph, ref: tuple[Any, ...]) -> bool:
 
 def _binop(name: str, swap: bool = False):  # noqa: ANN202 - operator factory
     def f(self: Sym, other: Any) -> Any:
-        if isinstance(other, np.ndarray) and other.size != 1:
+        if isinstance(other, np.ndarray) and other.size != 1 and max(other.shape) != other.size:
             return NotImplemented
         return self.graph.op(name, other, self) if swap else self.graph.op(name, self, other)
 
@@ -188,6 +220,8 @@ class Sym:
     def __getitem__(self, key: Any) -> Sym:
         if key is Ellipsis or key == (Ellipsis,) or key == ():
             return self
+        if isinstance(key, tuple) and key[:1] == (Ellipsis,) and all(k is None for k in key[1:]):
+            return self  # x[..., None]: a node axis to broadcast along (the loop's)
         raise TraceError(f"indexing a traced scalar with {key!r} (channel axes are split first)")
 
     __add__ = _binop("add")
@@ -325,10 +359,18 @@ class TraceNamespace:
             return anp.where(cond, a, b)
         if not _traced(cond):
             c = np.asarray(cond)
-            if c.size != 1:
-                raise TraceError("where() with a concrete array condition on traced values")
-            return a if bool(c) else b
+            if c.size == 1:
+                return a if bool(c) else b
         return self.graph.op("where", cond, a, b)
+
+    def sum(self, x: Any, axis: Any = None, dtype: Any = None, keepdims: bool = False) -> Any:
+        """``xp.sum`` of concrete arrays; over the node axis (``axis=-1``) of a per-node
+        symbol, the loop that adds its nodes up."""
+        if not _traced(x):
+            return anp.sum(x, axis=axis, dtype=dtype, keepdims=keepdims)
+        if axis not in (-1, (-1,)) or keepdims:
+            raise TraceError(f"xp.sum(axis={axis!r}) of a traced value: only the node axis, -1")
+        return self.graph.op("sum", x)
 
     def atan2(self, y: Any, x: Any) -> Any:
         if not _traced(y, x):
@@ -587,6 +629,8 @@ def scalar_source(
     """
     live: set[int] = set()
     stack = [graph.ref(o)[1] for o in outputs if graph.ref(o)[0] == "node"]
+    if any(graph.loop_of(graph.ref(o)) for o in outputs):
+        raise TraceError("a result keeps a node axis (add it up with xp.sum(..., axis=-1))")
     while stack:
         k = stack.pop()
         if k in live:
@@ -604,6 +648,8 @@ def scalar_source(
             return f"t{val}"
         if kind == "par":
             return f"p{val}"
+        if kind == "vec":
+            return f"p{val}[j]"
         if kind == "in":
             return str(val)
         if isinstance(val, bool):
@@ -614,10 +660,7 @@ def scalar_source(
             constants.append(f"{lits[key]} = {fcast}({float(val)!r})")
         return lits[key]
 
-    body: list[str] = []
-    for k, node in enumerate(graph.nodes):
-        if k not in live:
-            continue
+    def expression(node: tuple[Any, ...]) -> str:
         op, args = node[0], node[1:]
         a = [name(r) for r in args]
         if op in _BINARY:
@@ -636,10 +679,37 @@ def scalar_source(
             expr = f"{_UNARY_MATH[op]}({a[0]})"
         else:  # pragma: no cover - every recorded op is listed above
             raise TraceError(f"no code for operation {op!r}")
-        body.append(f"t{k} = {expr}")
+        return expr
+
+    body: list[str] = []
+    for k, node in enumerate(graph.nodes):
+        if k not in live or graph.loops[k]:
+            continue  # per-node values are computed in the loop of the sum that needs them
+        if node[0] == "sum":
+            body.extend(_sum_loop(graph, k, expression, name(("lit", 0.0))))
+        else:
+            body.append(f"t{k} = {expression(node)}")
     for j, o in enumerate(outputs):
         body.append(f"r{j} = {name(graph.ref(o))}")
     return constants, body
+
+
+def _sum_loop(graph: Graph, k: int, expression: Any, zero: str) -> list[str]:
+    """The statements of sum node ``k``: a loop over its nodes computing the per-node values
+    it depends on (in graph order) and adding up its operand."""
+    operand = graph.nodes[k][1]
+    inner: set[int] = set()
+    stack = [operand[1]]
+    while stack:
+        m = stack.pop()
+        if m in inner or not graph.loops[m]:
+            continue
+        inner.add(m)
+        stack.extend(r[1] for r in graph.nodes[m][1:] if r[0] == "node")
+    lines = [f"t{k} = {zero}", f"for j in range({graph.loop_of(operand)}):"]
+    lines += [f"    t{m} = {expression(graph.nodes[m])}" for m in sorted(inner)]
+    lines.append(f"    t{k} = t{k} + t{operand[1]}")
+    return lines
 
 
 def _power(base: str, exp_ref: tuple[Any, ...], exp_name: str) -> str:

@@ -16,9 +16,12 @@ Two wrappers carry the values:
   ``ndim == 0`` (a kernel sees one lane) and ``x[..., None]`` returns ``x`` unchanged.
 * :class:`Nodes` is a short trailing axis of constants, e.g. the Gauss–Legendre nodes the
   Gaussian facet distribution integrates over (``xp.asarray(numpy_array)``); operations map
-  over it elementwise and ``xp.sum(..., axis=-1)`` adds it up. ``xp.take(nodes, index)``
-  reads it as a table instead: one entry per lane, chosen by a Dr.Jit integer ``index``
-  (``dr.gather`` from a Dr.Jit array of the constants, built once per :class:`Nodes`).
+  over it elementwise and ``xp.sum(..., axis=-1)`` adds it up. ``x[..., None]`` of a
+  :class:`Nodes` adds an axis of length 1 (Nodes of Nodes), which broadcasts against another
+  node axis as NumPy's trailing axes do (a rule of rules, as ``Coated``'s internal sums).
+  ``xp.take(nodes, index)`` reads it as a table instead: one entry per lane, chosen by a
+  Dr.Jit integer ``index`` (``dr.gather`` from a Dr.Jit array of the constants, built once
+  per :class:`Nodes`).
 
 Wrap every input with :func:`wrap` (Dr.Jit's operators reject foreign types, so a raw Dr.Jit
 value must never meet a wrapper) and take results back with :func:`unwrap`.
@@ -138,16 +141,25 @@ class Nodes:
     def shape(self) -> tuple[int]:
         return (len(self.items),)
 
+    @property
+    def depth(self) -> int:
+        """The number of node axes (1, or more for Nodes of Nodes)."""
+        first = self.items[0] if self.items else None
+        return 1 + (first.depth if isinstance(first, Nodes) else 0)
+
     def __getitem__(self, key: Any) -> Nodes:
+        if isinstance(key, tuple) and key[:1] == (Ellipsis,) and key[1:] == (None,):
+            return _expand(self)
         return self
 
     def _map2(self, other: Any, op: Callable[[Any, Any], Any], swap: bool = False) -> Nodes:
-        if isinstance(other, Nodes):
-            pairs = (
-                zip(other.items, self.items, strict=True)
-                if swap
-                else zip(self.items, other.items, strict=True)
-            )
+        if isinstance(other, Nodes) and other.depth >= self.depth:
+            if other.depth > self.depth:  # self broadcasts against each of other's items
+                return Nodes([_apply(op, b, self) if swap else _apply(op, self, b)
+                              for b in other.items])  # fmt: skip
+            a_items, b_items = _broadcast(self.items, other.items)
+            pairs = zip(b_items, a_items, strict=True) if swap else zip(a_items, b_items,
+                                                                        strict=True)
             return Nodes([_apply(op, a, b) for a, b in pairs])
         if swap:
             return Nodes([_apply(op, other, a) for a in self.items])
@@ -155,6 +167,43 @@ class Nodes:
 
     def _map(self, fn: Callable[[Any], Any]) -> Nodes:
         return Nodes([fn(a) for a in self.items])
+
+
+def _expand(x: Any) -> Nodes:
+    """``x[..., None]``: a trailing axis of length 1."""
+    if isinstance(x, Nodes):
+        return Nodes([_expand(v) for v in x.items])
+    return Nodes([x])
+
+
+def _broadcast(a: list[Any], b: list[Any]) -> tuple[list[Any], list[Any]]:
+    """Two node axes of one depth, an axis of length 1 repeated to the other's length."""
+    if len(a) == 1 and len(b) != 1:
+        a = a * len(b)
+    elif len(b) == 1 and len(a) != 1:
+        b = b * len(a)
+    if len(a) != len(b):
+        raise ParameterError(f"node axes of lengths {len(a)} and {len(b)} do not broadcast")
+    return a, b
+
+
+def _items(x: Any, depth: int, n: int) -> list[Any]:
+    """The ``n`` items of ``x`` along the outer of ``depth`` node axes (``x`` whole if it has
+    fewer axes; an axis of length 1 repeated)."""
+    if isinstance(x, Nodes) and x.depth == depth:
+        return _broadcast(x.items, [None] * n)[0]
+    return [x] * n
+
+
+def _elementwise(fn: Callable[..., Any], *xs: Any) -> Any:
+    """``fn`` over the node axes of ``xs`` (broadcast as NumPy does), or ``fn(*xs)``."""
+    nodes = [x for x in xs if isinstance(x, Nodes)]
+    if not nodes:
+        return fn(*xs)
+    depth = max(x.depth for x in nodes)
+    n = max(len(x.items) for x in nodes if x.depth == depth)
+    columns = [_items(x, depth, n) for x in xs]
+    return Nodes([_elementwise(fn, *row) for row in zip(*columns, strict=True)])
 
 
 def _apply(op: Callable[[Any, Any], Any], a: Any, b: Any) -> Any:
@@ -184,7 +233,13 @@ for _name, _op in [
 for _name, _op in [("lt", operator.lt), ("le", operator.le), ("gt", operator.gt)]:
     setattr(Nodes, f"__{_name}__", _nodes_binary(_op))
 Nodes.__ge__ = _nodes_binary(operator.ge)  # type: ignore[method-assign]
+Nodes.__eq__ = _nodes_binary(operator.eq)  # type: ignore[method-assign,assignment]
+Nodes.__ne__ = _nodes_binary(operator.ne)  # type: ignore[method-assign,assignment]
+for _name, _op in [("and", operator.and_), ("or", operator.or_)]:
+    setattr(Nodes, f"__{_name}__", _nodes_binary(_op))
+    setattr(Nodes, f"__r{_name}__", _nodes_binary(_op, True))
 Nodes.__neg__ = lambda self: self._map(operator.neg)  # type: ignore[attr-defined]
+Nodes.__invert__ = lambda self: self._map(operator.invert)  # type: ignore[attr-defined]
 
 
 def wrap(x: Any) -> DrArray:
@@ -268,28 +323,20 @@ class _DrJitNamespace:
 
     @staticmethod
     def atan2(y: Any, x: Any) -> Any:
-        if isinstance(y, Nodes) or isinstance(x, Nodes):
-            ny = y if isinstance(y, Nodes) else Nodes([y] * len(x.items))
-            nx = x if isinstance(x, Nodes) else Nodes([x] * len(ny.items))
-            return Nodes(
-                [_DrJitNamespace.atan2(a, b) for a, b in zip(ny.items, nx.items, strict=True)]
-            )
-        return DrArray(dr.atan2(_raw(y), _raw(x)))
+        return _elementwise(lambda b, a: DrArray(dr.atan2(_raw(b), _raw(a))), y, x)
 
     @staticmethod
     def where(cond: Any, a: Any, b: Any) -> Any:
-        if any(isinstance(t, Nodes) for t in (cond, a, b)):
-            n = next(len(t.items) for t in (cond, a, b) if isinstance(t, Nodes))
-            cs, as_, bs = (t.items if isinstance(t, Nodes) else [t] * n for t in (cond, a, b))
-            return Nodes(
-                [_DrJitNamespace.where(c, x, y) for c, x, y in zip(cs, as_, bs, strict=True)]
-            )
-        return DrArray(dr.select(_raw(cond), _raw(a), _raw(b)))
+        return _elementwise(lambda c, u, v: DrArray(dr.select(_raw(c), _raw(u), _raw(v))),
+                            cond, a, b)  # fmt: skip
 
     @staticmethod
     def sum(x: Any, axis: int = -1) -> Any:
+        """The sum over node axis ``axis`` (-1: the innermost, -2: the one outside it)."""
         if not isinstance(x, Nodes):
             return x
+        if x.depth + axis > 0:  # an inner axis: the sum of each item
+            return Nodes([_DrJitNamespace.sum(v, axis) for v in x.items])
         total = x.items[0]
         for item in x.items[1:]:
             total = total + item

@@ -29,13 +29,16 @@ OpenPBR's coat, Autodesk Standard Surface and Mitsuba 3's ``plastic``/``roughpla
   Weidlich and Wilkie's layering: how far this is from the truth is measured against the
   position-free walk (:mod:`roughdiffuse.simulate.layered`) on the accuracy page.
 * τ: the optical depth of the layer (thickness × absorption coefficient), Beer–Lambert along
-  each crossing.
+  each crossing; one number, or one per colour channel (then K and ā K are per channel too).
 
 The base's directional albedo a(μ) is a fixed 32-point rule over the hemisphere (4 nodes in
 μ², 2 × 4 in azimuth split at π/2) of the base's own formula, so every namespace (NumPy,
-JAX, the compiled fast path, Dr.Jit in Mitsuba) evaluates the same expression; K and ā use 8
-Gauss–Legendre nodes on each side of the critical angle (in √(μ − μc) above it, where
-the Fresnel factor has a square-root edge): 1e-7 of K for η in [1.1, 3].
+JAX, PyTorch, the compiled fast path, Dr.Jit in Mitsuba) evaluates the same expression; K and
+ā use 8 Gauss–Legendre nodes on each side of the critical angle (in √(μ − μc) above it, where
+the Fresnel factor has a square-root edge): 1e-7 of K for η in [1.1, 3]. Each rule is one
+trailing node axis of the arrays, added up by ``xp.sum``: the compiled fast path turns it
+into a loop (:mod:`roughdiffuse.engine.trace`), so the traced code does not grow with the
+number of nodes.
 """
 
 from __future__ import annotations
@@ -102,15 +105,39 @@ def coat_reflection(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array
     return xp.where(alpha > 0, val, 0.0 * val)
 
 
+def _rule(*factors: tuple[np.ndarray, np.ndarray]) -> tuple[list[np.ndarray], np.ndarray]:
+    """The product of 1-D rules (nodes, weights) flattened onto one node axis: the nodes of
+    each factor repeated to the product's length, and the product of the weights."""
+    grids = np.meshgrid(*(n for n, _ in factors), indexing="ij")
+    weights = np.prod(np.meshgrid(*(w for _, w in factors), indexing="ij"), axis=0)
+    return [g.reshape(-1) for g in grids], weights.reshape(-1)
+
+
+# the azimuth on [0, π]: 4 Gauss–Legendre nodes on each side of π/2, weights summing to π
+_HALF_PHI = (
+    np.concatenate([0.5 * math.pi * _PHI_NODES, 0.5 * math.pi * (1.0 + _PHI_NODES)]),
+    np.concatenate([_PHI_WEIGHTS, _PHI_WEIGHTS]) * 0.5 * math.pi,
+)
 _U_NODES, _U_WEIGHTS = gauss_legendre(6)
+(_IF_U, _IF_PHI), _IF_W = _rule((_U_NODES, _U_WEIGHTS), _HALF_PHI)
+_IF_COS_PHI = np.cos(_IF_PHI)
+_IF_W = _IF_W / math.pi  # the azimuth's mean over [0, π]
+# tan²θh / α² at which the fraction u of the projected facet area D cos θh dωh lies below θh
+# (GGX: u / (1 − u); Beckmann: −ln(1 − u))
+_IF_TAN2 = {"ggx": _IF_U / (1.0 - _IF_U), "beckmann": -np.log1p(-_IF_U)}
+(_BA_S, _BA_PHI), _BA_W = _rule((_S_NODES, _S_WEIGHTS), _HALF_PHI)
+_BA_MU = np.sqrt(_BA_S)
+_BA_SIN_COS = np.sqrt(1.0 - _BA_S) * np.cos(_BA_PHI)
+# 8 nodes in [0, μc] (x = t) and 8 in [μc, 1] (x = t², the square-root edge above μc)
+_KS_UPPER = np.repeat([0.0, 1.0], _MU_NODES.size)
+_KS_X = np.concatenate([_MU_NODES, _MU_NODES**2])
+_KS_JAC = np.concatenate([_MU_WEIGHTS, 2.0 * _MU_NODES * _MU_WEIGHTS])
 
 
-def _slope_tan2(xp: Any, u: float, alpha: Array, distribution: str) -> Array:
-    """tan²θh at which the fraction u of the projected facet area D cos θh dωh lies below θh
-    (GGX: α² u / (1 − u); Beckmann: −α² ln(1 − u))."""
-    if distribution == "ggx":
-        return alpha * alpha * (u / (1.0 - u))
-    return alpha * alpha * (-math.log1p(-u))
+def _node_axis(xp: Any, x: Any) -> Any:
+    """``x`` with a trailing axis of length 1, to broadcast against a rule's nodes (a Python
+    number as it is)."""
+    return x[..., None] if hasattr(x, "shape") else x
 
 
 def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str,
@@ -123,37 +150,34 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     21, separable Smith masking): with facets m drawn from the visible normals of ω,
     E = E_m[F(ω·m, η) G1(ω_r)] and T = E_m[(1 − F(ω·m, η)) G1(ω_t)], ω_r, ω_t the reflected
     and refracted directions (a reflection below the horizon counts as lost). The visible
-    normals are reached from D cos θh dωh, 6 nodes in its fraction u (:func:`_slope_tan2`) and
-    2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh). α = 0 gives F(μ, η) and 1 − F(μ, η)
-    exactly (the smooth interface)."""
+    normals are reached from D cos θh dωh, 6 nodes in its fraction u (``_IF_TAN2``) and
+    2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh), the 48 nodes on one trailing axis
+    that ``xp.sum`` adds up. α = 0 gives F(μ, η) and 1 − F(μ, η) exactly (the smooth
+    interface)."""
+    g_o = 1.0 / (1.0 + _smith_lambda(xp, mu, alpha, distribution))
+    mu, eta, alpha = _node_axis(xp, mu), _node_axis(xp, eta), _node_axis(xp, alpha)
+    dtype = getattr(mu, "dtype", None)
     sin = safe_sqrt(xp, 1.0 - mu * mu)
     mu_s = maximum(xp, mu, 1e-7)
-    g_o = 1.0 / (1.0 + _smith_lambda(xp, mu, alpha, distribution))
-    total = None
-    for u, wu in zip(_U_NODES, _U_WEIGHTS, strict=True):
-        tan2 = _slope_tan2(xp, float(u), alpha, distribution)
-        cos_h = 1.0 / xp.sqrt(1.0 + tan2)
-        sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
-        for half in (0.0, 0.5 * math.pi):
-            for t, wt in zip(_PHI_NODES, _PHI_WEIGHTS, strict=True):
-                phi = half + 0.5 * math.pi * float(t)
-                dot = mu * cos_h + sin * sin_h * math.cos(phi)
-                c = clip(xp, dot, 0.0, 1.0)
-                f = fresnel_dielectric(xp, c, eta)
-                if transmitted:
-                    k = 1.0 - (1.0 - c * c) / (eta * eta)
-                    t_z = -mu / eta + (c / eta - safe_sqrt(xp, k)) * cos_h
-                    g = 1.0 / (1.0 + _smith_lambda(xp, -t_z, alpha, distribution))
-                    val = (1.0 - f) * g
-                    ok = (k > 0) & (t_z < 0) & (dot > 0)
-                else:
-                    mu_r = 2.0 * dot * cos_h - mu
-                    val = f / (1.0 + _smith_lambda(xp, mu_r, alpha, distribution))
-                    ok = (mu_r > 0) & (dot > 0)
-                val = val * dot / (mu_s * cos_h)
-                term = xp.where(ok, val, 0.0 * val) * (float(wu) * float(wt) * 0.5)
-                total = term if total is None else total + term
-    return total * g_o
+    tan2 = alpha * alpha * asarray(xp, _IF_TAN2[distribution], dtype)
+    cos_h = 1.0 / xp.sqrt(1.0 + tan2)
+    sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
+    dot = mu * cos_h + sin * sin_h * asarray(xp, _IF_COS_PHI, dtype)
+    c = clip(xp, dot, 0.0, 1.0)
+    f = fresnel_dielectric(xp, c, eta)
+    if transmitted:
+        k = 1.0 - (1.0 - c * c) / (eta * eta)
+        t_z = -mu / eta + (c / eta - safe_sqrt(xp, k)) * cos_h
+        g = 1.0 / (1.0 + _smith_lambda(xp, -t_z, alpha, distribution))
+        val = (1.0 - f) * g
+        ok = (k > 0) & (t_z < 0) & (dot > 0)
+    else:
+        mu_r = 2.0 * dot * cos_h - mu
+        val = f / (1.0 + _smith_lambda(xp, mu_r, alpha, distribution))
+        ok = (mu_r > 0) & (dot > 0)
+    val = val * dot / (mu_s * cos_h)
+    term = xp.where(ok, val, 0.0 * val) * asarray(xp, _IF_W, dtype)
+    return xp.sum(term, axis=-1) * g_o
 
 
 def _refracted(xp: Any, mu: Array, eta: Array) -> Array:
@@ -164,46 +188,42 @@ def _refracted(xp: Any, mu: Array, eta: Array) -> Array:
 def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
     """The base's directional albedo at cosine μ, ∫ f cos dω by a 32-point rule: μ'² by
     4 Gauss–Legendre nodes, the azimuth by 4 on each side of π/2 (the Oren–Nayar kink),
-    with the symmetry φ → −φ. Exact for Lambert."""
+    with the symmetry φ → −φ; the nodes on one trailing axis that ``xp.sum`` adds up (before
+    the base's channel axis, if it has one). Exact for Lambert."""
+    mu = _node_axis(xp, mu)
     sin = safe_sqrt(xp, 1.0 - mu * mu)
-    total = None
-    for s, ws in zip(_S_NODES, _S_WEIGHTS, strict=True):
-        m2 = math.sqrt(float(s))
-        s2 = math.sqrt(1.0 - float(s))
-        for half in (0.0, 0.5 * math.pi):
-            for t, wt in zip(_PHI_NODES, _PHI_WEIGHTS, strict=True):
-                phi = half + 0.5 * math.pi * float(t)
-                c = mu * m2 + sin * (s2 * math.cos(phi))
-                f = base._eval(xp, mu, mu * 0.0 + m2, c, dtype)
-                term = f * (float(ws) * float(wt) * 0.5 * math.pi)
-                total = term if total is None else total + term
-    return total
+    m2 = asarray(xp, _BA_MU, dtype)
+    c = mu * m2 + sin * asarray(xp, _BA_SIN_COS, dtype)
+    f = base._eval(xp, mu + 0.0 * m2, m2 + 0.0 * mu, c, dtype)
+    w = asarray(xp, _BA_W, dtype)
+    if base.channels:
+        return xp.sum(f * w[..., None], axis=-2)
+    return xp.sum(f * w, axis=-1)
 
 
 def _internal_sums(xp: Any, base: Model, eta: Array, tau: Array, alpha: Array,
-                   distribution: str, dtype: Any):
+                   distribution: str, dtype: Any, channels: bool = False):
     """K = ∫ R(μ) e^{−2τ/μ} 2μ dμ and ā K = ∫ a(μ) R(μ) e^{−2τ/μ} 2μ dμ, R the coat's
     reflectance from inside (:func:`interface_albedo` with 1/η; F(μ, 1/η) when smooth),
     split at the critical cosine μc = √(1 − 1/η²) (R = 1 below it when smooth; μc = 0 for
-    η ≤ 1)."""
-    mu_c = safe_sqrt(xp, 1.0 - 1.0 / (eta * eta))
-    k = None
-    ak = None
-    for lo_is_zero in (True, False):
-        lo = 0.0 * mu_c if lo_is_zero else mu_c
-        hi = mu_c if lo_is_zero else 1.0 + 0.0 * mu_c
-        for t, w in zip(_MU_NODES, _MU_WEIGHTS, strict=True):
-            # above μc, μ = μc + (1 − μc) t²: F(μ, 1/η) − 1 grows as √(μ − μc) there
-            x = float(t) if lo_is_zero else float(t) ** 2
-            jac = float(w) if lo_is_zero else 2.0 * float(t) * float(w)
-            mu = lo + (hi - lo) * x
-            r = interface_albedo(xp, mu, 1.0 / eta, alpha, distribution)
-            att = xp.exp(-2.0 * tau / maximum(xp, mu, 1e-12))
-            term = (hi - lo) * jac * r * att * 2.0 * mu
-            a = base_albedo(xp, base, mu, dtype)
-            k = term if k is None else k + term
-            ak = term * a if ak is None else ak + term * a
-    return k, ak
+    η ≤ 1): 8 nodes on each side, on one trailing axis (in √(μ − μc) above μc, where
+    F(μ, 1/η) − 1 has a square-root edge). With ``channels``, both are per channel (a
+    trailing axis after the nodes): τ, the base's albedo, or both carry one."""
+    mu_c = _node_axis(xp, safe_sqrt(xp, 1.0 - 1.0 / (eta * eta)))
+    upper = asarray(xp, _KS_UPPER, dtype)
+    lo = mu_c * upper
+    width = mu_c + (1.0 - 2.0 * mu_c) * upper  # μc below it, 1 − μc above
+    mu = lo + width * asarray(xp, _KS_X, dtype)
+    r = interface_albedo(xp, mu, 1.0 / _node_axis(xp, eta), _node_axis(xp, alpha), distribution)
+    term = width * asarray(xp, _KS_JAC, dtype) * r * 2.0 * mu
+    a = base_albedo(xp, base, mu, dtype)
+    if channels:
+        term, mu = term[..., None], mu[..., None]
+        a = a if base.channels else a[..., None]
+        term = term * xp.exp(-2.0 * tau / maximum(xp, mu, 1e-12))
+        return xp.sum(term, axis=-2), xp.sum(term * a, axis=-2)
+    term = term * xp.exp(-2.0 * _node_axis(xp, tau) / maximum(xp, mu, 1e-12))
+    return xp.sum(term, axis=-1), xp.sum(term * a, axis=-1)
 
 
 def _coat_sample(xp: Any, u1, u2, wox, woy, woz, p: dict, distribution: str):
@@ -285,9 +305,10 @@ class Coated(Model):
         does not hold).
     distribution : {"ggx", "beckmann"}
         The rough coat's facet distribution.
-    absorption : float
+    absorption : float or array (C,)
         Optical depth τ ≥ 0 of the layer at normal incidence (thickness × absorption
-        coefficient).
+        coefficient), one number or one per colour channel (as many as the base has, if it
+        has channels): a tinted coat over a grey base gives a coloured BRDF.
     base_params : dict, optional
         Parameters of the base when it is given by id.
 
@@ -313,7 +334,7 @@ class Coated(Model):
 
     is_coat: ClassVar[bool] = True
     array_fields: ClassVar[tuple[str, ...]] = ("base", "eta", "roughness", "absorption")
-    channel_fields: ClassVar[tuple[str, ...]] = ()
+    channel_fields: ClassVar[tuple[str, ...]] = ("absorption",)
     # The registry's "coated": a coat over Oren–Nayar (full) with albedo ρ and σ (σ = 0 is
     # Lambert); these are its parameters (see from_params).
     params: ClassVar[tuple[Param, ...]] = (
@@ -329,7 +350,7 @@ class Coated(Model):
         Param("distribution", "facet distribution of the rough coat",
               choices=COAT_DISTRIBUTIONS, default="ggx"),
         Param("absorption", "τ, optical depth of the coat (thickness × absorption)",
-              min=0.0, max=50.0, default=0.0),
+              min=0.0, max=50.0, default=0.0, channels=True),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"coated": {}}
     labels: ClassVar[dict[str, str]] = {"coated": "Coated: dielectric coat over Oren–Nayar"}
@@ -358,10 +379,10 @@ class Coated(Model):
         {math}`\tau` the layer's optical depth. The exact truth is
         {mod}`roughdiffuse.simulate.layered`.
         """
-    traceable: ClassVar[bool] = False
-    """Not traced by jax.jit or the fast path (NumPy and Dr.Jit evaluate it): the fixed node
-    rules unroll into tens of thousands of operations, which XLA and Numba take minutes and
-    gigabytes to compile. Vectorising the rules over an array axis would lift this."""
+    traceable: ClassVar[bool] = True
+    """Traced by jax.jit and compiled by the fast path: the node rules are arrays with a
+    trailing node axis that ``xp.sum`` adds up (a loop in the compiled kernel), not unrolled
+    Python loops."""
     order: ClassVar[int] = 175
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "coated": (
@@ -401,6 +422,12 @@ class Coated(Model):
         object.__setattr__(self, "base", check_base(base))
         object.__setattr__(self, "base_params", None)
         super().__post_init__()
+        tau_channels = Model.channels.fget(self)  # type: ignore[attr-defined]
+        if tau_channels and base.channels and tau_channels != base.channels:
+            raise ParameterError(
+                f"absorption has {tau_channels} channels, the base {base.channels}: give one "
+                "number or one per channel of the base"
+            )
 
     # ------------------------------------------------------------------ parameters
     def _param_values(self) -> list[Any]:
@@ -416,12 +443,16 @@ class Coated(Model):
 
     @property
     def channels(self) -> int:
-        return self.base.channels
+        """The base's channels, or the absorption's (one per channel) over a grey base."""
+        return self.base.channels or Model.channels.fget(self)  # type: ignore[attr-defined]
 
     def channel(self, c: int) -> Coated:
-        """This coat over the base's channel ``c``."""
-        return Coated(self.base.channel(c), self.eta, self.roughness, self.distribution,
-                      self.absorption)
+        """This coat (its absorption of channel ``c``) over the base's channel ``c``."""
+        tau = self.absorption
+        if getattr(tau, "ndim", 0) == 1:
+            tau = tau[c]
+        base = self.base.channel(c) if self.base.channels else self.base
+        return Coated(base, self.eta, self.roughness, self.distribution, tau)
 
     @property
     def lobes(self) -> frozenset[str]:
@@ -449,18 +480,22 @@ class Coated(Model):
         dist = self.distribution
         trans = interface_albedo(xp, mi, eta, alpha, dist, transmitted=True) * interface_albedo(
             xp, mo, eta, alpha, dist, transmitted=True)
-        att_i = xp.exp(-tau / maximum(xp, ri, 1e-12))
-        att_o = xp.exp(-tau / maximum(xp, ro, 1e-12))
         single = self.base._eval(xp, ri, ro, cos_in, dtype)
-        k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype)
+        chan = self.channels > 0
+        k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype, chan)
         a_i = base_albedo(xp, self.base, ri, dtype)
         a_o = base_albedo(xp, self.base, ro, dtype)
-        weight = trans * inv_eta2 * att_i * att_o
+        weight = trans * inv_eta2
         spec = coat_reflection(xp, mi, mo, c, eta, alpha, self.distribution)
-        if self.channels:
+        if chan:
             weight, spec, above = weight[..., None], spec[..., None], above[..., None]
+            ri, ro = ri[..., None], ro[..., None]
+            if not self.base.channels:  # channels from the absorption alone
+                single, a_i, a_o = single[..., None], a_i[..., None], a_o[..., None]
+        att_i = xp.exp(-tau / maximum(xp, ri, 1e-12))
+        att_o = xp.exp(-tau / maximum(xp, ro, 1e-12))
         multi = a_i * a_o * safe_div(xp, k, 1.0 - ak) * _INV_PI
-        val = spec + weight * (single + multi)
+        val = spec + weight * att_i * att_o * (single + multi)
         return xp.where(above, val, xp.zeros_like(val))
 
     def directional_albedo(self, wo: Array) -> Array:
@@ -473,8 +508,7 @@ class Coated(Model):
         total = Model.directional_albedo(self, wo)
         if float(np.max(np.asarray(self.roughness))) == 0.0:
             return total
-        black = Coated(Lambert(0.0), self.eta, self.roughness, self.distribution,
-                       self.absorption)
+        black = Coated(Lambert(0.0), self.eta, self.roughness, self.distribution)
         correction = _coat_albedo(self, wo) - np.asarray(Model.directional_albedo(black, wo))
         if self.channels:
             correction = correction[..., None]
