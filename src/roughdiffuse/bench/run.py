@@ -98,6 +98,13 @@ def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
     return "rd_torrance_sparrow", (float(model.eta), s, norm)
 
 
+def _c_coated(model: Any) -> tuple[str, tuple[float, ...]]:
+    """The registry's ``coated`` (a coat over the full Oren–Nayar model)."""
+    base = model.base
+    args = (base.albedo, base.sigma, model.eta, model.roughness, model.absorption)
+    return f"rd_coated_{model.distribution}", tuple(float(a) for a in args)
+
+
 def _c_args(*names: str) -> Callable[[Any], tuple[float, ...]]:
     return lambda m: tuple(float(getattr(m, n)) for n in names)
 
@@ -117,6 +124,7 @@ C_KERNELS: dict[str, Callable[[Any], tuple[str, tuple[float, ...]]]] = {
     "minnaert": lambda m: ("rd_minnaert", _c_args("albedo", "k")(m)),
     "lambert-sphere": lambda m: (f"rd_lambert_sphere_{m.variant}", _c_args("albedo")(m)),
     "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "g", "theta_bar")(m)),
+    "coated": _c_coated,
 }
 """Registry id -> (C function of ``kernels.c``, its arguments) for a model instance: the C
 references are this benchmark's business, not the models'."""

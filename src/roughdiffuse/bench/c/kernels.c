@@ -23,6 +23,25 @@
 #define TAN_FLOOR 1e-6
 #define COS_FLOOR 1e-6
 
+/* Gauss-Legendre nodes and weights on [0, 1] (roughdiffuse.quadrature.gauss_legendre) */
+static const double GL4_T[4] = {0.06943184420297371, 0.33000947820757187, 0.6699905217924281,
+                                0.9305681557970262};
+static const double GL4_W[4] = {0.17392742256872679, 0.3260725774312732, 0.3260725774312732,
+                                0.17392742256872679};
+static const double GL6_T[6] = {0.03376524289842403, 0.16939530676686776, 0.38069040695840156,
+                                0.6193095930415985, 0.8306046932331322, 0.9662347571015759};
+static const double GL6_W[6] = {0.08566224618958514, 0.18038078652406936, 0.23395696728634552,
+                                0.23395696728634552, 0.18038078652406936, 0.08566224618958514};
+static const double GL8_T[8] = {0.019855071751231912, 0.10166676129318664, 0.2372337950418355,
+                                0.4082826787521751, 0.5917173212478248, 0.7627662049581645,
+                                0.8983332387068134, 0.9801449282487681};
+static const double GL8_W[8] = {0.05061426814518853, 0.11119051722668721, 0.15685332293894344,
+                                0.18134189168918083, 0.18134189168918083, 0.15685332293894344,
+                                0.11119051722668721, 0.05061426814518853};
+#define COAT_IF 48 /* interface rule: 6 nodes in the facet-area fraction u x 2 x 4 in azimuth */
+#define COAT_BA 32 /* base albedo rule: 4 nodes in mu^2 x 2 x 4 in azimuth */
+#define ALPHA_FLOOR_BECKMANN (1.4142135623730951 * 1e-4)
+
 #define RD_REAL float
 #define RD_F(name) name##_f32
 #include __FILE__
@@ -109,6 +128,38 @@ MODEL(minnaert, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(lambert_sphere_fast, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(lambert_sphere_full, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
+
+/* A dielectric coat over the full Oren-Nayar base (src/roughdiffuse/models/coated.py, the
+ * registry's "coated"): the parameter-only quantities (the coat's internal sums K and a K, the
+ * rules' facet nodes) once per call, as the fast path computes them once per trace; then the
+ * per-row formula with the same node rules. p0..p4 = albedo, sigma, eta, alpha, tau. */
+#define COATED(dist, BECK)                                                               \
+    void rd_coated_##dist(ARGS, P5(float)) {                                             \
+        coat_f32 s;                                                                      \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        LOOP {                                                                           \
+            GEOMETRY                                                                     \
+            STORE(coated_f32(&s, mi, mo, cio))                                           \
+        }                                                                                \
+    }                                                                                    \
+    void rd_coated_##dist##_brdf_f32(BARGS(float), P5(float)) {                          \
+        coat_f32 s;                                                                      \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        LOOP {                                                                           \
+            BRDF_GEOMETRY(float, _f32)                                                   \
+            out[i] = above ? coated_f32(&s, mi, mo, cio) : 0.0f;                         \
+        }                                                                                \
+    }                                                                                    \
+    void rd_coated_##dist##_brdf_f64(BARGS(double), P5(double)) {                        \
+        coat_f64 s;                                                                      \
+        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        LOOP {                                                                           \
+            BRDF_GEOMETRY(double, _f64)                                                  \
+            out[i] = above ? coated_f64(&s, mi, mo, cio) : 0.0;                          \
+        }                                                                                \
+    }
+COATED(ggx, 0)
+COATED(beckmann, 1)
 
 #else /* ------------------------------------------ the formulas, for RD_REAL = float, double */
 #define real RD_REAL
@@ -336,6 +387,144 @@ static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real
     return w / C(4) * mu0e / fmax(mu0e + mue, C(1e-12)) * (lobe + RD_F(hapke_h)(mu0e, gamma) * RD_F(hapke_h)(mue, gamma)) * s_over / PI;
 }
 
+
+/* ---- Coated (src/roughdiffuse/models/coated.py and microfacet.py) ---- */
+static inline real RD_F(fresnel)(real c, real eta) {
+    real g2 = eta * eta - C(1) + c * c, g = sqrt(fmax(g2, C(0)));
+    real a = (g + c) != C(0) ? (g - c) / (g + c) : C(1);
+    real bden = c * (g - c) + C(1);
+    real b = bden != C(0) ? (c * (g + c) - C(1)) / bden : C(1);
+    return g2 > C(0) ? C(0.5) * a * a * (C(1) + b * b) : C(1);
+}
+
+static inline real RD_F(smith_lambda)(real mu, real alpha, int beck) {
+    mu = fmax(mu, C(1e-7));
+    real tan2 = (C(1) - mu * mu) / (mu * mu);
+    if (!beck)
+        return C(0.5) * (sqrt(C(1) + alpha * alpha * tan2) - C(1));
+    real den = alpha * sqrt(fmax(tan2, C(0)));
+    real a = den != C(0) ? C(1) / den : C(1e7);
+    real fit = (C(1) - C(1.259) * a + C(0.396) * a * a) / (C(3.535) * a + C(2.181) * a * a);
+    return a < C(1.6) ? fit : C(0);
+}
+
+static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
+    if (!beck) {
+        real a2 = fmax(alpha * alpha, C(1e-14)), den = cos_h * cos_h * (a2 - C(1)) + C(1);
+        return cos_h > C(0) ? a2 / (PI * den * den) : C(0);
+    }
+    real s = fmax(alpha, C(ALPHA_FLOOR_BECKMANN)), a2 = s * s;
+    real sin_h = sqrt(fmax(C(1) - cos_h * cos_h, C(0)));
+    real c = fmax(cos_h, C(COS_FLOOR)), tan2 = sin_h * sin_h / (c * c);
+    real d = exp(-tan2 / a2) / (PI * a2 * c * c * c * c);
+    return (cos_h > C(COS_FLOOR) && alpha > C(0)) ? d : C(0);
+}
+
+/* the parameter-only quantities of one call */
+typedef struct {
+    real albedo, sigma, eta, alpha, tau, k, ak;
+    int beck;
+    real cos_h[COAT_IF], sin_h[COAT_IF], cos_phi[COAT_IF], w_if[COAT_IF];
+    real m2[COAT_BA], sin_cos[COAT_BA], w_ba[COAT_BA];
+} RD_F(coat);
+
+/* the interface's reflectance (or transmittance) from a direction of cosine mu, relative
+ * index eta: coated.py interface_albedo */
+static inline real RD_F(coat_interface)(const RD_F(coat) *s, real mu, real eta, int transmitted) {
+    real sin = sqrt(fmax(C(1) - mu * mu, C(0))), mu_s = fmax(mu, C(1e-7)), total = C(0);
+    for (int j = 0; j < COAT_IF; ++j) {
+        real cos_h = s->cos_h[j];
+        real dot = mu * cos_h + sin * s->sin_h[j] * s->cos_phi[j];
+        real c = RD_F(clamp)(dot, C(0), C(1)), f = RD_F(fresnel)(c, eta), val;
+        int ok;
+        if (transmitted) {
+            real k = C(1) - (C(1) - c * c) / (eta * eta);
+            real t_z = -mu / eta + (c / eta - sqrt(fmax(k, C(0)))) * cos_h;
+            val = (C(1) - f) / (C(1) + RD_F(smith_lambda)(-t_z, s->alpha, s->beck));
+            ok = (k > C(0)) & (t_z < C(0)) & (dot > C(0));
+        } else {
+            real mu_r = C(2) * dot * cos_h - mu;
+            val = f / (C(1) + RD_F(smith_lambda)(mu_r, s->alpha, s->beck));
+            ok = (mu_r > C(0)) & (dot > C(0));
+        }
+        val = val * dot / (mu_s * cos_h);
+        total += ok ? val * s->w_if[j] : C(0);
+    }
+    return total / (C(1) + RD_F(smith_lambda)(mu, s->alpha, s->beck));
+}
+
+/* the base's directional albedo at cosine mu: coated.py base_albedo */
+static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
+    real sin = sqrt(fmax(C(1) - mu * mu, C(0))), total = C(0);
+    for (int j = 0; j < COAT_BA; ++j) {
+        real c = RD_F(clamp)(mu * s->m2[j] + sin * s->sin_cos[j], C(-1), C(1));
+        total += RD_F(oren_nayar_full)(mu, s->m2[j], c, s->albedo, s->sigma) * s->w_ba[j];
+    }
+    return total;
+}
+
+static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
+                             real tau, int beck) {
+    s->albedo = albedo, s->sigma = sigma, s->eta = eta, s->alpha = alpha, s->tau = tau;
+    s->beck = beck;
+    for (int iu = 0; iu < 6; ++iu)
+        for (int h = 0; h < 2; ++h)
+            for (int it = 0; it < 4; ++it) {
+                int j = 8 * iu + 4 * h + it;
+                double u = GL6_T[iu], phi = 0.5 * M_PI * (h + GL4_T[it]);
+                double tan2 = alpha * alpha * (beck ? -log1p(-u) : u / (1.0 - u));
+                s->cos_h[j] = (real)(1.0 / sqrt(1.0 + tan2));
+                s->sin_h[j] = sqrt(fmax(C(1) - s->cos_h[j] * s->cos_h[j], C(0)));
+                s->cos_phi[j] = (real)cos(phi);
+                s->w_if[j] = (real)(GL6_W[iu] * GL4_W[it] * 0.5);
+            }
+    for (int is = 0; is < 4; ++is)
+        for (int h = 0; h < 2; ++h)
+            for (int it = 0; it < 4; ++it) {
+                int j = 8 * is + 4 * h + it;
+                double phi = 0.5 * M_PI * (h + GL4_T[it]);
+                s->m2[j] = (real)sqrt(GL4_T[is]);
+                s->sin_cos[j] = (real)(sqrt(1.0 - GL4_T[is]) * cos(phi));
+                s->w_ba[j] = (real)(GL4_W[is] * GL4_W[it] * 0.5 * M_PI);
+            }
+    /* K and a K: 8 nodes on each side of the critical cosine (in its square root above it) */
+    real mu_c = sqrt(fmax(C(1) - C(1) / (eta * eta), C(0))), k = C(0), ak = C(0);
+    for (int i = 0; i < 16; ++i) {
+        int upper = i >= 8;
+        real t = (real)GL8_T[i % 8], w = (real)GL8_W[i % 8];
+        real width = upper ? C(1) - mu_c : mu_c;
+        real mu = (upper ? mu_c : C(0)) + width * (upper ? t * t : t);
+        real jac = upper ? C(2) * t * w : w;
+        real term = width * jac * RD_F(coat_interface)(s, mu, C(1) / eta, 0) * C(2) * mu
+                    * exp(C(-2) * tau / fmax(mu, C(1e-12)));
+        k += term;
+        ak += term * RD_F(coat_base_albedo)(s, mu);
+    }
+    s->k = k, s->ak = ak;
+}
+
+static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio) {
+    real eta = s->eta, inv_eta2 = C(1) / (eta * eta);
+    real ri = sqrt(fmax(C(1) - (C(1) - mi * mi) * inv_eta2, C(0)));
+    real ro = sqrt(fmax(C(1) - (C(1) - mo * mo) * inv_eta2, C(0)));
+    real cos_in = RD_F(clamp)(ri * ro + (cio - mi * mo) * inv_eta2, C(-1), C(1));
+    real trans = RD_F(coat_interface)(s, mi, eta, 1) * RD_F(coat_interface)(s, mo, eta, 1);
+    real single = RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
+    real a_i = RD_F(coat_base_albedo)(s, ri), a_o = RD_F(coat_base_albedo)(s, ro);
+    real den = C(1) - s->ak;
+    real multi = a_i * a_o * (den != C(0) ? s->k / den : C(0)) / PI;
+    real att = exp(-s->tau / fmax(ri, C(1e-12))) * exp(-s->tau / fmax(ro, C(1e-12)));
+    real spec = C(0);
+    if (s->alpha > C(0)) {
+        real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
+        real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
+        real g = C(1) / ((C(1) + RD_F(smith_lambda)(mi, s->alpha, s->beck))
+                         * (C(1) + RD_F(smith_lambda)(mo, s->alpha, s->beck)));
+        spec = RD_F(fresnel)(C(0.5) * len_h, eta) * RD_F(coat_ndf)(cos_h, s->alpha, s->beck) * g
+               / (C(4) * fmax(mi * mo, C(1e-12)));
+    }
+    return spec + trans * inv_eta2 * att * (single + multi);
+}
 
 #undef real
 #undef C
