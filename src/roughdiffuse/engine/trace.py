@@ -93,6 +93,7 @@ class Graph:
         self._index: dict[tuple[Any, ...], int] = {}
         self.params: list[np.ndarray] = []
         self._param_ids: dict[int, int] = {}
+        self._param_values: dict[tuple[int, bytes], int] = {}
         self._keep: list[Any] = []  # keeps traced NumPy values alive (ids stay unique)
         self.inputs: list[str] = []
         self.loops: list[int] = []
@@ -116,13 +117,21 @@ class Graph:
             )
         k = self._param_ids.get(id(x))
         if k is None:
-            k = len(self.params)
+            if arr.size == 1:
+                value: Any = self.dtype.type(arr.reshape(()))
+            else:
+                value = np.ascontiguousarray(arr.reshape(-1), dtype=self.dtype)
+            # one argument per distinct value: a parameter converted twice (each channel of
+            # an RGB model converts its own copy) is one operand, so the operations on it
+            # are shared (common subexpressions across channels)
+            key = (np.ndim(value), np.asarray(value).tobytes())
+            k = self._param_values.get(key)
+            if k is None:
+                k = len(self.params)
+                self._param_values[key] = k
+                self.params.append(value)
             self._param_ids[id(x)] = k
             self._keep.append(x)
-            if arr.size == 1:
-                self.params.append(self.dtype.type(arr.reshape(())))
-            else:
-                self.params.append(np.ascontiguousarray(arr.reshape(-1), dtype=self.dtype))
         return ("par", k) if arr.size == 1 else ("vec", k)
 
     def loop_of(self, ref: tuple[Any, ...]) -> int:
@@ -660,6 +669,13 @@ def scalar_source(
             constants.append(f"{lits[key]} = {fcast}({float(val)!r})")
         return lits[key]
 
+    # A conditional expression is a branch in Python's bytecode: Numba makes a block and a
+    # merged (phi) variable of each, and its SSA pass costs blocks x such variables, which
+    # is quadratic in a long kernel (those with node loops hold hundreds of wheres); reading
+    # a pair at the condition's index is one block. Kernels without node loops keep the
+    # conditional expression (bench/RESULTS.md has the compile times).
+    indexed = any(node[0] == "sum" for node in graph.nodes)
+
     def expression(node: tuple[Any, ...]) -> str:
         op, args = node[0], node[1:]
         a = [name(r) for r in args]
@@ -669,6 +685,8 @@ def scalar_source(
             expr = f"-{a[0]}"
         elif op == "not":
             expr = f"not {a[0]}"
+        elif op == "where" and indexed:
+            expr = f"({a[2]}, {a[1]})[int({a[0]})]"
         elif op == "where":
             expr = f"{a[1]} if {a[0]} else {a[2]}"
         elif op == "atan2":

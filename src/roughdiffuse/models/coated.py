@@ -102,7 +102,7 @@ def coat_reflection(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array
                * (1.0 + _smith_lambda(xp, mu_o, alpha, distribution)))
     d = _ndf(xp, cos_h, alpha, distribution)
     val = fresnel_dielectric(xp, cos_d, eta) * d * g / (4.0 * maximum(xp, mu_i * mu_o, 1e-12))
-    return xp.where(alpha > 0, val, 0.0 * val)
+    return xp.where(alpha > 0, val, xp.zeros_like(val))  # (not 0 × val: inf at the peak)
 
 
 def _rule(*factors: tuple[np.ndarray, np.ndarray]) -> tuple[list[np.ndarray], np.ndarray]:
@@ -176,7 +176,7 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
         val = f / (1.0 + _smith_lambda(xp, mu_r, alpha, distribution))
         ok = (mu_r > 0) & (dot > 0)
     val = val * dot / (mu_s * cos_h)
-    term = xp.where(ok, val, 0.0 * val) * asarray(xp, _IF_W, dtype)
+    term = xp.where(ok, val, xp.zeros_like(val)) * asarray(xp, _IF_W, dtype)
     return xp.sum(term, axis=-1) * g_o
 
 
