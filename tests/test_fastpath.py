@@ -205,15 +205,27 @@ def condition_scale(model: Model, n, l, v, h: float = 1e-6) -> np.ndarray:
         up, down = list(cosines), list(cosines)
         up[k], down[k] = cosines[k] + h, cosines[k] - h
         scale += np.abs(radiance(model, up) - radiance(model, down)) / (2 * h)
-    for name in model.array_fields:
-        if getattr(model, name) is None:  # an unused alternative (TorranceSparrow's sigma)
-            continue
-        p = np.asarray(getattr(model, name), np.float64)
-        if np.all(p == 0):
-            continue
-        down = dataclasses.replace(model, **{name: p * (1 - 2 * h)})  # p may be its maximum
+    for down in _lowered_parameters(model, h):
         scale += np.abs(radiance(model, cosines) - radiance(down, cosines)) / (2 * h)
     return scale
+
+
+def _lowered_parameters(model: Model, h: float) -> list[Model]:
+    """``model`` with each non-zero parameter in turn times 1 − 2h (it may be its maximum);
+    a model-valued parameter (a Coated's base) has its own parameters lowered."""
+    out = []
+    for name in model.array_fields:
+        value = getattr(model, name)
+        if value is None:  # an unused alternative (TorranceSparrow's sigma)
+            continue
+        if isinstance(value, rd.Model):
+            out += [dataclasses.replace(model, **{name: m}) for m in _lowered_parameters(value, h)]
+            continue
+        p = np.asarray(value, np.float64)
+        if np.all(p == 0):
+            continue
+        out.append(dataclasses.replace(model, **{name: p * (1 - 2 * h)}))
+    return out
 
 
 @pytest.mark.parametrize(

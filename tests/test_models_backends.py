@@ -20,7 +20,7 @@ def _x64():
 
 
 def _models():
-    # the models jax.jit traces (``traceable``; Coated is evaluated by NumPy and Dr.Jit)
+    # the models jax.jit traces (``traceable``; a simulation is not)
     return [m for m in all_models() + all_models(rgb=True) if type(m).traceable]
 
 
@@ -57,6 +57,7 @@ PARAMS = {
     rd.TorranceSparrow: ("eta", "sigma"),
     rd.LommelSeeliger: ("albedo",),
     rd.LunarLambert: ("albedo", "limb_darkening"),
+    rd.Coated.from_params: ("albedo", "sigma", "eta", "roughness", "absorption"),
 }
 
 GRAD_CASES = [
@@ -73,6 +74,10 @@ GRAD_CASES = [
     (rd.TorranceSparrow, {"eta": 1.5, "sigma": 0.4, "distribution": "beckmann"}),
     (rd.LommelSeeliger, {"albedo": 0.5}),
     (rd.LunarLambert, {"albedo": 0.5, "limb_darkening": 0.5}),
+    (rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.3, "eta": 1.5, "roughness": 0.0,
+                             "absorption": 0.2}),
+    (rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.0, "eta": 1.3, "roughness": 0.3,
+                             "absorption": 0.0, "distribution": "beckmann"}),
 ]
 
 # the hard directions: normal incidence, wi = wo, grazing, opposite grazing, generic
@@ -99,11 +104,10 @@ def test_gradients_finite(cls, kw):
         model = cls(**dict(zip(names, params, strict=True)), **static)
         return model.brdf(wi, wo)
 
+    grad = jax.jit(jax.grad(f, argnums=(0, 1, 2)))  # one compile for the seven directions
     for wi, wo in DIRS:
         params = tuple(jnp.asarray(float(kw[n])) for n in names)
-        g_params, g_wi, g_wo = jax.grad(f, argnums=(0, 1, 2))(
-            params, jnp.asarray(wi), jnp.asarray(wo)
-        )
+        g_params, g_wi, g_wo = grad(params, jnp.asarray(wi), jnp.asarray(wo))
         for g in (*g_params, g_wi, g_wo):
             assert np.all(np.isfinite(np.asarray(g))), (cls.__name__, kw, wi, wo)
 

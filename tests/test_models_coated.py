@@ -91,11 +91,7 @@ def test_bad_input_named(kwargs: dict, name: str) -> None:
         rd.Coated(**args)
 
 
-@pytest.mark.skip(
-    reason="not yet possible: fitting traces the model with JAX, and Coated's unrolled node "
-    "rules take XLA minutes and gigabytes to compile (Coated.traceable is False); vectorise "
-    "the rules first"
-)
+@pytest.mark.slow  # JAX compiles the residuals and Jacobian of the coat: too long for the fast set
 @pytest.mark.parametrize("fit_eta", [False, True])
 def test_fit_recovers_parameters(fit_eta: bool) -> None:
     truth = {"albedo": 0.7, "sigma": 0.35, "eta": 1.6, "roughness": 0.25}
