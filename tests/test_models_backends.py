@@ -74,10 +74,12 @@ GRAD_CASES = [
     (rd.TorranceSparrow, {"eta": 1.5, "sigma": 0.4, "distribution": "beckmann"}),
     (rd.LommelSeeliger, {"albedo": 0.5}),
     (rd.LunarLambert, {"albedo": 0.5, "limb_darkening": 0.5}),
-    (rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.3, "eta": 1.5, "roughness": 0.0,
-                             "absorption": 0.2}),
-    (rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.0, "eta": 1.3, "roughness": 0.3,
-                             "absorption": 0.0, "distribution": "beckmann"}),
+    # a coat: thousands of array operations per evaluation, run one by one (slow set)
+    pytest.param(rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.3, "eta": 1.5,
+                 "roughness": 0.0, "absorption": 0.2}, marks=pytest.mark.slow),
+    pytest.param(rd.Coated.from_params, {"albedo": 0.5, "sigma": 0.0, "eta": 1.3,
+                 "roughness": 0.3, "absorption": 0.0, "distribution": "beckmann"},
+                 marks=pytest.mark.slow),
 ]
 
 # the hard directions: normal incidence, wi = wo, grazing, opposite grazing, generic
@@ -104,10 +106,11 @@ def test_gradients_finite(cls, kw):
         model = cls(**dict(zip(names, params, strict=True)), **static)
         return model.brdf(wi, wo)
 
-    grad = jax.jit(jax.grad(f, argnums=(0, 1, 2)))  # one compile for the seven directions
     for wi, wo in DIRS:
         params = tuple(jnp.asarray(float(kw[n])) for n in names)
-        g_params, g_wi, g_wo = grad(params, jnp.asarray(wi), jnp.asarray(wo))
+        g_params, g_wi, g_wo = jax.grad(f, argnums=(0, 1, 2))(
+            params, jnp.asarray(wi), jnp.asarray(wo)
+        )
         for g in (*g_params, g_wi, g_wo):
             assert np.all(np.isfinite(np.asarray(g))), (cls.__name__, kw, wi, wo)
 
