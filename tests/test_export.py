@@ -3,8 +3,8 @@
 Checks by the target programs themselves: Mitsuba loads the XML (``mi.load_file``) and the
 dict and renders the same sphere as roughdiffuse's own renderer (an independent ray tracer;
 bounds as in test_mitsuba_render.py); MaterialX reads and validates the .mtlx and generates
-GLSL and OSL from it, and glslangValidator compiles the GLSL. Blender (the optional ``bpy``
-wheel) is not installed here: its script is checked as Python and for the values it sets.
+GLSL and OSL from it, and glslangValidator compiles the GLSL. Blender's script is checked here
+as Python and for the values it sets, and rendered by Blender in test_export_blender.py.
 """
 
 from __future__ import annotations
@@ -164,13 +164,15 @@ def test_materialx_qualitative_oren_nayar_is_exact(tmp_path):
 
 def test_blender_script_sets_the_converted_values(tmp_path):
     path = tmp_path / "mat.py"
-    result = export(rd.OrenNayar(0.8, 0.35, "full"), "blender", path)
+    result = export(rd.OrenNayar(0.8, 0.35, "full"), "blender", path, blend=False)
     text = path.read_text()
     compile(text, str(path), "exec")
     assert result.model_id == "cycles-diffuse" and result.conversion is not None
     assert f"{result.params['roughness']:.9g}" in text
     assert "differs by" in text  # the conversion error in the comments
-    exact = export(registry.create("cycles-diffuse", albedo=0.5, roughness=0.3), "blender", path)
+    exact = export(
+        registry.create("cycles-diffuse", albedo=0.5, roughness=0.3), "blender", path, blend=False
+    )
     assert exact.conversion is None and "exact" in path.read_text()
 
 
@@ -228,5 +230,5 @@ def test_fit_json_feeds_export(tmp_path):
     out.write_text(run.stdout)
     model = load_result(out)
     assert model.variant == "full" and 0.0 < float(model.sigma) < 1.0
-    done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"))
+    done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"), "--no-blend")
     assert done.returncode == 0 and "cycles-diffuse" in done.stdout
