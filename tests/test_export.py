@@ -217,18 +217,43 @@ def test_cli_bad_input_is_one_line_and_status_2(tmp_path):
 
 
 def test_fit_json_feeds_export(tmp_path):
-    """fit --json prints the fit; export --from reads it and converts it for Blender."""
+    """fit --json prints the fit; export --from reads it and converts it for Blender. The
+    same fit's --export writes each target's file (Mitsuba's plugin with the fitted values
+    themselves; the summaries on stderr, stdout stays the JSON)."""
+    import xml.etree.ElementTree as ET
+
     from roughdiffuse.data import path
 
     out = tmp_path / "fit.json"
     run = subprocess.run(
         [sys.executable, "-m", "roughdiffuse", "fit", str(path("samples.csv")),
-         "--model", "oren-nayar-full", "--json"],
+         "--model", "oren-nayar-full", "--json", "--export", "mitsuba,materialx",
+         "--export-prefix", str(tmp_path / "mat")],
         capture_output=True, text=True,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     out.write_text(run.stdout)
+    best = json.loads(run.stdout)["fits"][0]
+    fitted = dict(zip(best["names"], best["values"], strict=True))
+    xml = ET.parse(tmp_path / "mat_mitsuba.xml").getroot()
+    values = {e.get("name"): e.get("value") for e in xml.iter() if e.get("name")}
+    assert float(values["sigma"]) == pytest.approx(fitted["sigma"], rel=1e-12)
+    assert (tmp_path / "mat_materialx.mtlx").is_file()
+    assert "mitsuba: " in run.stderr and "converted from" in run.stderr
     model = load_result(out)
     assert model.variant == "full" and 0.0 < float(model.sigma) < 1.0
     done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"), "--no-blend")
     assert done.returncode == 0 and "cycles-diffuse" in done.stdout
+
+
+def test_fit_export_refuses_an_unknown_target_before_fitting(tmp_path, capsys):
+    from roughdiffuse.cli import main
+
+    missing = tmp_path / "never-read.csv"
+    missing.write_text("theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n30,30,0,0.2\n")
+    assert main(["fit", str(missing), "--export", "blender,usd"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'usd'" in err[0] and "blender" in err[0]
+    assert main(["fit", str(missing), "--export", "mitsuba",
+                 "--export-prefix", str(tmp_path / "no" / "m")]) == 2  # fmt: skip
+    assert "does not exist" in capsys.readouterr().err

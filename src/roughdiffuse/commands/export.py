@@ -8,6 +8,7 @@ from pathlib import Path
 
 from . import UsageError
 from ._common import add_model_arguments, model_from_args
+from ._export_targets import blend_failed
 
 EXAMPLES = """\
 examples:
@@ -76,8 +77,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             result = export(model, args.to, out, openpbr=args.openpbr)
     except BlenderError as exc:
-        last = str(exc).strip().splitlines()[-1]
-        raise UsageError(f"--to blender: {out} written, the .blend not: {last}") from None
+        raise blend_failed(out, exc, "--to blender") from None
     except ValueError as exc:
         raise UsageError(f"--to {args.to}: {exc}") from None
     except OSError as exc:
