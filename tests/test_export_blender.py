@@ -68,16 +68,23 @@ def cycles():
 
 @pytest.fixture(scope="module")
 def plane(blender, cycles, tmp_path_factory):
-    """One Blender process: the plane at each geometry, made of the exported Cycles variant."""
+    """One Blender process: the plane at each geometry, made of the exported Cycles variant as
+    a Diffuse BSDF and as a Principled BSDF (its "Diffuse Roughness", specular off)."""
     tmp = tmp_path_factory.mktemp("blender_plane")
     exported = write(cycles, tmp / "cycles.py", blend=False)
+    write(cycles, tmp / "principled.py", principled=True, blend=False)
     jobs = [
         {"kind": "render", "shape": "plane", "light": _deg(ti, 0.0), "view": _deg(to, dp),
-         "size": 8, "scale": 1.0, "samples": 4, "output": str(tmp / f"plane{k}.npy")}
-        for k, (ti, to, dp) in enumerate(PLANE)
+         "size": 8, "scale": 1.0, "samples": 4, "material": str(tmp / f"{node}.py"),
+         "output": str(tmp / f"{node}{k}.npy")}
+        for node in ("cycles", "principled") for k, (ti, to, dp) in enumerate(PLANE)
     ]  # fmt: skip
     run_scene(tmp / "cycles.py", jobs)
-    return exported, [np.load(tmp / f"plane{k}.npy") for k in range(len(PLANE))]
+    images = {
+        n: [np.load(tmp / f"{n}{k}.npy") for k in range(len(PLANE))]
+        for n in ("cycles", "principled")
+    }
+    return exported, images
 
 
 @pytest.fixture(scope="module")
@@ -116,15 +123,16 @@ def _interior(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return binary_erosion(mask == 1) & (lum > 0.01 * lum.max())
 
 
-def test_cycles_renders_the_plane_as_the_cycles_variant(plane, cycles):
+@pytest.mark.parametrize("node", ["cycles", "principled"])
+def test_cycles_renders_the_plane_as_the_cycles_variant(plane, cycles, node):
     exported, images = plane
     assert exported.conversion is None
     model = cycles
-    for (ti, to, dp), image in zip(PLANE, images, strict=True):
+    for (ti, to, dp), image in zip(PLANE, images[node], strict=True):
         got = image.reshape(-1, 3).mean(axis=0)
         wi, wo = np.array(_deg(ti, 0.0)), np.array(_deg(to, dp))
         expected = np.asarray(model.brdf(wi, wo)) * wi[2]
-        # float32: Cycles' own arithmetic (measured ≤ 1e-6 relative)
+        # float32: Cycles' own arithmetic (measured ≤ 1e-6 relative, both nodes)
         np.testing.assert_allclose(got, expected, rtol=5e-6, err_msg=str((ti, to, dp)))
         spread = np.ptp(image.reshape(-1, 3), axis=0)  # one geometry, one value
         np.testing.assert_array_less(spread, 5e-6 * expected)

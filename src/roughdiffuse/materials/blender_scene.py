@@ -2,7 +2,7 @@
 
 ``python blender_scene.py REQUEST.json`` (the interpreter of the ``bpy`` wheel, or
 ``blender --background --python blender_scene.py -- REQUEST.json``). The request holds the
-exported material script and a list of jobs:
+exported material script and a list of jobs (each may name its own ``"material"`` script):
 
 * ``{"kind": "render", "shape": "plane" | "sphere", "light": [x, y, z], "view": [x, y, z],
   "size": N, "scale": S, "samples": K, "output": "out.npy"}``: renders the shape made of the
@@ -137,9 +137,9 @@ def main(argv: list[str]) -> int:
     import bpy
 
     request = json.loads(Path(argv[-1]).read_text(encoding="utf-8"))
-    material_script = Path(request["material"]).read_text(encoding="utf-8")
     for job in request["jobs"]:
-        scene = _scene(bpy, material_script, job)
+        material = job.get("material", request["material"])
+        scene = _scene(bpy, Path(material).read_text(encoding="utf-8"), job)
         output = Path(job["output"])
         if job["kind"] == "blend":
             bpy.ops.wm.save_as_mainfile(filepath=str(output), compress=True)
