@@ -5,7 +5,8 @@
 exported material script and a list of jobs (each may name its own ``"material"`` script):
 
 * ``{"kind": "render", "shape": "plane" | "sphere", "light": [x, y, z], "view": [x, y, z],
-  "size": N, "scale": S, "samples": K, "output": "out.npy"}``: renders the shape made of the
+  "size": N, "scale": S, "samples": K, "output": "out.npy"}`` (and ``"pixel_filter": "box"``
+  to average over each pixel's area instead of its centre): renders the shape made of the
   material in Cycles and saves the linear RGB image (float32, row 0 at the top) as ``.npy``;
 * ``{"kind": "blend", "output": "material.blend"}``: saves the sphere scene with the material
   as a ``.blend`` file.
@@ -93,6 +94,9 @@ def _scene(bpy: Any, material_script: str, job: dict[str, Any]) -> Any:
     _look(cam_obj, view)
     scene.camera = cam_obj
     _settings(scene, int(job.get("size", 64)), int(job.get("samples", 16)))
+    if job.get("pixel_filter") == "box":  # the pixel's area, as roughdiffuse's k × k samples
+        scene.cycles.pixel_filter_type = "BOX"
+        scene.render.filter_size = scene.cycles.filter_width = 1.0
     return scene
 
 
