@@ -84,10 +84,13 @@ def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0
             json.dumps({"material": str(Path(material).resolve()), "jobs": jobs}), "utf-8"
         )
         args = [*command, str(SCENE)] + (["--"] if len(command) > 1 else []) + [str(request)]
+        # Blender's Python has its own packages (NumPy 1.26): none of this process's paths
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         try:
             done = subprocess.run(  # noqa: S603 - our own script, arguments as a list
-                args, capture_output=True, text=True, timeout=timeout, cwd=tmp, check=False
-            )
+                args, capture_output=True, text=True, timeout=timeout, cwd=tmp, check=False,
+                env=env,
+            )  # fmt: skip
         except (OSError, subprocess.TimeoutExpired) as exc:
             raise BlenderError(f"Blender ({command[0]}) did not run: {exc}") from None
     if done.returncode != 0:
