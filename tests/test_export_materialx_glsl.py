@@ -24,7 +24,7 @@ import re
 import numpy as np
 import pytest
 
-from explorer_browser import open_page
+from explorer_browser import PageWithLog
 from roughdiffuse import registry
 from roughdiffuse.materials import export
 
@@ -147,8 +147,10 @@ def _directions() -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.fixture(scope="module")
-def page(browser, explorer_url):  # noqa: F811 - fixtures
-    log = open_page(browser, explorer_url, 400, 300)
+def page(browser):
+    """A blank page of the session's Chromium (the explorer is not needed: the shader is
+    MaterialX's)."""
+    log = PageWithLog(browser.new_page())
     yield log
     log.page.close()
 
