@@ -673,7 +673,7 @@ def scalar_source(
     # merged (phi) variable of each, and its SSA pass costs blocks x such variables, which
     # is quadratic in a long kernel (those with node loops hold hundreds of wheres); reading
     # a pair at the condition's index is one block. Kernels without node loops keep the
-    # conditional expression (bench/RESULTS.md has the compile times).
+    # conditional expression.
     indexed = any(node[0] == "sum" for node in graph.nodes)
 
     def expression(node: tuple[Any, ...]) -> str:

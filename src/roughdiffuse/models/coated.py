@@ -35,7 +35,8 @@ The base's directional albedo a(μ) is a fixed 32-point rule over the hemisphere
 μ², 2 × 4 in azimuth split at π/2) of the base's own formula, so every namespace (NumPy,
 JAX, PyTorch, the compiled fast path, Dr.Jit in Mitsuba) evaluates the same expression; K and
 ā use 8 Gauss–Legendre nodes on each side of the critical angle (in √(μ − μc) above it, where
-the Fresnel factor has a square-root edge): 1e-7 of K for η in [1.1, 3]. Each rule is one
+the Fresnel factor has a square-root edge): 1e-7 of K for η in [1.1, 3] without absorption,
+1e-4 with it (e^{−2τ/μ} turns on at μ ≈ 2τ; 6.5e-5 at worst, near τ = 0.01). Each rule is one
 trailing node axis of the arrays, added up by ``xp.sum``: the compiled fast path turns it
 into a loop (:mod:`roughdiffuse.engine.trace`), so the traced code does not grow with the
 number of nodes.
