@@ -8,7 +8,6 @@ evaluation and sampler at random inputs, to float64 rounding.
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 
