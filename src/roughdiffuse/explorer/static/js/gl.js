@@ -57,6 +57,7 @@ function setParams(gl, prog, name, g) {
   gl.uniform1f(loc("g"), g.g);
   gl.uniform1f(loc("theta_bar"), g.theta_bar);
   gl.uniform1f(loc("hg2"), g.hg2);
+  gl.uniform3fv(loc("absorption"), g.absorption);
 }
 
 /**

@@ -141,6 +141,15 @@ function showUsed(slot) {
   const uses = BY_KEY[state[slot].model].uses;
   const p = `${slot}-`;
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
+  const own = BY_KEY[state[slot].model].params;
+  for (const [k, el] of Object.entries(c.selects)) {
+    if (!own[k]) continue;  // a menu several models share: this model's choices only
+    for (const opt of el.options) opt.hidden = !own[k].choices.includes(opt.value);
+    if (!own[k].choices.includes(el.value)) {
+      el.value = own[k].default;
+      state[slot][k] = own[k].default;
+    }
+  }
   if (c.channels) {
     for (const ch of ["r", "g", "b"]) $(`${p}${c.channels}-${ch}-row`).hidden = !uses.includes(c.channels);
     $(`${p}grey-row`).hidden = !uses.includes(c.channels);
