@@ -434,10 +434,11 @@ async function loadGroundTruth() {
   if (gtController) gtController.abort();
   gtController = null;
   const s = state.a;
+  const coated = s.model === "coated";  // its truth: the layered walk
   const reason = !info.groundtruth ? "this server has no V-cavity solver"
     : !state.view.gt ? ""
-    : !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets)"
-    : !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
+    : !coated && !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets) and for Coated (the layered walk)"
+    : !coated && !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
     : !(state.light.theta < 90) ? "the light is below the horizon" : null;
   if (reason !== null) {
     status.textContent = reason;
@@ -448,10 +449,13 @@ async function loadGroundTruth() {
     sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]), bounces: state.view.bounces,
   });
   const controller = (gtController = new AbortController());
-  status.textContent = "computing the V-cavity ground truth…";
+  status.textContent = coated ? "computing the layered truth…" : "computing the V-cavity ground truth…";
+  const url = coated
+    ? `api/layeredtruth.json?${queryFor("a")}&absorption=${[s.absorption ?? 0].flat()[1] ?? [s.absorption ?? 0].flat()[0]}&theta_i=${state.light.theta}`
+    : `api/groundtruth.json?${q}`;
   let gt;
   try {
-    const r = await fetch(`api/groundtruth.json?${q}`, { signal: controller.signal });
+    const r = await fetch(url, { signal: controller.signal });
     gt = await r.json();
     if (!r.ok) throw new Error(gt.error ?? `HTTP ${r.status}`);
   } catch (err) {
@@ -463,7 +467,8 @@ async function loadGroundTruth() {
   }
   if (controller !== gtController) return;
   const bounces = gt.bounces === "all" ? "all bounces" : "one bounce";
-  gtSeries = { label: `V-cavity, ${bounces} (σ = ${(gt.sigma / DEG).toFixed(1)}°)`, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
+  const label = coated ? "layered truth (Monte Carlo)" : `V-cavity, ${bounces} (σ = ${(gt.sigma / DEG).toFixed(1)}°)`;
+  gtSeries = { label, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
   status.textContent = gt.note;
   document.body.dataset.gtPoints = String(gt.theta_r.length);
   refresh();
