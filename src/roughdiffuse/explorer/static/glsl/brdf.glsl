@@ -53,6 +53,8 @@ struct RDParams {
   float theta_bar;   // Hapke mean slope angle, radians
   float hg2;         // Hapke weight of the mirrored HG lobe (ISIS Hg2)
   vec3 absorption;   // Coated: optical depth tau of the layer, per channel
+  vec3 coat_k;       // Coated: K and a-bar K of these parameters (rd_ct_sums, computed first)
+  vec3 coat_ak;
 };
 
 float rd_safe_sqrt(float x) { return x > 0.0 ? sqrt(x) : 0.0; }
@@ -518,19 +520,15 @@ vec3 rd_ct_base_albedo(float mu, float sigma, vec3 albedo) {
   return total;
 }
 
-// coated.Coated._eval over Oren-Nayar full (albedo, sigma); coated._internal_sums inline
-vec3 rd_coated(float mi, float mo, float c, vec3 albedo, float sigma, float eta, float alpha,
-               int dist, vec3 tau) {
-  float inv_eta2 = 1.0 / (eta * eta);
-  float ri = rd_safe_sqrt(1.0 - (1.0 - mi * mi) * inv_eta2);
-  float ro = rd_safe_sqrt(1.0 - (1.0 - mo * mo) * inv_eta2);
-  float cos_in = clamp(ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0);
-  float trans = rd_ct_interface(mi, eta, alpha, dist, true) * rd_ct_interface(mo, eta, alpha, dist, true);
-  vec3 att = exp(-tau / max(ri, 1e-12)) * exp(-tau / max(ro, 1e-12));
-  vec3 single = rd_on_full(ri, ro, cos_in, sigma, albedo);
-  // K and a-bar K: 8 Gauss-Legendre nodes below the critical cosine mu_c, 8 above in sqrt(mu - mu_c)
-  float mu_c = rd_safe_sqrt(1.0 - inv_eta2);
-  vec3 k = vec3(0.0), ak = vec3(0.0);
+// coated._internal_sums: K and a-bar K, 8 Gauss-Legendre nodes below the critical cosine mu_c
+// and 8 above in sqrt(mu - mu_c). They depend on the parameters only: the page evaluates them
+// once per parameter set (evaluate.frag, a texel with w = 1 or 2) and hands them back in
+// RDParams.coat_k and coat_ak (per fragment they would be nine tenths of the work).
+void rd_ct_sums(vec3 albedo, float sigma, float eta, float alpha, int dist, vec3 tau,
+                out vec3 k, out vec3 ak) {
+  float mu_c = rd_safe_sqrt(1.0 - 1.0 / (eta * eta));
+  k = vec3(0.0);
+  ak = vec3(0.0);
   for (int side = 0; side < 2; ++side) {
     float lo = side == 0 ? 0.0 : mu_c;
     float hi = side == 0 ? mu_c : 1.0;
@@ -545,6 +543,18 @@ vec3 rd_coated(float mi, float mo, float c, vec3 albedo, float sigma, float eta,
       ak += term * rd_ct_base_albedo(mu, sigma, albedo);
     }
   }
+}
+
+// coated.Coated._eval over Oren-Nayar full (albedo, sigma), given K and a-bar K (rd_ct_sums)
+vec3 rd_coated(float mi, float mo, float c, vec3 albedo, float sigma, float eta, float alpha,
+               int dist, vec3 tau, vec3 k, vec3 ak) {
+  float inv_eta2 = 1.0 / (eta * eta);
+  float ri = rd_safe_sqrt(1.0 - (1.0 - mi * mi) * inv_eta2);
+  float ro = rd_safe_sqrt(1.0 - (1.0 - mo * mo) * inv_eta2);
+  float cos_in = clamp(ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0);
+  float trans = rd_ct_interface(mi, eta, alpha, dist, true) * rd_ct_interface(mo, eta, alpha, dist, true);
+  vec3 att = exp(-tau / max(ri, 1e-12)) * exp(-tau / max(ro, 1e-12));
+  vec3 single = rd_on_full(ri, ro, cos_in, sigma, albedo);
   vec3 a_i = rd_ct_base_albedo(ri, sigma, albedo);
   vec3 a_o = rd_ct_base_albedo(ro, sigma, albedo);
   vec3 den = 1.0 - ak;
@@ -582,6 +592,7 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar, p.hg2);
   if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
   if (p.model == RD_COATED)
-    return rd_coated(mi, mo, c, p.albedo, p.sigma, p.eta, p.roughness, p.distribution, p.absorption);
+    return rd_coated(mi, mo, c, p.albedo, p.sigma, p.eta, p.roughness, p.distribution, p.absorption,
+                     p.coat_k, p.coat_ak);
   return vec3(0.0);
 }

@@ -207,7 +207,7 @@ function draw() {
   const c = $("sphere");
   const width = state.mode === 1 ? 960 : 480;
   if (c.width !== width) c.width = width;
-  const a = gpuParams(state.a), b = gpuParams(state.b);
+  const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
   $("panel-b").classList.toggle("disabled", state.mode === 0);

@@ -112,6 +112,7 @@ export function gpuParams(s) {
     g: s.g ?? 0.0,
     theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
     hg2: s.hg2 ?? 0.0,
+    sums: m.key === "coated",  // its parameter-only sums come first (gl.js Evaluator.withSums)
     // Coated: the layer's optical depth, one number or one per channel
     absorption: Float32Array.from(Array.isArray(s.absorption) || ArrayBuffer.isView(s.absorption)
       ? s.absorption : [s.absorption ?? 0, s.absorption ?? 0, s.absorption ?? 0]),
