@@ -142,6 +142,10 @@ function showUsed(slot) {
   const p = `${slot}-`;
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
   const own = BY_KEY[state[slot].model].params;
+  for (const [k, q] of Object.entries(own)) {  // a control several models share: this model's words
+    const label = $(`${p}${k}-row`)?.firstChild;
+    if (label && label.nodeType === Node.TEXT_NODE) label.textContent = c.selects[k] ? `${q.description} ` : q.description;
+  }
   for (const [k, el] of Object.entries(c.selects)) {
     if (!own[k]) continue;  // a menu several models share: this model's choices only
     for (const opt of el.options) opt.hidden = !own[k].choices.includes(opt.value);
