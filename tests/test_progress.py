@@ -68,3 +68,31 @@ def test_stereo_bar_that_converges_early_ends_at_100_percent(capsys) -> None:  #
     assert res.roughness == pytest.approx(0.4, abs=1e-3)
     last = capsys.readouterr().err.strip().split("\r")[-1]
     assert "converged after" in last and "30/30" in last and "100%" in last
+
+
+def test_long_render_counts_its_bands_on_a_terminal(monkeypatch, tmp_path) -> None:  # noqa: ANN001
+    """`render` with many rays: a bar of bands of rows on a terminal, nothing on a pipe; the
+    banded image is the closed form ρ/π n·l of a Lambertian sphere lit head-on (E0 = 1)."""
+    import numpy as np
+
+    from roughdiffuse.cli import main
+    from roughdiffuse.render import Sphere, renderer
+
+    monkeypatch.setattr(renderer, "BAND_RAYS", 32 * 10)  # 10 rows of 32 pixels a band: 4 bands
+    args = ["render", "--model", "lambert", "--albedo", "0.8", "--size", "32", "--spp", "1"]
+    tty = FakeTTY()
+    monkeypatch.setattr(sys, "stderr", tty)
+    assert main([*args, "-o", str(tmp_path / "a.npy")]) == 0
+    last = tty.getvalue().strip().split("\r")[-1]
+    assert "render" in last and "4/4" in last and "100%" in last
+    pipe = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", pipe)
+    assert main([*args, "-o", str(tmp_path / "b.npy")]) == 0
+    assert pipe.getvalue() == ""
+    x, y = renderer.pixel_coordinates(Sphere(), size=32)
+    r2 = x[None, :] ** 2 + y[:, None] ** 2
+    inside = r2 < 1.0
+    expected = np.where(inside, 0.8 / np.pi * np.sqrt(np.clip(1.0 - r2, 0.0, None)), 0.0)
+    image = np.load(tmp_path / "b.npy")
+    assert image.shape == (32, 32)
+    np.testing.assert_allclose(image, expected, rtol=1e-5, atol=1e-6)
