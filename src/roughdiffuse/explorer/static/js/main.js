@@ -281,10 +281,11 @@ function drawViewInto(target) {
 }
 
 /** Size every plot canvas to the plots column: as wide as the column, 0.66 as high (at least
- *  300 px, and short enough to leave the page's other rows in view). */
+ *  300 px, and short enough to leave the rows below it, the data panel with its slice
+ *  controls and fit buttons, in view: 380 px with the header). */
 function fitPlots() {
   const w = Math.max(320, Math.floor($("plots").clientWidth));
-  const h = Math.round(Math.max(300, Math.min(0.66 * w, window.innerHeight - 330)));
+  const h = Math.round(Math.max(300, Math.min(0.66 * w, window.innerHeight - 380)));
   let changed = false;
   for (const v of VIEWS) {
     const c = $(`plot-${v === "plane" ? "cartesian" : v}`);
