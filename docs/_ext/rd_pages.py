@@ -81,7 +81,7 @@ def _start(entry: Any) -> dict[str, Any]:
 def _figures(entry: Any, folder: Path) -> dict[str, str]:
     """The sphere, plane-of-incidence and white-furnace pictures of ``entry``."""
     from roughdiffuse.energy import plot_albedo
-    from roughdiffuse.plots import plot_plane_of_incidence, show_radiance
+    from roughdiffuse.plots import plot_plane_of_incidence, radiance_colorbar, show_radiance
     from roughdiffuse.render import DistantLight, Sphere, render
 
     names = {}
@@ -92,8 +92,9 @@ def _figures(entry: Any, folder: Path) -> dict[str, str]:
     for ax, theta in zip(axes, (0.0, math.radians(60.0)), strict=True):
         image, _ = render(model, Sphere(), DistantLight(theta), size=128)
         image = np.asarray(image, dtype=np.float64)
-        show_radiance(ax, image, float(np.nanmax(image)) or 1.0,
-                      f"light at θ = {math.degrees(theta):.0f}°")
+        vmax = float(np.nanmax(image)) or 1.0
+        show_radiance(ax, image, vmax, f"light at θ = {math.degrees(theta):.0f}°")
+        radiance_colorbar(ax, vmax)  # each image on its own scale
     fig.suptitle(_title(entry, start), fontsize="small")
     fig.tight_layout()
     names["sphere"] = f"{entry.id}-sphere.png"
