@@ -11,11 +11,18 @@ import pytest
 
 from roughdiffuse import figures, plots
 
-DRAWN = ("1-lambert-sphere", "2-full-moon", "3-vase", "4-roughness-series",
-         "6-blurred-highlights", "7-diffuse-plus-specular", "8-models-side-by-side",
-         "9-production-models",
-         # the exact surface's tables take about 15 s to make
-         pytest.param("11-against-the-truth", marks=pytest.mark.slow))  # fmt: skip
+SLOW = pytest.mark.slow  # a few seconds each: their plane-of-incidence plots, the exact tables
+DRAWN = (
+    "1-lambert-sphere",
+    "2-full-moon",
+    "3-vase",
+    "4-roughness-series",
+    "6-blurred-highlights",
+    pytest.param("7-diffuse-plus-specular", marks=SLOW),
+    "8-models-side-by-side",
+    pytest.param("9-production-models", marks=SLOW),
+    pytest.param("11-against-the-truth", marks=SLOW),  # the exact surface's tables: 15 s
+)
 
 
 def flat_render(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
