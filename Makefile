@@ -9,7 +9,7 @@ PIP    := $(PY) -m pip
 # libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
 export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
 
-.PHONY: figures test docs install install-test test-all install-docs system-deps lint bench clean
+.PHONY: figures test docs install install-test test-all install-docs install-blender system-deps lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -29,6 +29,21 @@ $(VENV)/.installed-test: pyproject.toml $(VENV)/.installed
 $(VENV)/.installed-docs: pyproject.toml $(VENV)/.installed
 	$(PIP) install -q -e ".[docs]"
 	touch $@
+
+# Blender as a Python module (the bpy wheel, about 375 MB to download) for the Blender check
+# and the .blend export. It pins its own NumPy (1.26) and Python (3.11), so it gets a virtual
+# environment of its own, which roughdiffuse runs as a subprocess (roughdiffuse.materials.
+# blender_run finds it here, or through ROUGHDIFFUSE_BLENDER_PYTHON)
+BLENDER_VENV ?= .venv-blender
+BLENDER_PYTHON ?= python3.11
+BPY_VERSION ?= 5.0.1
+$(BLENDER_VENV)/.installed:
+	$(BLENDER_PYTHON) -m venv $(BLENDER_VENV)
+	$(BLENDER_VENV)/bin/python -m pip install -q --upgrade pip
+	$(BLENDER_VENV)/bin/python -m pip install -q bpy==$(BPY_VERSION)
+	touch $@
+
+install-blender: $(BLENDER_VENV)/.installed
 
 install: $(VENV)/.installed
 
@@ -63,4 +78,4 @@ bench: install
 	$(PY) bench/run.py
 
 clean:
-	rm -rf $(VENV) figures .pytest_cache docs/_build docs/models docs/api docs/auto_gallery docs/jupyter_execute
+	rm -rf $(VENV) $(BLENDER_VENV) figures .pytest_cache docs/_build docs/models docs/api docs/auto_gallery docs/jupyter_execute

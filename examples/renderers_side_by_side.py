@@ -5,7 +5,9 @@ diffuse, and Mitsuba 3 loading the exported scene (docs/images/renderers-side-by
 2. convert the fit to Blender Cycles' Diffuse BSDF and to MaterialX's node (least squares);
 3. export the Mitsuba 3 scenes (XML) of the fit and of the Cycles variant, load them with
    ``mi.load_file`` and render them;
-4. show them beside roughdiffuse's own renders of the same models.
+4. export the fit to Blender (converted to the Diffuse BSDF) and render the script in Cycles,
+   where Blender's Python is found (``make install-blender``);
+5. show them beside roughdiffuse's own renders of the same models.
 
 Run: ``python examples/renderers_side_by_side.py [OUT.png]`` (needs Mitsuba 3 and libLLVM
 for its llvm variant: ``DRJIT_LIBLLVM_PATH``).
@@ -54,6 +56,25 @@ def mitsuba(model: rd.Model, folder: Path) -> np.ndarray:
     return np.array(mi.render(mi.load_file(str(folder / "scene.xml")), seed=7))[..., 0]
 
 
+def blender(model: rd.Model, folder: Path) -> np.ndarray | None:
+    """Cycles' render of the exported script: the sphere of the Blender check (a sun, an
+    orthographic camera), averaged over each pixel as roughdiffuse's 16 samples are;
+    ``None`` without Blender."""
+    from roughdiffuse.materials.blender_run import blender_command, run_scene
+
+    if blender_command() is None:
+        print("no Blender interpreter (make install-blender): its panel is left out")
+        return None
+    rd.export(model, "blender", folder / "material.py", blend=False)
+    theta, phi = np.radians(LIGHT)
+    light = [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)]
+    job = {"kind": "render", "shape": "sphere", "light": light, "view": [0.0, 0.0, 1.0],
+           "size": SIZE, "scale": 2.0 * (1.0 + 2.0 * MARGIN), "samples": 64, "pixel_filter": "box",
+           "output": str(folder / "cycles.npy")}  # fmt: skip
+    run_scene(folder / "material.py", [job])
+    return np.load(folder / "cycles.npy")[..., 0]
+
+
 def main(out: str = "docs/images/renderers-side-by-side.png") -> None:
     fitted = fit(rd.OrenNayar, read_csv(path("samples.csv")), fixed={"variant": "full"}).model
     cycles = rd.convert(fitted, target="cycles-diffuse")
@@ -61,6 +82,7 @@ def main(out: str = "docs/images/renderers-side-by-side.png") -> None:
     with tempfile.TemporaryDirectory() as tmp:
         mi_fit = mitsuba(fitted, Path(tmp))
         mi_cycles = mitsuba(cycles.model, Path(tmp))
+        bl_cycles = blender(fitted, Path(tmp))
     panels = [
         ("fit: Oren–Nayar full\nroughdiffuse", ours(fitted)),
         ("fit: Oren–Nayar full\nMitsuba 3, exported XML", mi_fit),
@@ -69,6 +91,11 @@ def main(out: str = "docs/images/renderers-side-by-side.png") -> None:
             ours(cycles.model),
         ),
         ("Cycles Diffuse BSDF\nMitsuba 3, exported XML", mi_cycles),
+        *(
+            [("Cycles Diffuse BSDF\nBlender Cycles, exported .py", bl_cycles)]
+            if bl_cycles is not None
+            else []
+        ),
         (f"MaterialX EON node, r = {mtlx.params['roughness']:.3f}\nroughdiffuse", ours(mtlx.model)),
     ]
     top = max(float(np.max(p)) for _, p in panels)
@@ -88,10 +115,16 @@ def main(out: str = "docs/images/renderers-side-by-side.png") -> None:
     print(f"fit: {fitted}")
     print(cycles.summary())
     print(mtlx.summary())
-    for name, a, b in (("fit", panels[0][1], mi_fit), ("cycles", panels[2][1], mi_cycles)):
+    pairs = [
+        ("Mitsuba", "fit", panels[0][1], mi_fit),
+        ("Mitsuba", "cycles", panels[2][1], mi_cycles),
+    ]
+    if bl_cycles is not None:
+        pairs.append(("Blender", "cycles", panels[2][1], bl_cycles))
+    for who, name, a, b in pairs:
         lit = a > 0.02 * a.max()
         rel = np.abs(a - b)[lit].mean() / a[lit].mean()
-        print(f"Mitsuba vs roughdiffuse ({name}): mean |diff| {rel:.2%}")
+        print(f"{who} vs roughdiffuse ({name}): mean |diff| {rel:.2%}")
 
 
 if __name__ == "__main__":

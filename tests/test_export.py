@@ -3,8 +3,8 @@
 Checks by the target programs themselves: Mitsuba loads the XML (``mi.load_file``) and the
 dict and renders the same sphere as roughdiffuse's own renderer (an independent ray tracer;
 bounds as in test_mitsuba_render.py); MaterialX reads and validates the .mtlx and generates
-GLSL and OSL from it, and glslangValidator compiles the GLSL. Blender (the optional ``bpy``
-wheel) is not installed here: its script is checked as Python and for the values it sets.
+GLSL and OSL from it, and glslangValidator compiles the GLSL. Blender's script is checked here
+as Python and for the values it sets, and rendered by Blender in test_export_blender.py.
 """
 
 from __future__ import annotations
@@ -164,13 +164,15 @@ def test_materialx_qualitative_oren_nayar_is_exact(tmp_path):
 
 def test_blender_script_sets_the_converted_values(tmp_path):
     path = tmp_path / "mat.py"
-    result = export(rd.OrenNayar(0.8, 0.35, "full"), "blender", path)
+    result = export(rd.OrenNayar(0.8, 0.35, "full"), "blender", path, blend=False)
     text = path.read_text()
     compile(text, str(path), "exec")
     assert result.model_id == "cycles-diffuse" and result.conversion is not None
     assert f"{result.params['roughness']:.9g}" in text
     assert "differs by" in text  # the conversion error in the comments
-    exact = export(registry.create("cycles-diffuse", albedo=0.5, roughness=0.3), "blender", path)
+    exact = export(
+        registry.create("cycles-diffuse", albedo=0.5, roughness=0.3), "blender", path, blend=False
+    )
     assert exact.conversion is None and "exact" in path.read_text()
 
 
@@ -215,18 +217,43 @@ def test_cli_bad_input_is_one_line_and_status_2(tmp_path):
 
 
 def test_fit_json_feeds_export(tmp_path):
-    """fit --json prints the fit; export --from reads it and converts it for Blender."""
+    """fit --json prints the fit; export --from reads it and converts it for Blender. The
+    same fit's --export writes each target's file (Mitsuba's plugin with the fitted values
+    themselves; the summaries on stderr, stdout stays the JSON)."""
+    import xml.etree.ElementTree as ET
+
     from roughdiffuse.data import path
 
     out = tmp_path / "fit.json"
     run = subprocess.run(
         [sys.executable, "-m", "roughdiffuse", "fit", str(path("samples.csv")),
-         "--model", "oren-nayar-full", "--json"],
+         "--model", "oren-nayar-full", "--json", "--export", "mitsuba,materialx",
+         "--export-prefix", str(tmp_path / "mat")],
         capture_output=True, text=True,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     out.write_text(run.stdout)
+    best = json.loads(run.stdout)["fits"][0]
+    fitted = dict(zip(best["names"], best["values"], strict=True))
+    xml = ET.parse(tmp_path / "mat_mitsuba.xml").getroot()
+    values = {e.get("name"): e.get("value") for e in xml.iter() if e.get("name")}
+    assert float(values["sigma"]) == pytest.approx(fitted["sigma"], rel=1e-12)
+    assert (tmp_path / "mat_materialx.mtlx").is_file()
+    assert "mitsuba: " in run.stderr and "converted from" in run.stderr
     model = load_result(out)
     assert model.variant == "full" and 0.0 < float(model.sigma) < 1.0
-    done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"))
+    done = _cli("--from", str(out), "--to", "blender", "-o", str(tmp_path / "m.py"), "--no-blend")
     assert done.returncode == 0 and "cycles-diffuse" in done.stdout
+
+
+def test_fit_export_refuses_an_unknown_target_before_fitting(tmp_path, capsys):
+    from roughdiffuse.cli import main
+
+    missing = tmp_path / "never-read.csv"
+    missing.write_text("theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n30,30,0,0.2\n")
+    assert main(["fit", str(missing), "--export", "blender,usd"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'usd'" in err[0] and "blender" in err[0]
+    assert main(["fit", str(missing), "--export", "mitsuba",
+                 "--export-prefix", str(tmp_path / "no" / "m")]) == 2  # fmt: skip
+    assert "does not exist" in capsys.readouterr().err

@@ -70,6 +70,7 @@ MINIMAL = {
     "simulate": [],
     "stereo": ["-o", "o"],
     "figures": [],
+    "export": ["--model", "eon", "--to", "mitsuba", "-o", "x.xml"],
 }
 """A command line of each command on which no conditional flag applies."""
 

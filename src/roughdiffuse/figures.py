@@ -45,6 +45,7 @@ from .plots import (
     plot_cross_section,
     plot_plane_of_incidence,
     plot_roughness_series,
+    radiance_colorbar,
     show_radiance,
 )
 from .render import (
@@ -87,6 +88,7 @@ def _lambert_sphere() -> Any:
     img, mask = render(Lambert(rho), Sphere(), DistantLight(0.0), size=SIZE, samples_per_pixel=SPP)
     fig, (a, b) = _figure.subplots(1, 2, figsize=(9, 4), gridspec_kw={"width_ratios": [1, 1.4]})
     show_radiance(a, img, float(img.max()), "Lambert, ρ = 0.8, light behind the viewer")
+    radiance_colorbar(a, float(img.max()))
     xs, _ = pixel_coordinates(Sphere(), None, SIZE)
     plot_cross_section({"rendered": img}, masks={"rendered": mask}, ax=b, x=xs)
     x = np.linspace(-1, 1, 401)
@@ -128,7 +130,8 @@ def _full_moon() -> Any:
     for i, (label, (img, _)) in enumerate(results.items()):
         ax = fig.add_subplot(grid[0, i])
         centre = float(img[SIZE // 2, SIZE // 2])
-        show_radiance(ax, img, centre * 1.05, label)
+        show_radiance(ax, img / centre, 1.05, label)  # each disc on the scale of its centre
+    radiance_colorbar(ax, 1.05, "radiance ÷ the disc centre's")
     ax = fig.add_subplot(grid[1, :])
     plot_cross_section(
         {k: v[0] for k, v in results.items()},
@@ -163,6 +166,7 @@ def _vase() -> Any:
         ax = fig.add_subplot(grid[0, i])
         show_radiance(ax, img, vmax, label)
         ax.axhline(row, color="tab:red", lw=0.8, ls="--")
+    radiance_colorbar(ax, vmax)
     ax = fig.add_subplot(grid[0, 2])
     plot_cross_section(
         {k: v[0] for k, v in results.items()},
@@ -225,8 +229,10 @@ def _blurred_highlights() -> Any:
         img, mask = render(
             TorranceSparrow(1.5, s), Sphere(), light, size=SIZE // 4 * 3, samples_per_pixel=SPP
         )
-        show_radiance(ax, img, float(img.max()), f"σ = {s:g} rad\npeak {img.max():.3g}")
+        peak = float(img.max())
+        show_radiance(ax, img / peak, 1.0, f"σ = {s:g} rad\npeak {peak:.3g} sr⁻¹")
         ax.contour(mask, [0.5], colors="0.45", linewidths=0.8)
+    radiance_colorbar(ax, 1.0, "radiance ÷ the image's peak")
     _suptitle(
         fig,
         "6. Blurred highlights: Torrance–Sparrow spheres (η = 1.5), light at "
@@ -293,6 +299,7 @@ def _diffuse_plus_specular() -> Any:
             err = f"RMS error {np.sqrt(np.mean((img[lit] - truth[lit]) ** 2)) / scale:.1%}"
         show_radiance(ax, img, vmax, f"{label}\n{err}")
         ax.axhline(row, color="tab:red", lw=0.8, ls="--")
+    radiance_colorbar(ax, vmax, "L/E0 of each of R, G, B (sr⁻¹)")
     ax = fig.add_subplot(grid[0, 3])
     cols = np.flatnonzero(lit[row])
     for (label, img), style in zip(images.items(), ("-", "--", "-"), strict=True):
@@ -333,6 +340,8 @@ def _models_side_by_side() -> Any:
     fig, axes = _figure.subplots(2, 4, figsize=(11, 6), layout="constrained")
     for i, (label, img) in enumerate(imgs.items()):
         show_radiance(axes[0, i], img, vmax, label)
+        if i == len(imgs) - 1:
+            radiance_colorbar(axes[0, i], vmax)
         ax = axes[1, i]
         if i == 0:
             ax.axis("off")
@@ -349,7 +358,7 @@ def _models_side_by_side() -> Any:
         ax.set_xticks([])
         ax.set_yticks([])
         ax.set_title(f"{label} − qualitative", fontsize="small")
-    fig.colorbar(im, ax=axes[1, 1:].tolist(), shrink=0.8, label="radiance difference (E0 = 1)")
+    fig.colorbar(im, ax=axes[1, 1:].tolist(), shrink=0.8, label="difference of L/E0 (sr⁻¹)")
     _suptitle(
         fig,
         f"8. The Oren–Nayar family side by side: ρ = 0.8, σ = {sigma} rad, light at "
@@ -378,7 +387,8 @@ def _production_models() -> Any:
     fig = _figure.figure(figsize=(14, 7.2))
     grid = fig.add_gridspec(2, len(models), height_ratios=[1, 1.5])
     for i, (label, img) in enumerate(imgs.items()):
-        show_radiance(fig.add_subplot(grid[0, i]), img, vmax, label)
+        ax = show_radiance(fig.add_subplot(grid[0, i]), img, vmax, label)
+    radiance_colorbar(ax, vmax)
     half = len(models) // 2 + 1
     styles = {"Lambert": {"color": "k", "ls": "--"}}
     for j, theta_i in enumerate((30.0, 70.0)):
@@ -497,6 +507,8 @@ def _against_the_truth() -> Any:
             ax = fig.add_subplot(grid[2 * k, i])
             show_radiance(ax, img, vmax, name if i < 4 else name.replace(", r", ",\nr"))
             ax.axhline(row, color="tab:red", lw=0.6, ls="--")
+            if i == len(out) - 1:
+                radiance_colorbar(ax, vmax)
             if i == 0:
                 ax.set_ylabel(label, fontsize="small")
                 continue
@@ -533,7 +545,8 @@ FIGURES: tuple[Figure, ...] = (
         "1-lambert-sphere",
         "A Lambertian sphere lit head-on",
         "Radiance ρ/π E0 n·s falls to zero at the limb, where n·s = 0: the rendered profile "
-        "(solid) lies on the closed form (dashed).",
+        "(solid) lies on the closed form (dashed); the colour bar gives the image's radiance "
+        "per unit irradiance, L/E0, in sr⁻¹.",
         _lambert_sphere,
     ),
     Figure(
@@ -543,8 +556,8 @@ FIGURES: tuple[Figure, ...] = (
         "Lommel–Seeliger, Hapke with lunar parameters and Minnaert (k = 0.6). The Lambertian "
         "disc darkens towards its edge; the rough Oren–Nayar disc stays much brighter there, "
         "the Lommel–Seeliger disc is exactly flat, and Hapke's and Minnaert's, the laws "
-        "planetary photometry fits to the moon, are nearly flat too. Each disc is shown on "
-        "its own scale (centre = white) and the profiles are divided by the centre's value.",
+        "planetary photometry fits to the moon, are nearly flat too. Each disc is divided by "
+        "its centre's radiance (the colour bar's scale) and so are the profiles.",
         _full_moon,
     ),
     Figure(
@@ -577,7 +590,7 @@ FIGURES: tuple[Figure, ...] = (
         "6-blurred-highlights",
         "Blurred highlights",
         "Torrance–Sparrow spheres with increasing facet slope deviation σ: the highlight "
-        "spreads and its peak falls.",
+        "spreads and its peak falls (each image divided by its peak, stated above it).",
         _blurred_highlights,
     ),
     Figure(

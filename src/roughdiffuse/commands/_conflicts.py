@@ -60,6 +60,10 @@ def _set(dest: str) -> Callable[[argparse.Namespace], bool]:
     return lambda args: bool(getattr(args, dest, None))
 
 
+def _to(target: str) -> Callable[[argparse.Namespace], bool]:
+    return lambda args: getattr(args, "to", None) == target
+
+
 _IMAGE = (".npy", ".exr", ".png")
 _SCENE = (
     Conflict("--light", "--light-theta", "--light replaces --light-theta/--light-phi"),
@@ -88,6 +92,11 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
         AppliesOnly(("--max-samples",), _suffix("data", ".binary"), "a MERL .binary DATA"),
         AppliesOnly(("--margin",), _set("shape"), "--shape"),
         AppliesOnly(("--force",), _set("report"), "--report"),
+        AppliesOnly(("--export-prefix",), _set("export"), "--export"),
+    ),
+    "export": (
+        AppliesOnly(("--principled", "--no-blend"), _to("blender"), "--to blender"),
+        AppliesOnly(("--openpbr",), _to("materialx"), "--to materialx"),
     ),
     "albedo": (
         Conflict("--variance", "--output", "--variance prints a table and writes no plot"),

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from . import UsageError
 from ._common import add_model_arguments, model_from_args
+from ._export_targets import blend_failed
 
 EXAMPLES = """\
 examples:
@@ -43,12 +44,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--principled", action="store_true", help="Blender: a Principled BSDF (Diffuse Roughness)"
     )
+    p.add_argument(
+        "--no-blend",
+        action="store_true",
+        help="Blender: the .py only (by default a .blend is also written beside it where "
+        "Blender's Python is found: make install-blender, or ROUGHDIFFUSE_BLENDER_PYTHON)",
+    )
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..materials import TARGETS, export, load_result
     from ..materials.blender import write as write_blender
+    from ..materials.blender_run import BlenderError
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
@@ -63,10 +71,13 @@ def run(args: argparse.Namespace) -> int:
     else:
         model = model_from_args(args)
     try:
-        if args.to == "blender" and args.principled:
-            result = write_blender(model, out, principled=True)
+        if args.to == "blender":
+            blend = False if args.no_blend else None
+            result = write_blender(model, out, principled=args.principled, blend=blend)
         else:
             result = export(model, args.to, out, openpbr=args.openpbr)
+    except BlenderError as exc:
+        raise blend_failed(out, exc, "--to blender") from None
     except ValueError as exc:
         raise UsageError(f"--to {args.to}: {exc}") from None
     except OSError as exc:

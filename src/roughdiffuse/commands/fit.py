@@ -26,6 +26,7 @@ examples:
   roughdiffuse fit data:samples.csv --model oren-nayar-full --report fit.html
   roughdiffuse fit data:samples.csv --compare --models lambert,oren-nayar,oren-nayar-full
   roughdiffuse fit data:samples.csv --model oren-nayar-full --noise absolute --json
+  roughdiffuse fit data:samples.csv --model oren-nayar-full --export blender,materialx,mitsuba
   roughdiffuse fit data:oren-nayar.binary --model oren-nayar-full --max-samples 20000
   roughdiffuse fit data:sphere.npy --shape sphere --light 30,0 --model oren-nayar-full
   roughdiffuse fit data:sphere.npy --normals data:sphere_normals.npy --light 0.5236rad,0
@@ -98,6 +99,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
     p.add_argument("--force", action="store_true", help="overwrite an existing --report file")
+    p.add_argument(
+        "--export",
+        metavar="TARGET,...",
+        help="after the fit, write the (best) fitted model as a material for blender, "
+        "materialx and/or mitsuba (see `roughdiffuse export`), converted where needed",
+    )
+    p.add_argument(
+        "--export-prefix",
+        default="material",
+        metavar="PREFIX",
+        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml (default: material)",
+    )
     _add_input_arguments(p)
     p.set_defaults(func=run)
 
@@ -262,6 +275,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
         output_file(args.report, force=args.force, option="--report")
+    exports = _export_plan(args)  # targets and folder checked before the data is read
     data = _load(args)
     _check_values(data.value, args.data)
     say = (lambda *a: None) if args.json else print
@@ -312,7 +326,29 @@ def run(args: argparse.Namespace) -> int:
     if args.report:
         write_report(args.report, data, results, comparison)
         say(f"wrote {args.report}")
+    if exports:
+        _export(results[0].model, exports, args.json)
     return 0
+
+
+def _export_plan(args: argparse.Namespace) -> dict | None:
+    """``--export``'s files by target (``None`` without it), checked before any work."""
+    if args.export is None:
+        return None
+    from ._export_targets import export_paths, parse_targets
+
+    return export_paths(args.export_prefix, parse_targets(args.export))
+
+
+def _export(model: object, exports: dict, json_out: bool) -> None:
+    """Write the fitted model for each target; the summaries go to stderr with --json (whose
+    stdout is the JSON)."""
+    import sys
+
+    from ._export_targets import export_model
+
+    say = print if not json_out else (lambda *a: print(*a, file=sys.stderr))
+    export_model(model, exports, say)
 
 
 def _print_json(data, results, comparison, model_id: str) -> None:  # noqa: ANN001

@@ -9,7 +9,8 @@ Targets (:data:`TARGETS`):
 * ``materialx``: a ``.mtlx`` document with an ``oren_nayar_diffuse_bsdf`` (or, with
   ``openpbr=True``, an ``open_pbr_surface`` with ``base_diffuse_roughness``);
 * ``blender``: a ``.py`` that builds the node tree (Diffuse BSDF) when run by Blender or
-  ``bpy``.
+  ``bpy``, and beside it a ``.blend`` saved by Blender where Blender's Python is found
+  (:mod:`roughdiffuse.materials.blender_run`).
 
 Where the target cannot hold the model exactly, the parameters are converted
 (:func:`roughdiffuse.conversion.convert`) and the conversion error is written into the file's
@@ -111,6 +112,7 @@ def export(
     path: str | Path,
     *,
     openpbr: bool = False,
+    blend: bool | None = None,
 ) -> Export:
     """Write ``model`` as a ``target`` material to ``path`` (files written whole or not at all).
 
@@ -123,6 +125,9 @@ def export(
         The file to write (Mitsuba also writes the scene dict beside it, ``.py``).
     openpbr : bool
         MaterialX: an ``open_pbr_surface`` instead of an ``oren_nayar_diffuse_bsdf``.
+    blend : bool or None
+        Blender: also the ``.blend`` beside the script (same name), saved by Blender's own
+        Python: ``None`` where it is found, ``True`` always, ``False`` never.
 
     Raises
     ------
@@ -130,6 +135,8 @@ def export(
         For an unknown target or a model the target cannot hold (with the reason).
     OSError
         If the file cannot be written.
+    BlenderError
+        If Blender's process fails while writing the ``.blend``.
     """
     if target not in TARGETS:
         raise ParameterError(
@@ -146,4 +153,4 @@ def export(
         return write_mtlx(model, path, openpbr=openpbr)
     from .blender import write as write_blender
 
-    return write_blender(model, path)
+    return write_blender(model, path, blend=blend)

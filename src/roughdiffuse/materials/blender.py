@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from .._validate import ParameterError
 from ..models.base import Model
 from .common import Export, error_lines, material_for, write_files
 
@@ -55,10 +56,37 @@ if obj is not None and obj.type == "MESH":
 '''
 
 
-def write(model: Model, path: Path, principled: bool = False) -> Export:
-    """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed)."""
+def write(model: Model, path: Path, principled: bool = False, blend: bool | None = None) -> Export:
+    """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed), and
+    the ``.blend`` file beside it (same name, suffix ``.blend``) made by running the script in
+    Blender's Python (:mod:`roughdiffuse.materials.blender_run`).
+
+    Parameters
+    ----------
+    blend : bool or None
+        Write the ``.blend``: ``None`` (default) where a Blender interpreter is found,
+        ``True`` always (``BlenderError`` without one), ``False`` never.
+
+    Raises
+    ------
+    BlenderError
+        If Blender's process fails (or, with ``blend=True``, none is found).
+    """
+    from .blender_run import blender_command, write_blend
+
+    if path.suffix == ".blend":
+        raise ParameterError(f"{path}: give the script's name (.py); the .blend goes beside it")
     target = "cycles-principled" if principled else "cycles-diffuse"
     params, conversion = material_for(model, target)
     comments = [f"Cycles computes this as roughdiffuse's {target!r}."] + error_lines(conversion)
     text = script(params, comments, principled)
-    return Export("blender", write_files({path: text}), target, params, conversion)
+    paths = write_files({path: text})
+    notes: tuple[str, ...] = ()
+    if blend is None:
+        blend = blender_command() is not None
+        if not blend:
+            notes = ("no .blend: no Blender interpreter (make install-blender, or set "
+                     "ROUGHDIFFUSE_BLENDER_PYTHON)",)  # fmt: skip
+    if blend:
+        paths = (*paths, write_blend(path, path.with_suffix(".blend")))
+    return Export("blender", paths, target, params, conversion, notes)

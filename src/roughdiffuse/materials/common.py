@@ -19,19 +19,22 @@ __all__ = ["Export", "error_lines", "material_for", "model_record", "params_of",
 
 @dataclass(frozen=True)
 class Export:
-    """What :func:`export` wrote: the files, the target model and the conversion (or None)."""
+    """What :func:`export` wrote: the files, the target model, the conversion (or None) and
+    notes (what was not written, and why)."""
 
     target: str
     paths: tuple[Path, ...]
     model_id: str
     params: dict[str, Any]
     conversion: Conversion | None
+    notes: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """The lines ``roughdiffuse export`` prints."""
         lines = [f"{self.target}: {', '.join(str(p) for p in self.paths)}"]
         lines.append(f"  as {self.model_id}: " + _params_text(self.params))
         lines.extend("  " + line for line in error_lines(self.conversion))
+        lines.extend("  " + line for line in self.notes)
         return "\n".join(lines)
 
 

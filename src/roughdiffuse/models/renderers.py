@@ -118,6 +118,12 @@ class CyclesDiffuse(Model):
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "cycles-diffuse": ({"roughness": 0.0}, {"roughness": 1.0, "albedo": 0.5})
     }
+    glsl: ClassVar[dict[str, int]] = {"cycles-diffuse": 20, "cycles-principled": 20}
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "cycles-diffuse": tuple(
+            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
+        )
+    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -173,6 +179,12 @@ class MaterialXEON(Model):
     order: ClassVar[int] = _ORDER + 10
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "materialx-eon": ({"roughness": 0.0}, {"roughness": 1.0})
+    }
+    glsl: ClassVar[dict[str, int]] = {"materialx-eon": 21}
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "materialx-eon": tuple(
+            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
+        )
     }
 
     def _kernel(

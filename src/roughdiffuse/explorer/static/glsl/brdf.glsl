@@ -14,6 +14,7 @@ const float RD_COS_FLOOR = 1e-6;   // microfacet.COS_FLOOR
 const float RD_SUM_FLOOR = 1e-6;   // lunar._SUM_FLOOR
 const float RD_K1 = 0.5 - 2.0 / (3.0 * RD_PI);            // fujii.K1
 const float RD_K2 = 2.0 / 3.0 - 28.0 / (15.0 * RD_PI);    // fujii.K2
+const float RD_MX_EPS = 1e-8;                             // renderers.MX_EPS
 
 // model ids: the numbers each model class declares in its `glsl` attribute (roughdiffuse/models/)
 const int RD_LAMBERT = 0;
@@ -34,6 +35,8 @@ const int RD_LAMBERT_SPHERE = 14;
 const int RD_HAPKE = 15;
 const int RD_MINNAERT = 16;
 const int RD_COATED = 17;
+const int RD_CYCLES_DIFFUSE = 20;   // renderers.CyclesDiffuse (Diffuse BSDF, Principled)
+const int RD_MATERIALX_EON = 21;    // renderers.MaterialXEON
 
 struct RDParams {
   int model;
@@ -144,13 +147,39 @@ float rd_fon_albedo(float mu, float r) {
 // fujii.fon_average_albedo: E_F average, EON paper Eq. 9
 float rd_fon_average_albedo(float r) { return (1.0 + RD_K2 * r) / (1.0 + RD_K1 * r); }
 
-// eon.EON._kernel: f_ss + f_ms (EON paper Eq. 11-13)
-vec3 rd_eon(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
-  vec3 f_ss = albedo / RD_PI * rd_fon_lobe(mu_i, mu_o, cos_io, r);
+// eon.multiple_scattering: rho_ms / pi (1 - E_F(mu_o)) (1 - E_F(mu_i)) / (1 - E_avg)
+vec3 rd_eon_ms(float mu_i, float mu_o, vec3 albedo, float r) {
   float e_avg = rd_fon_average_albedo(r);
   float lobe = (1.0 - rd_fon_albedo(mu_o, r)) * (1.0 - rd_fon_albedo(mu_i, r));
   vec3 rho_ms = albedo * albedo * e_avg / (1.0 - albedo * (1.0 - e_avg));
-  return f_ss + rho_ms / RD_PI * rd_safe_div(lobe, 1.0 - e_avg, 0.0);
+  return rho_ms / RD_PI * rd_safe_div(lobe, 1.0 - e_avg, 0.0);
+}
+
+// eon.EON._kernel: f_ss + f_ms (EON paper Eq. 11-13)
+vec3 rd_eon(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  return albedo / RD_PI * rd_fon_lobe(mu_i, mu_o, cos_io, r) + rd_eon_ms(mu_i, mu_o, albedo, r);
+}
+
+// renderers.CyclesDiffuse._kernel: Fujii's single scattering + rho times EON's lobe
+// (Blender Cycles, bsdf_oren_nayar.h; the closure weight multiplies the lobe by rho again)
+vec3 rd_cycles_diffuse(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  return albedo / RD_PI * rd_fon_lobe(mu_i, mu_o, cos_io, r)
+       + albedo * rd_eon_ms(mu_i, mu_o, albedo, r);
+}
+
+// renderers.MaterialXEON._kernel: EON on N.L, N.V, L.V clamped to [1e-8, 1], with the
+// node's floors (MaterialX mx_oren_nayar_diffuse_bsdf, mx_oren_nayar_compensated_diffuse)
+vec3 rd_materialx_eon(float mu_i, float mu_o, float cos_io, vec3 albedo, float r) {
+  float nl = clamp(mu_i, RD_MX_EPS, 1.0);
+  float nv = clamp(mu_o, RD_MX_EPS, 1.0);
+  float lv = clamp(cos_io, RD_MX_EPS, 1.0);
+  vec3 single = albedo * rd_fon_lobe(nl, nv, lv, r);
+  float avg = rd_fon_average_albedo(r);
+  float one_minus_avg = 1.0 - avg;
+  vec3 rho_ms = albedo * albedo * avg / (1.0 - albedo * max(one_minus_avg, 0.0));
+  vec3 multi = rho_ms * max(1.0 - rd_fon_albedo(nv, r), RD_MX_EPS)
+             * max(1.0 - rd_fon_albedo(nl, r), RD_MX_EPS) / max(one_minus_avg, RD_MX_EPS);
+  return (single + multi) / RD_PI;
 }
 
 // ---------------------------------------------------------------- Torrance-Sparrow (JOSA 1967)
@@ -594,5 +623,7 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   if (p.model == RD_COATED)
     return rd_coated(mi, mo, c, p.albedo, p.sigma, p.eta, p.roughness, p.distribution, p.absorption,
                      p.coat_k, p.coat_ak);
+  if (p.model == RD_CYCLES_DIFFUSE) return rd_cycles_diffuse(mi, mo, c, p.albedo, p.roughness);
+  if (p.model == RD_MATERIALX_EON) return rd_materialx_eon(mi, mo, c, p.albedo, p.roughness);
   return vec3(0.0);
 }

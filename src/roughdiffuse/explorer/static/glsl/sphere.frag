@@ -35,13 +35,19 @@ void main() {
     return;
   }
   vec3 n = vec3(xy, sqrt(max(1.0 - r2, 0.0)));
+  // Two call sites of rd_brdf, not four: the shader compilers inline every call, and the
+  // software renderers (SwiftShader) take seconds per inlined copy of rd_brdf.
+  RDParams p;
+  if (right) p = u_b; else p = u_a;
+  vec3 la = rd_radiance(p, n);
+  vec3 lb = u_mode == 2 ? rd_radiance(u_b, n) : vec3(0.0);
   vec3 c;
   if (u_mode == 2) {
-    vec3 d = (rd_radiance(u_a, n) - rd_radiance(u_b, n)) * u_exposure;
+    vec3 d = (la - lb) * u_exposure;
     float s = (d.r + d.g + d.b) / 3.0;
     c = rd_srgb(s > 0.0 ? vec3(s, 0.25 * s, 0.0) : vec3(0.0, -0.4 * s, -s));
   } else {
-    c = rd_srgb((right ? rd_radiance(u_b, n) : rd_radiance(u_a, n)) * u_exposure);
+    c = rd_srgb(la * u_exposure);
   }
   o_color = vec4(c, 1.0);
 }

@@ -207,10 +207,24 @@ function refresh() {
   });
 }
 
+/** Size the sphere canvas to its column: as wide as the column (two spheres side by side in
+ *  the A | B mode), no taller than the window leaves beside the rows below it (but at least
+ *  240 px, if the column is as wide); drawn at the screen's pixel density. Returns whether the size changed. */
+function fitSphere() {
+  const c = $("sphere"), n = state.mode === 1 ? 2 : 1;
+  const side = Math.floor(Math.min($("view").clientWidth / n, Math.max(240, window.innerHeight - 430)));
+  const dpr = window.devicePixelRatio || 1;
+  const w = Math.round(n * side * dpr), h = Math.round(side * dpr);
+  c.style.width = `${n * side}px`;
+  c.style.height = `${side}px`;
+  if (c.width === w && c.height === h) return false;
+  c.width = w;
+  c.height = h;
+  return true;
+}
+
 function draw() {
-  const c = $("sphere");
-  const width = state.mode === 1 ? 960 : 480;
-  if (c.width !== width) c.width = width;
+  fitSphere();
   const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
@@ -279,11 +293,12 @@ function drawViewInto(target) {
   else if (tab === "scatter") drawScatterOf((_, ...rest) => drawScatter(target, ...rest));
 }
 
-/** Size every plot canvas to the plots column: as wide as the column, 0.6 as high (at least
- *  300 px, and short enough to leave the page's other rows in view). */
+/** Size every plot canvas to the plots column: as wide as the column, 0.66 as high (at least
+ *  300 px, and short enough to leave the rows below it, the data panel with its slice
+ *  controls and fit buttons, in view: 380 px with the header). */
 function fitPlots() {
   const w = Math.max(320, Math.floor($("plots").clientWidth));
-  const h = Math.round(Math.max(300, Math.min(0.6 * w, window.innerHeight - 260)));
+  const h = Math.round(Math.max(300, Math.min(0.66 * w, window.innerHeight - 380)));
   let changed = false;
   for (const v of VIEWS) {
     const c = $(`plot-${v === "plane" ? "cartesian" : v}`);
@@ -567,6 +582,7 @@ async function start() {
   showBusy();
   fitPlots();
   new ResizeObserver(fitPlots).observe($("plots"));
+  new ResizeObserver(() => { if (evaluator && fitSphere()) refresh(); }).observe($("view"));
   const src = await loadSources();
   evaluator = new Evaluator(src);
   sphere = new SphereView($("sphere"), src);

@@ -1,0 +1,62 @@
+"""``fit ... --export TARGETS``: the exporters' targets named on the command line, and the
+files written after a fit (``PREFIX_TARGET.suffix``, one set per target)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from . import UsageError
+
+__all__ = ["blend_failed", "export_model", "export_paths", "parse_targets"]
+
+
+def blend_failed(path: Path, exc: Exception, option: str) -> UsageError:
+    """One line for a Blender process that failed after the script was written."""
+    last = str(exc).strip().splitlines()[-1]
+    return UsageError(f"{option}: {path} written, the .blend not: {last}")
+
+
+def parse_targets(text: str, option: str = "--export") -> list[str]:
+    """The comma-separated targets of ``text``, each one of
+    :data:`roughdiffuse.materials.TARGETS` (a ``UsageError`` naming the unknown one)."""
+    from ..materials import TARGETS
+
+    targets = [t.strip().lower() for t in text.split(",") if t.strip()]
+    if not targets:
+        raise UsageError(f"{option}: name one or more of: {', '.join(TARGETS)}")
+    for t in targets:
+        if t not in TARGETS:
+            raise UsageError(f"{option}: unknown target {t!r}; choose from: {', '.join(TARGETS)}")
+    return list(dict.fromkeys(targets))
+
+
+def export_paths(prefix: str, targets: list[str], option: str = "--export-prefix") -> dict:
+    """The file of each target: ``PREFIX_TARGET`` with the target's suffix; the folder is
+    checked before any work (a ``UsageError`` if it is missing)."""
+    from ..materials import TARGETS
+
+    base = Path(prefix)
+    if base.name in ("", ".", ".."):
+        raise UsageError(f"{option}: give a file name prefix (got {prefix!r})")
+    if not base.parent.is_dir():
+        raise UsageError(f"{option}: folder {str(base.parent)!r} does not exist")
+    return {t: base.with_name(f"{base.name}_{t}{TARGETS[t][0]}") for t in targets}
+
+
+def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> None:
+    """Write ``model`` for each target in ``paths``; print each summary with ``say``."""
+    from ..materials import export
+    from ..materials.blender_run import BlenderError
+
+    for target, path in paths.items():
+        try:
+            result = export(model, target, path)
+        except BlenderError as exc:
+            raise blend_failed(path, exc, "--export blender") from None
+        except ValueError as exc:
+            raise UsageError(f"--export {target}: {exc}") from None
+        except OSError as exc:
+            raise UsageError(f"--export {target}: cannot write {str(path)!r}: {exc}") from None
+        say(result.summary())

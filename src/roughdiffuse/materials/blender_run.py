@@ -1,0 +1,116 @@
+"""Blender's own Python, run as a separate process: the ``.blend`` export and the Blender check.
+
+The ``bpy`` wheel (Blender as a Python module) pins its own NumPy, so it lives in a virtual
+environment of its own (``make install-blender`` makes ``.venv-blender``), and roughdiffuse
+runs it as a subprocess on :mod:`roughdiffuse.materials.blender_scene`. Where it is found
+(:func:`blender_command`):
+
+1. the environment variable ``ROUGHDIFFUSE_BLENDER_PYTHON``: a Python with ``bpy``, or a
+   ``blender`` executable (run as ``blender --background --python ...``);
+2. ``.venv-blender/bin/python`` in the current folder, or in the source checkout roughdiffuse
+   is imported from.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from .._validate import ParameterError
+from ..io.atomic import atomic_write
+
+__all__ = ["ENV", "BlenderError", "blender_command", "run_scene", "write_blend"]
+
+ENV = "ROUGHDIFFUSE_BLENDER_PYTHON"
+"""The environment variable naming Blender's Python (or a ``blender`` executable)."""
+
+SCENE = Path(__file__).with_name("blender_scene.py")
+_VENV = Path(".venv-blender") / "bin" / "python"
+
+
+class BlenderError(RuntimeError):
+    """Blender's process failed (its last lines of output are in the message)."""
+
+
+def _checkout_root() -> Path | None:
+    root = Path(__file__).resolve().parents[3]
+    return root if (root / "pyproject.toml").is_file() else None
+
+
+def blender_command() -> list[str] | None:
+    """The command that runs a script with ``bpy`` (``None`` where none is found).
+
+    Raises
+    ------
+    ValueError
+        If ``ROUGHDIFFUSE_BLENDER_PYTHON`` is set but names no executable file.
+    """
+    named = os.environ.get(ENV, "").strip()
+    if named:
+        exe = shutil.which(named) or (named if os.access(named, os.X_OK) else None)
+        if exe is None:
+            raise ParameterError(f"{ENV}={named!r} is not an executable file")
+        if Path(exe).name.startswith("blender"):
+            return [exe, "--background", "--factory-startup", "--python-exit-code", "1", "--python"]
+        return [exe]
+    roots = [Path.cwd()] + [r for r in (_checkout_root(),) if r is not None]
+    for root in roots:
+        candidate = root / _VENV
+        if candidate.is_file() and os.access(candidate, os.X_OK):
+            return [str(candidate)]
+    return None
+
+
+def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0) -> None:
+    """Run :mod:`~roughdiffuse.materials.blender_scene` on the exported script ``material``
+    with these jobs (see that module for their fields).
+
+    Raises
+    ------
+    BlenderError
+        If no Blender interpreter is found, or its process fails or times out.
+    """
+    command = blender_command()
+    if command is None:
+        raise BlenderError(f"no Blender interpreter: run `make install-blender` or set {ENV}")
+    with tempfile.TemporaryDirectory(prefix="roughdiffuse-blender-") as tmp:
+        request = Path(tmp) / "request.json"
+        request.write_text(
+            json.dumps({"material": str(Path(material).resolve()), "jobs": jobs}), "utf-8"
+        )
+        args = [*command, str(SCENE)] + (["--"] if len(command) > 1 else []) + [str(request)]
+        # Blender's Python has its own packages (NumPy 1.26): none of this process's paths
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+        try:
+            done = subprocess.run(  # noqa: S603 - our own script, arguments as a list
+                args, capture_output=True, text=True, timeout=timeout, cwd=tmp, check=False,
+                env=env,
+            )  # fmt: skip
+        except (OSError, subprocess.TimeoutExpired) as exc:
+            raise BlenderError(f"Blender ({command[0]}) did not run: {exc}") from None
+    if done.returncode != 0:
+        tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-12:])
+        raise BlenderError(f"Blender ({command[0]}) failed with status {done.returncode}:\n{tail}")
+
+
+def write_blend(material: Path, path: Path) -> Path:
+    """Save the material of the exported script ``material``, on a unit sphere under a sun
+    seen by an orthographic camera (the scene of the Blender check), as the ``.blend`` file
+    ``path`` (written whole or not at all).
+
+    Raises
+    ------
+    BlenderError
+        If no Blender interpreter is found or Blender fails.
+    """
+
+    def save(tmp: Path) -> None:
+        job = {"kind": "blend", "shape": "sphere", "light": [-0.5, 0.5, 0.70710678]}
+        run_scene(material, [{**job, "size": 256, "samples": 64, "output": str(tmp.resolve())}])
+
+    return atomic_write(path, save)
