@@ -307,7 +307,7 @@ def _diffuse_plus_specular() -> Any:
                 color="black" if img is truth else None, lw=1.0)
     ax.set_xlabel("pixel column along the dashed line")
     ax.set_ylabel("radiance (E0 = 1; mean of R, G, B)")
-    ax.legend(fontsize="small")
+    ax.legend(fontsize="small", loc="upper left")
     _suptitle(
         fig,
         "7. Diffuse plus surface reflection: the clay vase under a glaze (η = 1.5, "
