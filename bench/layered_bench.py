@@ -1,9 +1,11 @@
 """Speed of the coat: ``python bench/layered_bench.py [--rows-log2 20] [--repeat 5]``.
 
 1. The layered walk (:func:`roughdiffuse.simulate.layered.brdf`): path segments (arrivals on
-   the base) per CPU second (``time.process_time``, every thread counted), for a Lambertian
-   base under a smooth coat and an Oren–Nayar base under a rough one; beside it, in the same
-   run, the compiled Smith walk's segments per CPU second as the reference.
+   the base) per CPU second (``time.process_time``, every thread counted), compiled and NumPy,
+   for a Lambertian base under a smooth coat, an Oren–Nayar base under a rough GGX coat and
+   an EON base under a rough Beckmann coat; beside it, in the same run, the compiled Smith
+   walk's segments per CPU second as the reference, and the ratio to it
+   (``--walk-only``: this part alone).
 2. ``Coated`` over Lambert with a rough GGX coat: the default call ``model.brdf(wi, wo)``
    (compiled fast path) against a C loop of the same formula (the same node rules, written
    out below, compiled with gcc -O3 -march=native -fopenmp), interleaved, on float64 (N, 3)
@@ -84,24 +86,41 @@ void coated_lambert_ggx(const double *wi, const double *wo, double *out, long n,
 """
 
 
-def walk_rates(samples: int) -> list[str]:
+WALK_CASES = (
+    ("Lambert ρ = 0.8, smooth coat", rd.Lambert(0.8), 0.0, "ggx"),
+    ("Oren–Nayar full ρ = 0.8, σ = 0.3, GGX α = 0.3 coat", rd.OrenNayar(0.8, 0.3, "full"), 0.3,
+     "ggx"),
+    ("EON ρ = 0.8, r = 0.5, GGX α = 0.3 coat", rd.EON(0.8, 0.5), 0.3, "ggx"),
+    ("EON ρ = 0.8, r = 0.5, Beckmann α = 0.3 coat", rd.EON(0.8, 0.5), 0.3, "beckmann"),
+)
+
+
+def _walk_rate(engine: str, label: str, base, alpha: float, dist: str, samples: int) -> str:
     g = np.radians([0.0, 30.0, 60.0, 80.0])
-    lines = []
-    for label, base, alpha in (("Lambert ρ = 0.8, smooth coat", rd.Lambert(0.8), 0.0),
-                               ("Oren–Nayar full ρ = 0.8, σ = 0.3, GGX α = 0.3 coat",
-                                rd.OrenNayar(0.8, 0.3, "full"), 0.3)):
-        layered.brdf(0.3, 0.3, 0.0, base, roughness=alpha, samples=2_000)  # warm-up
-        t0 = time.process_time()
-        _, seg = layered.brdf(g, g[::-1], 1.0, base, roughness=alpha, samples=samples,
-                              return_segments=True)
-        cpu = time.process_time() - t0
-        lines.append(f"| layered walk, {label} | {seg:,} | {cpu:.2f} | {seg / cpu / 1e6:.2f} |")
+    kw = dict(roughness=alpha, distribution=dist, engine=engine)
+    layered.brdf(0.3, 0.3, 0.0, base, samples=2_000, **kw)  # compile / load, warm up
+    t0 = time.process_time()
+    _, seg = layered.brdf(g, g[::-1], 1.0, base, samples=samples, return_segments=True, **kw)
+    cpu = time.process_time() - t0
+    return f"| layered walk ({engine}), {label} | {seg:,} | {cpu:.2f} | {seg / cpu / 1e6:.2f} |"
+
+
+def walk_rates(samples: int) -> list[str]:
+    """Segments per CPU second of the layered walk, compiled and NumPy, and of the compiled
+    Smith walk in the same run (the reference: the ratio is what a shared machine keeps)."""
+    g = np.radians([0.0, 30.0, 60.0, 80.0])
     smith.random_walk(0.3, 0.3, 0.0, 0.5, 1.0, samples=2_000)  # compile / load
     t0 = time.process_time()
-    r = smith.random_walk(g, g[::-1], 1.0, 0.5, 1.0, samples=samples)
-    cpu = time.process_time() - t0
-    lines.append(f"| Smith walk (compiled, reference), α = 0.5 | {r.segments:,} | {cpu:.2f} | "
-                 f"{r.segments / cpu / 1e6:.2f} |")
+    r = smith.random_walk(g, g[::-1], 1.0, 0.5, 1.0, samples=8 * samples)
+    smith_rate = r.segments / (time.process_time() - t0)
+    lines = [f"| Smith walk (compiled, reference), α = 0.5 | {r.segments:,} | "
+             f"{r.segments / smith_rate:.2f} | {smith_rate / 1e6:.2f} |"]
+    for label, base, alpha, dist in WALK_CASES:
+        line = _walk_rate("compiled", label, base, alpha, dist, samples)
+        rate = float(line.rsplit("|", 2)[-2]) * 1e6
+        lines.append(line[:-1] + f"| {rate / smith_rate:.2f} |")
+        lines.append(_walk_rate("numpy", label, base, alpha, dist, max(samples // 5, 2_000))
+                     + " |")
     return lines
 
 
@@ -159,10 +178,14 @@ def main() -> None:
     ap.add_argument("--rows-log2", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--samples", type=int, default=50_000)
+    ap.add_argument("--walk-only", action="store_true", help="only the walks' speed")
     args = ap.parse_args()
-    print("| walk | segments | CPU s | M segments / CPU s |\n| --- | ---: | ---: | ---: |")
+    print("| walk | segments | CPU s | M segments / CPU s | / Smith walk |\n"
+          "| --- | ---: | ---: | ---: | ---: |")
     for line in walk_rates(args.samples):
         print(line, flush=True)
+    if args.walk_only:
+        return
     print("\n| N | dtype | model | default M/s | C M/s | default/C | max rel. diff |\n"
           "| --- | --- | --- | ---: | ---: | ---: | ---: |")
     for line in coated_vs_c(args.rows_log2, args.repeat):

@@ -260,6 +260,11 @@ def test_model_pages_state_their_formulas(site: Path) -> None:
                 code = f'<code class="docutils literal notranslate"><span class="pre">{p.name}'
                 assert code in text, (entry.id, p.name)
     assert (site / "_static" / "mathjax" / "tex-chtml.js").stat().st_size > 100_000
+    # the equation numbers a formula cites say whether they were checked against the paper
+    full = (site / "models" / "oren-nayar-full.html").read_text(encoding="utf-8")
+    assert "Equation numbers (Eq. 27; Eq. 31)" in full and "not checked" in full
+    lambert = (site / "models" / "lambert.html").read_text(encoding="utf-8")
+    assert "Equation numbers" not in lambert  # cites none
     lecture = (site / "lecture" / "oren-nayar.html").read_text(encoding="utf-8")
     for symbol in ("C_1 =", "C_2 =", "C_3 =", "L_2 ="):
         assert symbol in lecture, symbol

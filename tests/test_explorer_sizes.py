@@ -82,6 +82,25 @@ def test_plots_grow_with_the_window(browser, explorer_url, size):  # noqa: F811
         assert not overlap(box, p.locator("#panel-a").bounding_box()), el
         assert box["y"] + box["height"] <= header["y"] + header["height"]
     assert header["y"] + header["height"] <= p.locator("#panel-a").bounding_box()["y"]
+    # the sphere grows with its column too (it stopped at its 480 px canvas), undistorted
+    # and drawn at its size on screen: one sphere, then A and B side by side
+    for mode, n in (("0", 1), ("1", 2)):
+        p.select_option("#mode", mode)
+        frames(p)
+        view = p.locator("#view").bounding_box()
+        box = p.locator("#sphere").bounding_box()
+        buffer = p.evaluate("() => [document.getElementById('sphere').width, "
+                            "document.getElementById('sphere').height]")  # fmt: skip
+        side = min(view["width"] / n, h - 430)
+        assert box["width"] <= view["width"] + 1 and box["height"] >= side - 2, (mode, box)
+        assert abs(box["width"] - n * box["height"]) <= 2, (mode, box)
+        assert abs(buffer[0] - box["width"]) <= 2 and abs(buffer[1] - box["height"]) <= 2
+    if w >= 1920:
+        assert p.locator("#sphere").bounding_box()["width"] >= 600
+    # no half-empty screen: the sphere's column or the plots' reach most of the way down
+    low = max(p.locator(s).bounding_box()["y"] + p.locator(s).bounding_box()["height"]
+              for s in ("#view", "#plots"))  # fmt: skip
+    assert low >= 0.7 * h, low
     assert not log.errors, log.errors
     p.close()
 

@@ -68,3 +68,66 @@ def test_stereo_bar_that_converges_early_ends_at_100_percent(capsys) -> None:  #
     assert res.roughness == pytest.approx(0.4, abs=1e-3)
     last = capsys.readouterr().err.strip().split("\r")[-1]
     assert "converged after" in last and "30/30" in last and "100%" in last
+
+
+def test_long_render_counts_its_bands_on_a_terminal(monkeypatch, tmp_path) -> None:  # noqa: ANN001
+    """`render` with many rays: a bar of bands of rows on a terminal, nothing on a pipe; the
+    banded image is the closed form ρ/π n·l of a Lambertian sphere lit head-on (E0 = 1)."""
+    import numpy as np
+
+    from roughdiffuse.cli import main
+    from roughdiffuse.render import Sphere, renderer
+
+    monkeypatch.setattr(renderer, "BAND_RAYS", 32 * 10)  # 10 rows of 32 pixels a band: 4 bands
+    args = ["render", "--model", "lambert", "--albedo", "0.8", "--size", "32", "--spp", "1"]
+    tty = FakeTTY()
+    monkeypatch.setattr(sys, "stderr", tty)
+    assert main([*args, "-o", str(tmp_path / "a.npy")]) == 0
+    last = tty.getvalue().strip().split("\r")[-1]
+    assert "render" in last and "4/4" in last and "100%" in last
+    pipe = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", pipe)
+    assert main([*args, "-o", str(tmp_path / "b.npy")]) == 0
+    assert pipe.getvalue() == ""
+    x, y = renderer.pixel_coordinates(Sphere(), size=32)
+    r2 = x[None, :] ** 2 + y[:, None] ** 2
+    inside = r2 < 1.0
+    expected = np.where(inside, 0.8 / np.pi * np.sqrt(np.clip(1.0 - r2, 0.0, None)), 0.0)
+    image = np.load(tmp_path / "b.npy")
+    assert image.shape == (32, 32)
+    np.testing.assert_allclose(image, expected, rtol=1e-5, atol=1e-6)
+
+
+def test_photometry_correct_counts_chunks_on_a_terminal(monkeypatch, tmp_path) -> None:  # noqa: ANN001
+    """`photometry correct` on an image of several chunks: a bar on a terminal, and the
+    result of Lunar-Lambert (linear in its albedo) normalised to i = e = g = 0 is ρ."""
+    import math
+
+    import numpy as np
+
+    import roughdiffuse as rd
+    from roughdiffuse.cli import main
+    from roughdiffuse.models.photometry import radiance_factor
+    from roughdiffuse.planetary import correct
+    from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
+
+    bp = ellipsoid_backplanes((24, 24), (0.0, 30.0), (0.0, 0.0))
+    lit = bp.on_body & (bp.incidence < math.pi / 2)
+    iof = np.full((24, 24), np.nan)
+    model = rd.LunarLambert(0.12, 0.6)
+    iof[lit] = radiance_factor(model, bp.incidence[lit], bp.emission[lit], bp.phase[lit])
+    np.save(tmp_path / "iof.npy", iof)
+    monkeypatch.setattr(correct, "CHUNK", 100)
+    n = int((lit & (bp.incidence <= math.radians(85)) & (bp.emission <= math.radians(85))).sum())
+    chunks = -(-n // 100)
+    assert chunks > 1
+    tty = FakeTTY()
+    monkeypatch.setattr(sys, "stderr", tty)
+    argv = ["photometry", "correct", str(tmp_path / "iof.npy"), "--subsolar", "0,30",
+            "--subobserver", "0,0", "--model", "lunar-lambert", "--param", "L=0.6",
+            "-o", str(tmp_path / "out.npy")]  # fmt: skip
+    assert main(argv) == 0
+    last = tty.getvalue().strip().split("\r")[-1]
+    assert "photometry correct" in last and f"{chunks}/{chunks}" in last and "100%" in last
+    keep = bp.on_body & (bp.incidence < math.radians(80)) & (bp.emission < math.radians(80))
+    np.testing.assert_allclose(np.load(tmp_path / "out.npy")[keep], 0.12, rtol=1e-6)

@@ -194,7 +194,8 @@ def oren_nayar_series() -> Figure:
     fig = plot_roughness_series(lambda s: OrenNayar(0.8, s), (0.0, 0.2, 0.5),
                                 lights=[DistantLight(0.0), DistantLight(math.radians(60.0), 0.0)],
                                 size=64, samples_per_pixel=SPP)
-    fig.set_size_inches(5.2, 3.8)
+    fig.set_size_inches(5.6, 3.8)
+    fig.tight_layout()  # room for the colour bars beside the rows
     return fig
 
 
@@ -275,8 +276,11 @@ def generate(docs: Path) -> list[Path]:
 
     folder = docs / "lecture" / "figures"
     folder.mkdir(parents=True, exist_ok=True)
-    key = hashlib.sha256(Path(__file__).read_bytes()
-                         + roughdiffuse.__version__.encode()).hexdigest()
+    import roughdiffuse.plots
+
+    # the figures change with this file, the version and the plotting functions they call
+    sources = Path(__file__).read_bytes() + Path(roughdiffuse.plots.__file__).read_bytes()
+    key = hashlib.sha256(sources + roughdiffuse.__version__.encode()).hexdigest()
     stamp = folder / ".cache.json"
     try:
         done = json.loads(stamp.read_text(encoding="utf-8"))

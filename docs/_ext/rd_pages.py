@@ -14,6 +14,7 @@ import inspect
 import json
 import math
 import pkgutil
+import re
 import textwrap
 from pathlib import Path
 from typing import Any
@@ -80,7 +81,7 @@ def _start(entry: Any) -> dict[str, Any]:
 def _figures(entry: Any, folder: Path) -> dict[str, str]:
     """The sphere, plane-of-incidence and white-furnace pictures of ``entry``."""
     from roughdiffuse.energy import plot_albedo
-    from roughdiffuse.plots import plot_plane_of_incidence, show_radiance
+    from roughdiffuse.plots import plot_plane_of_incidence, radiance_colorbar, show_radiance
     from roughdiffuse.render import DistantLight, Sphere, render
 
     names = {}
@@ -91,8 +92,9 @@ def _figures(entry: Any, folder: Path) -> dict[str, str]:
     for ax, theta in zip(axes, (0.0, math.radians(60.0)), strict=True):
         image, _ = render(model, Sphere(), DistantLight(theta), size=128)
         image = np.asarray(image, dtype=np.float64)
-        show_radiance(ax, image, float(np.nanmax(image)) or 1.0,
-                      f"light at θ = {math.degrees(theta):.0f}°")
+        vmax = float(np.nanmax(image)) or 1.0
+        show_radiance(ax, image, vmax, f"light at θ = {math.degrees(theta):.0f}°")
+        radiance_colorbar(ax, vmax)  # each image on its own scale
     fig.suptitle(_title(entry, start), fontsize="small")
     fig.tight_layout()
     names["sphere"] = f"{entry.id}-sphere.png"
@@ -260,19 +262,46 @@ def formula_of(entry: Any) -> str:
     return textwrap.dedent(text).strip()
 
 
+EQUATION_NUMBER = re.compile(
+    r"\bEqs?\.\s*\d+(?:\.\d+)?[a-z]?(?:\s*(?:[–,-]|and)\s*\d+(?:\.\d+)?[a-z]?)*"
+)
+"""An equation number a formula cites ("Eq. 27", "Eq. 9.40, 12.55", "Eq. 28 and 37")."""
+
+CHECKED_EQUATION_NUMBERS: dict[str, str] = {}
+"""Model id -> how the equation numbers its formula cites were checked against the paper's
+own numbering (the text the page then shows). A model not here gets the note that its numbers
+are not checked: they are carried over from the sources the implementation was written from,
+and no copy of the paper was at hand to compare them with."""
+
+
+def equation_note(entry: Any) -> str:
+    """The sentence a model page shows under its formula about the equation numbers it cites
+    (empty when it cites none)."""
+    found = EQUATION_NUMBER.finditer(formula_of(entry))
+    cited = list(dict.fromkeys(" ".join(m.group(0).split()) for m in found))
+    if not cited:
+        return ""
+    how = CHECKED_EQUATION_NUMBERS.get(entry.id)
+    if how:
+        return f"Equation numbers ({'; '.join(cited)}): {how}"
+    return (f"Equation numbers ({'; '.join(cited)}): as the sources this implementation was "
+            "written from cite them; **not checked** against the papers' own numbering.")
+
+
 def _formula_section(entry: Any) -> list[str]:
     """"The formula" of a model page: the declared LaTeX, the symbols of the declared
-    parameters, the common notation."""
+    parameters, whether the equation numbers it cites were checked, the common notation."""
     text = formula_of(entry)
     if not text:
         return ["## The formula", "", "This model declares no formula (`Model.formula`).", ""]
+    note = equation_note(entry)
     rows = ["| symbol | parameter | meaning |", "| --- | --- | --- |"]
     for p in entry.parameters:
         symbol = entry.cls.symbols.get(p.name)
         if symbol and p.name not in entry.fixed:
             rows.append(f"| {{math}}`{symbol}` | `{p.name}` | {p.description} |")
-    return ["## The formula", "", text, "", *(rows if len(rows) > 2 else []), "",
-            NOTATION, ""]
+    return ["## The formula", "", text, "", *([note, ""] if note else []),
+            *(rows if len(rows) > 2 else []), "", NOTATION, ""]
 
 
 def _model_page(entry: Any, names: dict[str, str] | None, speed: list[str],
@@ -606,5 +635,5 @@ def generate(docs: Path) -> None:
     generate_api(docs)
 
 
-__all__ = ["TASKS", "formula_of", "generate", "generate_api", "generate_models", "public_modules",
-           "task_of"]
+__all__ = ["CHECKED_EQUATION_NUMBERS", "EQUATION_NUMBER", "TASKS", "equation_note", "formula_of",
+           "generate", "generate_api", "generate_models", "public_modules", "task_of"]

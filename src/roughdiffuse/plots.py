@@ -31,6 +31,7 @@ __all__ = [
     "plot_cross_section",
     "plot_plane_of_incidence",
     "plot_roughness_series",
+    "radiance_colorbar",
     "show_radiance",
 ]
 
@@ -224,6 +225,29 @@ def show_radiance(ax: Any, image: np.ndarray, vmax: float, title: str = "") -> A
     return ax
 
 
+RADIANCE_LABEL = "radiance L/E0 (sr⁻¹)"
+"""The colour bar's label of an image of the renderer's radiance: per unit irradiance E0
+(W m⁻² sr⁻¹ per W m⁻²)."""
+
+
+def radiance_colorbar(ax: Any, vmax: float, label: str = RADIANCE_LABEL) -> Any:
+    """A grey colour bar beside ``ax``, from 0 to ``vmax``: the scale :func:`show_radiance`
+    draws with. Images that share a scale share one bar, beside the last of them.
+
+    The bar is an inset of ``ax`` (``Axes.inset_axes``), so ``tight_layout`` makes room for it
+    and the figure's list of axes is unchanged. Returns the ``Colorbar``.
+    """
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    vmax = vmax if vmax > 0 else 1.0
+    cax = ax.inset_axes([1.04, 0.0, 0.06, 1.0])
+    bar = ax.figure.colorbar(ScalarMappable(Normalize(0.0, vmax), cmap="gray"), cax=cax)
+    bar.set_label(label, fontsize="x-small")
+    bar.ax.tick_params(labelsize="x-small")
+    return bar
+
+
 def plot_roughness_series(
     make_model: Callable[[float], Model],
     sigmas: Sequence[float] = ROUGHNESS_SERIES,
@@ -234,7 +258,8 @@ def plot_roughness_series(
     samples_per_pixel: int = 4,
     progress: Callable[[], None] | None = None,
 ) -> Any:
-    """The same object for increasing σ, side by side (one row per light), common scale.
+    """The same object for increasing σ, side by side (one row per light), on one grey scale
+    with its colour bar beside each row.
 
     Parameters
     ----------
@@ -276,4 +301,5 @@ def plot_roughness_series(
         for c, s in enumerate(sigmas):
             show_radiance(axes[r, c], images[r][c], vmax, f"σ = {s:.3g} rad" if r == 0 else "")
         axes[r, 0].set_ylabel(f"light θi = {math.degrees(light.theta):.0f}°")
+        radiance_colorbar(axes[r, -1], vmax)  # one scale for every image
     return fig

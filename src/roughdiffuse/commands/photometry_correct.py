@@ -167,6 +167,7 @@ def run_correct(args: argparse.Namespace) -> int:
 
     from ..planetary.correct import PLANE_SUFFIXES, normalize, read_plane, write_plane
     from ..planetary.disk import PHOTOMETRIC_MODELS
+    from ..progress import progress_enabled
 
     if args.model not in PHOTOMETRIC_MODELS:
         raise UsageError(
@@ -205,6 +206,7 @@ def run_correct(args: argparse.Namespace) -> int:
         match=tuple(math.radians(v) for v in args.match),
         max_incidence=math.radians(args.max_incidence),
         max_emission=math.radians(args.max_emission),
+        progress=progress_enabled(),  # chunks of pixels, on a terminal
     )
     write_plane(args.output, out)
     n = int(np.isfinite(out).sum())

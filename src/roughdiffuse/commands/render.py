@@ -252,6 +252,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..io.images import write_image
+    from ..progress import progress_enabled
     from ..render import render
 
     if args.lights_file is not None:
@@ -277,6 +278,7 @@ def run(args: argparse.Namespace) -> int:
         args.size,
         samples_per_pixel=args.spp,
         shadows=not args.no_shadows,
+        progress=progress_enabled(),  # bands of rows, on a terminal (render.renderer)
     )
     elapsed = time.perf_counter() - t0
     require_finite(

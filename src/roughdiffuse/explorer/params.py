@@ -59,7 +59,8 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
         (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``. Keys the
         model does not take are ignored (the page sends every slider); missing keys take
-        :data:`DEFAULTS`.
+        :data:`DEFAULTS` (a menu's value another model's menu set there: this model's own
+        default).
         ``torrance-sparrow`` with ``distribution="beckmann"`` is the GLSL's reading of a σ
         for Beckmann: α = √2 σ.
 
@@ -85,7 +86,10 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     entry = registry.get(name)
     kwargs: dict[str, Any] = {}
     for param in entry.parameters:
-        value = p[flat_key(entry, param.name)]
+        key = flat_key(entry, param.name)
+        value = p[key]
+        if param.choices is not None and value not in param.choices and key not in params:
+            value = param.default  # a menu shared with another model: this model's default
         if param.channels:
             value = [float(a) for a in value]
             if len(value) != 3:

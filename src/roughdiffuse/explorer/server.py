@@ -10,6 +10,8 @@ It serves the static page in ``static/`` and four small JSON/PNG endpoints under
 * ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…&bounces=1|all``: V-cavity radiance in
   the plane of incidence, one bounce or all, computed by :mod:`roughdiffuse.simulate` on
   request.
+* ``/api/layeredtruth.json?model=coated&…&absorption=…&theta_i=…`` (the vase's parameters):
+  the layered walk's radiance of that coat in the plane of incidence (:mod:`.layered_truth`).
 
 and, for measured data (:mod:`roughdiffuse.explorer.datasets`; JSON answers, errors as
 ``{"error": message}`` with a 4xx status):
@@ -383,6 +385,10 @@ class ExplorerHandler(BaseHTTPRequestHandler):
                 self._send(HTTPStatus.OK, backend.vase_png(q), "image/png", head)
             elif path == "/api/groundtruth.json":
                 self._json(HTTPStatus.OK, backend.ground_truth(q), head)
+            elif path == "/api/layeredtruth.json":
+                from .layered_truth import layered_truth
+
+                self._json(HTTPStatus.OK, layered_truth(q), head)
             elif path == "/api/data/slice":
                 try:
                     ds = datasets.STORE.get(q.get("id", ""))

@@ -1,1 +1,2 @@
-"""Bridges to other software: Mitsuba 3 BSDF plugins (:mod:`.mitsuba`)."""
+"""Bridges to other software: Mitsuba 3 BSDF plugins
+(:mod:`roughdiffuse.integrations.mitsuba`)."""

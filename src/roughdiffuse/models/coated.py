@@ -392,6 +392,18 @@ class Coated(Model):
              "absorption": 0.2},
         )
     }
+    glsl: ClassVar[dict[str, int]] = {"coated": 17}
+    glsl_keys: ClassVar[dict[str, str]] = {}
+    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
+        "coated": (
+            {"albedo": 0.8, "sigma": 0.3, "eta": 1.5},
+            {"albedo": 0.6, "sigma": 0.0, "eta": 1.5, "roughness": 0.3, "distribution": "ggx",
+             "absorption": 0.2},
+            {"albedo": 0.9, "sigma": 0.5, "eta": 2.0, "roughness": 0.2,
+             "distribution": "beckmann"},
+            {"albedo": 0.5, "sigma": 0.2, "eta": 1.2, "roughness": 0.7, "distribution": "ggx"},
+        )
+    }
 
     @classmethod
     def from_params(

@@ -24,9 +24,9 @@ angle θ̄ (θ̄ = 0: μ0e = μ0, μe = μ, S = 1). The variants differ in the f
   coherent-backscatter surge B_CB = 1 + B_C0 B_C(g) with
   B_C(g) = [1 + (1 − e^(−y))/y] / [2 (1 + y)²], y = tan(g/2)/h_C (Hapke 2002, Eq. 31).
 
-The BRDF is f = I/F/(π μ0) (:mod:`.photometry`), μ0 cancelled in closed form. Each formula
-lives once here: the phase functions, the H-functions, the surges and the roughness are
-functions every variant calls.
+The BRDF is f = I/F/(π μ0) (:mod:`roughdiffuse.models.photometry`), μ0 cancelled in closed
+form. Each formula lives once here: the phase functions, the H-functions, the surges and the
+roughness are functions every variant calls.
 """
 
 from __future__ import annotations
@@ -543,6 +543,8 @@ class Hapke2012(Model):
     theta_bar : float
         Mean slope angle θ̄, radians in [0, π/3] (Hapke 1984).
 
+    Notes
+    -----
     Checked against ``refmod`` (arunoruto/reflectance-models, ``src/refmod/hapke/_core.py``:
     ``h_function``, ``shadow_hiding``, ``coherent_backscatter``, ``roughness_correction``),
     transcribed in the tests, and the H-function against Chandrasekhar's exact one.

@@ -3,7 +3,7 @@
 M. Minnaert, "The reciprocity principle in lunar photometry", Astrophysical Journal 93 (1941)
 403, Eq. (1); as planetary-photometry software defines it (USGS ISIS ``Minnaert``, VICAR
 ``PHO_MINNAERT``): the radiance factor I/F = ρ μ0^k μ^(k−1), so (through
-:mod:`.photometry`)::
+:mod:`roughdiffuse.models.photometry`)::
 
     f = ρ/π (μi μo)^(k−1).
 

@@ -51,6 +51,9 @@ MATCH = (math.radians(45.0), math.radians(45.0), 0.0)
 THRESH = 30.0
 SURGE_AMPLITUDES = ("b0", "bs0", "bc0")
 _EPS_DEG = 0.04  # PhtTopder's tilt
+CHUNK = 1 << 18
+"""Pixels normalised together: an image of more is done chunk by chunk, a progress bar
+counting the chunks."""
 
 
 def _psurf(model: Any, phase: Any, inc: Any, ema: Any) -> np.ndarray:
@@ -110,6 +113,7 @@ def normalize(
     max_incidence: float = math.radians(85.0),
     max_emission: float = math.radians(85.0),
     thresh: float = THRESH,
+    progress: bool | None = False,
 ) -> np.ndarray:
     """Normalise an I/F image to the reference geometry (see the module).
 
@@ -130,6 +134,9 @@ def normalize(
         Pixels beyond are masked (radians).
     thresh : float
         ISIS's ``Thresh``.
+    progress : bool or None
+        A progress bar on standard error counting chunks of :data:`CHUNK` pixels (an image
+        of more than one); None: only when standard error is a terminal. Default False.
 
     Returns
     -------
@@ -148,28 +155,67 @@ def normalize(
     out = np.full(dn.shape, np.nan)
     if not ok.any():
         return out
-    gi, ii, ei = g[ok], i[ok], e[ok]
+    correct = _corrector(model, method, reference, match, albedo, thresh)
+    out[ok] = _in_chunks(correct, dn[ok], g[ok], i[ok], e[ok], progress)
+    return out
+
+
+def _corrector(
+    model: Any,
+    method: str,
+    reference: Sequence[float],
+    match: Sequence[float],
+    albedo: float,
+    thresh: float,
+) -> Any:
+    """The normalisation of ``method`` as a function of (I/F, g, i, e) arrays of pixels, its
+    constants (the reference and match geometries' values) computed once."""
     ref = reference_model(model)
     p_ref = float(_psurf(ref, *reference))
-    psurf = _psurf(model, gi, ii, ei)
     if method == "albedo":
-        good = p_ref <= psurf * thresh
-        res = np.full(psurf.shape, np.nan)
-        res[good] = dn[ok][good] * p_ref / psurf[good]
-    else:
-        if p_ref == 0.0:
-            raise ParameterError("the model's I/F at the reference geometry is 0")
-        rhobar = albedo / p_ref
-        p_match = float(_psurf(ref, *match))
-        pp_ref = float(phototopder(ref, *reference))
-        pp_match = max(1e-30, float(phototopder(ref, *match)))
-        anum = math.sqrt(p_ref**2 + (p_match * pp_ref / pp_match) ** 2)
-        pprime = phototopder(model, gi, ii, ei)
+
+        def albedo_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
+            psurf = _psurf(model, g, i, e)
+            good = p_ref <= psurf * thresh
+            res = np.full(psurf.shape, np.nan)
+            res[good] = dn[good] * p_ref / psurf[good]
+            return res
+
+        return albedo_method
+    if p_ref == 0.0:
+        raise ParameterError("the model's I/F at the reference geometry is 0")
+    rhobar = albedo / p_ref
+    p_match = float(_psurf(ref, *match))
+    pp_ref = float(phototopder(ref, *reference))
+    pp_match = max(1e-30, float(phototopder(ref, *match)))
+    anum = math.sqrt(p_ref**2 + (p_match * pp_ref / pp_match) ** 2)
+
+    def mixed_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
+        psurf = _psurf(model, g, i, e)
+        pprime = phototopder(model, g, i, e)
         aden = np.sqrt(np.maximum(1e-30, psurf**2 + (p_match * pprime / pp_match) ** 2))
-        res = dn[ok] * anum / aden + rhobar * (p_ref - anum / aden * psurf)
+        res = dn * anum / aden + rhobar * (p_ref - anum / aden * psurf)
         res[aden > anum * thresh] = np.nan
-    out[ok] = res
-    return out
+        return res
+
+    return mixed_method
+
+
+def _in_chunks(
+    correct: Any, dn: np.ndarray, g: np.ndarray, i: np.ndarray, e: np.ndarray, progress: bool | None
+) -> np.ndarray:
+    """``correct`` applied to :data:`CHUNK` pixels at a time, with a progress bar."""
+    from ..progress import progress as bar_of
+
+    starts = range(0, dn.size, CHUNK)
+    enabled = False if len(starts) == 1 or progress is False else progress
+    res = np.empty(dn.shape)
+    with bar_of(len(starts), "photometry correct", unit="chunk", enabled=enabled) as bar:
+        for s0 in starts:
+            part = slice(s0, s0 + CHUNK)
+            res[part] = correct(dn[part], g[part], i[part], e[part])
+            bar.update(1)
+    return res
 
 
 # ------------------------------------------------------------------------- files

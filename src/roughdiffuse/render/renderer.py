@@ -8,7 +8,9 @@ L = ρ/π I n·s is this with f_r = ρ/π. The attached shadow (n·l ≤ 0) come
 from the model, which is 0 below the horizon.
 
 The whole loop is one ``jax.jit``-compiled function of the model (a JAX pytree), compiled
-once per shape, image size, sample count and light count.
+once per shape, image size, sample count and light count. A large image (many pixels times
+many samples) is rendered in bands of rows, :data:`BAND_RAYS` rays each, by the same compiled
+function, with a progress bar (:mod:`roughdiffuse.progress`) counting the bands.
 """
 
 from __future__ import annotations
@@ -36,6 +38,11 @@ MAX_SIZE = 8192
 CHUNK = 1 << 14
 """Rays shaded together (one ``jax.lax.map`` step): large enough to amortise the loop,
 small enough for the working set of a surface of revolution to stay in cache."""
+
+BAND_RAYS = 1 << 21
+"""Rays in one band of image rows (a band is at least one row): an image with more is
+rendered band by band, each band a step of the progress bar, and holds only one band's
+samples in memory at a time."""
 
 
 def _check_size(size: int | Sequence[int]) -> tuple[int, int]:
@@ -68,7 +75,7 @@ def _with_shape_albedo(model: Model, shape: Shape) -> Model:
     return model
 
 
-@partial(jax.jit, static_argnames=("shape", "height", "width", "k", "shadows"))
+@partial(jax.jit, static_argnames=("shape", "height", "rows", "width", "k", "shadows"))
 def _render(
     model: Model,
     light_dirs: Any,
@@ -76,20 +83,25 @@ def _render(
     basis: Any,
     centre: Any,
     pixel: Any,
+    row0: Any,
     *,
     shape: Shape,
     height: int,
+    rows: int,
     width: int,
     k: int,
     shadows: bool,
 ) -> tuple[Any, Any]:
+    """Image rows ``row0`` to ``row0 + rows - 1`` of an image ``height`` rows high."""
     right, up, view = basis[0], basis[1], basis[2]
     # stratified k x k samples per pixel; image row 0 is the top
     sub = (jnp.arange(k, dtype=jnp.float32) + 0.5) / k
     cols = jnp.arange(width, dtype=jnp.float32)[None, :, None, None] + sub[None, None, None, :]
-    rows = jnp.arange(height, dtype=jnp.float32)[:, None, None, None] + sub[None, None, :, None]
+    first = jnp.asarray(row0, jnp.float32)
+    band = first + jnp.arange(rows, dtype=jnp.float32)
+    ys = band[:, None, None, None] + sub[None, None, :, None]
     a = (cols - 0.5 * width) * pixel  # along "right"
-    b = (0.5 * height - rows) * pixel  # along "up"
+    b = (0.5 * height - ys) * pixel  # along "up"
     a, b = (x.reshape(-1) for x in jnp.broadcast_arrays(a, b))  # (H W k k,)
     d = (-view[0], -view[1], -view[2])
 
@@ -128,8 +140,8 @@ def _render(
     total, hit = jax.lax.map(shade, (a.reshape(-1, chunk), b.reshape(-1, chunk)))
     total = total.reshape(-1, *total.shape[2:])[:n_rays]
     hit = hit.reshape(-1)[:n_rays]
-    image = jnp.mean(total.reshape(height, width, k * k, *total.shape[1:]), axis=2)
-    mask = jnp.mean(hit.reshape(height, width, k * k).astype(jnp.float32), axis=2)
+    image = jnp.mean(total.reshape(rows, width, k * k, *total.shape[1:]), axis=2)
+    mask = jnp.mean(hit.reshape(rows, width, k * k).astype(jnp.float32), axis=2)
     return image.astype(jnp.float32), mask
 
 
@@ -165,6 +177,7 @@ def render(
     *,
     samples_per_pixel: int = 4,
     shadows: bool = True,
+    progress: bool | None = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Render ``shape`` made of ``model`` under distant light(s), seen by an orthographic camera.
 
@@ -185,6 +198,10 @@ def render(
         A square number (1, 4, 9, ...): k × k stratified samples per pixel, averaged.
     shadows : bool
         Cast shadows on non-convex shapes (attached shadows are always there).
+    progress : bool or None
+        A progress bar on standard error counting the bands of rows of an image of more than
+        :data:`BAND_RAYS` rays (pixels × samples); None: only when standard error is a
+        terminal (:func:`roughdiffuse.progress.progress_enabled`). Default False.
 
     Returns
     -------
@@ -230,7 +247,8 @@ def render(
         c = channels.pop()
         e0 = [np.broadcast_to(x, (c,)) if x.ndim == 0 else x for x in e0]
     centre, pixel = camera.frame(shape, height, width)
-    image, mask = _render(
+    band = partial(
+        _render,
         model,
         jnp.asarray(np.stack([x.direction for x in lights]), jnp.float32),
         jnp.asarray(np.stack(e0)),
@@ -243,4 +261,25 @@ def render(
         k=k,
         shadows=bool(shadows),
     )
-    return np.asarray(image), np.asarray(mask)
+    return _in_bands(band, height, width * k * k, progress)
+
+
+def _in_bands(
+    band: Any, height: int, rays_per_row: int, progress: bool | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The image and mask, rendered by ``band(row0, rows=...)`` in bands of at most
+    :data:`BAND_RAYS` rays (at least one row), all bands as high (one compilation; the last
+    one's rows past the image are dropped); a progress bar counts the bands."""
+    from ..progress import progress as bar_of
+
+    rows = max(1, min(height, BAND_RAYS // rays_per_row))
+    starts = range(0, height, rows)
+    images, masks = [], []
+    enabled = False if len(starts) == 1 or progress is False else progress
+    with bar_of(len(starts), "render", unit="band", enabled=enabled) as bar:
+        for row0 in starts:
+            image, mask = band(jnp.int32(row0), rows=rows)
+            images.append(np.asarray(image))  # waits for the band: the bar counts work done
+            masks.append(np.asarray(mask))
+            bar.update(1)
+    return np.concatenate(images)[:height], np.concatenate(masks)[:height]

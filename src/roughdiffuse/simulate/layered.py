@@ -19,7 +19,9 @@ The walk, for light arriving from ωi and a viewer at ωo (both above the layer)
   when smooth; Walter eq. 20, F D G1 G1 / (4 μi μo), when rough) and is added in closed form.
 * **Base.** At each arrival on the base (incident from −d), the next-event estimate
   scores the light that leaves towards ωo after this vertex: a facet m drawn from the visible
-  normals of ωo gives the internal direction ω' (ωo refracted inwards) and the score
+  normals of ωo (once per path: each vertex's estimate stays unbiased, and the standard
+  error, taken over whole paths, counts their correlation) gives the internal direction ω'
+  (ωo refracted inwards) and the score
   β (1 − F(ωo·m, η)) G1(ω') f_base(−d, ω') e^{−τ/μ'} / η² (the 1/η² is the radiance's change
   across the interface; with the generalised reciprocity of the refraction BTDF, Walter eq. 21,
   this is the transmission weight seen from outside). Then the path continues: ω is drawn
@@ -49,13 +51,15 @@ and reciprocity.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from .._validate import ParameterError, check_range
 from .cavity import Bounces, check_bounces
-from .smith import check_angles
+from .layered_formulas import build as _build_interface
+from .smith import _check_engine, check_angles
 from .smith_slopes import sample_visible_normals, smith_lambda
 
 __all__ = [
@@ -84,22 +88,20 @@ INTERFACE_DISTRIBUTIONS = ("ggx", "beckmann")
 
 _BATCH = 1 << 16
 
+_I = _build_interface(
+    SimpleNamespace(jit=lambda f: f, where=np.where, maximum=np.maximum, minimum=np.minimum,
+                    sqrt=np.sqrt)
+)
+
 
 def fresnel_dielectric(cos_t: np.ndarray, eta: float) -> np.ndarray:
     """Unpolarised Fresnel reflectance of a dielectric of relative index η at cos θ, from the
-    s and p amplitudes (Born and Wolf, Sec. 1.5.2): with cos θt = √(1 − (1 − c²)/η²),
-    r_s = (c − η cos θt)/(c + η cos θt), r_p = (η c − cos θt)/(η c + cos θt),
-    F = (r_s² + r_p²)/2; F = 1 under total internal reflection. Written here from the
-    amplitudes, not shared with the models' form (Cook and Torrance's), so that the truth
-    and the closed forms check each other."""
-    c = np.clip(np.asarray(cos_t, dtype=np.float64), 0.0, 1.0)
-    k = 1.0 - (1.0 - c * c) / (eta * eta)
-    ct = np.sqrt(np.maximum(k, 0.0))
+    s and p amplitudes (Born and Wolf, Sec. 1.5.2; :mod:`.layered_formulas`, shared with the
+    compiled walk); 1 under total internal reflection. Written from the amplitudes, not
+    shared with the models' form (Cook and Torrance's), so that the truth and the closed
+    forms check each other."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        rs = (c - eta * ct) / (c + eta * ct)
-        rp = (eta * c - ct) / (eta * c + ct)
-    f = 0.5 * (rs * rs + rp * rp)
-    return np.where(k > 0, np.nan_to_num(f, nan=1.0), 1.0)
+        return np.asarray(_I.fresnel(np.asarray(cos_t, dtype=np.float64), eta), dtype=np.float64)
 
 
 def check_base(base: object) -> Any:
@@ -196,13 +198,10 @@ def interface_brdf(wi: np.ndarray, wo: np.ndarray, eta: float, roughness: float,
 def _refract_in(w: np.ndarray, m: np.ndarray, eta: float) -> tuple[np.ndarray, np.ndarray]:
     """The direction into the layer of light arriving from ``w`` (above) through a facet of
     normal ``m``, and the transmission 1 − F(w·m, η); 0 where no light is refracted."""
-    c = np.clip(np.sum(w * m, axis=-1), 0.0, 1.0)
-    k = 1.0 - (1.0 - c * c) / (eta * eta)
-    ok = k > 0
-    ct = np.sqrt(np.where(ok, k, 0.0))
-    t = -w / eta + ((c / eta) - ct)[:, None] * m
-    trans = np.where(ok, 1.0 - fresnel_dielectric(c, eta), 0.0)
-    return t, trans
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tx, ty, tz, trans = _I.refract_in(w[:, 0], w[:, 1], w[:, 2], m[:, 0], m[:, 1], m[:, 2],
+                                          eta)
+    return np.stack([tx, ty, tz], axis=-1), trans
 
 
 def _enter(w: np.ndarray, eta: float, alpha: float, dist: str, rng) -> tuple[np.ndarray, Any]:
@@ -266,8 +265,10 @@ def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, d
     """Per-path sums of the next-event scores (P, C) for paths with directions wi, wo (P, 3);
     and the number of path segments (arrivals on the base) traced."""
     d, beta = _enter(wi, eta, alpha, dist, rng)
-    beta = beta[:, None] * np.exp(-tau[None, :] / np.abs(d[:, 2:3]))
-    # the exit (next-event) direction for each path is redrawn at every vertex when rough
+    c = max(tau.size, base.channels, 1)  # an RGB base under a grey layer: three channels
+    beta = beta[:, None] * np.exp(-tau[None, :] / np.abs(d[:, 2:3])) * np.ones(c)
+    # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
+    t_exit, w_exit_all = _enter(wo, eta, alpha, dist, rng)
     score = np.zeros_like(beta)
     strategy = base.sampling_strategy()
     params = base.parameter_arrays(np, np.float64)
@@ -278,11 +279,9 @@ def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, d
         if alive.size == 0:
             break
         segments += alive.size
-        b, dd, o = beta[alive], d[alive], wo[alive]
+        b, dd = beta[alive], d[alive]
         up_in = -dd  # the base's light direction
-        # next event: ω' (up, inside) for the view ωo
-        t, w_exit = _enter(o, eta, alpha, dist, rng)
-        u = -t
+        u, w_exit = -t_exit[alive], w_exit_all[alive]
         f = _as_channels(_base_f(base, up_in, u), alive.size)
         att = np.exp(-tau[None, :] / u[:, 2:3])
         score[alive] += b * (w_exit * inv_eta2)[:, None] * f * att
@@ -296,13 +295,54 @@ def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, d
     return score, segments
 
 
-def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, per_geometry_wo=True):
-    g = wi.shape[0]
+def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, engine,
+         per_geometry_wo=True):
     max_k = MAX_BOUNCES if bounces == "all" else int(bounces)
     channels = max(base.channels, tau.size if tau.size > 1 else 0)
     c = max(channels, 1)
     if tau.size not in (1, c):
         raise ParameterError(f"absorption has {tau.size} channels, the base {base.channels}")
+    sums = None
+    if engine != "numpy":
+        sums = _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
+                             per_geometry_wo, required=engine == "compiled")
+    if sums is None:
+        sums = _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
+                          per_geometry_wo)
+    sum1, sum2, segments = sums
+    mean = sum1 / samples
+    var = np.maximum(sum2 / samples - mean * mean, 0.0)
+    se = np.sqrt(var / max(samples - 1, 1))
+    return mean, se, channels, segments
+
+
+def _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per_geometry_wo,
+                  required):
+    """The sums of the compiled walk (:mod:`.layered_walk_numba`), or ``None`` (with
+    ``required`` False) for a base it cannot compile: a table or a simulation, or a model
+    whose code the trace cannot express."""
+    from ..engine.trace import TraceError
+
+    why = None
+    if not getattr(type(base), "closed_form", False):
+        why = "it is not a closed form"
+    else:
+        from . import layered_walk_numba
+
+        try:
+            return layered_walk_numba.run(
+                base, wi, wo, not per_geometry_wo, samples, eta, alpha, dist == "ggx", tau,
+                max_k, seed, BETA_CUT, c)
+        except TraceError as exc:
+            why = str(exc)
+    if required:
+        raise ParameterError(
+            f"engine='compiled' cannot run base {type(base).__name__}: {why}; use 'numpy'")
+    return None
+
+
+def _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per_geometry_wo):
+    g = wi.shape[0]
     sum1 = np.zeros((g, c))
     sum2 = np.zeros((g, c))
     rng = np.random.default_rng(seed)
@@ -325,10 +365,7 @@ def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, per_geomet
         for ch in range(c):
             sum1[:, ch] += np.bincount(gi, weights=sc[:, ch], minlength=g)
             sum2[:, ch] += np.bincount(gi, weights=sc[:, ch] ** 2, minlength=g)
-    mean = sum1 / samples
-    var = np.maximum(sum2 / samples - mean * mean, 0.0)
-    se = np.sqrt(var / max(samples - 1, 1))
-    return mean, se, channels, segments
+    return sum1, sum2, segments
 
 
 def _finish(value, stderr, shape, channels, return_stderr):
@@ -354,6 +391,7 @@ def brdf(
     seed: int = 0,
     return_stderr: bool = False,
     return_segments: bool = False,
+    engine: str = "auto",
 ):
     """BRDF of a dielectric coat over ``base``, f(θi, θr, Δφ), in 1/sr, by Monte Carlo.
 
@@ -383,6 +421,12 @@ def brdf(
         Also return the standard error of each value.
     return_segments : bool
         Also return the number of path segments traced (for benchmarks).
+    engine : {"auto", "compiled", "numpy"}
+        "compiled": the Numba walk (:mod:`.layered_walk_numba`), for a closed-form base
+        whose code the fast path can trace (Lambert, Oren–Nayar, EON, ...); "numpy": the
+        vectorised reference walk, for any base; "auto": compiled where it can run. The
+        engines draw different random numbers: their values agree within the standard
+        errors.
 
     Returns
     -------
@@ -404,9 +448,10 @@ def brdf(
     tau = _check_absorption(absorption)
     bounces = check_bounces(bounces)
     _check_samples(samples)
+    engine = _check_engine(engine)
     wi, wo, shape = _directions(theta_i, theta_r, delta_phi)
     mean, se, channels, segments = _run(
-        base, wi, wo, eta, alpha, str(distribution), tau, bounces, int(samples), seed
+        base, wi, wo, eta, alpha, str(distribution), tau, bounces, int(samples), seed, engine
     )
     mean = mean + interface_brdf(wi, wo, eta, alpha, str(distribution))[:, None]
     out = _finish(mean, se, shape, channels, return_stderr)
@@ -432,6 +477,7 @@ def directional_albedo(
     samples: int = 100_000,
     seed: int = 0,
     return_stderr: bool = False,
+    engine: str = "auto",
 ):
     """∫ f cos θr dωr for light from θi, the coat's reflection included, by the same walk.
 
@@ -439,17 +485,19 @@ def directional_albedo(
     added as its own albedo: F(cos θi, η) for a smooth coat (its mirror reflection), by a
     visible-normal Monte Carlo (weight F(ωi·m) G1(ωr)) for a rough one. With a white base and
     no absorption a smooth coat conserves energy exactly: the white furnace gives 1.
+    ``engine``: as in :func:`brdf`.
     """
     base = check_base(base)
     eta, alpha = _check_interface(eta, roughness, distribution)
     tau = _check_absorption(absorption)
     bounces = check_bounces(bounces)
     _check_samples(samples)
+    engine = _check_engine(engine)
     ti = np.asarray(theta_i, dtype=np.float64)
     check_range("theta_i", ti, 0.0, math.pi / 2, unit="radians", scalar=False)
     wi, _, shape = _directions(ti, 0.0 * ti, 0.0 * ti)
     mean, se, channels, _ = _run(
-        base, wi, wi, eta, alpha, str(distribution), tau, bounces, int(samples), seed,
+        base, wi, wi, eta, alpha, str(distribution), tau, bounces, int(samples), seed, engine,
         per_geometry_wo=False,
     )
     spec, spec_se = _interface_albedo(wi, eta, alpha, str(distribution), int(samples), seed)

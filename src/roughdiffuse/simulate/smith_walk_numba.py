@@ -38,7 +38,7 @@ from ..engine.numba_math import erfcx, erfinv
 from ..engine.numba_random import path_key, uniform
 from .smith_formulas import build
 
-__all__ = ["BLOCK", "run_blocks", "walk_blocks"]
+__all__ = ["BLOCK", "FORMULAS", "PRIMITIVES", "run_blocks", "visible_normal", "walk_blocks"]
 
 _LOCK = threading.Lock()
 _CALL_LOCK = threading.Lock()
@@ -65,23 +65,27 @@ def _isfinite(x: Any) -> Any:  # pragma: no cover - compiled by Numba
     return math.isfinite(x)
 
 
-_F = build(
-    SimpleNamespace(
-        jit=_JIT,
-        where=_where,
-        maximum=np.maximum,
-        minimum=np.minimum,
-        sqrt=np.sqrt,
-        exp=np.exp,
-        log1p=np.log1p,
-        sin=np.sin,
-        cos=np.cos,
-        erf=_erf,
-        erfinv=erfinv,
-        erfcx=erfcx,
-        isfinite=_isfinite,
-    )
+PRIMITIVES = SimpleNamespace(
+    jit=_JIT,
+    where=_where,
+    maximum=np.maximum,
+    minimum=np.minimum,
+    sqrt=np.sqrt,
+    exp=np.exp,
+    log1p=np.log1p,
+    sin=np.sin,
+    cos=np.cos,
+    erf=_erf,
+    erfinv=erfinv,
+    erfcx=erfcx,
+    isfinite=_isfinite,
 )
+"""The scalar primitives the formula builders (:mod:`.smith_formulas`,
+:mod:`.layered_formulas`) are given for Numba."""
+
+_F = build(PRIMITIVES)
+FORMULAS = _F
+"""The Smith walk's formulas (:mod:`.smith_formulas`) compiled for Numba."""
 _smith_lambda = _F.smith_lambda
 _visible_ggx = _F.visible_ggx
 _beckmann_frame = _F.beckmann_frame
@@ -93,6 +97,33 @@ _cosine_about = _F.cosine_about
 _height_step = _F.height_step
 _next_event = _F.next_event
 _TWO_PI = 2.0 * math.pi
+
+
+@_JIT
+def visible_normal(ggx, wx, wy, wz, alpha, key, c):  # pragma: no cover - compiled by Numba
+    """A visible normal of ω = (wx, wy, wz) (either side of the horizon; GGX if ``ggx``,
+    else Beckmann) from the path ``key``'s draws ``c``, ``c + 1``, ...: (mx, my, mz, the next
+    unused draw). GGX takes two draws; Beckmann two and three per try of its rejection."""
+    u0, u1 = uniform(key, c), uniform(key, c + 1)
+    c += 2
+    if ggx:
+        mx, my, mz = _visible_ggx(wx, wy, wz, alpha, u0, u1)
+        return mx, my, mz, c
+    mu, cphi, sphi = _beckmann_frame(wx, wy, wz, alpha)
+    tx, ty = _gaussian_pair(u0, u1)
+    if mu < math.inf:
+        while True:
+            v0, v1, v2 = uniform(key, c), uniform(key, c + 1), uniform(key, c + 2)
+            c += 3
+            if mu >= 0.0:
+                x = _slope_pos(mu, v0, v1, v2)
+            else:
+                x = _slope_neg(mu, v0, v1, v2)
+            if x == x:  # not NaN: accepted
+                break
+        tx = x
+    mx, my, mz = _beckmann_normal(alpha, cphi, sphi, tx, ty)
+    return mx, my, mz, c
 
 
 def _walk_blocks(
@@ -144,25 +175,7 @@ def _walk_blocks(
                 c += 1
                 if escape:
                     break
-                u0, u1 = uniform(key, c), uniform(key, c + 1)
-                c += 2
-                if ggx:
-                    mx, my, mz = _visible_ggx(-rx, -ry, -rz, alpha, u0, u1)
-                else:
-                    mu, cphi, sphi = _beckmann_frame(-rx, -ry, -rz, alpha)
-                    tx, ty = _gaussian_pair(u0, u1)
-                    if mu < math.inf:
-                        while True:
-                            v0, v1, v2 = uniform(key, c), uniform(key, c + 1), uniform(key, c + 2)
-                            c += 3
-                            if mu >= 0.0:
-                                x = _slope_pos(mu, v0, v1, v2)
-                            else:
-                                x = _slope_neg(mu, v0, v1, v2)
-                            if x == x:  # not NaN: accepted
-                                break
-                        tx = x
-                    mx, my, mz = _beckmann_normal(alpha, cphi, sphi, tx, ty)
+                mx, my, mz, c = visible_normal(ggx, -rx, -ry, -rz, alpha, key, c)
                 score = _next_event(ox, oy, oz, mx, my, mz, h, lam_o) * wgt
                 for a in range(n_a):
                     pw[a] *= rho[a]

@@ -34,6 +34,7 @@ const int RD_CHAN = 13;
 const int RD_LAMBERT_SPHERE = 14;
 const int RD_HAPKE = 15;
 const int RD_MINNAERT = 16;
+const int RD_COATED = 17;
 const int RD_CYCLES_DIFFUSE = 20;   // renderers.CyclesDiffuse (Diffuse BSDF, Principled)
 const int RD_MATERIALX_EON = 21;    // renderers.MaterialXEON
 
@@ -54,6 +55,9 @@ struct RDParams {
   float g;           // Hapke Henyey-Greenstein asymmetry xi
   float theta_bar;   // Hapke mean slope angle, radians
   float hg2;         // Hapke weight of the mirrored HG lobe (ISIS Hg2)
+  vec3 absorption;   // Coated: optical depth tau of the layer, per channel
+  vec3 coat_k;       // Coated: K and a-bar K of these parameters (rd_ct_sums, computed first)
+  vec3 coat_ak;
 };
 
 float rd_safe_sqrt(float x) { return x > 0.0 ? sqrt(x) : 0.0; }
@@ -454,6 +458,141 @@ vec3 rd_hapke(float mu_i, float mu_o, float cos_g, vec3 w, float b0, float h, fl
   return w / 4.0 * mu0e / max(mu0e + mue, TINY) * (lobe + rd_hapke_h(mu0e, w) * rd_hapke_h(mue, w)) * s_over_mu0 / RD_PI;
 }
 
+// ---------------------------------------------------------------- Coated (a dielectric coat over Oren-Nayar full)
+// coated.py's node rules, their nodes printed here (roughdiffuse.quadrature.gauss_legendre on [0, 1]):
+// 4 nodes in mu'^2 and 2 x 4 in azimuth (split at pi/2) for the base's albedo; 6 in the facet
+// fraction u and 2 x 4 in azimuth for the interface's albedo; 8 on each side of the critical
+// cosine for the internal sums. Distribution: 0 GGX, 1 Beckmann.
+const float RD_CT_S_W[4] = float[4](0.173927423, 0.326072577, 0.326072577, 0.173927423);
+const float RD_CT_S_M[4] = float[4](0.26349923, 0.574464514, 0.818529487, 0.964659606);      // sqrt(s)
+const float RD_CT_S_SIN[4] = float[4](0.964659606, 0.818529487, 0.574464514, 0.26349923);    // sqrt(1 - s)
+const float RD_CT_PHI_COS[8] = float[8](0.994058493, 0.868624138, 0.495471601, 0.1088472, -0.1088472, -0.495471601, -0.868624138, -0.994058493);  // cos(half + pi/2 t)
+const float RD_CT_PHI_W[8] = float[8](0.173927423, 0.326072577, 0.326072577, 0.173927423, 0.173927423, 0.326072577, 0.326072577, 0.173927423);
+const float RD_CT_U_W[6] = float[6](0.0856622462, 0.180380787, 0.233956967, 0.233956967, 0.180380787, 0.0856622462);
+const float RD_CT_U_GGX[6] = float[6](0.0349451752, 0.20394215, 0.614701292, 1.62680641, 4.90335127, 28.6162537);   // u / (1 - u)
+const float RD_CT_U_BECK[6] = float[6](0.0343484545, 0.185601297, 0.479149981, 0.965768814, 1.7755202, 3.38832332);  // -log(1 - u)
+const float RD_CT_MU_X[8] = float[8](0.0198550718, 0.101666761, 0.237233795, 0.408282679, 0.591717321, 0.762766205, 0.898333239, 0.980144928);
+const float RD_CT_MU_W[8] = float[8](0.0506142681, 0.111190517, 0.156853323, 0.181341892, 0.181341892, 0.156853323, 0.111190517, 0.0506142681);
+
+// coated._smith_lambda: GGX exact, Beckmann by Walter's rational fit
+float rd_ct_lambda(float mu, float alpha, int dist) {
+  mu = max(mu, 1e-7);
+  float tan2 = (1.0 - mu * mu) / (mu * mu);
+  if (dist == 0) return 0.5 * (sqrt(1.0 + alpha * alpha * tan2) - 1.0);
+  float a = rd_safe_div(1.0, alpha * rd_safe_sqrt(tan2), 1e7);
+  float fit = (1.0 - 1.259 * a + 0.396 * a * a) / (3.535 * a + 2.181 * a * a);
+  return a < 1.6 ? fit : 0.0;
+}
+
+// coated._ndf: D(h), GGX (Walter eq. 33) or Beckmann (microfacet.slope_distribution, m = alpha)
+float rd_ct_ndf(float cos_h, float alpha, int dist) {
+  if (dist == 1) return rd_slope_distribution(cos_h, rd_safe_sqrt(1.0 - cos_h * cos_h), alpha / sqrt(2.0), 1);
+  float a2 = max(alpha * alpha, 1e-14);
+  float c2 = cos_h * cos_h;
+  float den = c2 * (a2 - 1.0) + 1.0;
+  return cos_h > 0.0 ? a2 / (RD_PI * den * den) : 0.0;
+}
+
+// coated.coat_reflection: F D G1 G1 / (4 mu_i mu_o) (Walter et al. 2007, eq. 20); 0 for alpha = 0
+float rd_ct_reflection(float mu_i, float mu_o, float cos_io, float eta, float alpha, int dist) {
+  if (!(alpha > 0.0)) return 0.0;
+  float len_h = rd_safe_sqrt(2.0 * (1.0 + cos_io));
+  float cos_h = rd_safe_div(mu_i + mu_o, len_h, 0.0);
+  float cos_d = 0.5 * len_h;
+  float g = 1.0 / ((1.0 + rd_ct_lambda(mu_i, alpha, dist)) * (1.0 + rd_ct_lambda(mu_o, alpha, dist)));
+  return rd_fresnel_dielectric(cos_d, eta) * rd_ct_ndf(cos_h, alpha, dist) * g / (4.0 * max(mu_i * mu_o, 1e-12));
+}
+
+// coated.interface_albedo: the interface's reflectance E(mu) or transmittance T(mu)
+float rd_ct_interface(float mu, float eta, float alpha, int dist, bool transmitted) {
+  float sn = rd_safe_sqrt(1.0 - mu * mu);
+  float mu_s = max(mu, 1e-7);
+  float g_o = 1.0 / (1.0 + rd_ct_lambda(mu, alpha, dist));
+  float total = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    float tan2 = alpha * alpha * (dist == 0 ? RD_CT_U_GGX[i] : RD_CT_U_BECK[i]);
+    float cos_h = 1.0 / sqrt(1.0 + tan2);
+    float sin_h = rd_safe_sqrt(1.0 - cos_h * cos_h);
+    for (int j = 0; j < 8; ++j) {
+      float dot_ = mu * cos_h + sn * sin_h * RD_CT_PHI_COS[j];
+      float c = clamp(dot_, 0.0, 1.0);
+      float f = rd_fresnel_dielectric(c, eta);
+      float val;
+      bool ok;
+      if (transmitted) {
+        float k = 1.0 - (1.0 - c * c) / (eta * eta);
+        float t_z = -mu / eta + (c / eta - rd_safe_sqrt(k)) * cos_h;
+        val = (1.0 - f) / (1.0 + rd_ct_lambda(-t_z, alpha, dist));
+        ok = k > 0.0 && t_z < 0.0 && dot_ > 0.0;
+      } else {
+        float mu_r = 2.0 * dot_ * cos_h - mu;
+        val = f / (1.0 + rd_ct_lambda(mu_r, alpha, dist));
+        ok = mu_r > 0.0 && dot_ > 0.0;
+      }
+      if (ok) total += val * dot_ / (mu_s * cos_h) * (RD_CT_U_W[i] * RD_CT_PHI_W[j] * 0.5);
+    }
+  }
+  return total * g_o;
+}
+
+// coated.base_albedo: the base's directional albedo, 32 nodes (exact for Lambert)
+vec3 rd_ct_base_albedo(float mu, float sigma, vec3 albedo) {
+  float sn = rd_safe_sqrt(1.0 - mu * mu);
+  vec3 total = vec3(0.0);
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      float c = mu * RD_CT_S_M[i] + sn * (RD_CT_S_SIN[i] * RD_CT_PHI_COS[j]);
+      vec3 f = rd_on_full(clamp(mu, 0.0, 1.0), RD_CT_S_M[i], clamp(c, -1.0, 1.0), sigma, albedo);
+      total += f * (RD_CT_S_W[i] * RD_CT_PHI_W[j] * 0.5 * RD_PI);
+    }
+  }
+  return total;
+}
+
+// coated._internal_sums: K and a-bar K, 8 Gauss-Legendre nodes below the critical cosine mu_c
+// and 8 above in sqrt(mu - mu_c). They depend on the parameters only: the page evaluates them
+// once per parameter set (evaluate.frag, a texel with w = 1 or 2) and hands them back in
+// RDParams.coat_k and coat_ak (per fragment they would be nine tenths of the work).
+void rd_ct_sums(vec3 albedo, float sigma, float eta, float alpha, int dist, vec3 tau,
+                out vec3 k, out vec3 ak) {
+  float mu_c = rd_safe_sqrt(1.0 - 1.0 / (eta * eta));
+  k = vec3(0.0);
+  ak = vec3(0.0);
+  for (int side = 0; side < 2; ++side) {
+    float lo = side == 0 ? 0.0 : mu_c;
+    float hi = side == 0 ? mu_c : 1.0;
+    for (int n = 0; n < 8; ++n) {
+      float t = RD_CT_MU_X[n];
+      float x = side == 0 ? t : t * t;
+      float jac = side == 0 ? RD_CT_MU_W[n] : 2.0 * t * RD_CT_MU_W[n];
+      float mu = lo + (hi - lo) * x;
+      float r = rd_ct_interface(mu, 1.0 / eta, alpha, dist, false);
+      vec3 term = (hi - lo) * jac * r * exp(-2.0 * tau / max(mu, 1e-12)) * 2.0 * mu;
+      k += term;
+      ak += term * rd_ct_base_albedo(mu, sigma, albedo);
+    }
+  }
+}
+
+// coated.Coated._eval over Oren-Nayar full (albedo, sigma), given K and a-bar K (rd_ct_sums)
+vec3 rd_coated(float mi, float mo, float c, vec3 albedo, float sigma, float eta, float alpha,
+               int dist, vec3 tau, vec3 k, vec3 ak) {
+  float inv_eta2 = 1.0 / (eta * eta);
+  float ri = rd_safe_sqrt(1.0 - (1.0 - mi * mi) * inv_eta2);
+  float ro = rd_safe_sqrt(1.0 - (1.0 - mo * mo) * inv_eta2);
+  float cos_in = clamp(ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0);
+  float trans = rd_ct_interface(mi, eta, alpha, dist, true) * rd_ct_interface(mo, eta, alpha, dist, true);
+  vec3 att = exp(-tau / max(ri, 1e-12)) * exp(-tau / max(ro, 1e-12));
+  vec3 single = rd_on_full(ri, ro, cos_in, sigma, albedo);
+  vec3 a_i = rd_ct_base_albedo(ri, sigma, albedo);
+  vec3 a_o = rd_ct_base_albedo(ro, sigma, albedo);
+  vec3 den = 1.0 - ak;
+  vec3 ratio = vec3(rd_safe_div(k.r, den.r, 0.0), rd_safe_div(k.g, den.g, 0.0), rd_safe_div(k.b, den.b, 0.0));
+  vec3 multi = a_i * a_o * ratio / RD_PI;
+  float spec = rd_ct_reflection(mi, mo, c, eta, alpha, dist);
+  return spec + trans * inv_eta2 * att * (single + multi);
+}
+
 // ---------------------------------------------------------------- dispatch
 // base.Model._eval: clip the cosines, evaluate, 0 below the horizon
 vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
@@ -481,6 +620,9 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   if (p.model == RD_LAMBERT_SPHERE) return rd_lambert_sphere(mi, mo, c, p.albedo, p.variant);
   if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar, p.hg2);
   if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
+  if (p.model == RD_COATED)
+    return rd_coated(mi, mo, c, p.albedo, p.sigma, p.eta, p.roughness, p.distribution, p.absorption,
+                     p.coat_k, p.coat_ak);
   if (p.model == RD_CYCLES_DIFFUSE) return rd_cycles_diffuse(mi, mo, c, p.albedo, p.roughness);
   if (p.model == RD_MATERIALX_EON) return rd_materialx_eon(mi, mo, c, p.albedo, p.roughness);
   return vec3(0.0);

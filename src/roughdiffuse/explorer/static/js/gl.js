@@ -38,6 +38,8 @@ function program(gl, src, fragName) {
   return p;
 }
 
+const ZERO3 = new Float32Array(3);
+
 /** Set the uniform struct `name` (RDParams) from a GPU parameter record (see models.js). */
 function setParams(gl, prog, name, g) {
   const loc = (f) => gl.getUniformLocation(prog, `${name}.${f}`);
@@ -57,6 +59,9 @@ function setParams(gl, prog, name, g) {
   gl.uniform1f(loc("g"), g.g);
   gl.uniform1f(loc("theta_bar"), g.theta_bar);
   gl.uniform1f(loc("hg2"), g.hg2);
+  gl.uniform3fv(loc("absorption"), g.absorption);
+  gl.uniform3fv(loc("coat_k"), g.coat_k ?? ZERO3);
+  gl.uniform3fv(loc("coat_ak"), g.coat_ak ?? ZERO3);
 }
 
 /**
@@ -79,7 +84,6 @@ export class Evaluator {
   }
 
   evaluate(params, cosines) {
-    const gl = this.gl;
     const n = cosines.length / 3;
     const w = Math.min(this.width, Math.max(n, 1));
     const h = Math.max(1, Math.ceil(n / w));
@@ -89,6 +93,32 @@ export class Evaluator {
       input[4 * k + 1] = cosines[3 * k + 1];
       input[4 * k + 2] = cosines[3 * k + 2];
     }
+    const out = this.run(this.withSums(params), input, w, h);
+    const rgb = new Float32Array(3 * n);
+    for (let k = 0; k < n; k++) {
+      rgb[3 * k] = out[4 * k];
+      rgb[3 * k + 1] = out[4 * k + 1];
+      rgb[3 * k + 2] = out[4 * k + 2];
+    }
+    return rgb;
+  }
+
+  /** `params` with Coated's parameter-only sums K and a-bar K filled in (brdf.glsl rd_ct_sums,
+   * run by the GLSL on two texels, kept for the last parameter set); other models as given. */
+  withSums(params) {
+    if (!params.sums) return params;
+    const key = JSON.stringify(params, (k, v) => (ArrayBuffer.isView(v) ? Array.from(v) : v));
+    if (this.sumsKey !== key) {
+      const out = this.run(params, new Float32Array([0, 0, 0, 1, 0, 0, 0, 2]), 2, 1);
+      this.sums = [out.slice(0, 3), out.slice(4, 7)];
+      this.sumsKey = key;
+    }
+    return { ...params, coat_k: this.sums[0], coat_ak: this.sums[1] };
+  }
+
+  /** Draw evaluate.frag over a w x h texture of texels; the RGBA result. */
+  run(params, input, w, h) {
+    const gl = this.gl;
     const tex = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, tex);
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, input);
@@ -113,13 +143,7 @@ export class Evaluator {
     gl.deleteFramebuffer(fb);
     gl.deleteTexture(tex);
     gl.deleteTexture(target);
-    const rgb = new Float32Array(3 * n);
-    for (let k = 0; k < n; k++) {
-      rgb[3 * k] = out[4 * k];
-      rgb[3 * k + 1] = out[4 * k + 1];
-      rgb[3 * k + 2] = out[4 * k + 2];
-    }
-    return rgb;
+    return out;
   }
 }
 

@@ -141,6 +141,19 @@ function showUsed(slot) {
   const uses = BY_KEY[state[slot].model].uses;
   const p = `${slot}-`;
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
+  const own = BY_KEY[state[slot].model].params;
+  for (const [k, q] of Object.entries(own)) {  // a control several models share: this model's words
+    const label = $(`${p}${k}-row`)?.firstChild;
+    if (label && label.nodeType === Node.TEXT_NODE) label.textContent = c.selects[k] ? `${q.description} ` : q.description;
+  }
+  for (const [k, el] of Object.entries(c.selects)) {
+    if (!own[k]) continue;  // a menu several models share: this model's choices only
+    for (const opt of el.options) opt.hidden = !own[k].choices.includes(opt.value);
+    if (!own[k].choices.includes(el.value)) {
+      el.value = own[k].default;
+      state[slot][k] = own[k].default;
+    }
+  }
   if (c.channels) {
     for (const ch of ["r", "g", "b"]) $(`${p}${c.channels}-${ch}-row`).hidden = !uses.includes(c.channels);
     $(`${p}grey-row`).hidden = !uses.includes(c.channels);
@@ -194,11 +207,25 @@ function refresh() {
   });
 }
 
+/** Size the sphere canvas to its column: as wide as the column (two spheres side by side in
+ *  the A | B mode), no taller than the window leaves beside the rows below it (but at least
+ *  240 px, if the column is as wide); drawn at the screen's pixel density. Returns whether the size changed. */
+function fitSphere() {
+  const c = $("sphere"), n = state.mode === 1 ? 2 : 1;
+  const side = Math.floor(Math.min($("view").clientWidth / n, Math.max(240, window.innerHeight - 430)));
+  const dpr = window.devicePixelRatio || 1;
+  const w = Math.round(n * side * dpr), h = Math.round(side * dpr);
+  c.style.width = `${n * side}px`;
+  c.style.height = `${side}px`;
+  if (c.width === w && c.height === h) return false;
+  c.width = w;
+  c.height = h;
+  return true;
+}
+
 function draw() {
-  const c = $("sphere");
-  const width = state.mode === 1 ? 960 : 480;
-  if (c.width !== width) c.width = width;
-  const a = gpuParams(state.a), b = gpuParams(state.b);
+  fitSphere();
+  const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
   $("panel-b").classList.toggle("disabled", state.mode === 0);
@@ -266,11 +293,12 @@ function drawViewInto(target) {
   else if (tab === "scatter") drawScatterOf((_, ...rest) => drawScatter(target, ...rest));
 }
 
-/** Size every plot canvas to the plots column: as wide as the column, 0.6 as high (at least
- *  300 px, and short enough to leave the page's other rows in view). */
+/** Size every plot canvas to the plots column: as wide as the column, 0.66 as high (at least
+ *  300 px, and short enough to leave the rows below it, the data panel with its slice
+ *  controls and fit buttons, in view: 380 px with the header). */
 function fitPlots() {
   const w = Math.max(320, Math.floor($("plots").clientWidth));
-  const h = Math.round(Math.max(300, Math.min(0.6 * w, window.innerHeight - 260)));
+  const h = Math.round(Math.max(300, Math.min(0.66 * w, window.innerHeight - 380)));
   let changed = false;
   for (const v of VIEWS) {
     const c = $(`plot-${v === "plane" ? "cartesian" : v}`);
@@ -425,10 +453,11 @@ async function loadGroundTruth() {
   if (gtController) gtController.abort();
   gtController = null;
   const s = state.a;
+  const coated = s.model === "coated";  // its truth: the layered walk
   const reason = !info.groundtruth ? "this server has no V-cavity solver"
     : !state.view.gt ? ""
-    : !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets)"
-    : !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
+    : !coated && !["oren-nayar", "oren-nayar-full"].includes(s.model) ? "ground truth is shown for the Oren–Nayar models of A (a σ and Lambertian facets) and for Coated (the layered walk)"
+    : !coated && !(s.sigmaDeg > 0) ? "σ = 0 is Lambert: nothing to compare"
     : !(state.light.theta < 90) ? "the light is below the horizon" : null;
   if (reason !== null) {
     status.textContent = reason;
@@ -439,10 +468,13 @@ async function loadGroundTruth() {
     sigma: String(s.sigmaDeg * DEG), theta_i: String(state.light.theta), albedo: String(s.albedo[1]), bounces: state.view.bounces,
   });
   const controller = (gtController = new AbortController());
-  status.textContent = "computing the V-cavity ground truth…";
+  status.textContent = coated ? "computing the layered truth…" : "computing the V-cavity ground truth…";
+  const url = coated
+    ? `api/layeredtruth.json?${queryFor("a")}&absorption=${[s.absorption ?? 0].flat()[1] ?? [s.absorption ?? 0].flat()[0]}&theta_i=${state.light.theta}`
+    : `api/groundtruth.json?${q}`;
   let gt;
   try {
-    const r = await fetch(`api/groundtruth.json?${q}`, { signal: controller.signal });
+    const r = await fetch(url, { signal: controller.signal });
     gt = await r.json();
     if (!r.ok) throw new Error(gt.error ?? `HTTP ${r.status}`);
   } catch (err) {
@@ -454,7 +486,8 @@ async function loadGroundTruth() {
   }
   if (controller !== gtController) return;
   const bounces = gt.bounces === "all" ? "all bounces" : "one bounce";
-  gtSeries = { label: `V-cavity, ${bounces} (σ = ${(gt.sigma / DEG).toFixed(1)}°)`, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
+  const label = coated ? "layered truth (Monte Carlo)" : `V-cavity, ${bounces} (σ = ${(gt.sigma / DEG).toFixed(1)}°)`;
+  gtSeries = { label, color: "#1e8449", points: false, dash: true, x: gt.theta_r, y: gt.radiance };
   status.textContent = gt.note;
   document.body.dataset.gtPoints = String(gt.theta_r.length);
   refresh();
@@ -549,6 +582,7 @@ async function start() {
   showBusy();
   fitPlots();
   new ResizeObserver(fitPlots).observe($("plots"));
+  new ResizeObserver(() => { if (evaluator && fitSphere()) refresh(); }).observe($("view"));
   const src = await loadSources();
   evaluator = new Evaluator(src);
   sphere = new SphereView($("sphere"), src);

@@ -37,8 +37,10 @@ export function setModels(records) {
     BY_KEY[m.key] = m;
     for (const [k, p] of Object.entries(params)) {
       const q = PARAMS[k];
-      if (!q) PARAMS[k] = { ...p, key: k };
-      else if (p.choices === null) { // one slider for every model that has it: the union range
+      if (!q) PARAMS[k] = { ...p, key: k, choices: p.choices === null ? null : [...p.choices] };
+      else if (p.choices !== null) { // one menu: the union of the models' choices (main.js shows each model's own)
+        for (const c of p.choices) if (!q.choices.includes(c)) q.choices.push(c);
+      } else if (p.choices === null) { // one slider for every model that has it: the union range
         const lo = (p.fit_range ?? [p.min, p.max])[0], hi = (p.fit_range ?? [p.min, p.max])[1];
         q.lo = Math.min(q.lo ?? lo, lo);
         q.hi = Math.max(q.hi ?? hi, hi);
@@ -101,7 +103,7 @@ export function gpuParams(s) {
     weight: s.weight ?? 0,
     limb: s.limb ?? 0.5,
     distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
-    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar, hg2
+    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar, hg2, absorption
     alpha: s.alpha ?? 0.3,
     variant: (s.variant ?? "full") === "fast" ? 1 : 0,
     k: s.k ?? 1.0,
@@ -110,5 +112,9 @@ export function gpuParams(s) {
     g: s.g ?? 0.0,
     theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
     hg2: s.hg2 ?? 0.0,
+    sums: m.key === "coated",  // its parameter-only sums come first (gl.js Evaluator.withSums)
+    // Coated: the layer's optical depth, one number or one per channel
+    absorption: Float32Array.from(Array.isArray(s.absorption) || ArrayBuffer.isView(s.absorption)
+      ? s.absorption : [s.absorption ?? 0, s.absorption ?? 0, s.absorption ?? 0]),
   };
 }

@@ -1,0 +1,252 @@
+"""The compiled layered walk: Numba, one thread per range of paths, deterministic.
+
+The same walk as the NumPy one (:mod:`.layered`, engine ``"numpy"``), path by path in a
+compiled loop, with the Smith walk's machinery (:mod:`.smith_walk_numba`): blocks of
+:data:`~.smith_walk_numba.BLOCK` paths of one geometry per thread (``numba.prange``), each
+adding its scores in its own slot, summed in block order afterwards; random numbers from the
+counter-based generator keyed by (seed, path index, draw index)
+(:mod:`roughdiffuse.engine.numba_random`), so the values do not depend on the thread count.
+The formulas are shared with the NumPy walk: the interface's (:mod:`.layered_formulas`),
+Smith's Λ and the visible normals (:mod:`.smith_formulas`, through
+:func:`.smith_walk_numba.visible_normal`).
+
+The base enters as two scalar functions traced from the model's own code
+(:func:`roughdiffuse.engine.scalar.scalar_sources`): its ``brdf_cosines`` and its sampling
+strategy's ``sample``. The kernel is compiled once per base *structure* (the printed source
+of those functions: a new albedo or roughness reuses it) and cached on disk like the Smith
+walk, in a folder named by a hash of the sources it is compiled from, in the fast path's
+private cache folder (:func:`roughdiffuse.engine.cache.private_cache_dir`); without one it is
+compiled in memory. A base the trace cannot express raises :class:`~roughdiffuse.engine.trace.
+TraceError` (the NumPy walk serves it).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import threading
+import types
+from pathlib import Path
+from typing import Any
+
+import numba
+import numpy as np
+from numba import prange
+
+from ..engine.numba_random import path_key, uniform
+from ..engine.scalar import PRELUDE, scalar_sources
+from .layered_formulas import build as build_interface
+from .smith_walk_numba import BLOCK, FORMULAS, PRIMITIVES, visible_normal
+
+__all__ = ["run"]
+
+_LOCK = threading.Lock()
+_CALL_LOCK = threading.Lock()
+_KERNELS: dict[str, Any] = {}
+_JIT = PRIMITIVES.jit
+_I = build_interface(PRIMITIVES)
+_fresnel = _I.fresnel
+_refract_in = _I.refract_in
+_smith_lambda = FORMULAS.smith_lambda
+_PI = math.pi
+_TWO_PI = 2.0 * math.pi
+_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+
+
+def base_f(mu_i, mu_o, cos_io, out, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base BRDF (:func:`roughdiffuse.engine.scalar.scalar_sources`)."""
+    raise NotImplementedError
+
+
+def base_sample(u1, u2, wo0, wo1, wo2, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base sampler."""
+    raise NotImplementedError
+
+
+@_JIT
+def _g1(ggx, z, alpha):  # pragma: no cover - compiled by Numba
+    """Smith's G1 = 1 / (1 + Λ(|z|)) (1 for a smooth interface)."""
+    if alpha == 0.0:
+        return 1.0
+    return 1.0 / (1.0 + _smith_lambda(ggx, min(max(abs(z), 1e-12), 1.0), alpha))
+
+
+@_JIT
+def _unit(x, y, z):  # pragma: no cover - compiled by Numba
+    n = math.sqrt(x * x + y * y + z * z)
+    return x / n, y / n, z / n
+
+
+@_JIT
+def _enter(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - compiled by Numba
+    """The direction into the layer from ω (above) and its weight (1 − F) G1; the next draw."""
+    mx, my, mz = 0.0, 0.0, 1.0
+    if alpha > 0.0:
+        mx, my, mz, c = visible_normal(ggx, wx, wy, wz, alpha, key, c)
+    tx, ty, tz, trans = _refract_in(wx, wy, wz, mx, my, mz, eta)
+    weight = trans * _g1(ggx, tz, alpha) if tz < 0.0 else 0.0
+    tx, ty, tz = _unit(tx, ty, min(tz, -1e-12))
+    return tx, ty, tz, weight, c
+
+
+@_JIT
+def _reflect_inside(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - compiled
+    """Light going up (ω) reflected down at the interface's underside: the direction, the
+    weight F(·, 1/η) (× G1 when rough; 0 if it goes up again) and the next draw."""
+    if alpha == 0.0:
+        return wx, wy, -wz, _fresnel(wz, 1.0 / eta), c
+    mx, my, mz, c = visible_normal(ggx, -wx, -wy, wz, alpha, key, c)
+    mz = -mz
+    d = wx * mx + wy * my + wz * mz  # < 0: the facet faces the ray
+    rx, ry, rz = wx - 2.0 * d * mx, wy - 2.0 * d * my, wz - 2.0 * d * mz
+    weight = _fresnel(min(max(-d, 0.0), 1.0), 1.0 / eta) * _g1(ggx, rz, alpha)
+    weight = weight if rz < 0.0 else 0.0
+    rx, ry, rz = _unit(rx, ry, min(rz, -1e-12))
+    return rx, ry, rz, weight, c
+
+
+def _walk_blocks(
+    wi, wo, uniform_wo, samples, first, count, eta, alpha, ggx, tau, max_k, seed, cut,
+    pf, ps, n_f, sum1, sum2, segments,
+):  # pragma: no cover - compiled by Numba
+    """Trace blocks ``first`` .. ``first + count − 1``; block b holds paths
+    (b mod n) · BLOCK ... of geometry b // n, n = ⌈samples / BLOCK⌉. Row j of ``sum1``,
+    ``sum2`` (count, C) gets the sums of each path's score and of its square, ``segments[j]``
+    the arrivals on the base traced. With ``uniform_wo`` each path draws ωo cosine-distributed
+    and scores π f (the directional albedo)."""
+    per_group = (samples + BLOCK - 1) // BLOCK
+    n_c = sum1.shape[1]
+    n_t = tau.size
+    absorbs = np.any(tau > 0.0)  # else no exponentials per crossing
+    inv_eta2 = 1.0 / (eta * eta)
+    for j in prange(count):
+        b = first + j
+        g = b // per_group
+        s0 = (b % per_group) * BLOCK
+        s1 = min(s0 + BLOCK, samples)
+        beta = np.empty(n_c)
+        tot = np.empty(n_c)
+        fb = np.empty(n_f)
+        nseg = 0
+        for s in range(s0, s1):
+            key = path_key(seed, g * samples + s)
+            c = 0
+            wgt = 1.0
+            ox, oy, oz = wo[g, 0], wo[g, 1], wo[g, 2]
+            if uniform_wo:
+                u0, phi = uniform(key, 0), _TWO_PI * uniform(key, 1)
+                c = 2
+                r = math.sqrt(u0)
+                ox, oy, oz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(1.0 - u0, 1e-24))
+                wgt = _PI
+            dx, dy, dz, w_in, c = _enter(wi[g, 0], wi[g, 1], wi[g, 2], eta, alpha, ggx, key, c)
+            # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
+            tx, ty, tz, w_exit, c = _enter(ox, oy, oz, eta, alpha, ggx, key, c)
+            w_exit *= inv_eta2 * wgt
+            live = False
+            for ch in range(n_c):
+                beta[ch] = w_in * (math.exp(-tau[ch % n_t] / abs(dz)) if absorbs else 1.0)
+                tot[ch] = 0.0
+                live |= beta[ch] > cut
+            for _ in range(max_k):
+                if not live:
+                    break
+                nseg += 1
+                ux, uy, uz = -dx, -dy, -dz  # the base's light direction
+                base_f(uz, -tz, -(ux * tx + uy * ty + uz * tz), fb, pf)  # next event
+                for ch in range(n_c):
+                    att = math.exp(tau[ch % n_t] / tz) if absorbs else 1.0
+                    tot[ch] += beta[ch] * w_exit * fb[ch % n_f] * att
+                # continue: the base's own sampler, up, reflected inside, down
+                sx, sy, sz, pdf = base_sample(uniform(key, c), uniform(key, c + 1), ux, uy, uz, ps)
+                c += 2
+                ratio = 0.0
+                valid = pdf > 0.0 and sz > 0.0
+                sx, sy, sz = _unit(sx, sy, max(sz, 1e-12))
+                if valid:
+                    ratio = sz / pdf
+                    base_f(sz, uz, sx * ux + sy * uy + sz * uz, fb, pf)
+                dx, dy, dz, refl, c = _reflect_inside(sx, sy, sz, eta, alpha, ggx, key, c)
+                live = False
+                for ch in range(n_c):
+                    t = tau[ch % n_t]
+                    att = math.exp(-t / sz - t / abs(dz)) if absorbs else 1.0
+                    beta[ch] *= (fb[ch % n_f] * ratio if valid else 0.0) * refl * att
+                    live |= beta[ch] > cut
+            for ch in range(n_c):
+                sum1[j, ch] += tot[ch]
+                sum2[j, ch] += tot[ch] * tot[ch]
+        segments[j] = nseg
+
+
+def _digest(source: str) -> str:
+    here = Path(__file__).resolve()
+    engine = here.parent.parent / "engine"
+    files = (
+        here,
+        here.with_name("layered_formulas.py"),
+        here.with_name("smith_formulas.py"),
+        here.with_name("smith_walk_numba.py"),
+        engine / "numba_math.py",
+        engine / "numba_random.py",
+    )
+    h = hashlib.sha1(numba.__version__.encode())
+    for f in files:
+        h.update(f.read_bytes())
+    h.update(source.encode())
+    return h.hexdigest()[:16]
+
+
+def _kernel(source: str) -> Any:
+    """The walk compiled with the base functions printed in ``source`` (built or loaded once
+    per process)."""
+    digest = _digest(source)
+    with _LOCK:
+        kernel = _KERNELS.get(digest)
+        if kernel is not None:
+            return kernel
+        namespace: dict[str, Any] = {}
+        exec(compile(PRELUDE + source, f"<layered base {digest}>", "exec"), namespace)  # noqa: S102
+        scope = dict(globals())
+        scope.update(base_f=namespace["base_f"], base_sample=namespace["base_sample"])
+        fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
+        flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
+        from ..engine.cache import private_cache_dir
+
+        directory = private_cache_dir()
+        if directory is None:
+            kernel = numba.njit(**flags)(fn)
+        else:
+            old = numba.config.CACHE_DIR
+            numba.config.CACHE_DIR = str(directory / f"layered_walk_{digest}")
+            try:  # Numba reads the folder when the dispatcher is made
+                kernel = numba.njit(cache=True, **flags)(fn)
+            finally:
+                numba.config.CACHE_DIR = old
+        _KERNELS[digest] = kernel
+        return kernel
+
+
+def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: int, eta: float,
+        alpha: float, ggx: bool, tau: np.ndarray, max_k: int, seed: int, cut: float,
+        channels: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """Per-geometry sums of the path scores and of their squares (G, C), and the number of
+    path segments, for directions ``wi``, ``wo`` (G, 3) (``wo`` unused with ``uniform_wo``).
+    Raises :class:`~roughdiffuse.engine.trace.TraceError` if the base cannot be traced."""
+    traced = scalar_sources(base)
+    kernel = _kernel(traced.source)
+    g = wi.shape[0]
+    per_group = -(-samples // BLOCK)
+    n = g * per_group
+    sum1, sum2 = np.zeros((n, channels)), np.zeros((n, channels))
+    segments = np.zeros(n, dtype=np.int64)
+    key = np.uint64(int(seed) % (1 << 64))  # the generator's key is 64 bits
+    args = (np.ascontiguousarray(wi, np.float64), np.ascontiguousarray(wo, np.float64),
+            bool(uniform_wo), int(samples), 0, n, float(eta), float(alpha), bool(ggx),
+            np.ascontiguousarray(tau, np.float64), int(max_k), key, float(cut),
+            traced.f_params, traced.sample_params, traced.channels, sum1, sum2, segments)
+    with _CALL_LOCK:
+        kernel(*args)
+    s1 = sum1.reshape(g, per_group, channels).sum(axis=1)
+    s2 = sum2.reshape(g, per_group, channels).sum(axis=1)
+    return s1, s2, int(segments.sum())
