@@ -102,7 +102,9 @@ def coat_reflection(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array
     g = 1.0 / ((1.0 + _smith_lambda(xp, mu_i, alpha, distribution))
                * (1.0 + _smith_lambda(xp, mu_o, alpha, distribution)))
     d = _ndf(xp, cos_h, alpha, distribution)
-    val = fresnel_dielectric(xp, cos_d, eta) * d * g / (4.0 * maximum(xp, mu_i * mu_o, 1e-12))
+    # μ floored as in Λ, so that G1(μ)/μ keeps its finite limit 2/α at a grazing direction
+    den = 4.0 * maximum(xp, mu_i, 1e-7) * maximum(xp, mu_o, 1e-7)
+    val = fresnel_dielectric(xp, cos_d, eta) * d * g / den
     return xp.where(alpha > 0, val, xp.zeros_like(val))  # (not 0 × val: inf at the peak)
 
 

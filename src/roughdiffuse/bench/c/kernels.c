@@ -521,7 +521,7 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
         real g = C(1) / ((C(1) + RD_F(smith_lambda)(mi, s->alpha, s->beck))
                          * (C(1) + RD_F(smith_lambda)(mo, s->alpha, s->beck)));
         spec = RD_F(fresnel)(C(0.5) * len_h, eta) * RD_F(coat_ndf)(cos_h, s->alpha, s->beck) * g
-               / (C(4) * fmax(mi * mo, C(1e-12)));
+               / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)));
     }
     return spec + trans * inv_eta2 * att * (single + multi);
 }

@@ -500,7 +500,7 @@ float rd_ct_reflection(float mu_i, float mu_o, float cos_io, float eta, float al
   float cos_h = rd_safe_div(mu_i + mu_o, len_h, 0.0);
   float cos_d = 0.5 * len_h;
   float g = 1.0 / ((1.0 + rd_ct_lambda(mu_i, alpha, dist)) * (1.0 + rd_ct_lambda(mu_o, alpha, dist)));
-  return rd_fresnel_dielectric(cos_d, eta) * rd_ct_ndf(cos_h, alpha, dist) * g / (4.0 * max(mu_i * mu_o, 1e-12));
+  return rd_fresnel_dielectric(cos_d, eta) * rd_ct_ndf(cos_h, alpha, dist) * g / (4.0 * max(mu_i, 1e-7) * max(mu_o, 1e-7));
 }
 
 // coated.interface_albedo: the interface's reflectance E(mu) or transmittance T(mu)
