@@ -123,18 +123,27 @@ def _float(q: dict[str, str], key: str, default: float) -> float:
     return v
 
 
+def channel_values(q: dict[str, str], key: str, default: float) -> list[float]:
+    """A per-channel parameter of the query: three comma-separated numbers, or one for all
+    three (R = G = B)."""
+    text = q.get(key, str(default))
+    try:
+        values = [float(a) for a in text.split(",")]
+    except ValueError:
+        raise ParameterError(
+            f"{key} must be one or three comma-separated numbers (got {text!r})"
+        ) from None
+    if len(values) == 1:
+        values = values * 3
+    if len(values) != 3:
+        raise ParameterError(f"{key} must be one or three comma-separated numbers (got {text!r})")
+    return values
+
+
 def params_from_query(q: dict[str, str]) -> dict[str, Any]:
     """Explorer parameters (see :func:`~roughdiffuse.explorer.params.model_from_params`) from
     URL query values; σ in radians."""
-    albedo_text = q.get("albedo", "0.8,0.8,0.8")
-    try:
-        albedo = [float(a) for a in albedo_text.split(",")]
-    except ValueError:
-        raise ParameterError(
-            f"albedo must be three comma-separated numbers (got {albedo_text!r})"
-        ) from None
-    if len(albedo) == 1:
-        albedo = albedo * 3
+    albedo = channel_values(q, "albedo", 0.8)
     return {
         "model": q.get("model", "oren-nayar"),
         "albedo": albedo,

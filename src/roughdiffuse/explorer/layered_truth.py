@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import ParameterError
-from .backend import THETA_R_DEG, number, params_from_query
+from .backend import THETA_R_DEG, channel_values, number, params_from_query
 from .params import model_from_params
 
 __all__ = ["SAMPLES", "layered_truth"]
@@ -35,7 +35,7 @@ def _plane_of_incidence(key: tuple) -> tuple[tuple[float, ...], tuple[float, ...
     albedo, sigma, eta, roughness, distribution, absorption, theta_i_deg = key
     model = model_from_params({"model": "coated", "albedo": [albedo] * 3, "sigma": sigma,
                                "eta": eta, "roughness": roughness,
-                               "distribution": distribution, "absorption": absorption})
+                               "distribution": distribution, "absorption": [absorption] * 3})
     base = model.base.channel(1) if model.base.channels else model.base
     tr = np.radians(np.abs(THETA_R_DEG))
     delta_phi = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
@@ -49,9 +49,9 @@ def _plane_of_incidence(key: tuple) -> tuple[tuple[float, ...], tuple[float, ...
 
 def layered_truth(q: dict[str, str]) -> dict[str, Any]:
     """The layered walk for the ``coated`` parameters of the query (as ``/api/vase.png``
-    takes them, ``absorption`` added) and ``theta_i`` (degrees, [0, 90)); model A's green
-    albedo, as the V-cavity curve. The values are rounded to a grid (1e-3, θi to 0.1°) so
-    that small slider moves hit the cache.
+    takes them, ``absorption`` added: one number or three) and ``theta_i`` (degrees,
+    [0, 90)); model A's green albedo and green absorption, as the V-cavity curve. The values are
+    rounded to a grid (1e-3, θi to 0.1°) so that small slider moves hit the cache.
 
     Returns
     -------
@@ -66,12 +66,12 @@ def layered_truth(q: dict[str, str]) -> dict[str, Any]:
     theta_i = number(q, "theta_i", 0.0)
     if not 0.0 <= theta_i < 90.0:
         raise ParameterError(f"theta_i must be in [0, 90) degrees (got {theta_i!r})")
-    params["absorption"] = number(q, "absorption", 0.0)
+    params["absorption"] = channel_values(q, "absorption", 0.0)
     params["distribution"] = q.get("distribution", "ggx")
     model_from_params(params)  # every parameter checked by name before the walk runs
     key = (round(params["albedo"][1], 3), round(params["sigma"], 3), round(params["eta"], 3),
            round(params["roughness"], 3), params["distribution"],
-           round(params["absorption"], 3), min(round(theta_i, 1), 89.9))
+           round(params["absorption"][1], 3), min(round(theta_i, 1), 89.9))
     f, se = _plane_of_incidence(key)
     e_cos = math.pi * math.cos(math.radians(key[-1]))
     return {

@@ -60,16 +60,18 @@ function buildPanel(slot) {
   for (const m of MODELS) sel.append(new Option(m.label, m.key));
   root.append(sel);
   const f3 = (v) => v.toFixed(3);
-  const ctl = { model: sel, sliders: {}, selects: {} };
+  const ctl = { model: sel, sliders: {}, selects: {}, colours: {} };
   for (const [k, q] of Object.entries(PARAMS)) {
     if (q.channels) {
+      // one colour group per channel parameter (albedo; Coated's absorption): a grey box and
+      // R, G, B sliders; albedo keeps the ids a-grey / a-grey-row of the first version
+      const gid = k === "albedo" ? `${p}grey` : `${p}${k}-grey`;
       const grey = document.createElement("label");
-      grey.innerHTML = `<input type="checkbox" id="${p}grey" checked> grey ${k} (R = G = B)`;
-      grey.id = `${p}grey-row`;
+      grey.innerHTML = `<input type="checkbox" id="${gid}" checked> grey ${k} (R = G = B)`;
+      grey.id = `${gid}-row`;
       root.append(grey);
-      ctl.grey = grey.querySelector("input");
-      ctl.channels = k;
-      ctl.albedo = ["r", "g", "b"].map((c, j) => slider(root, `${p}${k}-${c}`, `${k} ${c.toUpperCase()}`, q.lo, q.hi, 0.005, s[k][j], f3));
+      const sliders = ["r", "g", "b"].map((c, j) => slider(root, `${p}${k}-${c}`, `${k} ${c.toUpperCase()}`, q.lo, q.hi, 0.005, s[k][j], f3));
+      ctl.colours[k] = { grey: grey.querySelector("input"), row: grey, sliders };
     } else if (q.choices !== null) {
       const row = document.createElement("label");
       row.id = `${p}${k}-row`;
@@ -97,8 +99,9 @@ function buildPanel(slot) {
   }
   panels[slot] = ctl;
   const onInput = (ev) => {
-    if (ctl.grey && ctl.grey.checked && ev && ctl.albedo.includes(ev.target)) {
-      for (const a of ctl.albedo) if (a !== ev.target) { a.value = ev.target.value; a.dispatchEvent(new Event("change")); }
+    for (const g of Object.values(ctl.colours)) {
+      if (!g.grey.checked || !ev || !g.sliders.includes(ev.target)) continue;
+      for (const a of g.sliders) if (a !== ev.target) { a.value = ev.target.value; a.dispatchEvent(new Event("change")); }
     }
     readPanel(slot);
     refresh();
@@ -111,7 +114,7 @@ function buildPanel(slot) {
 function readPanel(slot) {
   const c = panels[slot], s = state[slot];
   s.model = c.model.value;
-  if (c.channels) s[c.channels] = c.albedo.map((a) => Number(a.value));
+  for (const [k, g] of Object.entries(c.colours)) s[k] = g.sliders.map((a) => Number(a.value));
   for (const [k, el] of Object.entries(c.sliders)) {
     if (PARAMS[k].unit === "radians") s[`${k}Deg`] = Number(el.value);
     else s[k] = Number(el.value);
@@ -124,14 +127,15 @@ function readPanel(slot) {
 function writePanel(slot) {
   const c = panels[slot], s = state[slot];
   c.model.value = s.model;
-  if (c.channels) {
-    const v = s[c.channels];
-    c.albedo.forEach((a, k) => (a.value = v[k]));
-    c.grey.checked = v[0] === v[1] && v[1] === v[2];
+  for (const [k, g] of Object.entries(c.colours)) {
+    const v = s[k];
+    g.sliders.forEach((a, j) => (a.value = v[j]));
+    g.grey.checked = v[0] === v[1] && v[1] === v[2];
   }
   for (const [k, el] of Object.entries(c.sliders)) el.value = PARAMS[k].unit === "radians" ? s[`${k}Deg`] : s[k];
   for (const [k, el] of Object.entries(c.selects)) el.value = s[k];
-  for (const el of [...(c.albedo ?? []), ...Object.values(c.sliders)]) el.dispatchEvent(new Event("input"));
+  const colourSliders = Object.values(c.colours).flatMap((g) => g.sliders);
+  for (const el of [...colourSliders, ...Object.values(c.sliders)]) el.dispatchEvent(new Event("input"));
   showUsed(slot);
 }
 
@@ -154,9 +158,9 @@ function showUsed(slot) {
       state[slot][k] = own[k].default;
     }
   }
-  if (c.channels) {
-    for (const ch of ["r", "g", "b"]) $(`${p}${c.channels}-${ch}-row`).hidden = !uses.includes(c.channels);
-    $(`${p}grey-row`).hidden = !uses.includes(c.channels);
+  for (const [k, g] of Object.entries(c.colours)) {
+    for (const ch of ["r", "g", "b"]) $(`${p}${k}-${ch}-row`).hidden = !uses.includes(k);
+    g.row.hidden = !uses.includes(k);
   }
 }
 
@@ -470,7 +474,7 @@ async function loadGroundTruth() {
   const controller = (gtController = new AbortController());
   status.textContent = coated ? "computing the layered truth…" : "computing the V-cavity ground truth…";
   const url = coated
-    ? `api/layeredtruth.json?${queryFor("a")}&absorption=${[s.absorption ?? 0].flat()[1] ?? [s.absorption ?? 0].flat()[0]}&theta_i=${state.light.theta}`
+    ? `api/layeredtruth.json?${queryFor("a")}&absorption=${[s.absorption ?? 0].flat().join(",")}&theta_i=${state.light.theta}`
     : `api/groundtruth.json?${q}`;
   let gt;
   try {
