@@ -207,7 +207,9 @@ def test_package_data_lists_every_static_file():
 
 def _start_cli(*args: str) -> tuple[subprocess.Popen, str]:
     proc = subprocess.Popen(
-        [sys.executable, "-m", "roughdiffuse", "explore", "--no-browser", *args],
+        # -X faulthandler: a SIGABRT prints every thread's stack (see _stop_with_ctrl_c)
+        [sys.executable, "-X", "faulthandler", "-m", "roughdiffuse", "explore", "--no-browser",
+         *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -215,6 +217,18 @@ def _start_cli(*args: str) -> tuple[subprocess.Popen, str]:
     )
     line = proc.stdout.readline()
     return proc, line
+
+
+def _stop_with_ctrl_c(proc: subprocess.Popen) -> None:
+    """SIGINT, then wait; a process still running after 30 s fails the test with the stacks of
+    its threads (faulthandler on SIGABRT), so that a rare hang can be read from the log."""
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        _, err = proc.communicate(timeout=30)
+        pytest.fail(f"explore did not stop within 30 s of SIGINT; its threads:\n{err[-6000:]}")
 
 
 def test_cli_serves_the_page_and_stops_on_ctrl_c():
@@ -229,8 +243,7 @@ def test_cli_serves_the_page_and_stops_on_ctrl_c():
         assert r.status == 200 and b"roughdiffuse explorer" in r.read()
         conn.close()
     finally:
-        proc.send_signal(signal.SIGINT)
-        proc.wait(timeout=30)
+        _stop_with_ctrl_c(proc)
     assert proc.returncode == 0
 
 
