@@ -32,7 +32,7 @@ def test_bench_run_writes_results_and_checks_agreement(tmp_path, monkeypatch):
         "--startup-repeat", "0",
         "--output-dir", str(tmp_path),
     ]  # fmt: skip
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
     assert proc.returncode == 0, proc.stderr
     data = json.loads((tmp_path / "results.json").read_text())
     assert "fit" not in data and "simulate" not in data and "startup" not in data
@@ -84,7 +84,7 @@ def test_bench_run_fit_and_solver_sections_at_tiny_scale(tmp_path, monkeypatch):
         "--simulate-cases", "closed form,bounces=1",
         "--output-dir", str(tmp_path),
     ]  # fmt: skip
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
     assert proc.returncode == 0, proc.stderr
     data = json.loads((tmp_path / "results.json").read_text())
 
