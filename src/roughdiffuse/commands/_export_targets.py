@@ -3,19 +3,33 @@ files written after a fit (``PREFIX_TARGET.suffix``, one set per target)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 from . import UsageError
 
-__all__ = ["blend_failed", "export_model", "export_paths", "parse_targets"]
+__all__ = ["export_errors", "export_model", "export_paths", "parse_targets"]
 
 
-def blend_failed(path: Path, exc: Exception, option: str) -> UsageError:
-    """One line for a Blender process that failed after the script was written."""
-    last = str(exc).strip().splitlines()[-1]
-    return UsageError(f"{option}: {path} written, the .blend not: {last}")
+@contextmanager
+def export_errors(path: Path, option: str, target: str, write_option: str) -> Iterator[None]:
+    """An exporter's refusals as one-line ``UsageError`` s: a model the target cannot hold
+    (``option target: ...``), a file that cannot be written (``write_option: ...``), and a
+    Blender process that failed after the script was written."""
+    from ..materials.blender_run import BlenderError
+
+    try:
+        yield
+    except BlenderError as exc:
+        last = str(exc).strip().splitlines()[-1]
+        raise UsageError(f"{option} blender: {path} written, the .blend not: {last}") from None
+    except ValueError as exc:
+        raise UsageError(f"{option} {target}: {exc}") from None
+    except OSError as exc:
+        raise UsageError(
+            f"{write_option}: cannot write {str(path)!r}: {exc.strerror or exc}") from None
 
 
 def parse_targets(text: str, option: str = "--export") -> list[str]:
@@ -48,15 +62,8 @@ def export_paths(prefix: str, targets: list[str], option: str = "--export-prefix
 def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> None:
     """Write ``model`` for each target in ``paths``; print each summary with ``say``."""
     from ..materials import export
-    from ..materials.blender_run import BlenderError
 
     for target, path in paths.items():
-        try:
+        with export_errors(path, "--export", target, f"--export {target}"):
             result = export(model, target, path)
-        except BlenderError as exc:
-            raise blend_failed(path, exc, "--export blender") from None
-        except ValueError as exc:
-            raise UsageError(f"--export {target}: {exc}") from None
-        except OSError as exc:
-            raise UsageError(f"--export {target}: cannot write {str(path)!r}: {exc}") from None
         say(result.summary())

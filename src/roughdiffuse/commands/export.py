@@ -8,7 +8,7 @@ from pathlib import Path
 
 from . import UsageError
 from ._common import add_model_arguments, model_from_args
-from ._export_targets import blend_failed
+from ._export_targets import export_errors
 
 EXAMPLES = """\
 examples:
@@ -56,7 +56,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..materials import TARGETS, export, load_result
     from ..materials.blender import write as write_blender
-    from ..materials.blender_run import BlenderError
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
@@ -70,17 +69,11 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--from: {exc}") from None
     else:
         model = model_from_args(args)
-    try:
+    with export_errors(out, "--to", args.to, "--output"):
         if args.to == "blender":
             blend = False if args.no_blend else None
             result = write_blender(model, out, principled=args.principled, blend=blend)
         else:
             result = export(model, args.to, out, openpbr=args.openpbr)
-    except BlenderError as exc:
-        raise blend_failed(out, exc, "--to blender") from None
-    except ValueError as exc:
-        raise UsageError(f"--to {args.to}: {exc}") from None
-    except OSError as exc:
-        raise UsageError(f"--output: cannot write {str(out)!r}: {exc.strerror or exc}") from None
     print(result.summary())
     return 0

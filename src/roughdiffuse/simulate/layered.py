@@ -443,12 +443,8 @@ def brdf(
     >>> bool(abs(f * math.pi - 0.96 * 0.96 / 1.5**2 / (1 - 0.596)) < 5 * se * math.pi + 3e-3)
     True
     """
-    base = check_base(base)
-    eta, alpha = _check_interface(eta, roughness, distribution)
-    tau = _check_absorption(absorption)
-    bounces = check_bounces(bounces)
-    _check_samples(samples)
-    engine = _check_engine(engine)
+    base, eta, alpha, tau, bounces, engine = _checked(
+        base, eta, roughness, distribution, absorption, bounces, samples, engine)
     wi, wo, shape = _directions(theta_i, theta_r, delta_phi)
     mean, se, channels, segments = _run(
         base, wi, wo, eta, alpha, str(distribution), tau, bounces, int(samples), seed, engine
@@ -463,6 +459,17 @@ def brdf(
 def _check_samples(samples: object) -> None:
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
         raise ParameterError(f"samples must be an integer >= 2 (got {samples!r})")
+
+
+def _checked(base, eta, roughness, distribution, absorption, bounces, samples, engine):
+    """The walk's arguments checked by name, as :func:`brdf` and :func:`directional_albedo`
+    take them: (base, η, α, τ, bounces, engine)."""
+    base = check_base(base)
+    eta, alpha = _check_interface(eta, roughness, distribution)
+    tau = _check_absorption(absorption)
+    bounces = check_bounces(bounces)
+    _check_samples(samples)
+    return base, eta, alpha, tau, bounces, _check_engine(engine)
 
 
 def directional_albedo(
@@ -487,12 +494,8 @@ def directional_albedo(
     no absorption a smooth coat conserves energy exactly: the white furnace gives 1.
     ``engine``: as in :func:`brdf`.
     """
-    base = check_base(base)
-    eta, alpha = _check_interface(eta, roughness, distribution)
-    tau = _check_absorption(absorption)
-    bounces = check_bounces(bounces)
-    _check_samples(samples)
-    engine = _check_engine(engine)
+    base, eta, alpha, tau, bounces, engine = _checked(
+        base, eta, roughness, distribution, absorption, bounces, samples, engine)
     ti = np.asarray(theta_i, dtype=np.float64)
     check_range("theta_i", ti, 0.0, math.pi / 2, unit="radians", scalar=False)
     wi, _, shape = _directions(ti, 0.0 * ti, 0.0 * ti)
