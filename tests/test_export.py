@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
+from materialx_setup import load_document
 from roughdiffuse import registry
 from roughdiffuse.materials import export, load_result
 from roughdiffuse.materials.mitsuba import LIGHT, MARGIN, SIZE, load_dict, scene_dict
@@ -88,26 +89,12 @@ def test_mitsuba_builtin_counterparts(mi, tmp_path):
         assert np.abs(plugin - theirs)[lit].mean() / theirs[lit].mean() < 0.01
 
 
-def _materialx():
-    return pytest.importorskip(
-        "MaterialX", reason="materialx is not installed (pip install materialx)"
-    )
-
-
 def _generate(path):
-    mx = _materialx()
+    _, doc, search = load_document(path)
     import MaterialX.PyMaterialXGenGlsl as mgl
     import MaterialX.PyMaterialXGenOsl as mgo
     import MaterialX.PyMaterialXGenShader as mgs
 
-    doc = mx.createDocument()
-    mx.readFromXmlFile(doc, str(path))
-    lib = mx.createDocument()
-    search = mx.getDefaultDataSearchPath()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), search, lib)
-    doc.setDataLibrary(lib)
-    valid, message = doc.validate()
-    assert valid, message
     (elem,) = mgs.findRenderableElements(doc)
     out = {}
     for name, gen in (

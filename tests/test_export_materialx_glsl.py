@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from explorer_browser import PageWithLog
+from materialx_setup import load_document
 from roughdiffuse import registry
 from roughdiffuse.materials import export
 
@@ -98,16 +99,10 @@ void main()
 
 def _shader(mtlx) -> tuple[str, list]:
     """MaterialX's ESSL for the document, its main replaced, and its uniforms' values."""
-    mx = pytest.importorskip("MaterialX", reason="materialx is not installed")
+    mx, doc, search = load_document(mtlx)
     import MaterialX.PyMaterialXGenGlsl as mgl
     import MaterialX.PyMaterialXGenShader as mgs
 
-    doc = mx.createDocument()
-    mx.readFromXmlFile(doc, str(mtlx))
-    lib = mx.createDocument()
-    search = mx.getDefaultDataSearchPath()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), search, lib)
-    doc.setDataLibrary(lib)
     (elem,) = mgs.findRenderableElements(doc)
     gen = mgl.EsslShaderGenerator.create()
     ctx = mgs.GenContext(gen)
