@@ -37,6 +37,29 @@ def pytest_configure(config: pytest.Config) -> None:
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 
+def pytest_report_header(config: pytest.Config) -> list[str]:
+    """The CPU, C library and numerical packages at the top of the run, so that a failure seen
+    only on another machine (CI's CPU differs from session to session) can be read from its log."""
+    import platform
+    from importlib.metadata import PackageNotFoundError, version
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
+            names = (ln.split(":", 1)[1].strip() for ln in info if ln.startswith("model name"))
+            cpu = next(names)
+    except (OSError, StopIteration):
+        pass
+    packages = []
+    for name in ("numpy", "scipy", "numba", "llvmlite", "jax", "torch", "mitsuba"):
+        try:
+            packages.append(f"{name} {version(name)}")
+        except PackageNotFoundError:
+            packages.append(f"{name} absent")
+    libc = " ".join(platform.libc_ver())
+    return [f"roughdiffuse machine: {cpu}, {os.cpu_count()} cores, {libc}", ", ".join(packages)]
+
+
 def random_hemisphere(rng: np.random.Generator, n: int) -> np.ndarray:
     """Uniform random unit vectors with z >= 0, shape (n, 3)."""
     v = rng.normal(size=(n, 3))

@@ -87,8 +87,10 @@ def _ndf(xp: Any, cos_h: Array, alpha: Array, distribution: str) -> Array:
     if distribution == "beckmann":
         return slope_distribution(xp, cos_h, alpha, "beckmann")
     a2 = maximum(xp, alpha * alpha, 1e-14)
-    c2 = cos_h * cos_h
-    den = c2 * (a2 - 1.0) + 1.0
+    c = clip(xp, cos_h, 0.0, 1.0)
+    # cos²θh (α² − 1) + 1 as sin²θh + cos²θh α²: never 0 for α > 0 (in float32, α² − 1 rounds
+    # to −1 at the floor and the first form is 0 at the peak)
+    den = (1.0 - c) * (1.0 + c) + c * c * a2
     return xp.where(cos_h > 0, a2 / (math.pi * den * den), 0.0 * cos_h)
 
 

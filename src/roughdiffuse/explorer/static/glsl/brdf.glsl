@@ -488,8 +488,8 @@ float rd_ct_lambda(float mu, float alpha, int dist) {
 float rd_ct_ndf(float cos_h, float alpha, int dist) {
   if (dist == 1) return rd_slope_distribution(cos_h, rd_safe_sqrt(1.0 - cos_h * cos_h), alpha / sqrt(2.0), 1);
   float a2 = max(alpha * alpha, 1e-14);
-  float c2 = cos_h * cos_h;
-  float den = c2 * (a2 - 1.0) + 1.0;
+  float c = clamp(cos_h, 0.0, 1.0);
+  float den = (1.0 - c) * (1.0 + c) + c * c * a2;  // sin^2 + cos^2 a2: never 0 for a2 > 0
   return cos_h > 0.0 ? a2 / (RD_PI * den * den) : 0.0;
 }
 
