@@ -83,6 +83,15 @@ def test_compiled_refuses_a_table_base_by_name() -> None:
         layered.brdf(0.3, 0.3, 0.0, base, samples=10, engine="compiled")
 
 
+def test_auto_runs_a_table_base_on_the_numpy_walk() -> None:
+    """engine="auto" falls back to the NumPy walk (same seed, same value) for a base the
+    compiled walk cannot run, instead of refusing it."""
+    base = rd.VCavity(0.3, 0.8)
+    kw = dict(samples=20, seed=4)
+    auto = layered.brdf(0.3, 0.3, 0.0, base, engine="auto", **kw)
+    assert auto == layered.brdf(0.3, 0.3, 0.0, base, engine="numpy", **kw)
+
+
 @pytest.mark.parametrize("model", [rd.EON(0.7, 0.8), rd.OrenNayar(0.8, 0.3, "full"),
                                    rd.Lambert([0.9, 0.5, 0.2])], ids=["eon", "on", "lambert"])
 def test_traced_base_functions_match_the_model(model) -> None:

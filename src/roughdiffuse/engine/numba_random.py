@@ -11,12 +11,13 @@ increment, and a path's key is mix(mix(seed + γ) ⊕ index).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numba
 import numpy as np
 
-__all__ = ["path_key", "uniform"]
+__all__ = ["circle_point", "normal_pair", "path_key", "uniform"]
 
 _GAMMA = np.uint64(0x9E3779B97F4A7C15)
 _M1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -44,3 +45,39 @@ def uniform(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Nu
     """Draw number ``counter`` (int ≥ 0) of the path ``key``: a float64 in [0, 1)."""
     z = _mix(key + (np.uint64(counter) + _ONE) * _GAMMA)
     return float(z >> _S11) * _TO_UNIT
+
+
+@numba.njit(inline="always", cache=True)
+def circle_point(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Numba
+    """The cosine and sine of a uniform angle from draws ``counter``, ``counter + 1``, ... of
+    the path ``key``, without trigonometric functions: (cos, sin, the next unused draw).
+
+    A point (x, y) uniform in the unit disc (pairs of uniforms in the square, rejected
+    outside; 4/π pairs on average) has a uniform polar angle θ, and so has 2θ:
+    cos 2θ = (x² − y²)/s, sin 2θ = 2xy/s, s = x² + y² (J. von Neumann 1951, "Various
+    techniques used in connection with random digits", NBS Appl. Math. Series 12).
+    """
+    while True:
+        x = 2.0 * uniform(key, counter) - 1.0
+        y = 2.0 * uniform(key, counter + 1) - 1.0
+        counter += 2
+        s = x * x + y * y
+        if 0.0 < s < 1.0:
+            return (x * x - y * y) / s, 2.0 * x * y / s, counter
+
+
+@numba.njit(inline="always", cache=True)
+def normal_pair(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Numba
+    """Two independent N(0, 1/2) numbers from draws ``counter``, ``counter + 1``, ... of the
+    path ``key`` by the polar method (G. Marsaglia, T. A. Bray 1964, "A convenient method for
+    generating normal variables", SIAM Review 6(3)): (x, y) uniform in the unit disc,
+    s = x² + y², (x, y) √(−ln s / s) (one logarithm, no trigonometric function).
+    Returns (g1, g2, the next unused draw)."""
+    while True:
+        x = 2.0 * uniform(key, counter) - 1.0
+        y = 2.0 * uniform(key, counter + 1) - 1.0
+        counter += 2
+        s = x * x + y * y
+        if 0.0 < s < 1.0:
+            f = math.sqrt(-math.log(s) / s)
+            return x * f, y * f, counter

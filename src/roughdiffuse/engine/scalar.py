@@ -9,7 +9,12 @@ prints them as two functions:
 
 * ``base_f(mu_i, mu_o, cos_io, out, p)``: writes f into ``out[0 .. C−1]``;
 * ``base_sample(u1, u2, wox, woy, woz, p)``: returns ``(x, y, z, pdf)``, the sampled direction
-  towards the light and its density per solid angle.
+  towards the light and its density per solid angle;
+* ``base_f_o(mu_o, p)`` and ``base_f_at(mu_i, mu_o, cos_io, h, out, p)``: ``base_f`` in two
+  parts, for a caller that evaluates f many times at one ωo (a walk's next events towards
+  the view): ``h = base_f_o(mu_o, p)`` holds the values that depend on μo alone (a tuple),
+  ``base_f_at`` the rest; ``base_f_at(mu_i, mu_o, cos_io, base_f_o(mu_o, p), out, p)``
+  writes what ``base_f`` writes.
 
 ``p`` is a tuple of float64 values, the parameters met while tracing (:func:`scalar_sources`
 returns them): a new albedo or roughness needs no new code. The code is float64, without
@@ -18,6 +23,7 @@ returns them): a new albedo or roughness needs no new code. The code is float64,
 
 from __future__ import annotations
 
+import re
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -58,6 +64,52 @@ def _params(graph: Graph) -> tuple[float, ...]:
     return tuple(float(v) for v in graph.params)
 
 
+_ASSIGN = re.compile(r"^([tr]\d+) = (.*)$")
+_NAME = re.compile(r"\b(t\d+|mu_i|mu_o|cos_io)\b")
+
+
+def _split_by_mu_o(body: list[str]) -> tuple[list[str], list[str], list[str]]:
+    """``body`` (straight-line ``name = expression`` statements) split into the statements
+    that depend on ``mu_o`` alone (and on constants), the others, and the names of the first
+    part that the second reads. A body with a loop (a node sum) is not split."""
+    if not all(_ASSIGN.match(line) for line in body):
+        return [], body, []
+    inputs: dict[str, set[str]] = {}
+    first: list[str] = []
+    rest: list[str] = []
+    for line in body:
+        target, expression = _ASSIGN.match(line).groups()
+        refs: set[str] = set()
+        for ref in _NAME.findall(expression):
+            refs |= inputs.get(ref, {ref})
+        inputs[target] = refs
+        (first if refs == {"mu_o"} and target[0] == "t" else rest).append(line)
+    hoisted = {_ASSIGN.match(line).group(1) for line in first}
+    read = {ref for line in rest for ref in _NAME.findall(_ASSIGN.match(line).group(2))}
+    return first, rest, sorted(hoisted & read, key=lambda n: int(n[1:]))
+
+
+def _f_parts(unpack: list[str], body: list[str], channels: int) -> list[str]:
+    """The printed ``base_f_o`` and ``base_f_at`` (:func:`_split_by_mu_o`)."""
+    first, rest, shared = _split_by_mu_o(body)
+    held = ", ".join(shared) + "," if shared else "0.0,"
+    return [
+        _JIT,
+        "def base_f_o(mu_o, p):",
+        *unpack,
+        *("    " + line for line in first),
+        f"    return ({held})",
+        "",
+        _JIT,
+        "def base_f_at(mu_i, mu_o, cos_io, h, out, p):",
+        *unpack,
+        *(f"    {name} = h[{k}]" for k, name in enumerate(shared)),
+        *("    " + line for line in rest),
+        *(f"    out[{c}] = r{c}" for c in range(channels)),
+        "",
+    ]
+
+
 def scalar_sources(model: Any) -> ScalarBase:
     """Trace ``model``'s ``brdf_cosines`` and its strategy's ``sample`` (float64).
 
@@ -96,6 +148,7 @@ def scalar_sources(model: Any) -> ScalarBase:
         *("    " + line for line in body_f),
         *(f"    out[{c}] = r{c}" for c in range(channels)),
         "",
+        *_f_parts(_unpack(g), body_f, channels),
         _JIT,
         "def base_sample(u1, u2, wo0, wo1, wo2, p):",
         *_unpack(s),

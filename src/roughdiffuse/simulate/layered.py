@@ -463,13 +463,16 @@ def _check_samples(samples: object) -> None:
 
 def _checked(base, eta, roughness, distribution, absorption, bounces, samples, engine):
     """The walk's arguments checked by name, as :func:`brdf` and :func:`directional_albedo`
-    take them: (base, η, α, τ, bounces, engine)."""
+    take them: (base, η, α, τ, bounces, engine); the engine stays "auto" where Numba can
+    run (the compiled walk, the NumPy one for a base it cannot compile)."""
     base = check_base(base)
     eta, alpha = _check_interface(eta, roughness, distribution)
     tau = _check_absorption(absorption)
     bounces = check_bounces(bounces)
     _check_samples(samples)
-    return base, eta, alpha, tau, bounces, _check_engine(engine)
+    resolved = _check_engine(engine)
+    auto = engine == "auto" and resolved == "compiled"
+    return base, eta, alpha, tau, bounces, "auto" if auto else resolved
 
 
 def directional_albedo(

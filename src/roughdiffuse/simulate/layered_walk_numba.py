@@ -10,9 +10,10 @@ The formulas are shared with the NumPy walk: the interface's (:mod:`.layered_for
 Smith's Λ and the visible normals (:mod:`.smith_formulas`, through
 :func:`.smith_walk_numba.visible_normal`).
 
-The base enters as two scalar functions traced from the model's own code
+The base enters as scalar functions traced from the model's own code
 (:func:`roughdiffuse.engine.scalar.scalar_sources`): its ``brdf_cosines`` and its sampling
-strategy's ``sample``. The kernel is compiled once per base *structure* (the printed source
+strategy's ``sample``; the next events, all at one ωo per path, take f in two parts, what
+depends on μo alone being computed once per path. The kernel is compiled once per base *structure* (the printed source
 of those functions: a new albedo or roughness reuses it) and cached on disk like the Smith
 walk, in a folder named by a hash of the sources it is compiled from, in the fast path's
 private cache folder (:func:`roughdiffuse.engine.cache.private_cache_dir`); without one it is
@@ -55,6 +56,16 @@ _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
 def base_f(mu_i, mu_o, cos_io, out, p):  # pragma: no cover - replaced per base
     """Placeholder of the traced base BRDF (:func:`roughdiffuse.engine.scalar.scalar_sources`)."""
+    raise NotImplementedError
+
+
+def base_f_o(mu_o, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base BRDF's part that depends on μo alone."""
+    raise NotImplementedError
+
+
+def base_f_at(mu_i, mu_o, cos_io, h, out, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base BRDF given ``base_f_o``'s values ``h``."""
     raise NotImplementedError
 
 
@@ -143,6 +154,7 @@ def _walk_blocks(
             # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
             tx, ty, tz, w_exit, c = _enter(ox, oy, oz, eta, alpha, ggx, key, c)
             w_exit *= inv_eta2 * wgt
+            h_exit = base_f_o(-tz, pf)  # the next events' f: its part at μo = −t_z
             live = False
             for ch in range(n_c):
                 beta[ch] = w_in * (math.exp(-tau[ch % n_t] / abs(dz)) if absorbs else 1.0)
@@ -153,7 +165,7 @@ def _walk_blocks(
                     break
                 nseg += 1
                 ux, uy, uz = -dx, -dy, -dz  # the base's light direction
-                base_f(uz, -tz, -(ux * tx + uy * ty + uz * tz), fb, pf)  # next event
+                base_f_at(uz, -tz, -(ux * tx + uy * ty + uz * tz), h_exit, fb, pf)  # next event
                 for ch in range(n_c):
                     att = math.exp(tau[ch % n_t] / tz) if absorbs else 1.0
                     tot[ch] += beta[ch] * w_exit * fb[ch % n_f] * att
@@ -208,7 +220,8 @@ def _kernel(source: str) -> Any:
         namespace: dict[str, Any] = {}
         exec(compile(PRELUDE + source, f"<layered base {digest}>", "exec"), namespace)  # noqa: S102
         scope = dict(globals())
-        scope.update(base_f=namespace["base_f"], base_sample=namespace["base_sample"])
+        scope.update({name: namespace[name]
+                      for name in ("base_f", "base_f_o", "base_f_at", "base_sample")})
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
         flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
         from ..engine.cache import private_cache_dir

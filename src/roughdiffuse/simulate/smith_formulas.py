@@ -17,13 +17,16 @@ Formulas (per direction ω = (x, y, z), roughness α, isotropic slopes):
   masking-shadowing function in microfacet-based BRDFs", JCGT 3(2), eqs. 72 (GGX) and 86
   (Beckmann)), Λ(−ω) = −1 − Λ(ω) below the horizon (Heitz, Hanika, d'Eon, Dachsbacher 2016,
   "Multiple-scattering microfacet BSDFs with the Smith model", Sec. 3);
-* ``visible_ggx``: GGX visible normals by spherical caps (Dupuy & Benyoub 2023, "Sampling
-  visible GGX normals with spherical caps", Listing 3);
+* ``visible_ggx`` (``visible_ggx_at`` from the azimuth's cosine and sine): GGX visible
+  normals by spherical caps (Dupuy & Benyoub 2023, "Sampling visible GGX normals with
+  spherical caps", Listing 3);
 * ``beckmann_frame``, ``gaussian_pair``, ``slope_proposal_pos``, ``slope_proposal_neg``,
   ``beckmann_normal``: Beckmann visible normals in the stretched configuration (Heitz &
   d'Eon 2014, "Importance sampling microfacet-based BSDFs using the distribution of visible
   normals", Sec. 4), the slope x̃ by composition and rejection (see
   :func:`roughdiffuse.simulate.smith_slopes.sample_visible_normals`);
+  ``slope_proposal_gauss`` the same x̃ for μ ≥ 0 from a Gaussian number instead of erfinv
+  (the compiled walks');
 * ``cosine_about``: a cosine-distributed direction about a normal, in the orthonormal basis of
   Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1), Listing 3);
 * ``height_step``, ``next_event``: one step of the height-space walk and its next-event
@@ -87,18 +90,24 @@ def build(p: Any) -> SimpleNamespace:
         return where(z >= 0.0, up, -1.0 - up)
 
     @jit
-    def visible_ggx(wx, wy, wz, alpha, u1, u2):
-        """A GGX visible normal of ω (either side of the horizon) from two uniforms."""
+    def visible_ggx_at(wx, wy, wz, alpha, cphi, sphi, u2):
+        """A GGX visible normal of ω (either side of the horizon) from the cosine and sine
+        of a uniform azimuth and a uniform ``u2``."""
         sx, sy = alpha * wx, alpha * wy
         n = sqrt(sx * sx + sy * sy + wz * wz)
         sx, sy, sz = sx / n, sy / n, wz / n
-        phi = _TWO_PI * u1
         z = (1.0 - u2) * (1.0 + sz) - sz
         r = sqrt(minimum(maximum(1.0 - z * z, 0.0), 1.0))
-        mx, my, mz = alpha * (r * cos(phi) + sx), alpha * (r * sin(phi) + sy), maximum(z + sz, 0.0)
+        mx, my, mz = alpha * (r * cphi + sx), alpha * (r * sphi + sy), maximum(z + sz, 0.0)
         norm = sqrt(mx * mx + my * my + mz * mz)
         norm = where(norm > 0.0, norm, 1.0)
         return mx / norm, my / norm, mz / norm
+
+    @jit
+    def visible_ggx(wx, wy, wz, alpha, u1, u2):
+        """A GGX visible normal of ω (either side of the horizon) from two uniforms."""
+        phi = _TWO_PI * u1
+        return visible_ggx_at(wx, wy, wz, alpha, cos(phi), sin(phi), u2)
 
     @jit
     def beckmann_frame(wx, wy, wz, alpha):
@@ -137,6 +146,21 @@ def build(p: Any) -> SimpleNamespace:
         xl = -where(gauss, abs(inv), sqrt(-log1p(-u2)))
         keep_r = u2 * mu < mu - inv
         return where(left, xl, where(keep_r, inv, math.nan))
+
+    @jit
+    def slope_proposal_gauss(mu, g, u0, u1):
+        """One try at x̃ ~ (μ − x̃)⁺ exp(−x̃²) for μ ≥ 0 from a N(0, 1/2) number ``g`` and two
+        uniforms, without erfinv: x̃, or NaN when rejected.
+
+        The envelope μ e^{−x̃²} + |x̃| e^{−x̃²} 1[x̃ < 0] (masses μ√π and 1/2) equals the
+        target for x̃ < 0. With probability 1/2 / (μ√π + 1/2) x̃ = −√(−ln(1 − u1)) (density
+        |x̃| e^{−x̃²}, accepted); otherwise x̃ = g, accepted with probability (μ − x̃)⁺/μ (1
+        for x̃ < 0), that is when u1 μ < μ − x̃. Acceptance (μ√π/2 (1 + erf μ) +
+        e^{−μ²}/2) / (μ√π + 1/2) ≥ 0.76 (least near μ = 0.5).
+        """
+        tail = u0 * (mu * _SQRT_PI + 0.5) < 0.5
+        x_tail = -sqrt(-log1p(-u1))
+        return where(tail, x_tail, where(u1 * mu < mu - g, g, math.nan))
 
     @jit
     def slope_proposal_neg(mu, v0, v1, v2):
@@ -199,10 +223,12 @@ def build(p: Any) -> SimpleNamespace:
     return SimpleNamespace(
         lambda_upper=lambda_upper,
         smith_lambda=smith_lambda,
+        visible_ggx_at=visible_ggx_at,
         visible_ggx=visible_ggx,
         beckmann_frame=beckmann_frame,
         gaussian_pair=gaussian_pair,
         slope_proposal_pos=slope_proposal_pos,
+        slope_proposal_gauss=slope_proposal_gauss,
         slope_proposal_neg=slope_proposal_neg,
         beckmann_normal=beckmann_normal,
         cosine_about=cosine_about,

@@ -35,7 +35,7 @@ import numpy as np
 from numba import prange
 
 from ..engine.numba_math import erfcx, erfinv
-from ..engine.numba_random import path_key, uniform
+from ..engine.numba_random import circle_point, normal_pair, path_key, uniform
 from .smith_formulas import build
 
 __all__ = ["BLOCK", "FORMULAS", "PRIMITIVES", "run_blocks", "visible_normal", "walk_blocks"]
@@ -87,10 +87,9 @@ _F = build(PRIMITIVES)
 FORMULAS = _F
 """The Smith walk's formulas (:mod:`.smith_formulas`) compiled for Numba."""
 _smith_lambda = _F.smith_lambda
-_visible_ggx = _F.visible_ggx
+_visible_ggx_at = _F.visible_ggx_at
 _beckmann_frame = _F.beckmann_frame
-_gaussian_pair = _F.gaussian_pair
-_slope_pos = _F.slope_proposal_pos
+_slope_gauss = _F.slope_proposal_gauss
 _slope_neg = _F.slope_proposal_neg
 _beckmann_normal = _F.beckmann_normal
 _cosine_about = _F.cosine_about
@@ -103,24 +102,37 @@ _TWO_PI = 2.0 * math.pi
 def visible_normal(ggx, wx, wy, wz, alpha, key, c):  # pragma: no cover - compiled by Numba
     """A visible normal of ω = (wx, wy, wz) (either side of the horizon; GGX if ``ggx``,
     else Beckmann) from the path ``key``'s draws ``c``, ``c + 1``, ...: (mx, my, mz, the next
-    unused draw). GGX takes two draws; Beckmann two and three per try of its rejection."""
-    u0, u1 = uniform(key, c), uniform(key, c + 1)
-    c += 2
+    unused draw).
+
+    The formulas are the NumPy walk's; the random numbers they take are drawn without
+    trigonometric functions or erfinv (:func:`~roughdiffuse.engine.numba_random.circle_point`,
+    :func:`~roughdiffuse.engine.numba_random.normal_pair`): GGX's azimuth as a point on the
+    circle; Beckmann's slopes from normal pairs, x̃ for μ ≥ 0 by ``slope_proposal_gauss``
+    (a rejection with a Gaussian proposal) instead of the NumPy walk's erfinv-based
+    ``slope_proposal_pos``, so that the two engines check each other's samplers.
+    """
     if ggx:
-        mx, my, mz = _visible_ggx(wx, wy, wz, alpha, u0, u1)
-        return mx, my, mz, c
+        cphi, sphi, c = circle_point(key, c)
+        mx, my, mz = _visible_ggx_at(wx, wy, wz, alpha, cphi, sphi, uniform(key, c))
+        return mx, my, mz, c + 1
     mu, cphi, sphi = _beckmann_frame(wx, wy, wz, alpha)
-    tx, ty = _gaussian_pair(u0, u1)
+    tx, ty, c = normal_pair(key, c)
     if mu < math.inf:
+        g, spare = tx, math.nan  # N(0, 1/2) numbers independent of ty for the tries
         while True:
-            v0, v1, v2 = uniform(key, c), uniform(key, c + 1), uniform(key, c + 2)
-            c += 3
             if mu >= 0.0:
-                x = _slope_pos(mu, v0, v1, v2)
+                x = _slope_gauss(mu, g, uniform(key, c), uniform(key, c + 1))
+                c += 2
             else:
-                x = _slope_neg(mu, v0, v1, v2)
+                x = _slope_neg(mu, uniform(key, c), uniform(key, c + 1), uniform(key, c + 2))
+                c += 3
             if x == x:  # not NaN: accepted
                 break
+            if mu >= 0.0:
+                if spare == spare:
+                    g, spare = spare, math.nan
+                else:
+                    g, spare, c = normal_pair(key, c)
         tx = x
     mx, my, mz = _beckmann_normal(alpha, cphi, sphi, tx, ty)
     return mx, my, mz, c
