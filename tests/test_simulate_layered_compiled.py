@@ -115,7 +115,14 @@ def test_traced_base_functions_match_the_model(model) -> None:
     ref_f = np.asarray(model.brdf_cosines(w[:, 2], v[:, 2], np.sum(w * v, 1))).reshape(n, -1)
     out = np.empty(traced.channels)
     got_f = []
+    f_o, f_at = namespace["base_f_o"].py_func, namespace["base_f_at"].py_func
+    split_f = []
     for k in range(n):
         f(w[k, 2], v[k, 2], float(w[k] @ v[k]), out, traced.f_params)
         got_f.append(out.copy())
+        # f in the walk's two parts: the μo-only values, then the rest
+        f_at(w[k, 2], v[k, 2], float(w[k] @ v[k]), f_o(v[k, 2], traced.f_params), out,
+             traced.f_params)
+        split_f.append(out.copy())
     np.testing.assert_allclose(np.array(got_f), ref_f, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(np.array(split_f), ref_f, rtol=1e-12, atol=1e-15)

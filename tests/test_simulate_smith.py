@@ -6,6 +6,7 @@ Every Monte Carlo comparison uses a fixed seed and the tolerance |x − ref| < 4
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import math
 
@@ -141,12 +142,36 @@ def test_lambda_closed_forms():
     assert float(smith_lambda("beckmann", -z, 1.0)) == pytest.approx(-1 - ref, 1e-13)
 
 
+@functools.cache
+def _compiled_sampler():
+    """A Numba loop drawing n visible normals of ω from the compiled walks' sampler (its own
+    random numbers: normal pairs, disc points, a Gaussian-proposal rejection for Beckmann's
+    slope)."""
+    import numba
+
+    from roughdiffuse.engine.numba_random import path_key
+    from roughdiffuse.simulate.smith_walk_numba import visible_normal
+
+    @numba.njit
+    def draw(ggx, wx, wy, wz, alpha, n):
+        out = np.empty((n, 3))
+        for i in range(n):
+            mx, my, mz, _ = visible_normal(ggx, wx, wy, wz, alpha, path_key(7, i), 0)
+            out[i, 0], out[i, 1], out[i, 2] = mx, my, mz
+        return out
+
+    return draw
+
+
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("dist", DISTS)
-def test_visible_normals_and_lambda_below_the_horizon(dist):
+def test_visible_normals_and_lambda_below_the_horizon(dist, engine):
     """Visible normals of ω above and below the horizon against a midpoint rule.
 
     ∫ ⟨ω, ωm⟩⁺ D dωm = (1 + Λ(ω)) cos θ for every ω (Heitz 2014 eq. 17 with Λ(−ω) = −1 − Λ(ω)),
-    and the sampled normals' mean of ⟨ω', ωm⟩⁺ is ∫ ⟨ω, ωm⟩⁺ ⟨ω', ωm⟩⁺ D / ∫ ⟨ω, ωm⟩⁺ D.
+    and the sampled normals' mean of ⟨ω', ωm⟩⁺ is ∫ ⟨ω, ωm⟩⁺ ⟨ω', ωm⟩⁺ D / ∫ ⟨ω, ωm⟩⁺ D,
+    for the NumPy walk's sampler and for the compiled walks' (different random numbers and,
+    for Beckmann, a different rejection).
     """
     alpha, rng = 0.6, np.random.default_rng(3)
     w2 = np.array([math.sin(0.8) * math.cos(2.0), math.sin(0.8) * math.sin(2.0), math.cos(0.8)])
@@ -156,7 +181,10 @@ def test_visible_normals_and_lambda_below_the_horizon(dist):
         lam = float(smith_lambda(dist, np.array(math.cos(theta)), alpha))
         assert norm == pytest.approx((1.0 + lam) * math.cos(theta), rel=2e-5)
         num = _hemisphere(dist, alpha, w, w2, n=1000)
-        m = sample_visible_normals(dist, np.tile(w, (100_000, 1)), alpha, rng)
+        if engine == "numpy":
+            m = sample_visible_normals(dist, np.tile(w, (100_000, 1)), alpha, rng)
+        else:
+            m = _compiled_sampler()(dist == "ggx", *w, alpha, 100_000)
         assert np.all(m[:, 2] >= 0) and np.all(m @ w >= -1e-12)
         x = np.maximum(m @ w2, 0.0)
         se = np.std(x, ddof=1) / math.sqrt(x.size)

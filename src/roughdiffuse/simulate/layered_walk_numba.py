@@ -12,9 +12,11 @@ Smith's Λ and the visible normals (:mod:`.smith_formulas`, through
 
 The base enters as scalar functions traced from the model's own code
 (:func:`roughdiffuse.engine.scalar.scalar_sources`): its ``brdf_cosines`` and its sampling
-strategy's ``sample``; the next events, all at one ωo per path, take f in two parts, what
-depends on μo alone being computed once per path. The kernel is compiled once per base *structure* (the printed source
-of those functions: a new albedo or roughness reuses it) and cached on disk like the Smith
+strategy's ``sample``. f is taken in two parts (``base_f_o``, ``base_f_at``): the next
+events, all at one ωo per path, compute the part that depends on μo alone once per path, and
+the continuation computes its part at μo = u_z while the sampler runs. The kernel is
+compiled once per base *structure* (the printed source of those functions: a new albedo or
+roughness reuses it) and cached on disk like the Smith
 walk, in a folder named by a hash of the sources it is compiled from, in the fast path's
 private cache folder (:func:`roughdiffuse.engine.cache.private_cache_dir`); without one it is
 compiled in memory. A base the trace cannot express raises :class:`~roughdiffuse.engine.trace.
@@ -52,11 +54,6 @@ _smith_lambda = FORMULAS.smith_lambda
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
-
-
-def base_f(mu_i, mu_o, cos_io, out, p):  # pragma: no cover - replaced per base
-    """Placeholder of the traced base BRDF (:func:`roughdiffuse.engine.scalar.scalar_sources`)."""
-    raise NotImplementedError
 
 
 def base_f_o(mu_o, p):  # pragma: no cover - replaced per base
@@ -169,7 +166,9 @@ def _walk_blocks(
                 for ch in range(n_c):
                     att = math.exp(tau[ch % n_t] / tz) if absorbs else 1.0
                     tot[ch] += beta[ch] * w_exit * fb[ch % n_f] * att
-                # continue: the base's own sampler, up, reflected inside, down
+                # continue: the base's own sampler, up, reflected inside, down; f's part at
+                # μo = u_z does not wait for the sample
+                h_u = base_f_o(uz, pf)
                 sx, sy, sz, pdf = base_sample(uniform(key, c), uniform(key, c + 1), ux, uy, uz, ps)
                 c += 2
                 ratio = 0.0
@@ -177,7 +176,7 @@ def _walk_blocks(
                 sx, sy, sz = _unit(sx, sy, max(sz, 1e-12))
                 if valid:
                     ratio = sz / pdf
-                    base_f(sz, uz, sx * ux + sy * uy + sz * uz, fb, pf)
+                    base_f_at(sz, uz, sx * ux + sy * uy + sz * uz, h_u, fb, pf)
                 dx, dy, dz, refl, c = _reflect_inside(sx, sy, sz, eta, alpha, ggx, key, c)
                 live = False
                 for ch in range(n_c):
@@ -221,7 +220,7 @@ def _kernel(source: str) -> Any:
         exec(compile(PRELUDE + source, f"<layered base {digest}>", "exec"), namespace)  # noqa: S102
         scope = dict(globals())
         scope.update({name: namespace[name]
-                      for name in ("base_f", "base_f_o", "base_f_at", "base_sample")})
+                      for name in ("base_f_o", "base_f_at", "base_sample")})
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
         flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
         from ..engine.cache import private_cache_dir

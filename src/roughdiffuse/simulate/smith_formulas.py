@@ -25,8 +25,6 @@ Formulas (per direction ω = (x, y, z), roughness α, isotropic slopes):
   d'Eon 2014, "Importance sampling microfacet-based BSDFs using the distribution of visible
   normals", Sec. 4), the slope x̃ by composition and rejection (see
   :func:`roughdiffuse.simulate.smith_slopes.sample_visible_normals`);
-  ``slope_proposal_gauss`` the same x̃ for μ ≥ 0 from a Gaussian number instead of erfinv
-  (the compiled walks');
 * ``cosine_about``: a cosine-distributed direction about a normal, in the orthonormal basis of
   Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1), Listing 3);
 * ``height_step``, ``next_event``: one step of the height-space walk and its next-event
@@ -148,21 +146,6 @@ def build(p: Any) -> SimpleNamespace:
         return where(left, xl, where(keep_r, inv, math.nan))
 
     @jit
-    def slope_proposal_gauss(mu, g, u0, u1):
-        """One try at x̃ ~ (μ − x̃)⁺ exp(−x̃²) for μ ≥ 0 from a N(0, 1/2) number ``g`` and two
-        uniforms, without erfinv: x̃, or NaN when rejected.
-
-        The envelope μ e^{−x̃²} + |x̃| e^{−x̃²} 1[x̃ < 0] (masses μ√π and 1/2) equals the
-        target for x̃ < 0. With probability 1/2 / (μ√π + 1/2) x̃ = −√(−ln(1 − u1)) (density
-        |x̃| e^{−x̃²}, accepted); otherwise x̃ = g, accepted with probability (μ − x̃)⁺/μ (1
-        for x̃ < 0), that is when u1 μ < μ − x̃. Acceptance (μ√π/2 (1 + erf μ) +
-        e^{−μ²}/2) / (μ√π + 1/2) ≥ 0.76 (least near μ = 0.5).
-        """
-        tail = u0 * (mu * _SQRT_PI + 0.5) < 0.5
-        x_tail = -sqrt(-log1p(-u1))
-        return where(tail, x_tail, where(u1 * mu < mu - g, g, math.nan))
-
-    @jit
     def slope_proposal_neg(mu, v0, v1, v2):
         """One try at x̃ ~ (μ − x̃)⁺ exp(−x̃²) for μ < 0: x̃, or NaN when rejected.
 
@@ -228,7 +211,6 @@ def build(p: Any) -> SimpleNamespace:
         beckmann_frame=beckmann_frame,
         gaussian_pair=gaussian_pair,
         slope_proposal_pos=slope_proposal_pos,
-        slope_proposal_gauss=slope_proposal_gauss,
         slope_proposal_neg=slope_proposal_neg,
         beckmann_normal=beckmann_normal,
         cosine_about=cosine_about,
