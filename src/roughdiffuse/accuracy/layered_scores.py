@@ -153,7 +153,9 @@ def layered_lines(samples: int = 20_000) -> list[str]:
         f"{samples} paths per geometry. Errors relative, RMS / max over the grid. The rough",
         f"coat is GGX with α = {ROUGH}; its walk uses a single-scattering microfacet interface",
         "(Walter et al. 2007), so light masked or reflected upwards inside the coat is lost, as",
-        "in every single-scattering microfacet model.",
+        "in every single-scattering microfacet model. The walk runs compiled",
+        "(`engine=\"auto\"`: `simulate/layered_walk_numba.py`) for the closed-form bases and",
+        "on NumPy for the V-cavity, a table.",
         "",
         "| case | walk noise | `Coated` | `Mix`, best weight (w) | Mitsuba 3 (Lambert only) |",
         "|---|---|---|---|---|",
@@ -172,6 +174,12 @@ def layered_lines(samples: int = 20_000) -> list[str]:
         "the Fresnel transmittances and the internal reflections.",
         "",
         "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md`.",
+        "",
+        "Note on Mitsuba's `plastic`: with `nonlinear=false` (its default) its diffuse part is",
+        "ρ (1 − F_i)(1 − F_o) / (π η² (1 − F_dr)), which keeps the texture's colour but is not the",
+        "sum of the internal reflections for ρ < 1 (74 % too bright at ρ = 0.5, η = 1.5); with",
+        "`nonlinear=true` it is ρ (1 − F_i)(1 − F_o) / (π η² (1 − ρ F_dr)), the exact sum, which",
+        "the walk matches.",
         "",
     ]
     return lines
