@@ -165,6 +165,32 @@ class Entry:
             getattr(model, k, None) == v for k, v in self.fixed.items()
         )
 
+    def alias(self) -> dict[str, Any] | None:
+        """For an :class:`~roughdiffuse.models.alias.Alias`, what the explorer needs to
+        evaluate it with its base model's GLSL (``None`` for any other model).
+
+        ``base``: the registry id of the equal model (from :meth:`Alias.base_model`);
+        ``fixed``: the base's categorical values that id leaves open; ``to_base``: the
+        conversion recorded from ``to_base`` (:meth:`Alias.conversion`), one expression tree
+        per base parameter (``None`` with the reason in ``why`` when ``to_base`` cannot be
+        recorded).
+        """
+        from .models.alias import Alias
+        from .models.conversion import NotRecordable
+
+        if not issubclass(self.cls, Alias):
+            return None
+        base = self.create().base_model()
+        base_id = id_of(base)
+        if base_id is None:
+            return {"base": None, "fixed": {}, "to_base": None, "why": f"{base!r} has no id"}
+        fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
+        try:
+            trees, why = self.cls.conversion(), None
+        except NotRecordable as exc:
+            trees, why = None, str(exc)
+        return {"base": base_id, "fixed": fixed, "to_base": trees, "why": why}
+
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""
         return {
@@ -179,6 +205,7 @@ class Entry:
             "glsl_keys": dict(self.cls.glsl_keys) if self.glsl else {},
             "fixed": dict(self.fixed),
             "parameters": [p.to_json() for p in self.parameters],
+            "alias": self.alias(),
         }
 
 
