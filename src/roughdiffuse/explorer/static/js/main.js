@@ -423,6 +423,10 @@ function queryFor(slot) {
     eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), alpha: String(s.alpha), distribution: s.distribution,
     light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
+  for (const k of BY_KEY[s.model].uses) {  // a model's own numbers (an alias's sigma_deg, ...)
+    const p = PARAMS[k];
+    if (!q.has(k) && p.choices === null && !p.channels && p.unit !== "radians") q.set(k, String(s[k]));
+  }
   return q.toString();
 }
 
