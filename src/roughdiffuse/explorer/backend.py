@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import ParameterError
 from .. import registry
+from .._validate import ParameterError
 from .._version import version
 from .datasets import MAX_CSV_BYTES, MAX_MERL_BYTES
 from .params import flat_key, model_from_params
