@@ -91,3 +91,17 @@ def test_every_alias_has_a_record_and_nothing_else_does():
     assert len(ALIASES) == 9
     for r in registry.to_json():
         assert (r["alias"] is not None) == (r["id"] in ALIASES), r["id"]
+
+
+def test_the_vase_query_carries_an_alias_s_own_numbers():
+    """The vase request (``/api/vase.png``'s query) for pbrt-v3 at sigma_deg = 30 is the
+    qualitative Oren–Nayar model at σ = π/6 rad (pbrt-v3's constructor converts degrees)."""
+    from roughdiffuse.explorer import model_from_params
+    from roughdiffuse.explorer.backend import params_from_query
+
+    model = model_from_params(
+        params_from_query({"model": "pbrt3-oren-nayar", "sigma_deg": "30", "albedo": "0.5"})
+    )
+    ref = registry.create("oren-nayar", albedo=0.5, sigma=math.pi / 6)
+    cos = np.array([0.9, 0.3, 0.5]), np.array([0.4, 0.8, 0.1]), np.array([0.2, 0.1, -0.3])
+    np.testing.assert_allclose(model.brdf_cosines(*cos), ref.brdf_cosines(*cos), rtol=1e-14)

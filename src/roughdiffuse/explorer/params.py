@@ -69,7 +69,8 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         ``model`` (a registry id the page offers, :func:`explorer_entries`), then the model's
         declared parameters (see ``roughdiffuse models``) under their flat keys: ``albedo``
         (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
-        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``. Keys the
+        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``; an alias
+        takes its own parameters (``sigma_deg`` for ``pbrt3-oren-nayar``). Keys the
         model does not take are ignored (the page sends every slider); missing keys take
         :data:`DEFAULTS` (a menu's value another model's menu set there: this model's own
         default).
