@@ -102,6 +102,9 @@ def test_the_vase_query_carries_an_alias_s_own_numbers():
     model = model_from_params(
         params_from_query({"model": "pbrt3-oren-nayar", "sigma_deg": "30", "albedo": "0.5"})
     )
-    ref = registry.create("oren-nayar", albedo=0.5, sigma=math.pi / 6)
-    cos = np.array([0.9, 0.3, 0.5]), np.array([0.4, 0.8, 0.1]), np.array([0.2, 0.1, -0.3])
-    np.testing.assert_allclose(model.brdf_cosines(*cos), ref.brdf_cosines(*cos), rtol=1e-14)
+    ref = registry.create("oren-nayar", albedo=[0.5] * 3, sigma=math.pi / 6)
+    mu_i, mu_o = np.array([0.9, 0.3, 0.5]), np.array([0.4, 0.8, 0.1])
+    cos_io = mu_i * mu_o + np.array([0.9, 0.5, -0.7]) * np.sqrt((1 - mu_i**2) * (1 - mu_o**2))
+    want = ref.brdf_cosines(mu_i, mu_o, cos_io)
+    assert np.ptp(want) > 0.01  # forward geometries: σ matters
+    np.testing.assert_allclose(model.brdf_cosines(mu_i, mu_o, cos_io), want, rtol=1e-14)
