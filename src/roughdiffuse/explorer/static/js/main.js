@@ -4,7 +4,7 @@
 import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
-import { BY_KEY, LEFT_OUT, MODELS, PARAMS, defaultState, gpuParams, loadModels } from "./models.js";
+import { BY_KEY, LEFT_OUT, MODELS, PARAMS, baseState, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 import { canvasBlob, download, toCsv } from "./export.js";
 import { svgCanvas } from "./svgcanvas.js";
@@ -455,12 +455,18 @@ function gtSoon() {
   clearTimeout(gtTimer);
   gtTimer = setTimeout(() => loadGroundTruth().catch(showError), 300);
 }
+/** A slot's state, or for an alias its base model's (σ in degrees as on the sliders). */
+function baseOf(s) {
+  if (!BY_KEY[s.model].alias) return s;
+  const b = baseState(s);
+  return b.sigma === undefined ? b : { ...b, sigmaDeg: b.sigma / DEG };
+}
 /** Ground truth from the server's V-cavity solver for model A's σ, ρ (green) and the light's θ. */
 async function loadGroundTruth() {
   const status = $("gt-status");
   if (gtController) gtController.abort();
   gtController = null;
-  const s = state.a;
+  const s = baseOf(state.a);  // an alias of Oren–Nayar (pbrt-v3's, Mitsuba 0.6's) has its σ
   const coated = s.model === "coated";  // its truth: the layered walk
   const reason = !info.groundtruth ? "this server has no V-cavity solver"
     : !state.view.gt ? ""
