@@ -190,4 +190,11 @@ def test_alias_in_the_menu_plot_and_url(page):
         }"""
     )
     assert round_trip["model"] == "pbrt3-oren-nayar" and round_trip["sigma_deg"] == 20
+    shorts = p.evaluate(
+        """async () => {
+          const m = await import(new URL("js/models.js", location.href).href);
+          return m.MODELS.map((x) => x.short);
+        }"""
+    )
+    assert len(set(shorts)) == len(shorts), shorts  # the legends tell every model apart
     assert not page.errors, page.errors

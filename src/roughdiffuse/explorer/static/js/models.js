@@ -64,6 +64,11 @@ export function setModels(records) {
       }
     }
   }
+  // the legend's short name drops a label's "(...)" unless another model's label then reads
+  // the same (Mitsuba 0.6's two variants, the two MaterialX nodes, Torrance–Sparrow's D)
+  const count = {};
+  for (const m of MODELS) count[m.short] = (count[m.short] ?? 0) + 1;
+  for (const m of MODELS) if (count[m.short] > 1) m.short = m.label;
   for (const q of Object.values(PARAMS)) {
     if (q.choices !== null) continue;
     const [lo, hi] = q.fit_range ?? [q.min, q.max];
