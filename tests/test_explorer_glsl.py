@@ -162,6 +162,8 @@ def test_alias_in_the_menu_plot_and_url(page):
     light's side (θr > 0) and −1 opposite."""
     p = page.page
     p.select_option("#a-model", "pbrt3-oren-nayar")
+    note = p.locator("#a-alias-note").inner_text()
+    assert note == "= Oren–Nayar qualitative with sigma = sigma_deg * 0.0174533", note
     p.fill("#a-sigma_deg", "20")
     p.dispatch_event("#a-sigma_deg", "input")
     p.evaluate("window.rdExplorer.setLight(40, 0)")

@@ -173,23 +173,25 @@ class Entry:
         ``fixed``: the base's categorical values that id leaves open; ``to_base``: the
         conversion recorded from ``to_base`` (:meth:`Alias.conversion`), one expression tree
         per base parameter (``None`` with the reason in ``why`` when ``to_base`` cannot be
-        recorded).
+        recorded), and ``text``, each tree as an expression to show.
         """
         from .models.alias import Alias
-        from .models.conversion import NotRecordable
+        from .models.conversion import NotRecordable, text
 
         if not issubclass(self.cls, Alias):
             return None
         base = self.create().base_model()
         base_id = id_of(base)
         if base_id is None:
-            return {"base": None, "fixed": {}, "to_base": None, "why": f"{base!r} has no id"}
+            why = f"{base!r} has no id"
+            return {"base": None, "fixed": {}, "to_base": None, "text": None, "why": why}
         fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
         try:
             trees, why = self.cls.conversion(), None
         except NotRecordable as exc:
             trees, why = None, str(exc)
-        return {"base": base_id, "fixed": fixed, "to_base": trees, "why": why}
+        shown = {k: text(v, 6) for k, v in trees.items()} if trees else None
+        return {"base": base_id, "fixed": fixed, "to_base": trees, "text": shown, "why": why}
 
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""

@@ -138,16 +138,17 @@ def evaluate(tree: Tree, values: Mapping[str, Any]) -> Any:
     return _BINARY[op](evaluate(args[0], values), evaluate(args[1], values))
 
 
-def text(tree: Tree) -> str:
-    """The tree as an infix expression, e.g. ``(sigma_deg * 0.017453292519943295)``."""
+def text(tree: Tree, digits: int | None = None) -> str:
+    """The tree as an infix expression, e.g. ``(sigma_deg * 0.017453292519943295)``; numbers
+    to ``digits`` significant digits (default: all, ``repr``)."""
     if isinstance(tree, str):
         return tree
     if isinstance(tree, float | int):
-        return repr(float(tree))
+        return repr(float(tree)) if digits is None else f"{tree:.{digits}g}"
     op, *args = tree
     if op == "neg":
-        return f"(-{text(args[0])})"
-    return f"({text(args[0])} {op} {text(args[1])})"
+        return f"(-{text(args[0], digits)})"
+    return f"({text(args[0], digits)} {op} {text(args[1], digits)})"
 
 
 def recorded_conversion(

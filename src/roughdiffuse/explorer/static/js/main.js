@@ -59,6 +59,10 @@ function buildPanel(slot) {
   sel.id = `${p}model`;
   for (const m of MODELS) sel.append(new Option(m.label, m.key));
   root.append(sel);
+  const aliasNote = document.createElement("p");
+  aliasNote.id = `${p}alias-note`;
+  aliasNote.className = "alias-note";
+  root.append(aliasNote);
   const f3 = (v) => v.toFixed(3);
   const ctl = { model: sel, sliders: {}, selects: {}, colours: {} };
   for (const [k, q] of Object.entries(PARAMS)) {
@@ -139,11 +143,24 @@ function writePanel(slot) {
   showUsed(slot);
 }
 
+/** "= EON (qualitative Oren–Nayar …) with sigma = sigma_deg * 0.0174533": what an alias is
+ *  drawn as (its base model's GLSL) and its conversion, as the server recorded it. */
+function aliasText(m) {
+  const a = m.alias;
+  const changed = Object.entries(a.text).filter(([k, t]) => k !== t).map(([k, t]) => `${k} = ${t.replace(/^\((.*)\)$/, "$1")}`);
+  const fixed = Object.entries(a.fixed).map(([k, v]) => `${k} = ${v}`);
+  const rest = [...changed, ...fixed];
+  return `= ${BY_KEY[a.base].label}` + (rest.length ? ` with ${rest.join(", ")}` : "");
+}
+
 /** Show the controls of the parameters the slot's model declares, hide the others. */
 function showUsed(slot) {
   const c = panels[slot];
   const uses = BY_KEY[state[slot].model].uses;
   const p = `${slot}-`;
+  const m = BY_KEY[state[slot].model];
+  $(`${p}alias-note`).hidden = !m.alias;
+  $(`${p}alias-note`).textContent = m.alias ? aliasText(m) : "";
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
   const own = BY_KEY[state[slot].model].params;
   for (const [k, q] of Object.entries(own)) {  // a control several models share: this model's words
