@@ -24,6 +24,7 @@ OrenNayar(albedo=0.5, sigma=0.3, variant='full')
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import importlib.metadata
 import re
@@ -54,6 +55,7 @@ ENTRY_POINT_GROUP = "roughdiffuse.models"
 _ID = re.compile(r"^[a-z0-9]+(?:-[a-z0-9]+)*$")
 _LOCK = threading.RLock()
 _ENTRIES: dict[str, Entry] = {}
+_ALIAS_RECORDS: dict[tuple[str, type], dict[str, Any]] = {}  # Entry.alias, once per id and class
 _LOADED = False
 
 M = TypeVar("M", bound=type)
@@ -176,10 +178,17 @@ class Entry:
         recorded), and ``text``, each tree as an expression to show.
         """
         from .models.alias import Alias
-        from .models.conversion import NotRecordable, text
 
         if not issubclass(self.cls, Alias):
             return None
+        key = (self.id, self.cls)
+        if key not in _ALIAS_RECORDS:  # recorded and checked once: /api/models asks often
+            _ALIAS_RECORDS[key] = self._alias_record()
+        return copy.deepcopy(_ALIAS_RECORDS[key])
+
+    def _alias_record(self) -> dict[str, Any]:
+        from .models.conversion import NotRecordable, text
+
         base = self.create().base_model()
         base_id = id_of(base)
         if base_id is None:

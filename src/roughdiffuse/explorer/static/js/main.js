@@ -245,6 +245,7 @@ function fitSphere() {
 }
 
 function draw() {
+  if (!state.a || !state.b) return; // a resize before /api/models is read: start() draws later
   fitSphere();
   const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
