@@ -23,18 +23,49 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """JAX's persistent compilation cache in pytest's cache folder (``.pytest_cache``), shared
-    by the xdist workers and kept from one run to the next: the fits compile a few programs per
-    model, and reading them back instead cut the fit tests' CPU time about fourfold. JAX keys
-    each entry by the program, its compile options and the JAX/XLA versions. Nothing is cached
-    under ``-p no:cacheprovider``."""
+    """Compiled code cached in pytest's cache folder (``.pytest_cache``), shared by the xdist
+    workers and by the CLI subprocesses the tests start, and kept from one run to the next:
+
+    * the fast path's kernels and the compiled walks (``ROUGHDIFFUSE_CACHE_DIR``): each test
+      file used to compile into a folder of its own, so a kernel two files need was compiled
+      twice; compiling every model's kernels costs minutes of CPU, loading them seconds. A
+      kernel's file is named by the digest of its generated source, so a changed generator
+      compiles afresh.
+    * JAX's persistent compilation cache: the fits compile a few programs per model, and
+      reading them back instead cut the fit tests' CPU time about fourfold. JAX keys each
+      entry by the program, its compile options and the JAX/XLA versions.
+
+    Nothing is cached under ``-p no:cacheprovider`` (the kernels then go to the user's cache
+    folder, as outside the tests)."""
     cache = getattr(config, "cache", None)
     if cache is None:
         return
+    os.environ["ROUGHDIFFUSE_CACHE_DIR"] = str(cache.mkdir("compiled-kernels") / "cache")
     import jax
 
     jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation")))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+
+
+# Test-seconds per file (2 workers, `make test SLOW=1` on 2 cores): the Makefile turns off
+# xdist's ordering by test count (--no-loadscope-reorder) and the files are handed out
+# heaviest first, so that no long file starts last and keeps one core busy alone at the end.
+# Only the order depends on these numbers; a file not listed comes after the listed ones.
+FILE_SECONDS = {
+    "test_bench.py": 360, "test_docs.py": 450, "test_cli_help_examples.py": 300,
+    "test_fastpath.py": 300, "test_fit_cli.py": 200, "test_fit_samples.py": 130,
+    "test_sampling.py": 120, "test_explorer_page.py": 150, "test_explorer_sizes.py": 90,
+    "test_explorer_views.py": 90, "test_simulate_cavity.py": 100, "test_models_backends.py": 70,
+    "test_readme.py": 60, "test_render_cli.py": 55, "test_explorer_glsl.py": 50,
+    "test_models_coated.py": 50, "test_explorer_data.py": 40, "test_stereo_cli.py": 40,
+    "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
+    "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,
+}
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Heaviest files first (FILE_SECONDS); the order within a file is kept."""
+    items.sort(key=lambda item: -FILE_SECONDS.get(item.path.name, 0))
 
 
 def pytest_report_header(config: pytest.Config) -> list[str]:
@@ -100,6 +131,39 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
         channels = {p.name for p in entry.parameters if p.channels}
         for point in entry.test_points():
             out.append(entry.create(**{**point, **dict.fromkeys(channels, a)}))
+    return out
+
+
+CHANNEL_CLASSES = frozenset({"Lambert", "Mix", "Coated"})
+"""Models whose colour channels are not handled by the generic ``Model.channel`` alone (Mix
+passes them to its components, Coated has a per-channel absorption); Lambert stands for the
+generic path. Three-channel cases of other models run only in the full set (marked slow)."""
+
+
+def rgb_cases(models: list[rd.Model], rgb: list[rd.Model]) -> list:
+    """pytest parameters for grey ``models`` and their three-channel twins ``rgb``: every grey
+    case, and the three-channel case of the first test point of each class in
+    CHANNEL_CLASSES; the other three-channel cases are marked slow."""
+    out = [pytest.param(m, id=repr(m)) for m in models]
+    seen: set[str] = set()
+    for m in rgb:
+        name = type(m).__name__
+        fast = name in CHANNEL_CLASSES and name not in seen
+        seen.add(name)
+        out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
+    return out
+
+
+def representative_cases(models: list[rd.Model], classes: frozenset[str]) -> list:
+    """pytest parameters for ``models``: the first test point of each class named in
+    ``classes`` runs in ``make test``, every other case only in the full set (marked slow)."""
+    out = []
+    seen: set[str] = set()
+    for m in models:
+        name = type(m).__name__
+        fast = name in classes and name not in seen
+        seen.add(name)
+        out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
     return out
 
 
