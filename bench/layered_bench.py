@@ -163,14 +163,17 @@ def walk_markdown(samples: int, repeat: int) -> str:
     import numba
 
     rows = walk_rates(samples, repeat)
+    threads = numba.get_num_threads()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return "\n".join([
         BEGIN,
         f"`python bench/layered_bench.py --walk-only --samples {samples} --repeat {repeat} "
-        f"--write` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores "
+        f"--threads {threads} --write` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, "
+        f"{os.cpu_count()} cores "
         f"({platform.processor() or platform.machine()}, load average {load:.1f} at the end: "
         f"shared), NumPy {np.__version__}, Numba {numba.__version__}. Path segments (arrivals "
-        "on the base) per CPU second, every thread counted (`time.process_time`), 4 "
+        f"on the base) per CPU second on {threads} Numba thread(s), every thread counted "
+        "(`time.process_time`), 4 "
         f"geometries × {samples:,} paths; the compiled walks interleaved over {repeat} rounds, "
         "each its fastest round; the NumPy walk one round of a fifth of the paths; the last "
         "column is the ratio to the compiled Smith walk measured in the same run:",
@@ -254,10 +257,15 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--samples", type=int, default=50_000)
     ap.add_argument("--walk-only", action="store_true", help="only the walks' speed")
+    ap.add_argument("--threads", type=int, default=1,
+                    help="Numba threads of the walks (default 1: no idle thread's CPU time)")
     ap.add_argument("--write", nargs="?", const=str(Path(__file__).with_name("RESULTS.md")),
                     metavar="RESULTS.md",
                     help="replace the walk table there (default: bench/RESULTS.md)")
     args = ap.parse_args()
+    import numba
+
+    numba.set_num_threads(args.threads)
     text = walk_markdown(args.samples, args.repeat)
     print(text, flush=True)
     if args.write:
