@@ -261,7 +261,13 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
                 f"{', '.join(taken) or 'none'}"
             )
         values[name] = parse_value(taken[name], text, f"--param {name}")
-    return values
+    # starting values of parameters the chosen categorical values leave out (σ of an
+    # Oren–Nayar base when --param base=eon) are dropped; those the user gave are refused by
+    # the model, by name
+    given = {n for n, _ in getattr(args, "param", None) or []}
+    given |= {n for n in getattr(args, "shorthand_params", ()) if getattr(args, n, None) is not None}
+    kept = {p.name for p in entry.applicable(values)}
+    return {k: v for k, v in values.items() if k in kept or k in given}
 
 
 def model_from_args(args: argparse.Namespace, strict: bool = True) -> Model:

@@ -49,7 +49,8 @@ def parameters_defaulted(args: argparse.Namespace) -> list[str]:
         if getattr(args, name, None) is not None
     }
     entry = registry.get(args.model)
-    return [p.name for p in entry.parameters if p.name not in given]
+    chosen = dict(getattr(args, "param", None) or [])  # categorical values given (base=eon)
+    return [p.name for p in entry.applicable(chosen) if p.name not in given]
 
 
 def run(args: argparse.Namespace) -> int:

@@ -9,6 +9,7 @@ import warnings
 
 from . import UsageError
 from ._checks import bounded_float, finite_float, output_file, reading, require_finite
+from ._common import _assignment
 from ._inputs import angle_pair, input_file, known_id
 from .render import MAX_EXPOSURE
 
@@ -30,6 +31,7 @@ examples:
   roughdiffuse fit data:oren-nayar.binary --model oren-nayar-full --max-samples 20000
   roughdiffuse fit data:sphere.npy --shape sphere --light 30,0 --model oren-nayar-full
   roughdiffuse fit data:sphere.npy --normals data:sphere_normals.npy --light 0.5236rad,0
+  roughdiffuse fit samples.csv --model coated --param base=eon
 
 Data by suffix: .csv/.txt (BRDF samples; header names the columns and the angle unit, e.g.
 theta_i_deg, theta_r_deg, delta_phi_deg, brdf), .binary (MERL), .npy/.exr/.png (a linear
@@ -65,6 +67,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="oren-nayar",
         metavar="NAME",
         help=f"one of: {', '.join(CANDIDATES)} (default: oren-nayar)",
+    )
+    p.add_argument(
+        "--param",
+        type=_assignment,
+        action="append",
+        default=[],
+        metavar="NAME=CHOICE",
+        help="fix a choice the model leaves open, e.g. --model coated --param base=eon (its "
+        "numeric parameters are fitted)",
     )
     p.add_argument("--compare", action="store_true", help="fit every model and rank them (BIC)")
     p.add_argument(
@@ -259,11 +270,15 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
+    from ..fit.compare import candidate
     from ..fit.least_squares import noise_model
     from ..fit.report import write_report
     from ..progress import progress_enabled
 
     known_id(args.model, CANDIDATES)
+    if args.param and args.compare:
+        raise UsageError("--param fixes a choice of --model; it does not apply with --compare")
+    chosen = candidate(args.model, dict(args.param))  # a bad choice refused before any work
     models = None
     if args.models is not None:
         if not args.compare:
@@ -297,7 +312,7 @@ def run(args: argparse.Namespace) -> int:
             comparison = compare_models(data, models, progress=progress_enabled(), **options)
             results = list(comparison.results)
         else:
-            c = CANDIDATES[args.model]
+            c = chosen
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
     for r in results:
         require_finite(
