@@ -411,9 +411,9 @@ class Coated(Model):
         {math}`f_b` of registry id ``base``: {doc}`lambert` ({math}`\rho`),
         {doc}`oren-nayar` or {doc}`oren-nayar-full` ({math}`\rho`, {math}`\sigma`),
         {doc}`fujii` or {doc}`eon` ({math}`\rho` and {math}`r`, ``base_roughness``),
-        evaluated at the refracted directions; {math}`T_\alpha` the coat's transmittance, {math}`a` the base's
-        directional albedo, {math}`K` the coat's internal diffuse reflectance,
-        {math}`\tau` the layer's optical depth. The exact truth is
+        evaluated at the refracted directions; {math}`T_\alpha` the coat's transmittance,
+        {math}`a` the base's directional albedo, {math}`K` the coat's internal diffuse
+        reflectance, {math}`\tau` the layer's optical depth. The exact truth is
         {mod}`roughdiffuse.simulate.layered`.
         """
     traceable: ClassVar[bool] = True
