@@ -23,14 +23,24 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """JAX's persistent compilation cache in pytest's cache folder (``.pytest_cache``), shared
-    by the xdist workers and kept from one run to the next: the fits compile a few programs per
-    model, and reading them back instead cut the fit tests' CPU time about fourfold. JAX keys
-    each entry by the program, its compile options and the JAX/XLA versions. Nothing is cached
-    under ``-p no:cacheprovider``."""
+    """Compiled code cached in pytest's cache folder (``.pytest_cache``), shared by the xdist
+    workers and by the CLI subprocesses the tests start, and kept from one run to the next:
+
+    * the fast path's kernels and the compiled walks (``ROUGHDIFFUSE_CACHE_DIR``): each test
+      file used to compile into a folder of its own, so a kernel two files need was compiled
+      twice; compiling every model's kernels costs minutes of CPU, loading them seconds. A
+      kernel's file is named by the digest of its generated source, so a changed generator
+      compiles afresh.
+    * JAX's persistent compilation cache: the fits compile a few programs per model, and
+      reading them back instead cut the fit tests' CPU time about fourfold. JAX keys each
+      entry by the program, its compile options and the JAX/XLA versions.
+
+    Nothing is cached under ``-p no:cacheprovider`` (the kernels then go to the user's cache
+    folder, as outside the tests)."""
     cache = getattr(config, "cache", None)
     if cache is None:
         return
+    os.environ["ROUGHDIFFUSE_CACHE_DIR"] = str(cache.mkdir("compiled-kernels") / "cache")
     import jax
 
     jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation")))
@@ -100,6 +110,39 @@ def all_models(rgb: bool = False) -> list[rd.Model]:
         channels = {p.name for p in entry.parameters if p.channels}
         for point in entry.test_points():
             out.append(entry.create(**{**point, **dict.fromkeys(channels, a)}))
+    return out
+
+
+CHANNEL_CLASSES = frozenset({"Lambert", "Mix", "Coated"})
+"""Models whose colour channels are not handled by the generic ``Model.channel`` alone (Mix
+passes them to its components, Coated has a per-channel absorption); Lambert stands for the
+generic path. Three-channel cases of other models run only in the full set (marked slow)."""
+
+
+def rgb_cases(models: list[rd.Model], rgb: list[rd.Model]) -> list:
+    """pytest parameters for grey ``models`` and their three-channel twins ``rgb``: every grey
+    case, and the three-channel case of the first test point of each class in
+    CHANNEL_CLASSES; the other three-channel cases are marked slow."""
+    out = [pytest.param(m, id=repr(m)) for m in models]
+    seen: set[str] = set()
+    for m in rgb:
+        name = type(m).__name__
+        fast = name in CHANNEL_CLASSES and name not in seen
+        seen.add(name)
+        out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
+    return out
+
+
+def representative_cases(models: list[rd.Model], classes: frozenset[str]) -> list:
+    """pytest parameters for ``models``: the first test point of each class named in
+    ``classes`` runs in ``make test``, every other case only in the full set (marked slow)."""
+    out = []
+    seen: set[str] = set()
+    for m in models:
+        name = type(m).__name__
+        fast = name in classes and name not in seen
+        seen.add(name)
+        out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
     return out
 
 

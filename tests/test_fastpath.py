@@ -17,26 +17,10 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
-from conftest import all_models
+from conftest import all_models, representative_cases, rgb_cases
 from roughdiffuse import fastpath
 from roughdiffuse.engine.trace import Graph, TraceError, TraceNamespace, scalar_source
 from roughdiffuse.models.base import Model, register_pytree
-
-
-@pytest.fixture(autouse=True, scope="module")
-def _cache(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> None:
-    """A cache directory of this module's own (the generated kernels are written there), kept
-    in pytest's cache folder (``.pytest_cache``) from one run to the next: compiling every
-    model's kernels anew costs about 100 CPU-seconds, loading them 6. A kernel's file is
-    named by the digest of its generated source, so a changed generator compiles afresh
-    (``-p no:cacheprovider``: a new folder each run)."""
-    cache = getattr(request.config, "cache", None)
-    folder = (cache.mkdir("fastpath-kernels") if cache is not None
-              else tmp_path_factory.mktemp("fastpath-kernels")) / "cache"
-    mp = pytest.MonkeyPatch()
-    mp.setenv("ROUGHDIFFUSE_CACHE_DIR", str(folder))
-    yield
-    mp.undo()
 
 
 def random_geometry(rng: np.random.Generator, rows: int, dtype: Any = np.float32):
@@ -95,13 +79,19 @@ def assert_matches_reference(model: Model, n, l, v, irradiance: Any = 1.0) -> No
         np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-12)
 
 
-@pytest.mark.parametrize("model", _traced(all_models() + all_models(rgb=True)), ids=repr)
+# Each case compiles kernels of its own (a few CPU-seconds each, tens for Coated): `make test`
+# compiles every model's grey kernel and the three-channel kernels of the classes whose
+# channels are not handled generically; the full set compiles the rest.
+CASES = rgb_cases(_traced(all_models()), _traced(all_models(rgb=True)))
+
+
+@pytest.mark.parametrize("model", CASES)
 def test_every_model_float32(rng, model):
     n, l, v = random_geometry(rng, 3000)
     assert_matches_reference(model, n, l, v)
 
 
-@pytest.mark.parametrize("model", _traced(all_models() + all_models(rgb=True)), ids=repr)
+@pytest.mark.parametrize("model", CASES)
 def test_every_model_degenerate_directions(model):
     assert_matches_reference(model, *degenerate_geometry())
 
@@ -541,7 +531,14 @@ def assert_rounding_apart(got: np.ndarray, ref: np.ndarray, scale: np.ndarray) -
     assert np.all(np.abs(got - ref) <= 16 * U32 * scale + 1e-30)
 
 
-@pytest.mark.parametrize("model", _traced(all_models()), ids=repr)
+# brdf and brdf_cosines compile two more kernels per model; the generated prologues that turn
+# (wi, wo) or the cosines into the kernel's inputs do not depend on the model, so `make test`
+# runs them for models that use each kind of input (cos γ, the half vector, a mixture, a
+# phase function), and the full set for every model.
+DEFAULT_PATH_CLASSES = frozenset({"Lambert", "OrenNayar", "EON", "TorranceSparrow", "Mix", "Hapke"})
+
+
+@pytest.mark.parametrize("model", representative_cases(_traced(all_models()), DEFAULT_PATH_CLASSES))
 def test_default_brdf_and_brdf_cosines_run_compiled_with_the_reference_values(
     rng, model, dispatch_now
 ):

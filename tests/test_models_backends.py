@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
-from conftest import all_models, random_hemisphere
+from conftest import all_models, random_hemisphere, rgb_cases
 
 jax = pytest.importorskip("jax")
 jnp = jax.numpy
@@ -21,10 +21,14 @@ def _x64():
 
 def _models():
     # the models jax.jit traces (``traceable``; a simulation is not)
-    return [m for m in all_models() + all_models(rgb=True) if type(m).traceable]
+    return _traced(all_models() + all_models(rgb=True))
 
 
-@pytest.mark.parametrize("model", _models(), ids=repr)
+def _traced(models: list) -> list:
+    return [m for m in models if type(m).traceable]
+
+
+@pytest.mark.parametrize("model", rgb_cases(_traced(all_models()), _traced(all_models(rgb=True))))
 def test_jax_matches_numpy(rng, model):
     wi, wo = random_hemisphere(rng, 300), random_hemisphere(rng, 300)
     ref = model.brdf(wi, wo)

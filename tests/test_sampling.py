@@ -14,6 +14,45 @@ def _wo(theta):
     return rd.spherical_to_vector(theta, 0.3)
 
 
+def _by_sampler(models: list) -> list:
+    """pytest parameters, one model per sampler: the cosine-weighted sampler's density and
+    draws do not depend on the model, so its normalisation and histogram are tested once (the
+    first such model; test_models_sharing_a_sampler_draw_the_same checks that every other
+    cosine-sampled model draws exactly that). A sampler with parameters (LTC, microfacet,
+    mixture, coat) is tested for every model: the first test point of each class and sampler
+    in `make test`, the others (other parameters of the same code) in the full set (slow)."""
+    out, seen = [], set()
+    for m in models:
+        name = m.sampling_strategy().name
+        if name == "cosine" and name in seen:
+            continue
+        key = name if name == "cosine" else (type(m).__name__, name)
+        marks = (pytest.mark.slow,) if key in seen else ()
+        seen.update((name, key))
+        out.append(pytest.param(m, id=repr(m), marks=marks))
+    return out
+
+
+SAMPLED = _by_sampler(all_models())
+COSINE_SAMPLED = [m for m in all_models() if m.sampling_strategy().name == "cosine"]
+
+
+@pytest.mark.parametrize("model", COSINE_SAMPLED[1:], ids=repr)
+def test_models_sharing_a_sampler_draw_the_same(model):
+    """The same directions and densities as the model the pdf and histogram tests ran on, and
+    the cosine density cos θi / π (Pharr, Jakob, Humphreys, PBR 4th ed., Sec. A.5.3)."""
+    rng = np.random.default_rng(8)
+    u = rng.random((500, 2))
+    wo = _wo(0.9)
+    ref = COSINE_SAMPLED[0].sample(u, wo)
+    got = model.sample(u, wo)
+    np.testing.assert_array_equal(np.asarray(got.wi), np.asarray(ref.wi))
+    np.testing.assert_array_equal(np.asarray(got.pdf), np.asarray(ref.pdf))
+    w = rd.spherical_to_vector(rng.uniform(0, 1.6, 200), rng.uniform(0, 6.3, 200))
+    expected = np.where(w[:, 2] > 0, w[:, 2] / np.pi, 0.0)
+    np.testing.assert_allclose(np.asarray(model.pdf(w, wo)), expected, rtol=1e-12, atol=1e-15)
+
+
 def _valid_fraction(model, wo, n=200_000):
     """Fraction of samples the sampler can use (Torrance-Sparrow's reflections below the
     horizon are rejected with pdf 0, as in pbrt and Mitsuba; cosine and LTC never reject)."""
@@ -21,7 +60,7 @@ def _valid_fraction(model, wo, n=200_000):
     return float(np.mean(np.asarray(s.pdf) > 0))
 
 
-@pytest.mark.parametrize("model", all_models(), ids=repr)
+@pytest.mark.parametrize("model", SAMPLED)
 @pytest.mark.parametrize("theta_r", [0.0, 0.7, 1.45])
 def test_pdf_integrates_to_one(model, theta_r):
     """Midpoint quadrature over the hemisphere (in cos θ, φ) of pdf(wi, wo): 1, or the
@@ -38,7 +77,7 @@ def test_pdf_integrates_to_one(model, theta_r):
     assert total == pytest.approx(_valid_fraction(model, wo), abs=5e-3)
 
 
-@pytest.mark.parametrize("model", all_models(), ids=repr)
+@pytest.mark.parametrize("model", SAMPLED)
 @pytest.mark.parametrize("theta_r", [0.2, 1.3])
 def test_sample_histogram_matches_pdf(model, theta_r):
     """Chi-square test of 200 000 samples in 16 x 16 bins of (cos θ, φ) against the pdf."""
