@@ -6,6 +6,7 @@ import argparse
 import math
 import os
 import warnings
+from typing import Any
 
 from . import UsageError
 from ._checks import bounded_float, finite_float, output_file, reading, require_finite
@@ -124,6 +125,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     _add_input_arguments(p)
     p.set_defaults(func=run)
+
+
+def _models(args: argparse.Namespace) -> tuple[Any, list[str] | None]:
+    """The candidate of ``--model`` (with the choices ``--param`` fixes) and the ids of
+    ``--models``, checked before any data is read."""
+    from ..fit import CANDIDATES
+    from ..fit.compare import candidate
+
+    known_id(args.model, CANDIDATES)
+    if args.param and args.compare:
+        raise UsageError("--param fixes a choice of --model; it does not apply with --compare")
+    chosen = candidate(args.model, dict(args.param))  # a bad choice refused by name
+    models = None
+    if args.models is not None:
+        if not args.compare:
+            raise UsageError("--models needs --compare")
+        models = [m.strip() for m in args.models.split(",") if m.strip()]
+        for m in models:
+            known_id(m, CANDIDATES, "--models")
+    return chosen, models
 
 
 def _add_input_arguments(p: argparse.ArgumentParser) -> None:
@@ -269,23 +290,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     import numpy as np
 
-    from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
-    from ..fit.compare import candidate
+    from ..fit import DegenerateDataWarning, compare_models, fit
     from ..fit.least_squares import noise_model
     from ..fit.report import write_report
     from ..progress import progress_enabled
 
-    known_id(args.model, CANDIDATES)
-    if args.param and args.compare:
-        raise UsageError("--param fixes a choice of --model; it does not apply with --compare")
-    chosen = candidate(args.model, dict(args.param))  # a bad choice refused before any work
-    models = None
-    if args.models is not None:
-        if not args.compare:
-            raise UsageError("--models needs --compare")
-        models = [m.strip() for m in args.models.split(",") if m.strip()]
-        for m in models:
-            known_id(m, CANDIDATES, "--models")
+    chosen, models = _models(args)
     if args.report:  # checked before the data is read or fitted; kept unless --force
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
