@@ -58,14 +58,15 @@ figures: install
 	$(VENV)/bin/roughdiffuse figures
 
 # pytest-xdist: one worker per core (WORKERS=0: one process); a test file runs on one worker,
-# so module- and session-scoped fixtures are made once (docs/developer/testing.md)
+# so module- and session-scoped fixtures are made once, and the files go out heaviest first
+# (tests/conftest.py FILE_SECONDS; docs/developer/testing.md)
 WORKERS ?= $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
 # `make test` leaves out the tests marked slow (pyproject.toml); `make test SLOW=1` (CI) and
 # `make test-all` run every one
 SLOW ?=
 test: install-test system-deps
 	$(PY) -m ruff check src tests $(wildcard bench examples)
-	$(PY) -m pytest -n $(WORKERS) --dist loadfile $(if $(SLOW),,-m "not slow")
+	$(PY) -m pytest -n $(WORKERS) --dist loadfile --no-loadscope-reorder $(if $(SLOW),,-m "not slow")
 
 test-all:
 	$(MAKE) test SLOW=1

@@ -47,6 +47,27 @@ def pytest_configure(config: pytest.Config) -> None:
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 
+# Test-seconds per file (2 workers, `make test SLOW=1` on 2 cores): the Makefile turns off
+# xdist's ordering by test count (--no-loadscope-reorder) and the files are handed out
+# heaviest first, so that no long file starts last and keeps one core busy alone at the end.
+# Only the order depends on these numbers; a file not listed comes after the listed ones.
+FILE_SECONDS = {
+    "test_bench.py": 360, "test_docs.py": 450, "test_cli_help_examples.py": 300,
+    "test_fastpath.py": 300, "test_fit_cli.py": 200, "test_fit_samples.py": 130,
+    "test_sampling.py": 120, "test_explorer_page.py": 150, "test_explorer_sizes.py": 90,
+    "test_explorer_views.py": 90, "test_simulate_cavity.py": 100, "test_models_backends.py": 70,
+    "test_readme.py": 60, "test_render_cli.py": 55, "test_explorer_glsl.py": 50,
+    "test_models_coated.py": 50, "test_explorer_data.py": 40, "test_stereo_cli.py": 40,
+    "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
+    "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,
+}
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Heaviest files first (FILE_SECONDS); the order within a file is kept."""
+    items.sort(key=lambda item: -FILE_SECONDS.get(item.path.name, 0))
+
+
 def pytest_report_header(config: pytest.Config) -> list[str]:
     """The CPU, C library and numerical packages at the top of the run, so that a failure seen
     only on another machine (CI's CPU differs from session to session) can be read from its log."""

@@ -33,7 +33,7 @@ import pytest
 
 from explorer_browser import open_page
 from roughdiffuse.explorer import model_from_params
-from roughdiffuse.explorer.params import flat_key, glsl_entries
+from roughdiffuse.explorer.params import explorer_entries, flat_key
 
 RTOL = 1e-4
 ATOL = 1e-7
@@ -43,9 +43,11 @@ ATOL = 1e-7
 def _parameter_sets() -> dict[str, list[dict]]:
     """Registry id -> the flat records (``model_from_params``'s input) the GLSL is checked at:
     each model class's ``glsl_test_points`` (else its example and test points), colour
-    parameters as three channels, parameter names as the GLSL's keys."""
+    parameters as three channels, parameter names as the GLSL's keys. An alias (its base
+    model's GLSL after the conversion the page evaluates) is checked against its own Python
+    kernel, which converts with the numeric ``to_base``."""
     out = {}
-    for entry in glsl_entries():
+    for entry in explorer_entries():
         sets = []
         for point in entry.glsl_test_points():
             record = {}
@@ -164,3 +166,64 @@ def test_coated_base_menu_shows_the_chosen_base_sliders(page):
         ref = float(model.brdf([math.sin(ti), 0.0, math.cos(ti)], wo)) * math.pi * math.cos(ti)
         assert radiance == pytest.approx(ref, rel=RTOL)
     assert len(rows) == 3 and not page.errors, page.errors
+
+
+def test_every_alias_is_offered_and_checked():
+    """Each renderer variant declared as an Alias is in the page's menus (so in the GLSL
+    check above), evaluated by its base model's GLSL."""
+    from roughdiffuse import registry
+    from roughdiffuse.models.alias import Alias
+
+    aliases = [e.id for e in registry.entries() if issubclass(e.cls, Alias)]
+    assert "pbrt3-oren-nayar" in aliases and "mitsuba06-roughdiffuse" in aliases
+    assert set(aliases) <= set(PARAMETER_SETS)
+
+
+def test_alias_in_the_menu_plot_and_url(page):
+    """pbrt-v3's OrenNayar picked in A's menu at σ = 20° (its own slider, in degrees): the
+    plane plot's radiance is Python's, and the URL reads back as the same slot.
+
+    Reference: pbrt-v3 ``OrenNayar::f`` (src/core/reflection.cpp), transcribed: σ in radians,
+    A = 1 − σ²/(2(σ² + 0.33)), B = 0.45 σ²/(σ² + 0.09), f = ρ/π (A + B max(0, cos Δφ) sin α
+    tan β), α = max(θi, θr), β = min(θi, θr); in the plane of incidence cos Δφ = 1 on the
+    light's side (θr > 0) and −1 opposite."""
+    p = page.page
+    p.select_option("#a-model", "pbrt3-oren-nayar")
+    note = p.locator("#a-alias-note").inner_text()
+    assert note == "= Oren–Nayar qualitative with sigma = sigma_deg * 0.0174533", note
+    p.fill("#a-sigma_deg", "20")
+    p.dispatch_event("#a-sigma_deg", "input")
+    p.evaluate("window.rdExplorer.setLight(40, 0)")
+    p.wait_for_function(
+        "() => (window.rdExplorer.tables().plane?.rows ?? []).some(r => r[0].includes('pbrt-v3'))"
+        " && window.rdExplorer.state.light.theta === 40"
+    )
+    p.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    rows = [r for r in p.evaluate("window.rdExplorer.tables().plane.rows") if r[0].startswith("A")]
+    theta_r = np.radians([r[1] for r in rows])
+    got = np.array([r[2] for r in rows])
+    ti, sigma, rho = math.radians(40.0), math.radians(20.0), 0.8
+    a = 1 - sigma**2 / (2 * (sigma**2 + 0.33))
+    b = 0.45 * sigma**2 / (sigma**2 + 0.09)
+    tr = np.abs(theta_r)
+    alpha, beta = np.maximum(ti, tr), np.minimum(ti, tr)
+    cos_dphi = np.where(theta_r > 0, 1.0, 0.0)  # max(0, cos Δφ)
+    f = rho / math.pi * (a + b * cos_dphi * np.sin(alpha) * np.tan(beta))
+    want = f * math.pi * math.cos(ti)  # L = f E0 cos θi, E0 = π
+    inside = tr < math.radians(89.5)
+    assert np.allclose(got[inside], want[inside], rtol=2e-4), (got[::30], want[::30])
+    round_trip = p.evaluate(
+        """async () => {
+          const u = await import(new URL("js/urlstate.js", location.href).href);
+          return u.decodeState(window.rdExplorer.encodeHash()).a;
+        }"""
+    )
+    assert round_trip["model"] == "pbrt3-oren-nayar" and round_trip["sigma_deg"] == 20
+    shorts = p.evaluate(
+        """async () => {
+          const m = await import(new URL("js/models.js", location.href).href);
+          return m.MODELS.map((x) => x.short);
+        }"""
+    )
+    assert len(set(shorts)) == len(shorts), shorts  # the legends tell every model apart
+    assert not page.errors, page.errors

@@ -24,6 +24,7 @@ OrenNayar(albedo=0.5, sigma=0.3, variant='full')
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import importlib.metadata
 import re
@@ -54,6 +55,7 @@ ENTRY_POINT_GROUP = "roughdiffuse.models"
 _ID = re.compile(r"^[a-z0-9]+(?:-[a-z0-9]+)*$")
 _LOCK = threading.RLock()
 _ENTRIES: dict[str, Entry] = {}
+_ALIAS_RECORDS: dict[tuple[str, type], dict[str, Any]] = {}  # Entry.alias, once per id and class
 _LOADED = False
 
 M = TypeVar("M", bound=type)
@@ -193,6 +195,41 @@ class Entry:
             getattr(model, k, None) == v for k, v in self.fixed.items()
         )
 
+    def alias(self) -> dict[str, Any] | None:
+        """For an :class:`~roughdiffuse.models.alias.Alias`, what the explorer needs to
+        evaluate it with its base model's GLSL (``None`` for any other model).
+
+        ``base``: the registry id of the equal model (from :meth:`Alias.base_model`);
+        ``fixed``: the base's categorical values that id leaves open; ``to_base``: the
+        conversion recorded from ``to_base`` (:meth:`Alias.conversion`), one expression tree
+        per base parameter (``None`` with the reason in ``why`` when ``to_base`` cannot be
+        recorded), and ``text``, each tree as an expression to show.
+        """
+        from .models.alias import Alias
+
+        if not issubclass(self.cls, Alias):
+            return None
+        key = (self.id, self.cls)
+        if key not in _ALIAS_RECORDS:  # recorded and checked once: /api/models asks often
+            _ALIAS_RECORDS[key] = self._alias_record()
+        return copy.deepcopy(_ALIAS_RECORDS[key])
+
+    def _alias_record(self) -> dict[str, Any]:
+        from .models.conversion import NotRecordable, text
+
+        base = self.create().base_model()
+        base_id = id_of(base)
+        if base_id is None:
+            why = f"{base!r} has no id"
+            return {"base": None, "fixed": {}, "to_base": None, "text": None, "why": why}
+        fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
+        try:
+            trees, why = self.cls.conversion(), None
+        except NotRecordable as exc:
+            trees, why = None, str(exc)
+        shown = {k: text(v, 6) for k, v in trees.items()} if trees else None
+        return {"base": base_id, "fixed": fixed, "to_base": trees, "text": shown, "why": why}
+
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""
         return {
@@ -207,6 +244,7 @@ class Entry:
             "glsl_keys": dict(self.cls.glsl_keys) if self.glsl else {},
             "fixed": dict(self.fixed),
             "parameters": [p.to_json() for p in self.parameters],
+            "alias": self.alias(),
         }
 
 

@@ -20,10 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from .. import registry
 from .._validate import ParameterError
 from .._version import version
 from .datasets import MAX_CSV_BYTES, MAX_MERL_BYTES
-from .params import model_from_params
+from .params import flat_key, model_from_params
 
 __all__ = [
     "THETA_R_DEG",
@@ -144,7 +145,7 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
     """Explorer parameters (see :func:`~roughdiffuse.explorer.params.model_from_params`) from
     URL query values; σ in radians."""
     albedo = channel_values(q, "albedo", 0.8)
-    return {
+    out = {
         "model": q.get("model", "oren-nayar"),
         "albedo": albedo,
         "sigma": _float(q, "sigma", 0.0),
@@ -157,6 +158,15 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
         "base": q.get("base", "oren-nayar-full"),  # Coated's base and its r
         "base_roughness": _float(q, "base_roughness", 0.5),
     }
+    try:
+        entry = registry.get(out["model"])
+    except ParameterError:
+        return out  # model_from_params names the models it takes
+    for p in entry.parameters:  # the model's other numbers (an alias's sigma_deg, ...)
+        key = flat_key(entry, p.name)
+        if key not in out and key in q and not p.categorical and not p.channels:
+            out[key] = _float(q, key, p.default)
+    return out
 
 
 def _render_vase() -> Any:

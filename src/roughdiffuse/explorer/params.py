@@ -17,14 +17,26 @@ from .. import registry
 from .._validate import ParameterError
 from ..models import Model
 
-__all__ = ["DEFAULTS", "flat_key", "glsl_entries", "model_from_params"]
+__all__ = ["DEFAULTS", "explorer_entries", "flat_key", "glsl_entries", "model_from_params"]
 
 
 def glsl_entries() -> list[registry.Entry]:
     """The registry ids the explorer's GLSL holds a copy of (each model class's ``glsl``
-    declaration, published as ``glsl_id`` in ``/api/models``); the page leaves the others
-    out."""
+    declaration, published as ``glsl_id`` in ``/api/models``)."""
     return [e for e in registry.entries() if e.glsl]
+
+
+def explorer_entries() -> list[registry.Entry]:
+    """The registry ids the explorer offers: those with a GLSL copy and the aliases of one
+    (:meth:`~roughdiffuse.registry.Entry.alias`: the base's GLSL after the recorded
+    conversion, as ``static/js/models.js`` evaluates them); the page leaves the others out."""
+    offered = {e.id for e in glsl_entries()}
+    out = []
+    for e in registry.entries():
+        alias = e.alias()
+        if e.id in offered or (alias and alias["base"] in offered and alias["to_base"]):
+            out.append(e)
+    return out
 
 
 def flat_key(entry: registry.Entry, name: str) -> str:
@@ -35,7 +47,7 @@ def flat_key(entry: registry.Entry, name: str) -> str:
 
 def _flat_defaults() -> dict[str, Any]:
     out: dict[str, Any] = {"model": "oren-nayar"}
-    for entry in glsl_entries():
+    for entry in explorer_entries():
         for p in entry.parameters:
             key = flat_key(entry, p.name)
             if key not in out:
@@ -54,12 +66,13 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     Parameters
     ----------
     params : mapping
-        ``model`` (a registry id with a GLSL copy, :func:`glsl_entries`), then the model's
+        ``model`` (a registry id the page offers, :func:`explorer_entries`), then the model's
         declared parameters (see ``roughdiffuse models``) under their flat keys: ``albedo``
         (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
         (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``, ``base``
-        and ``base_roughness`` (Coated). Keys the model does not take, or does not take with
-        the menus' values (Coated over EON: ``sigma``), are ignored (the page sends every
+        and ``base_roughness`` (Coated); an alias takes its own parameters (``sigma_deg`` for
+        ``pbrt3-oren-nayar``). Keys the model does not take, or does not take with the
+        menus' values (Coated over EON: ``sigma``), are ignored (the page sends every
         slider); missing keys take
         :data:`DEFAULTS` (a menu's value another model's menu set there: this model's own
         default).
@@ -79,7 +92,7 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     """
     p = {**DEFAULTS, **params}
     name = p["model"]
-    offered = [e.id for e in glsl_entries()]
+    offered = [e.id for e in explorer_entries()]
     if name not in offered:
         raise ParameterError(f"model must be one of {', '.join(offered)} (got {name!r})")
     if name == "torrance-sparrow" and p.get("distribution") == "beckmann":

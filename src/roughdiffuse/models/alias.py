@@ -14,6 +14,7 @@ from typing import Any, ClassVar
 
 from .._array import Array
 from .base import Model
+from .conversion import Tree, recorded_conversion
 
 __all__ = ["Alias"]
 
@@ -34,6 +35,31 @@ class Alias(Model):
     def to_base(**params: Any) -> dict[str, Any]:
         """The base model's numeric parameters from this model's (elementwise arithmetic)."""
         raise NotImplementedError
+
+    @classmethod
+    def conversion(cls) -> dict[str, Tree]:
+        """:meth:`to_base` recorded as one expression tree per base parameter
+        (:mod:`~roughdiffuse.models.conversion`), checked against the numeric
+        :meth:`to_base` over each parameter's range: what the explorer evaluates before the
+        base model's GLSL, so the conversion stays declared once.
+
+        Raises
+        ------
+        NotRecordable
+            If :meth:`to_base` is more than arithmetic on its parameters.
+
+        Examples
+        --------
+        >>> from roughdiffuse.models.renderers import Pbrt3OrenNayar
+        >>> Pbrt3OrenNayar.conversion()["sigma"]
+        ['*', 'sigma_deg', 0.017453292519943295]
+        """
+        ranges = {}
+        for p in cls.params:
+            if p.name in cls.array_fields:
+                lo, hi = p.bounds or (p.min or 0.0, (p.min or 0.0) + 1.0)
+                ranges[p.name] = (lo, hi)
+        return recorded_conversion(cls.to_base, ranges)
 
     def base_model(self) -> Model:
         """The equal model of the base class (its parameters converted)."""

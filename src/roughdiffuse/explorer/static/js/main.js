@@ -4,7 +4,7 @@
 import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
-import { BY_KEY, LEFT_OUT, MODELS, PARAMS, applies, defaultState, gpuParams, loadModels } from "./models.js";
+import { BY_KEY, LEFT_OUT, MODELS, PARAMS, applies, baseState, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 import { canvasBlob, download, toCsv } from "./export.js";
 import { svgCanvas } from "./svgcanvas.js";
@@ -59,6 +59,10 @@ function buildPanel(slot) {
   sel.id = `${p}model`;
   for (const m of MODELS) sel.append(new Option(m.label, m.key));
   root.append(sel);
+  const aliasNote = document.createElement("p");
+  aliasNote.id = `${p}alias-note`;
+  aliasNote.className = "alias-note";
+  root.append(aliasNote);
   const f3 = (v) => v.toFixed(3);
   const ctl = { model: sel, sliders: {}, selects: {}, colours: {} };
   for (const [k, q] of Object.entries(PARAMS)) {
@@ -139,12 +143,24 @@ function writePanel(slot) {
   showUsed(slot);
 }
 
+/** "= EON (qualitative Oren–Nayar …) with sigma = sigma_deg * 0.0174533": what an alias is
+ *  drawn as (its base model's GLSL) and its conversion, as the server recorded it. */
+function aliasText(m) {
+  const a = m.alias;
+  const changed = Object.entries(a.text).filter(([k, t]) => k !== t).map(([k, t]) => `${k} = ${t.replace(/^\((.*)\)$/, "$1")}`);
+  const fixed = Object.entries(a.fixed).map(([k, v]) => `${k} = ${v}`);
+  const rest = [...changed, ...fixed];
+  return `= ${BY_KEY[a.base].label}` + (rest.length ? ` with ${rest.join(", ")}` : "");
+}
+
 /** Show the controls of the parameters the slot's model declares, hide the others. */
 function showUsed(slot) {
   const c = panels[slot];
   const m = BY_KEY[state[slot].model];
   const uses = m.uses.filter((k) => applies(m.params[k], state[slot]));  // Coated: its base's
   const p = `${slot}-`;
+  $(`${p}alias-note`).hidden = !m.alias;
+  $(`${p}alias-note`).textContent = m.alias ? aliasText(m) : "";
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
   const own = BY_KEY[state[slot].model].params;
   for (const [k, q] of Object.entries(own)) {  // a control several models share: this model's words
@@ -229,6 +245,7 @@ function fitSphere() {
 }
 
 function draw() {
+  if (!state.a || !state.b) return; // a resize before /api/models is read: start() draws later
   fitSphere();
   const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
@@ -425,6 +442,10 @@ function queryFor(slot) {
     base: s.base, base_roughness: String(s.base_roughness),
     light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
+  for (const k of BY_KEY[s.model].uses) {  // a model's own numbers (an alias's sigma_deg, ...)
+    const p = PARAMS[k];
+    if (!q.has(k) && p.choices === null && !p.channels && p.unit !== "radians") q.set(k, String(s[k]));
+  }
   return q.toString();
 }
 
@@ -453,12 +474,18 @@ function gtSoon() {
   clearTimeout(gtTimer);
   gtTimer = setTimeout(() => loadGroundTruth().catch(showError), 300);
 }
+/** A slot's state, or for an alias its base model's (σ in degrees as on the sliders). */
+function baseOf(s) {
+  if (!BY_KEY[s.model].alias) return s;
+  const b = baseState(s);
+  return b.sigma === undefined ? b : { ...b, sigmaDeg: b.sigma / DEG };
+}
 /** Ground truth from the server's V-cavity solver for model A's σ, ρ (green) and the light's θ. */
 async function loadGroundTruth() {
   const status = $("gt-status");
   if (gtController) gtController.abort();
   gtController = null;
-  const s = state.a;
+  const s = baseOf(state.a);  // an alias of Oren–Nayar (pbrt-v3's, Mitsuba 0.6's) has its σ
   const coated = s.model === "coated";  // its truth: the layered walk
   const reason = !info.groundtruth ? "this server has no V-cavity solver"
     : !state.view.gt ? ""

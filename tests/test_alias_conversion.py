@@ -1,0 +1,110 @@
+"""An Alias's ``to_base`` recorded as expression trees (roughdiffuse.models.conversion), the
+form the explorer evaluates before the base model's GLSL, and the ``alias`` record of
+``roughdiffuse models --json`` / ``/api/models``.
+
+Reference values are the conversions as the other projects state them (pbrt-v3's σ in
+degrees, Mitsuba 0.6's α = √2 σ, Filament's and Unreal's α = roughness²), not the code under
+test."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from roughdiffuse import registry
+from roughdiffuse.models.alias import Alias
+from roughdiffuse.models.conversion import (
+    NotRecordable,
+    evaluate,
+    record,
+    recorded_conversion,
+    text,
+)
+
+ALIASES = [e.id for e in registry.entries() if issubclass(e.cls, Alias)]
+
+
+def test_operators_are_recorded_in_order():
+    trees = record(lambda a, b: {"x": (2.0 - a) / b**2 + -a, "y": 3 ** (1 / a)}, ["a", "b"])
+    a, b = np.array([0.3, 1.7]), np.array([0.5, 2.0])
+    assert np.allclose(evaluate(trees["x"], {"a": a, "b": b}), (2.0 - a) / b**2 - a, rtol=1e-15)
+    assert np.allclose(evaluate(trees["y"], {"a": a, "b": b}), 3 ** (1 / a), rtol=1e-15)
+    assert text(trees["x"]) == "(((2.0 - a) / (b ** 2.0)) + (-a))"
+
+
+@pytest.mark.parametrize(
+    "to_base",
+    [
+        lambda a: {"x": math.sqrt(a)},  # a function call
+        lambda a: {"x": np.sqrt(a)},
+        lambda a: {"x": a if a > 0.5 else 0.0},  # a branch
+        lambda a: {"x": a * "2"},
+    ],
+    ids=["math", "numpy", "branch", "string"],
+)
+def test_what_cannot_be_recorded_is_refused(to_base):
+    with pytest.raises((NotRecordable, TypeError)):
+        record(to_base, ["a"])
+
+
+def test_a_tree_that_differs_from_the_numbers_is_refused():
+    """A conversion that reads a global changed between recording and checking (so the
+    recorded tree no longer describes it) is caught by the numeric check."""
+    scale = [2.0]
+
+    def to_base(a):
+        out = {"x": a * scale[0]}
+        scale[0] = 3.0
+        return out
+
+    with pytest.raises(NotRecordable, match="to_base"):
+        recorded_conversion(to_base, {"a": (0.0, 1.0)})
+
+
+@pytest.mark.parametrize(
+    ("model_id", "base", "name", "own", "value", "want"),
+    [
+        ("pbrt3-oren-nayar", "oren-nayar", "sigma", "sigma_deg", 90.0, math.pi / 2),
+        ("mitsuba06-roughdiffuse", "oren-nayar-full", "sigma", "alpha", math.sqrt(2.0), 1.0),
+        ("mitsuba06-roughdiffuse-fast", "oren-nayar", "sigma", "alpha", math.sqrt(2.0), 1.0),
+        ("filament-burley", "burley", "roughness", "roughness", 0.5, 0.25),
+        ("unreal-chan", "chan", "alpha", "roughness", 0.5, 0.25),
+        ("unreal-burley", "burley", "roughness", "roughness", 0.5, 0.5),
+        ("unity-diffuse-ggx", "hammon", "alpha", "roughness", 0.3, 0.3),
+        ("materialx-oren-nayar", "oren-nayar", "sigma", "roughness", 0.7, 0.7),
+        ("openpbr-diffuse", "eon", "roughness", "roughness", 0.7, 0.7),
+    ],
+    ids=lambda v: v if isinstance(v, str) else None,
+)
+def test_each_alias_record(model_id, base, name, own, value, want):
+    """The published base id and the recorded conversion, as the other project defines it;
+    colour passes unchanged."""
+    rec = {r["id"]: r for r in registry.to_json()}[model_id]["alias"]
+    assert rec["base"] == base and rec["fixed"] == {} and rec["why"] is None
+    assert evaluate(rec["to_base"][name], {own: value, "albedo": 0.4}) == pytest.approx(want)
+    assert evaluate(rec["to_base"]["albedo"], {own: value, "albedo": 0.4}) == 0.4
+
+
+def test_every_alias_has_a_record_and_nothing_else_does():
+    assert len(ALIASES) == 9
+    for r in registry.to_json():
+        assert (r["alias"] is not None) == (r["id"] in ALIASES), r["id"]
+
+
+def test_the_vase_query_carries_an_alias_s_own_numbers():
+    """The vase request (``/api/vase.png``'s query) for pbrt-v3 at sigma_deg = 30 is the
+    qualitative Oren–Nayar model at σ = π/6 rad (pbrt-v3's constructor converts degrees)."""
+    from roughdiffuse.explorer import model_from_params
+    from roughdiffuse.explorer.backend import params_from_query
+
+    model = model_from_params(
+        params_from_query({"model": "pbrt3-oren-nayar", "sigma_deg": "30", "albedo": "0.5"})
+    )
+    ref = registry.create("oren-nayar", albedo=[0.5] * 3, sigma=math.pi / 6)
+    mu_i, mu_o = np.array([0.9, 0.3, 0.5]), np.array([0.4, 0.8, 0.1])
+    cos_io = mu_i * mu_o + np.array([0.9, 0.5, -0.7]) * np.sqrt((1 - mu_i**2) * (1 - mu_o**2))
+    want = ref.brdf_cosines(mu_i, mu_o, cos_io)
+    assert np.ptp(want) > 0.01  # forward geometries: σ matters
+    np.testing.assert_allclose(model.brdf_cosines(mu_i, mu_o, cos_io), want, rtol=1e-14)
