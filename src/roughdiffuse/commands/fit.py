@@ -32,7 +32,6 @@ examples:
   roughdiffuse fit data:oren-nayar.binary --model oren-nayar-full --max-samples 20000
   roughdiffuse fit data:sphere.npy --shape sphere --light 30,0 --model oren-nayar-full
   roughdiffuse fit data:sphere.npy --normals data:sphere_normals.npy --light 0.5236rad,0
-  roughdiffuse fit samples.csv --model coated --param base=eon
 
 Data by suffix: .csv/.txt (BRDF samples; header names the columns and the angle unit, e.g.
 theta_i_deg, theta_r_deg, delta_phi_deg, brdf), .binary (MERL), .npy/.exr/.png (a linear
@@ -40,6 +39,8 @@ image; give --normals or --shape, and --light). data:NAME reads a file shipped w
 package (`roughdiffuse data` lists them). Angles on the command line are in DEGREES, or
 with a unit (30deg, 0.52rad); the fitted σ is printed in radians and degrees. The noise model
 is relative (errors proportional to the value), as in Python's fit() and the explorer.
+--param fixes a choice the model leaves open and fits the numbers of that choice, e.g.
+`--model coated --param base=eon` fits the coat over EON (albedo, base_roughness, eta, ...).
 """
 
 SHAPES = ("sphere", "vase", "cylinder")
