@@ -56,7 +56,7 @@ FILE_SECONDS = {
     "test_fastpath.py": 300, "test_fit_cli.py": 200, "test_fit_samples.py": 130,
     "test_sampling.py": 120, "test_explorer_page.py": 150, "test_explorer_sizes.py": 90,
     "test_explorer_views.py": 90, "test_simulate_cavity.py": 100, "test_models_backends.py": 70,
-    "test_readme.py": 60, "test_render_cli.py": 55, "test_explorer_glsl.py": 50,
+    "test_readme.py": 60, "test_render_cli.py": 55, "test_explorer_glsl.py": 70,
     "test_models_coated.py": 50, "test_explorer_data.py": 40, "test_stereo_cli.py": 40,
     "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
     "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,

@@ -42,7 +42,7 @@ def parameter_sets(entry: Any) -> list[dict[str, Any]]:
     "rough" set (angles at 1 rad, numbers whose range lies inside [0, 10] at its middle,
     colour parameters at 0.7), so that every declared parameter is tried off its default."""
     rough: dict[str, Any] = {}
-    for p in entry.parameters:
+    for p in entry.applicable():  # those of the default choices (Coated: its default base)
         if p.categorical:
             continue
         if p.channels:

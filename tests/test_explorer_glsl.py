@@ -141,6 +141,33 @@ def test_geometries_cover_the_domain():
     assert (GEOMETRIES[:, 2] <= -0.999).any()
 
 
+@pytest.mark.slow  # two redraws of the coat in SwiftShader: about 10 s
+def test_coated_base_menu_shows_the_chosen_base_sliders(page):
+    """Coated's base menu (its declared ``base``): the sliders of the chosen base only, and
+    the plotted curve is the coat over that base (Python's Coated(EON(...)))."""
+    import roughdiffuse as rd
+
+    p = page.page
+    shown = lambda k: p.evaluate(f"() => !document.getElementById('a-{k}-row').hidden")  # noqa: E731
+    p.select_option("#a-model", "coated")
+    assert shown("base") and shown("sigma") and not shown("base_roughness")
+    p.select_option("#a-base", "eon")
+    assert shown("base_roughness") and not shown("sigma")
+    s = p.evaluate("() => window.rdExplorer.state.a")
+    ti = math.radians(p.evaluate("() => window.rdExplorer.state.light.theta"))
+    assert s["base"] == "eon"
+    model = rd.Coated(rd.EON(s["albedo"][1], s["base_roughness"]), s["eta"], s["roughness"],
+                      s["distribution"])
+    rows = [r for r in p.evaluate("() => window.rdExplorer.tables().plane.rows")
+            if r[0].startswith("A") and r[1] in (-60, 0, 40)]
+    for _, theta_r, radiance in rows:  # θr > 0 on the light's side
+        tr = math.radians(abs(theta_r))
+        wo = [math.sin(tr) * (1 if theta_r >= 0 else -1), 0.0, math.cos(tr)]
+        ref = float(model.brdf([math.sin(ti), 0.0, math.cos(ti)], wo)) * math.pi * math.cos(ti)
+        assert radiance == pytest.approx(ref, rel=RTOL)
+    assert len(rows) == 3 and not page.errors, page.errors
+
+
 def test_every_alias_is_offered_and_checked():
     """Each renderer variant declared as an Alias is in the page's menus (so in the GLSL
     check above), evaluated by its base model's GLSL."""

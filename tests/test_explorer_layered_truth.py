@@ -43,3 +43,24 @@ def test_bad_query_named(key: str, value: str) -> None:
     q = {"model": "coated", "theta_i": "10", "distribution": "ggx", key: value}
     with pytest.raises(ValueError, match=key):
         layered_truth(q)
+
+
+@pytest.mark.slow  # the walk compiled for an EON base: about 25 s
+def test_the_walk_runs_over_the_chosen_base() -> None:
+    """Coated over EON (the page's base menu): the invisible coat's walk is EON itself."""
+    q = {"model": "coated", "base": "eon", "albedo": "0.5,0.7,0.9", "base_roughness": "0.6",
+         "eta": "1.0", "roughness": "0", "distribution": "ggx", "theta_i": "30"}
+    out = layered_truth(q)
+    tr = np.radians(np.abs(THETA_R_DEG))
+    dp = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
+    ti = math.radians(30.0)
+    wi = np.array([math.sin(ti), 0.0, math.cos(ti)])
+    wo = np.stack([np.sin(tr) * np.cos(dp), np.sin(tr) * np.sin(dp), np.cos(tr)], -1)
+    np.testing.assert_allclose(out["brdf"], rd.EON(0.7, 0.6).brdf(wi, wo), rtol=1e-9)
+    assert "EON r = 0.6" in out["note"]
+
+
+def test_a_base_the_coat_does_not_take_is_named() -> None:
+    q = {"model": "coated", "theta_i": "10", "distribution": "ggx", "base": "coated"}
+    with pytest.raises(ValueError, match="base 'coated'.*coat on a coat.*'eon'"):
+        layered_truth(q)

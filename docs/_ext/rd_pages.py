@@ -69,13 +69,14 @@ def _title(entry: Any, values: dict[str, Any]) -> str:
 
 
 def _start(entry: Any) -> dict[str, Any]:
-    """Parameters the pictures use: each one's example value (else its default)."""
+    """Parameters the pictures use: each one's example value (else its default), those that
+    exist for the default choices (Coated: its default base's)."""
     out = {}
     for p in entry.parameters:
         value = p.example if p.example is not None else p.default
         if value is not None:
             out[p.name] = value
-    return out
+    return {p.name: out[p.name] for p in entry.applicable(out) if p.name in out}
 
 
 def _figures(entry: Any, folder: Path) -> dict[str, str]:
@@ -235,8 +236,9 @@ def _param_table(entry: Any) -> list[str]:
         else:
             accepted = format_interval(p.min, p.max, p.min_open)
         default = f"`{p.default}`" if isinstance(p.default, str) else f"{p.default:g}"
+        only = "" if p.applies(entry.fixed) else f" (only with {p.when_text()})"
         lines.append(
-            f"| `{p.name}` | {p.description} | {p.unit} | {accepted} | {default} | "
+            f"| `{p.name}` | {p.description}{only} | {p.unit} | {accepted} | {default} | "
             f"{'yes' if p.channels else 'no'} |"
         )
     if len(lines) == 2:

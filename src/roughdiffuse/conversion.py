@@ -187,7 +187,8 @@ def convert(
     if not getattr(entry.cls, "closed_form", True):
         raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")
     fixed = dict(fixed or {})
-    numeric = [p for p in entry.parameters if not p.categorical and p.name not in fixed]
+    # the numbers of the target's choices (fixed or default): Coated over EON fits r, not σ
+    numeric = [p for p in entry.applicable(fixed) if not p.categorical and p.name not in fixed]
     colour = [p for p in numeric if p.channels]
     shape = [p for p in numeric if not p.channels]
     mi, mo, cio, weight, mu, wmu = _grid(n)
@@ -305,7 +306,7 @@ def _check_albedo_range(
         return
     src = float(np.max(np.sum((wmu * mu * 2.0)[:, None] * a_src.reshape(len(mu), -1), axis=0)))
     top = {p.name: p.max for p in colour if p.max is not None}
-    shape = [p for p in entry.parameters if not p.categorical and not p.channels]
+    shape = [p for p in entry.applicable(fixed) if not p.categorical and not p.channels]
     shape = [p for p in shape if p.name not in fixed]
     best = 0.0
     grid = np.linspace(0.0, 1.0, 11)

@@ -112,7 +112,8 @@ class Entry:
         """Parameter sets the interface-wide tests run: the declared ``example`` (else the
         default) of each parameter, then the class's ``test_points`` for this id (duplicates
         dropped)."""
-        points = [{p.name: p.default if p.example is None else p.example for p in self.parameters}]
+        start = {p.name: p.default if p.example is None else p.example for p in self.parameters}
+        points = [{p.name: start[p.name] for p in self.applicable(start)}]
         for point in self.cls.test_points.get(self.id, ()):
             if point not in points:
                 points.append(dict(point))
@@ -126,10 +127,37 @@ class Entry:
 
     @property
     def parameters(self) -> tuple[Param, ...]:
-        """The parameters a user sets for this id (those it fixes left out)."""
+        """The parameters a user sets for this id (those it fixes left out): every one that
+        exists for the values the id fixes, including those that exist only for some value
+        of a categorical parameter the id leaves free (:meth:`applicable` picks those of
+        one choice)."""
         return tuple(
-            p for p in self.cls.params if p.name not in self.fixed and p.applies(self.fixed)
+            p for p in self.cls.params
+            if p.name not in self.fixed and p.applies({**self._free_values(p), **self.fixed})
         )
+
+    @staticmethod
+    def _free_values(p: Param) -> dict[str, Any]:
+        """Values under which ``p`` applies (its own ``when``): the free categoricals."""
+        return {k: v[0] if isinstance(v, tuple) else v for k, v in (p.when or {}).items()}
+
+    def choices(self, values: Mapping[str, Any] | None = None) -> dict[str, Any]:
+        """The categorical values of one parameter set: those in ``values``, those the id
+        fixes, else the declared defaults."""
+        values = values or {}
+        out = {p.name: values.get(p.name, p.default) for p in self.parameters if p.categorical}
+        return {**out, **self.fixed}
+
+    def applicable(self, values: Mapping[str, Any] | None = None) -> tuple[Param, ...]:
+        """The parameters that exist for the categorical values in ``values`` (the others at
+        their defaults): e.g. ``coated`` with ``base="eon"`` takes ``base_roughness`` and
+        not Oren–Nayar's ``sigma``.
+
+        >>> [p.name for p in get("coated").applicable({"base": "eon"})][:3]
+        ['base', 'albedo', 'base_roughness']
+        """
+        chosen = self.choices(values)
+        return tuple(p for p in self.parameters if p.applies(chosen))
 
     def param(self, name: str) -> Param:
         """The parameter ``name`` of this id (``ValueError`` naming the accepted ones)."""
@@ -142,8 +170,8 @@ class Entry:
         )
 
     def defaults(self) -> dict[str, Any]:
-        """Parameter name -> default value."""
-        return {p.name: p.default for p in self.parameters}
+        """Parameter name -> default value (those that exist for the default choices)."""
+        return {p.name: p.default for p in self.applicable()}
 
     def create(self, **params: Any) -> Model:
         """The model with these parameters (the others at their defaults).

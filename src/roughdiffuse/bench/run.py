@@ -98,9 +98,12 @@ def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
     return "rd_torrance_sparrow", (float(model.eta), s, norm)
 
 
-def _c_coated(model: Any) -> tuple[str, tuple[float, ...]]:
-    """The registry's ``coated`` (a coat over the full Oren–Nayar model)."""
+def _c_coated(model: Any) -> tuple[str | None, tuple[float, ...]]:
+    """The registry's ``coated`` over its default base, the full Oren–Nayar model (the C
+    kernel has no other base)."""
     base = model.base
+    if getattr(base, "variant", None) != "full":
+        return None, ()
     args = (base.albedo, base.sigma, model.eta, model.roughness, model.absorption)
     return f"rd_coated_{model.distribution}", tuple(float(a) for a in args)
 
@@ -140,10 +143,13 @@ def bench_models() -> list[BenchCase]:
         if entry.source != "roughdiffuse" or not entry.cls.closed_form:
             continue
         point = entry.test_points()[0]
-        free = [p for p in entry.parameters if p.categorical]
+        # a free choice of formula (not one that changes the parameters: Coated's base)
+        names = {k for p in entry.parameters for k in (p.when or {})}
+        free = [p for p in entry.parameters if p.categorical and p.name not in names]
         choices = [(None, point)]
-        if free:
-            choices = [(c, {**point, free[0].name: c}) for c in free[0].choices or ()]
+        if free:  # each choice with the parameters it takes (Coated's base: σ or r)
+            choices = [(c, _point_for(entry, {**point, free[0].name: c}))
+                       for c in free[0].choices or ()]
         for choice, params in choices:
             model = entry.create(**params)
             label = entry.label + (f" ({choice})" if choice is not None else "")
@@ -152,6 +158,15 @@ def bench_models() -> list[BenchCase]:
                 label += " [no C kernel: against NumPy]"
             cases.append(BenchCase(entry.id, label, model, c_name, c_params))
     return cases
+
+
+def _point_for(entry: Any, values: dict[str, Any]) -> dict[str, Any]:
+    """``values`` restricted to the parameters that exist for its categorical values, those
+    missing at their declared example (else default)."""
+    return {
+        p.name: values.get(p.name, p.default if p.example is None else p.example)
+        for p in entry.applicable(values)
+    }
 
 
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:

@@ -261,7 +261,19 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
                 f"{', '.join(taken) or 'none'}"
             )
         values[name] = parse_value(taken[name], text, f"--param {name}")
-    return values
+    # starting values of parameters the chosen categorical values leave out (σ of an
+    # Oren–Nayar base when --param base=eon) are dropped; those the user gave are refused by
+    # the model, by name
+    given = given_names(args)
+    kept = {p.name for p in entry.applicable(values)}
+    return {k: v for k, v in values.items() if k in kept or k in given}
+
+
+def given_names(args: argparse.Namespace) -> set[str]:
+    """The model parameters the user gave (``--param`` or a shorthand flag)."""
+    given = {n for n, _ in getattr(args, "param", None) or []}
+    shorthand = getattr(args, "shorthand_params", ())
+    return given | {n for n in shorthand if getattr(args, n, None) is not None}
 
 
 def model_from_args(args: argparse.Namespace, strict: bool = True) -> Model:

@@ -7,7 +7,7 @@ import math
 
 from . import UsageError
 from ._checks import require_finite
-from ._common import add_model_arguments, model_from_args
+from ._common import add_model_arguments, given_names, model_from_args
 from ._inputs import geometry_arguments, geometry_used
 
 EXAMPLES = """\
@@ -42,14 +42,10 @@ def parameters_defaulted(args: argparse.Namespace) -> list[str]:
     declaration's example or default), for the echo of ``eval``."""
     from .. import registry
 
-    given = {n for n, _ in getattr(args, "param", None) or []}
-    given |= {
-        name
-        for name in getattr(args, "shorthand_params", ())
-        if getattr(args, name, None) is not None
-    }
+    given = given_names(args)
     entry = registry.get(args.model)
-    return [p.name for p in entry.parameters if p.name not in given]
+    chosen = dict(getattr(args, "param", None) or [])  # categorical values given (base=eon)
+    return [p.name for p in entry.applicable(chosen) if p.name not in given]
 
 
 def run(args: argparse.Namespace) -> int:

@@ -6,9 +6,11 @@ import argparse
 import math
 import os
 import warnings
+from typing import Any
 
 from . import UsageError
 from ._checks import bounded_float, finite_float, output_file, reading, require_finite
+from ._common import _assignment
 from ._inputs import angle_pair, input_file, known_id
 from .render import MAX_EXPOSURE
 
@@ -37,6 +39,8 @@ image; give --normals or --shape, and --light). data:NAME reads a file shipped w
 package (`roughdiffuse data` lists them). Angles on the command line are in DEGREES, or
 with a unit (30deg, 0.52rad); the fitted σ is printed in radians and degrees. The noise model
 is relative (errors proportional to the value), as in Python's fit() and the explorer.
+--param fixes a choice the model leaves open and fits the numbers of that choice, e.g.
+`--model coated --param base=eon` fits the coat over EON (albedo, base_roughness, eta, ...).
 """
 
 SHAPES = ("sphere", "vase", "cylinder")
@@ -65,6 +69,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="oren-nayar",
         metavar="NAME",
         help=f"one of: {', '.join(CANDIDATES)} (default: oren-nayar)",
+    )
+    p.add_argument(
+        "--param",
+        type=_assignment,
+        action="append",
+        default=[],
+        metavar="NAME=CHOICE",
+        help="fix a choice the model leaves open, e.g. --model coated --param base=eon (its "
+        "numeric parameters are fitted)",
     )
     p.add_argument("--compare", action="store_true", help="fit every model and rank them (BIC)")
     p.add_argument(
@@ -113,6 +126,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     _add_input_arguments(p)
     p.set_defaults(func=run)
+
+
+def _models(args: argparse.Namespace) -> tuple[Any, list[str] | None]:
+    """The candidate of ``--model`` (with the choices ``--param`` fixes) and the ids of
+    ``--models``, checked before any data is read."""
+    from ..fit import CANDIDATES
+    from ..fit.compare import candidate
+
+    known_id(args.model, CANDIDATES)
+    if args.param and args.compare:
+        raise UsageError("--param fixes a choice of --model; it does not apply with --compare")
+    chosen = candidate(args.model, dict(args.param))  # a bad choice refused by name
+    models = None
+    if args.models is not None:
+        if not args.compare:
+            raise UsageError("--models needs --compare")
+        models = [m.strip() for m in args.models.split(",") if m.strip()]
+        for m in models:
+            known_id(m, CANDIDATES, "--models")
+    return chosen, models
 
 
 def _add_input_arguments(p: argparse.ArgumentParser) -> None:
@@ -258,19 +291,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     import numpy as np
 
-    from ..fit import CANDIDATES, DegenerateDataWarning, compare_models, fit
+    from ..fit import DegenerateDataWarning, compare_models, fit
     from ..fit.least_squares import noise_model
     from ..fit.report import write_report
     from ..progress import progress_enabled
 
-    known_id(args.model, CANDIDATES)
-    models = None
-    if args.models is not None:
-        if not args.compare:
-            raise UsageError("--models needs --compare")
-        models = [m.strip() for m in args.models.split(",") if m.strip()]
-        for m in models:
-            known_id(m, CANDIDATES, "--models")
+    chosen, models = _models(args)
     if args.report:  # checked before the data is read or fitted; kept unless --force
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
@@ -297,7 +323,7 @@ def run(args: argparse.Namespace) -> int:
             comparison = compare_models(data, models, progress=progress_enabled(), **options)
             results = list(comparison.results)
         else:
-            c = CANDIDATES[args.model]
+            c = chosen
             results = [fit(c.model, data, c.params, c.bounds, fixed=c.fixed, **options)]
     for r in results:
         require_finite(

@@ -54,9 +54,10 @@ def table() -> str:
             unit = "" if p.unit == "dimensionless" else f" {p.unit}"
             chan = ", or R,G,B" if p.channels else ""
             start = "" if p.example is None else f" (command line: {_value(p.example, p.unit)})"
+            only = "" if p.applies(e.fixed) else f" (only with {p.when_text()})"
             lines.append(
                 f"    {p.name:<16}{p.interval}{unit}{chan}; default {_value(p.default, p.unit)}"
-                f"{start} — {p.description}"
+                f"{start}{only} — {p.description}"
             )
         if not e.parameters:
             lines.append("    (no parameters)")

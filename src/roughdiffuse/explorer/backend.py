@@ -155,6 +155,8 @@ def params_from_query(q: dict[str, str]) -> dict[str, Any]:
         "limb": _float(q, "limb", 0.5),
         "alpha": _float(q, "alpha", math.sqrt(2.0) * 0.2),
         "distribution": q.get("distribution", "gaussian"),
+        "base": q.get("base", "oren-nayar-full"),  # Coated's base and its r
+        "base_roughness": _float(q, "base_roughness", 0.5),
     }
     try:
         entry = registry.get(out["model"])

@@ -2,7 +2,8 @@
 
 As the server's V-cavity curve is the truth of the Oren–Nayar models, the position-free walk
 (:func:`roughdiffuse.simulate.layered.brdf`) is the truth of ``Coated``: the same dielectric
-coat (η, roughness, distribution, absorption) over the same base (Oren–Nayar full, ρ and σ),
+coat (η, roughness, distribution, absorption) over the same base (the ``base`` menu's model,
+ρ and σ or r),
 traced by Monte Carlo with a standard error on every value, at the V-cavity curve's viewing
 angles. Computed on demand (about a second), cached.
 """
@@ -32,10 +33,11 @@ _LOCK = threading.Lock()  # one walk at a time: the machine may have 2 cores
 def _plane_of_incidence(key: tuple) -> tuple[tuple[float, ...], tuple[float, ...]]:
     from ..simulate import layered
 
-    albedo, sigma, eta, roughness, distribution, absorption, theta_i_deg = key
-    model = model_from_params({"model": "coated", "albedo": [albedo] * 3, "sigma": sigma,
-                               "eta": eta, "roughness": roughness,
-                               "distribution": distribution, "absorption": [absorption] * 3})
+    base_id, albedo, sigma, base_r, eta, roughness, distribution, absorption, theta_i_deg = key
+    model = model_from_params({"model": "coated", "base": base_id, "albedo": [albedo] * 3,
+                               "sigma": sigma, "base_roughness": base_r, "eta": eta,
+                               "roughness": roughness, "distribution": distribution,
+                               "absorption": [absorption] * 3})
     base = model.base.channel(1) if model.base.channels else model.base
     tr = np.radians(np.abs(THETA_R_DEG))
     delta_phi = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)
@@ -69,10 +71,13 @@ def layered_truth(q: dict[str, str]) -> dict[str, Any]:
     params["absorption"] = channel_values(q, "absorption", 0.0)
     params["distribution"] = q.get("distribution", "ggx")
     model_from_params(params)  # every parameter checked by name before the walk runs
-    key = (round(params["albedo"][1], 3), round(params["sigma"], 3), round(params["eta"], 3),
+    key = (params["base"], round(params["albedo"][1], 3), round(params["sigma"], 3),
+           round(params["base_roughness"], 3), round(params["eta"], 3),
            round(params["roughness"], 3), params["distribution"],
            round(params["absorption"][1], 3), min(round(theta_i, 1), 89.9))
     f, se = _plane_of_incidence(key)
+    base = {"lambert": "Lambert", "fujii": f"Fujii r = {key[3]:g}", "eon": f"EON r = {key[3]:g}"}
+    base_text = base.get(key[0], f"{key[0]} σ = {math.degrees(key[2]):.1f}°")
     e_cos = math.pi * math.cos(math.radians(key[-1]))
     return {
         "theta_r": list(THETA_R_DEG),
@@ -80,11 +85,11 @@ def layered_truth(q: dict[str, str]) -> dict[str, Any]:
         "stderr": list(se),
         "radiance": [v * e_cos for v in f],
         "theta_i": key[-1],
-        "albedo": key[0],
+        "albedo": key[1],
         "note": (
             f"Layered truth (roughdiffuse.simulate.layered, {SAMPLES:,} paths per angle, "
-            f"largest standard error {max(se) * e_cos:.2g} in radiance): ρ = {key[0]:.3f} "
-            f"(model A's green albedo), σ = {math.degrees(key[1]):.1f}°, η = {key[2]:g}, "
-            f"{key[4]} α = {key[3]:g}, τ = {key[5]:g}, θi = {key[-1]:.1f}°."
+            f"largest standard error {max(se) * e_cos:.2g} in radiance): ρ = {key[1]:.3f} "
+            f"(model A's green albedo), base {base_text}, η = {key[4]:g}, "
+            f"{key[6]} α = {key[5]:g}, τ = {key[7]:g}, θi = {key[-1]:.1f}°."
         ),
     }

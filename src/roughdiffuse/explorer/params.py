@@ -69,9 +69,11 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         ``model`` (a registry id the page offers, :func:`explorer_entries`), then the model's
         declared parameters (see ``roughdiffuse models``) under their flat keys: ``albedo``
         (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
-        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``; an alias
-        takes its own parameters (``sigma_deg`` for ``pbrt3-oren-nayar``). Keys the
-        model does not take are ignored (the page sends every slider); missing keys take
+        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``, ``base``
+        and ``base_roughness`` (Coated); an alias takes its own parameters (``sigma_deg`` for
+        ``pbrt3-oren-nayar``). Keys the model does not take, or does not take with the
+        menus' values (Coated over EON: ``sigma``), are ignored (the page sends every
+        slider); missing keys take
         :data:`DEFAULTS` (a menu's value another model's menu set there: this model's own
         default).
         ``torrance-sparrow`` with ``distribution="beckmann"`` is the GLSL's reading of a σ
@@ -98,16 +100,23 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
         p = {**p, "alpha": math.sqrt(2.0) * float(p["sigma"])}
     entry = registry.get(name)
     kwargs: dict[str, Any] = {}
-    for param in entry.parameters:
+    for param in entry.parameters:  # the menus first: they say which sliders apply
+        if not param.categorical:
+            continue
         key = flat_key(entry, param.name)
         value = p[key]
-        if param.choices is not None and value not in param.choices and key not in params:
+        if value not in (param.choices or ()) and key not in params:
             value = param.default  # a menu shared with another model: this model's default
+        kwargs[param.name] = value
+    for param in entry.applicable(kwargs):  # e.g. Coated over EON: not Oren–Nayar's σ
+        if param.categorical:
+            continue
+        value = p[flat_key(entry, param.name)]
         if param.channels:
             value = [float(a) for a in value]
             if len(value) != 3:
                 raise ParameterError(f"{param.name} must have 3 values (got {len(value)})")
-        elif not param.categorical:
+        else:
             value = float(value)
         kwargs[param.name] = value
     return entry.create(**kwargs)

@@ -34,15 +34,30 @@ class Candidate:
     bounds: Mapping[str, tuple[float, float]] | None = None
 
 
-def candidate(model_id: str) -> Candidate:
+def candidate(model_id: str, choices: Mapping[str, str] | None = None) -> Candidate:
     """The candidate of one registry id: its numeric parameters fitted, its fixed choices
-    fixed, the boxes its declaration gives (see :mod:`roughdiffuse.registry`)."""
+    fixed, the boxes its declaration gives (see :mod:`roughdiffuse.registry`).
+
+    ``choices`` fixes categorical parameters the id leaves free (``{"base": "eon"}`` for
+    ``coated``; the others at their defaults); the numeric parameters fitted are those that
+    exist for these values (:meth:`~roughdiffuse.registry.Entry.applicable`).
+    """
     from .. import registry
 
     entry = registry.get(model_id)
+    choices = dict(choices or {})
+    for name, value in choices.items():
+        p = entry.param(name)  # ValueError naming the id's parameters
+        if not p.categorical:
+            raise ParameterError(
+                f"{name} is a number the fit estimates; only a choice can be fixed "
+                f"({', '.join(q.name for q in entry.parameters if q.categorical) or 'none'})"
+            )
+        p.check(value)
     factory = getattr(entry.cls, "from_params", entry.cls)
-    numeric = tuple(p.name for p in entry.parameters if not p.categorical)
-    return Candidate(entry.id, factory, numeric, dict(entry.fixed) or None, None)
+    numeric = tuple(p.name for p in entry.applicable(choices) if not p.categorical)
+    fixed = {**choices, **entry.fixed}
+    return Candidate(entry.id, factory, numeric, fixed or None, None)
 
 
 def _fittable_ids() -> list[str]:

@@ -183,9 +183,8 @@ class Model:
             value = getattr(self, p.name)
             if not p.applies(choices):
                 if value is not None:
-                    cond = ", ".join(f"{k}={v!r}" for k, v in (p.when or {}).items())
                     raise ParameterError(
-                        f"{p.name} applies only with {cond} (got {p.name}={value!r})"
+                        f"{p.name} applies only with {p.when_text()} (got {p.name}={value!r})"
                     )
                 continue
             object.__setattr__(self, p.name, p.check(value))

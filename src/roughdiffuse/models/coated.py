@@ -44,6 +44,7 @@ number of nodes.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -55,15 +56,37 @@ from .._validate import ParameterError
 from ..quadrature import gauss_legendre
 from .base import Model, register_pytree
 from .declaration import Param
+from .eon import EON
 from .lambert import Lambert
 from .microfacet import fresnel_dielectric, slope_distribution
-from .oren_nayar import SIGMA_MAX, OrenNayar
+from .oren_nayar import OrenNayar
 from .sampling import Strategy
 from .torrance_sparrow import ETA_MAX
 
-__all__ = ["Coated", "COAT_DISTRIBUTIONS"]
+__all__ = ["Coated", "COAT_BASES", "COAT_DISTRIBUTIONS"]
 
 COAT_DISTRIBUTIONS: tuple[str, ...] = ("ggx", "beckmann")
+
+COAT_BASES: tuple[str, ...] = ("lambert", "oren-nayar", "oren-nayar-full", "fujii", "eon")
+"""The registry ids the registry's ``coated`` accepts as its ``base`` (the explorer's base
+menu; each has a GLSL copy). In Python, :class:`Coated` takes any closed-form model."""
+
+_ON_BASES = ("oren-nayar", "oren-nayar-full")
+_FON_BASES = ("fujii", "eon")
+
+
+def _base_param(cls: type[Model], name: str, coat_name: str, bases: tuple[str, ...],
+                description: str, **changes: Any) -> Param:
+    """The declaration of the base's parameter ``name`` (its range, unit and fit box) as the
+    coat's parameter ``coat_name``, existing only for these base ids."""
+    declared = next(p for p in cls.params if p.name == name)
+    return dataclasses.replace(declared, name=coat_name, description=description,
+                               when={"base": bases}, **changes)
+
+
+_BASE_PARAMS: dict[str, str] = {"sigma": "sigma", "base_roughness": "roughness"}
+"""The coat's name of each base parameter -> the base model's own name for it (the coat has
+a ``roughness`` of its own, α, so Fujii's and EON's r is ``base_roughness``)."""
 
 _S_NODES, _S_WEIGHTS = gauss_legendre(4)
 _PHI_NODES, _PHI_WEIGHTS = gauss_legendre(4)
@@ -340,14 +363,20 @@ class Coated(Model):
     is_coat: ClassVar[bool] = True
     array_fields: ClassVar[tuple[str, ...]] = ("base", "eta", "roughness", "absorption")
     channel_fields: ClassVar[tuple[str, ...]] = ("absorption",)
-    # The registry's "coated": a coat over Oren–Nayar (full) with albedo ρ and σ (σ = 0 is
-    # Lambert); these are its parameters (see from_params).
+    # The registry's "coated": a coat over the base of registry id `base` (one of COAT_BASES)
+    # with albedo ρ and the base's own parameter: σ (Oren–Nayar), r (Fujii, EON, as
+    # base_roughness: the coat's roughness is α), none (Lambert). See from_params.
     params: ClassVar[tuple[Param, ...]] = (
-        Param("albedo", "albedo ρ of the base (Oren–Nayar, full)", min=0.0, max=1.0,
+        Param("base", "base under the coat (registry id)", choices=COAT_BASES,
+              default="oren-nayar-full"),
+        Param("albedo", "albedo ρ of the base", min=0.0, max=1.0,
               default=0.8, channels=True, example=0.8),
-        Param("sigma", "σ, slope-angle standard deviation of the base (0: Lambert)",
-              unit="radians", min=0.0, max=SIGMA_MAX, default=0.3,
-              example=math.radians(20.0)),
+        _base_param(OrenNayar, "sigma", "sigma", _ON_BASES,
+                    "σ of the Oren–Nayar base, slope-angle standard deviation (0: Lambert)",
+                    default=0.3),
+        _base_param(EON, "roughness", "base_roughness", _FON_BASES,
+                    "r of the Fujii or EON base, Fujii's roughness (not an angle)",
+                    default=0.5),
         Param("eta", "relative refractive index η of the coat", min=0.0, max=ETA_MAX,
               min_open=True, default=1.5, fit_range=(1.05, 3.0)),
         Param("roughness", "α, roughness of the coat (0: smooth)", min=0.0, max=1.0,
@@ -358,7 +387,7 @@ class Coated(Model):
               min=0.0, max=50.0, default=0.0, channels=True),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"coated": {}}
-    labels: ClassVar[dict[str, str]] = {"coated": "Coated: dielectric coat over Oren–Nayar"}
+    labels: ClassVar[dict[str, str]] = {"coated": "Coated: dielectric coat over a diffuse base"}
     reference: ClassVar[str] = (
         "A. Weidlich, A. Wilkie, Arbitrarily layered micro-facet surfaces, GRAPHITE (2007); "
         "Mitsuba 3 plastic"
@@ -366,6 +395,7 @@ class Coated(Model):
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "sigma": r"\sigma",
+        "base_roughness": r"r",
         "eta": r"\eta",
         "roughness": r"\alpha",
         "absorption": r"\tau",
@@ -378,10 +408,12 @@ class Coated(Model):
         ```
 
         A dielectric coat of index {math}`\eta` and roughness {math}`\alpha` over the base
-        {math}`f_b` = {doc}`oren-nayar-full` ({math}`\rho`, {math}`\sigma`), evaluated at the
-        refracted directions; {math}`T_\alpha` the coat's transmittance, {math}`a` the base's
-        directional albedo, {math}`K` the coat's internal diffuse reflectance,
-        {math}`\tau` the layer's optical depth. The exact truth is
+        {math}`f_b` of registry id ``base``: {doc}`lambert` ({math}`\rho`),
+        {doc}`oren-nayar` or {doc}`oren-nayar-full` ({math}`\rho`, {math}`\sigma`),
+        {doc}`fujii` or {doc}`eon` ({math}`\rho` and {math}`r`, ``base_roughness``),
+        evaluated at the refracted directions; {math}`T_\alpha` the coat's transmittance,
+        {math}`a` the base's directional albedo, {math}`K` the coat's internal diffuse
+        reflectance, {math}`\tau` the layer's optical depth. The exact truth is
         {mod}`roughdiffuse.simulate.layered`.
         """
     traceable: ClassVar[bool] = True
@@ -394,6 +426,11 @@ class Coated(Model):
             {"sigma": 0.3, "eta": 1.5},
             {"sigma": 0.0, "eta": 1.5, "roughness": 0.3, "distribution": "beckmann",
              "absorption": 0.2},
+            # one other base (each interface-wide test compiles every point: one is enough
+            # to check that a base's own parameter reaches it; tests/test_coated_bases.py
+            # checks every base)
+            {"base": "eon", "base_roughness": 0.7, "eta": 1.5, "roughness": 0.2,
+             "absorption": 0.1},
         )
     }
     glsl: ClassVar[dict[str, int]] = {"coated": 17}
@@ -406,6 +443,15 @@ class Coated(Model):
             {"albedo": 0.9, "sigma": 0.5, "eta": 2.0, "roughness": 0.2,
              "distribution": "beckmann"},
             {"albedo": 0.5, "sigma": 0.2, "eta": 1.2, "roughness": 0.7, "distribution": "ggx"},
+            # each other base of the menu, as the page sends it (every slider, σ included)
+            {"base": "lambert", "albedo": 0.7, "eta": 1.5, "roughness": 0.3,
+             "distribution": "ggx"},
+            {"base": "oren-nayar", "albedo": 0.8, "sigma": 0.4, "eta": 1.5},
+            {"base": "fujii", "albedo": 0.6, "base_roughness": 0.8, "eta": 1.8,
+             "roughness": 0.4, "distribution": "beckmann", "absorption": 0.3},
+            {"base": "eon", "albedo": 0.9, "base_roughness": 0.5, "eta": 1.5},
+            {"base": "eon", "albedo": 0.5, "base_roughness": 1.0, "eta": 1.3,
+             "roughness": 0.2, "distribution": "ggx"},
         )
     }
 
@@ -413,18 +459,40 @@ class Coated(Model):
     def from_params(
         cls,
         albedo: float | Array = 0.8,
-        sigma: float | Array = 0.3,
+        sigma: float | Array | None = None,
         eta: float | Array = 1.5,
         roughness: float | Array = 0.0,
         distribution: str = "ggx",
         absorption: float | Array = 0.0,
+        base: str = "oren-nayar-full",
+        base_roughness: float | Array | None = None,
     ) -> Coated:
-        """The registry's ``coated``: a coat over ``OrenNayar(albedo, sigma, "full")``.
+        """The registry's ``coated``: a coat over the base of id ``base`` (one of
+        :data:`COAT_BASES`) with albedo ``albedo`` and its own parameter: ``sigma`` for
+        Oren–Nayar (default 0.3), ``base_roughness`` (r, default 0.5) for Fujii and EON,
+        none for Lambert. A base parameter the base does not take must be left ``None``.
 
         >>> Coated.from_params(albedo=0.5, sigma=0.0).base
         OrenNayar(albedo=0.5, sigma=0.0, variant='full')
+        >>> Coated.from_params(albedo=0.5, base="eon", base_roughness=0.2).base
+        EON(albedo=0.5, roughness=0.2)
         """
-        return cls(OrenNayar(albedo, sigma, "full"), eta, roughness, distribution, absorption)
+        declared = {p.name: p for p in cls.params}
+        _check_base_id(base)
+        given = {"sigma": sigma, "base_roughness": base_roughness}
+        base_params: dict[str, Any] = {"albedo": albedo}
+        for name, value in given.items():
+            p = declared[name]
+            if not p.applies({"base": base}):
+                if value is not None:
+                    raise ParameterError(
+                        f"{name} applies only with {p.when_text()} (got {name}={value!r} "
+                        f"with base={base!r})"
+                    )
+                continue
+            base_params[_BASE_PARAMS[name]] = p.check(p.default if value is None else value)
+        model = _model_by_id(base, base_params)
+        return cls(model, eta, roughness, distribution, absorption)
 
     def __post_init__(self) -> None:
         from ..simulate.layered import check_base
@@ -445,6 +513,14 @@ class Coated(Model):
                 f"absorption has {tau_channels} channels, the base {base.channels}: give one "
                 "number or one per channel of the base"
             )
+
+    def _validate(self) -> None:
+        """The coat's own declared parameters (η, α, distribution, τ) checked by name; the
+        field ``base`` holds the base model (:func:`~roughdiffuse.simulate.layered.check_base`),
+        where the declared ``base`` is the registry's choice of id (:meth:`from_params`)."""
+        for p in self.params:
+            if p.name in _COAT_FIELDS:
+                object.__setattr__(self, p.name, p.check(getattr(self, p.name)))
 
     # ------------------------------------------------------------------ parameters
     def _param_values(self) -> list[Any]:
@@ -530,6 +606,30 @@ class Coated(Model):
         if self.channels:
             correction = correction[..., None]
         return total + correction
+
+
+_COAT_FIELDS = ("eta", "roughness", "distribution", "absorption")
+
+
+def _check_base_id(base: object) -> None:
+    """Refuse a ``base`` the registry's ``coated`` does not offer, naming why and the ids it
+    takes (:data:`COAT_BASES`)."""
+    if isinstance(base, str) and base in COAT_BASES:
+        return
+    from . import builtin_classes
+
+    choices = ", ".join(map(repr, COAT_BASES))
+    cls = next((c for c in builtin_classes() if isinstance(base, str) and base in c.ids), None)
+    if cls is None:
+        why = "is not a model id" if isinstance(base, str) else "must be a registry id"
+    elif getattr(cls, "is_coat", False):
+        why = "is a coat: a coat on a coat is not supported"
+    elif not cls.closed_form:
+        why = "is a simulation, which cannot be evaluated at the refracted directions"
+    else:
+        why = ("is not a base the registry's coated offers (in Python, "
+               "Coated(base=..., base_params=...) coats any closed form)")
+    raise ParameterError(f"base {base!r} {why}; choose one of {choices}")
 
 
 def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:

@@ -58,7 +58,8 @@ class Param:
         Exclude ``min`` (η > 0).
     when : mapping or None
         The parameter exists only for these values of categorical parameters, e.g.
-        ``{"distribution": "gaussian"}``; otherwise it must be left unset (``None``).
+        ``{"distribution": "gaussian"}``, or for any of several values, e.g.
+        ``{"base": ("fujii", "eon")}``; otherwise it must be left unset (``None``).
     fit_range : (float, float) or None
         The box a fit searches by default (finite); ``None``: ``[min, max]``. Narrower where
         the accepted range is unbounded (η) or has a degenerate end (σ = 0 is a mirror).
@@ -77,7 +78,7 @@ class Param:
     channels: bool = False
     choices: tuple[str, ...] | None = None
     min_open: bool = False
-    when: Mapping[str, str] | None = field(default=None, hash=False)
+    when: Mapping[str, str | tuple[str, ...]] | None = field(default=None, hash=False)
     example: float | None = None
     fit_range: tuple[float, float] | None = None
 
@@ -114,8 +115,23 @@ class Param:
         return format_interval(self.min, self.max, self.min_open)
 
     def applies(self, values: Mapping[str, Any]) -> bool:
-        """Whether the parameter exists for these categorical values (see ``when``)."""
-        return not self.when or all(values.get(k) == v for k, v in self.when.items())
+        """Whether the parameter exists for these categorical values (see ``when``).
+
+        >>> p = Param("r", "roughness", min=0.0, max=1.0, default=0.5, when={"base": ("a", "b")})
+        >>> p.applies({"base": "b"}), p.applies({"base": "c"})
+        (True, False)
+        """
+        return not self.when or all(
+            values.get(k) in (v if isinstance(v, tuple) else (v,)) for k, v in self.when.items()
+        )
+
+    def when_text(self) -> str:
+        """``base='eon'`` or ``base in {'fujii', 'eon'}``: where the parameter exists, as the
+        error messages say it (empty without ``when``)."""
+        return ", ".join(
+            f"{k} in {{{', '.join(map(repr, v))}}}" if isinstance(v, tuple) else f"{k}={v!r}"
+            for k, v in (self.when or {}).items()
+        )
 
     def range_text(self) -> str:
         """``in [0, π/2] radians``: the range and unit as the error messages say it."""
@@ -162,7 +178,9 @@ class Param:
         """The JSON record of ``roughdiffuse models --json`` and the explorer's ``/api/models``.
 
         Infinite or absent bounds are ``null``; ``choices`` is ``null`` for a numeric
-        parameter, ``min``/``max`` are ``null`` for a categorical one.
+        parameter, ``min``/``max`` are ``null`` for a categorical one; ``when`` maps each
+        categorical parameter the parameter depends on to the list of values it exists for
+        (``null``: always).
         """
         return {
             "name": self.name,
@@ -176,4 +194,7 @@ class Param:
             "channels": self.channels,
             "choices": list(self.choices) if self.choices is not None else None,
             "fit_range": list(self.fit_range) if self.fit_range is not None else None,
+            "when": {
+                k: list(v) if isinstance(v, tuple) else [v] for k, v in self.when.items()
+            } if self.when else None,
         }

@@ -58,6 +58,8 @@ struct RDParams {
   vec3 absorption;   // Coated: optical depth tau of the layer, per channel
   vec3 coat_k;       // Coated: K and a-bar K of these parameters (rd_ct_sums, computed first)
   vec3 coat_ak;
+  int base;             // Coated: the base's model id (RD_LAMBERT, RD_ON_*, RD_FUJII, RD_EON)
+  float base_roughness; // Coated: Fujii's r of a Fujii or EON base
 };
 
 float rd_safe_sqrt(float x) { return x > 0.0 ? sqrt(x) : 0.0; }
@@ -458,7 +460,7 @@ vec3 rd_hapke(float mu_i, float mu_o, float cos_g, vec3 w, float b0, float h, fl
   return w / 4.0 * mu0e / max(mu0e + mue, TINY) * (lobe + rd_hapke_h(mu0e, w) * rd_hapke_h(mue, w)) * s_over_mu0 / RD_PI;
 }
 
-// ---------------------------------------------------------------- Coated (a dielectric coat over Oren-Nayar full)
+// ---------------------------------------------------------------- Coated (a dielectric coat over a diffuse base)
 // coated.py's node rules, their nodes printed here (roughdiffuse.quadrature.gauss_legendre on [0, 1]):
 // 4 nodes in mu'^2 and 2 x 4 in azimuth (split at pi/2) for the base's albedo; 6 in the facet
 // fraction u and 2 x 4 in azimuth for the interface's albedo; 8 on each side of the critical
@@ -535,14 +537,24 @@ float rd_ct_interface(float mu, float eta, float alpha, int dist, bool transmitt
   return total * g_o;
 }
 
+// The base under the coat (coated.COAT_BASES), by its model id: the base's own function of
+// rd_brdf's dispatch, on cosines already clipped to [0, 1] and [-1, 1]
+vec3 rd_ct_base(int base, float mi, float mo, float c, vec3 albedo, float sigma, float r) {
+  if (base == RD_LAMBERT) return albedo / RD_PI;
+  if (base == RD_ON_QUALITATIVE) return albedo / RD_PI * rd_on_qualitative(mi, mo, c, sigma);
+  if (base == RD_FUJII) return albedo / RD_PI * rd_fon_lobe(mi, mo, c, r);
+  if (base == RD_EON) return rd_eon(mi, mo, c, albedo, r);
+  return rd_on_full(mi, mo, c, sigma, albedo);
+}
+
 // coated.base_albedo: the base's directional albedo, 32 nodes (exact for Lambert)
-vec3 rd_ct_base_albedo(float mu, float sigma, vec3 albedo) {
+vec3 rd_ct_base_albedo(float mu, int base, float sigma, float r, vec3 albedo) {
   float sn = rd_safe_sqrt(1.0 - mu * mu);
   vec3 total = vec3(0.0);
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 8; ++j) {
       float c = mu * RD_CT_S_M[i] + sn * (RD_CT_S_SIN[i] * RD_CT_PHI_COS[j]);
-      vec3 f = rd_on_full(clamp(mu, 0.0, 1.0), RD_CT_S_M[i], clamp(c, -1.0, 1.0), sigma, albedo);
+      vec3 f = rd_ct_base(base, clamp(mu, 0.0, 1.0), RD_CT_S_M[i], clamp(c, -1.0, 1.0), albedo, sigma, r);
       total += f * (RD_CT_S_W[i] * RD_CT_PHI_W[j] * 0.5 * RD_PI);
     }
   }
@@ -553,8 +565,8 @@ vec3 rd_ct_base_albedo(float mu, float sigma, vec3 albedo) {
 // and 8 above in sqrt(mu - mu_c). They depend on the parameters only: the page evaluates them
 // once per parameter set (evaluate.frag, a texel with w = 1 or 2) and hands them back in
 // RDParams.coat_k and coat_ak (per fragment they would be nine tenths of the work).
-void rd_ct_sums(vec3 albedo, float sigma, float eta, float alpha, int dist, vec3 tau,
-                out vec3 k, out vec3 ak) {
+void rd_ct_sums(int base, vec3 albedo, float sigma, float base_r, float eta, float alpha, int dist,
+                vec3 tau, out vec3 k, out vec3 ak) {
   float mu_c = rd_safe_sqrt(1.0 - 1.0 / (eta * eta));
   k = vec3(0.0);
   ak = vec3(0.0);
@@ -569,23 +581,24 @@ void rd_ct_sums(vec3 albedo, float sigma, float eta, float alpha, int dist, vec3
       float r = rd_ct_interface(mu, 1.0 / eta, alpha, dist, false);
       vec3 term = (hi - lo) * jac * r * exp(-2.0 * tau / max(mu, 1e-12)) * 2.0 * mu;
       k += term;
-      ak += term * rd_ct_base_albedo(mu, sigma, albedo);
+      ak += term * rd_ct_base_albedo(mu, base, sigma, base_r, albedo);
     }
   }
 }
 
-// coated.Coated._eval over Oren-Nayar full (albedo, sigma), given K and a-bar K (rd_ct_sums)
-vec3 rd_coated(float mi, float mo, float c, vec3 albedo, float sigma, float eta, float alpha,
-               int dist, vec3 tau, vec3 k, vec3 ak) {
+// coated.Coated._eval over the base (rd_ct_base: albedo, sigma or r), given K and a-bar K
+// (rd_ct_sums)
+vec3 rd_coated(float mi, float mo, float c, int base, vec3 albedo, float sigma, float r,
+               float eta, float alpha, int dist, vec3 tau, vec3 k, vec3 ak) {
   float inv_eta2 = 1.0 / (eta * eta);
   float ri = rd_safe_sqrt(1.0 - (1.0 - mi * mi) * inv_eta2);
   float ro = rd_safe_sqrt(1.0 - (1.0 - mo * mo) * inv_eta2);
   float cos_in = clamp(ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0);
   float trans = rd_ct_interface(mi, eta, alpha, dist, true) * rd_ct_interface(mo, eta, alpha, dist, true);
   vec3 att = exp(-tau / max(ri, 1e-12)) * exp(-tau / max(ro, 1e-12));
-  vec3 single = rd_on_full(ri, ro, cos_in, sigma, albedo);
-  vec3 a_i = rd_ct_base_albedo(ri, sigma, albedo);
-  vec3 a_o = rd_ct_base_albedo(ro, sigma, albedo);
+  vec3 single = rd_ct_base(base, ri, ro, cos_in, albedo, sigma, r);
+  vec3 a_i = rd_ct_base_albedo(ri, base, sigma, r, albedo);
+  vec3 a_o = rd_ct_base_albedo(ro, base, sigma, r, albedo);
   vec3 den = 1.0 - ak;
   vec3 ratio = vec3(rd_safe_div(k.r, den.r, 0.0), rd_safe_div(k.g, den.g, 0.0), rd_safe_div(k.b, den.b, 0.0));
   vec3 multi = a_i * a_o * ratio / RD_PI;
@@ -621,8 +634,8 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar, p.hg2);
   if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
   if (p.model == RD_COATED)
-    return rd_coated(mi, mo, c, p.albedo, p.sigma, p.eta, p.roughness, p.distribution, p.absorption,
-                     p.coat_k, p.coat_ak);
+    return rd_coated(mi, mo, c, p.base, p.albedo, p.sigma, p.base_roughness, p.eta, p.roughness,
+                     p.distribution, p.absorption, p.coat_k, p.coat_ak);
   if (p.model == RD_CYCLES_DIFFUSE) return rd_cycles_diffuse(mi, mo, c, p.albedo, p.roughness);
   if (p.model == RD_MATERIALX_EON) return rd_materialx_eon(mi, mo, c, p.albedo, p.roughness);
   return vec3(0.0);

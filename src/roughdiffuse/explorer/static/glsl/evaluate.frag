@@ -9,7 +9,8 @@ void main() {
   vec4 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0);
   if (g.w > 0.5) {  // Coated's parameter-only sums: w = 1 gives K, w = 2 gives a-bar K
     vec3 k, ak;
-    rd_ct_sums(u_p.albedo, u_p.sigma, u_p.eta, u_p.roughness, u_p.distribution, u_p.absorption, k, ak);
+    rd_ct_sums(u_p.base, u_p.albedo, u_p.sigma, u_p.base_roughness, u_p.eta, u_p.roughness,
+               u_p.distribution, u_p.absorption, k, ak);
     o_color = vec4(g.w > 1.5 ? ak : k, 1.0);
     return;
   }

@@ -62,6 +62,8 @@ function setParams(gl, prog, name, g) {
   gl.uniform3fv(loc("absorption"), g.absorption);
   gl.uniform3fv(loc("coat_k"), g.coat_k ?? ZERO3);
   gl.uniform3fv(loc("coat_ak"), g.coat_ak ?? ZERO3);
+  gl.uniform1i(loc("base"), g.base ?? 2);
+  gl.uniform1f(loc("base_roughness"), g.base_roughness ?? 0);
 }
 
 /**

@@ -4,7 +4,7 @@
 import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
-import { BY_KEY, LEFT_OUT, MODELS, PARAMS, baseState, defaultState, gpuParams, loadModels } from "./models.js";
+import { BY_KEY, LEFT_OUT, MODELS, PARAMS, applies, baseState, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 import { canvasBlob, download, toCsv } from "./export.js";
 import { svgCanvas } from "./svgcanvas.js";
@@ -156,9 +156,9 @@ function aliasText(m) {
 /** Show the controls of the parameters the slot's model declares, hide the others. */
 function showUsed(slot) {
   const c = panels[slot];
-  const uses = BY_KEY[state[slot].model].uses;
-  const p = `${slot}-`;
   const m = BY_KEY[state[slot].model];
+  const uses = m.uses.filter((k) => applies(m.params[k], state[slot]));  // Coated: its base's
+  const p = `${slot}-`;
   $(`${p}alias-note`).hidden = !m.alias;
   $(`${p}alias-note`).textContent = m.alias ? aliasText(m) : "";
   for (const k of [...Object.keys(c.sliders), ...Object.keys(c.selects)]) $(`${p}${k}-row`).hidden = !uses.includes(k);
@@ -439,6 +439,7 @@ function queryFor(slot) {
   const q = new URLSearchParams({
     model: s.model, albedo: s.albedo.join(","), sigma: String(s.sigmaDeg * DEG), roughness: String(s.roughness),
     eta: String(s.eta), weight: String(s.weight), limb: String(s.limb), alpha: String(s.alpha), distribution: s.distribution,
+    base: s.base, base_roughness: String(s.base_roughness),
     light_theta: String(state.light.theta), light_phi: String(state.light.phi), exposure: String(state.exposure),
   });
   for (const k of BY_KEY[s.model].uses) {  // a model's own numbers (an alias's sigma_deg, ...)

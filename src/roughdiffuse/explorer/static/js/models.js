@@ -159,7 +159,16 @@ export function gpuParams(s) {
     // Coated: the layer's optical depth, one number or one per channel
     absorption: Float32Array.from(Array.isArray(s.absorption) || ArrayBuffer.isView(s.absorption)
       ? s.absorption : [s.absorption ?? 0, s.absorption ?? 0, s.absorption ?? 0]),
+    // Coated: its base (a registry id of coated.COAT_BASES) as that model's GLSL number
+    base: BY_KEY[s.base ?? PARAMS.base?.default]?.id ?? 2,
+    base_roughness: s.base_roughness ?? PARAMS.base_roughness?.default ?? 0.5,
   };
+}
+
+/** Whether parameter `p` of a model applies with the slot state `s`: its declaration's
+ * `when` (e.g. Coated's sigma only over an Oren–Nayar base) holds for the state's menus. */
+export function applies(p, s) {
+  return !p?.when || Object.entries(p.when).every(([k, vs]) => vs.includes(s[flatKey(k)]));
 }
 
 /** An alias's state (UI state or a record with radians) as its base model's record: the
