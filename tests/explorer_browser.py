@@ -68,7 +68,7 @@ class PageWithLog:
         page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
 
 
-def open_page(browser: object, url: str, width: int = 1700, height: int = 1000) -> PageWithLog:
+def open_page(browser: object, url: str, width: int = 1280, height: int = 720) -> PageWithLog:
     """A new page on the explorer, waited on until it says it is ready."""
     page = browser.new_page(viewport={"width": width, "height": height})
     log = PageWithLog(page)
