@@ -144,14 +144,9 @@ def rgb_cases(models: list[rd.Model], rgb: list[rd.Model]) -> list:
     """pytest parameters for grey ``models`` and their three-channel twins ``rgb``: every grey
     case, and the three-channel case of the first test point of each class in
     CHANNEL_CLASSES; the other three-channel cases are marked slow."""
-    out = [pytest.param(m, id=repr(m)) for m in models]
-    seen: set[str] = set()
-    for m in rgb:
-        name = type(m).__name__
-        fast = name in CHANNEL_CLASSES and name not in seen
-        seen.add(name)
-        out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
-    return out
+    return [pytest.param(m, id=repr(m)) for m in models] + representative_cases(
+        rgb, CHANNEL_CLASSES
+    )
 
 
 def representative_cases(models: list[rd.Model], classes: frozenset[str]) -> list:
