@@ -48,6 +48,20 @@ def uniform(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Nu
 
 
 @numba.njit(inline="always", cache=True)
+def _disc_point(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Numba
+    """A point (x, y) uniform in the unit disc but its centre, from pairs of draws of the path
+    ``key`` from ``counter`` on (uniform in the square, rejected outside; 4/π pairs on
+    average): (x, y, s = x² + y², the next unused draw)."""
+    while True:
+        x = 2.0 * uniform(key, counter) - 1.0
+        y = 2.0 * uniform(key, counter + 1) - 1.0
+        counter += 2
+        s = x * x + y * y
+        if 0.0 < s < 1.0:
+            return x, y, s, counter
+
+
+@numba.njit(inline="always", cache=True)
 def circle_point(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled by Numba
     """The cosine and sine of a uniform angle from draws ``counter``, ``counter + 1``, ... of
     the path ``key``, without trigonometric functions: (cos, sin, the next unused draw).
@@ -57,13 +71,8 @@ def circle_point(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled 
     cos 2θ = (x² − y²)/s, sin 2θ = 2xy/s, s = x² + y² (J. von Neumann 1951, "Various
     techniques used in connection with random digits", NBS Appl. Math. Series 12).
     """
-    while True:
-        x = 2.0 * uniform(key, counter) - 1.0
-        y = 2.0 * uniform(key, counter + 1) - 1.0
-        counter += 2
-        s = x * x + y * y
-        if 0.0 < s < 1.0:
-            return (x * x - y * y) / s, 2.0 * x * y / s, counter
+    x, y, s, counter = _disc_point(key, counter)
+    return (x * x - y * y) / s, 2.0 * x * y / s, counter
 
 
 @numba.njit(inline="always", cache=True)
@@ -73,11 +82,6 @@ def normal_pair(key: Any, counter: Any) -> Any:  # pragma: no cover - compiled b
     generating normal variables", SIAM Review 6(3)): (x, y) uniform in the unit disc,
     s = x² + y², (x, y) √(−ln s / s) (one logarithm, no trigonometric function).
     Returns (g1, g2, the next unused draw)."""
-    while True:
-        x = 2.0 * uniform(key, counter) - 1.0
-        y = 2.0 * uniform(key, counter + 1) - 1.0
-        counter += 2
-        s = x * x + y * y
-        if 0.0 < s < 1.0:
-            f = math.sqrt(-math.log(s) / s)
-            return x * f, y * f, counter
+    x, y, s, counter = _disc_point(key, counter)
+    f = math.sqrt(-math.log(s) / s)
+    return x * f, y * f, counter
