@@ -53,6 +53,16 @@ def _tree(x: Any) -> Tree:
     raise NotRecordable(f"to_base combined a parameter with {type(x).__name__} {x!r}")
 
 
+def _binop(op: str, swap: bool = False) -> Callable[[Symbol, Any], Symbol]:
+    """The method recording ``self op other`` (``other op self`` with ``swap``), as
+    :mod:`roughdiffuse.engine.trace` declares its operators."""
+
+    def method(self: Symbol, other: Any) -> Symbol:
+        return self._op(op, other, swap)
+
+    return method
+
+
 class Symbol:
     """A parameter (or an expression of parameters) whose arithmetic is recorded."""
 
@@ -68,35 +78,11 @@ class Symbol:
         a, b = (_tree(other), self.tree) if swap else (self.tree, _tree(other))
         return Symbol([op, a, b])
 
-    def __add__(self, o: Any) -> Symbol:
-        return self._op("+", o)
-
-    def __radd__(self, o: Any) -> Symbol:
-        return self._op("+", o, True)
-
-    def __sub__(self, o: Any) -> Symbol:
-        return self._op("-", o)
-
-    def __rsub__(self, o: Any) -> Symbol:
-        return self._op("-", o, True)
-
-    def __mul__(self, o: Any) -> Symbol:
-        return self._op("*", o)
-
-    def __rmul__(self, o: Any) -> Symbol:
-        return self._op("*", o, True)
-
-    def __truediv__(self, o: Any) -> Symbol:
-        return self._op("/", o)
-
-    def __rtruediv__(self, o: Any) -> Symbol:
-        return self._op("/", o, True)
-
-    def __pow__(self, o: Any) -> Symbol:
-        return self._op("**", o)
-
-    def __rpow__(self, o: Any) -> Symbol:
-        return self._op("**", o, True)
+    __add__, __radd__ = _binop("+"), _binop("+", swap=True)
+    __sub__, __rsub__ = _binop("-"), _binop("-", swap=True)
+    __mul__, __rmul__ = _binop("*"), _binop("*", swap=True)
+    __truediv__, __rtruediv__ = _binop("/"), _binop("/", swap=True)
+    __pow__, __rpow__ = _binop("**"), _binop("**", swap=True)
 
     def __neg__(self) -> Symbol:
         return Symbol(["neg", self.tree])
