@@ -102,6 +102,41 @@ def test_connections_beyond_the_thread_bound_get_503():
         srv.server_close()
 
 
+def test_ctrl_c_while_a_handler_thread_starts_stops_the_server(monkeypatch):
+    """CI's hang, replayed deterministically: a Ctrl-C lands in ``process_request`` after its
+    handler thread has already run and released the slot. The interrupt must reach
+    ``serve_forever``'s caller, not turn into "semaphore released too many times" (an
+    ordinary exception that socketserver prints and then serves on), and the slot count must
+    be whole again."""
+    import socketserver
+    import threading
+
+    def start_then_interrupt(self, request, client_address):
+        t = threading.Thread(target=self.process_request_thread, args=(request, client_address))
+        t.start()
+        t.join()  # the handler has finished and released its slot
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(socketserver.ThreadingMixIn, "process_request", start_then_interrupt)
+
+    class Small(ExplorerServer):
+        max_threads = 2
+
+    srv = Small(("127.0.0.1", 0))
+    client = socket.create_connection(srv.server_address[:2], timeout=10)
+    client.sendall(b"GET / HTTP/1.0\r\nHost: %s:%d\r\n\r\n" % (b"127.0.0.1", srv.bound_port))
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            srv.handle_request()
+        assert client.recv(12) == b"HTTP/1.0 200"
+        # both slots are free again, and neither is freed twice
+        assert srv._slots.acquire(blocking=False) and srv._slots.acquire(blocking=False)
+        assert not srv._slots.acquire(blocking=False)
+    finally:
+        client.close()
+        srv.server_close()
+
+
 def test_a_client_that_goes_away_is_one_quiet_line(server, capsys):
     try:
         raise BrokenPipeError(32, "Broken pipe")

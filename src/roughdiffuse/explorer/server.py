@@ -445,6 +445,8 @@ class ExplorerServer(ThreadingHTTPServer):
     def __init__(self, address: tuple[str, int], handler: type = ExplorerHandler) -> None:
         super().__init__(address, handler)
         self._slots = threading.BoundedSemaphore(self.max_threads)
+        self._claims_lock = threading.Lock()
+        self._unclaimed: set[Any] = set()
         self.bound_host = str(self.server_address[0]).lower()
         self.bound_port = int(self.server_address[1])
 
@@ -473,17 +475,35 @@ class ExplorerServer(ThreadingHTTPServer):
                 pass
             self.shutdown_request(request)
             return
+        with self._claims_lock:
+            self._unclaimed.add(request)
         try:
             super().process_request(request, client_address)
         except BaseException:
-            self._slots.release()
+            # The handler thread may already have started, finished and released the slot
+            # (a Ctrl-C can land while ``Thread.start`` waits); whoever claims the request
+            # first releases its slot, so it is released once and the interrupt is not
+            # replaced by a "released too many times" error that serve_forever would swallow.
+            if self._claim(request):
+                self._slots.release()
             raise
 
     def process_request_thread(self, request: Any, client_address: Any) -> None:
+        owns_slot = self._claim(request)
         try:
             super().process_request_thread(request, client_address)
         finally:
-            self._slots.release()
+            if owns_slot:
+                self._slots.release()
+
+    def _claim(self, request: Any) -> bool:
+        """Take the release of ``request``'s slot: True for the first caller only."""
+        with self._claims_lock:
+            try:
+                self._unclaimed.remove(request)
+            except KeyError:
+                return False
+            return True
 
     def handle_error(self, request: Any, client_address: Any) -> None:
         """A client that went away (or stalled) is one line on stderr; anything else is a
