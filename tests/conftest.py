@@ -63,8 +63,21 @@ FILE_SECONDS = {
 }
 
 
+def long_tests() -> frozenset[str]:
+    """The node ids listed in ``tests/long_tests.txt`` (``tests/long_tests.py`` writes it from
+    a warm run): the tests that take 4 s or more, which ``make test`` leaves to the full set."""
+    lines = Path(__file__).with_name("long_tests.txt").read_text().splitlines()
+    return frozenset(line.split(None, 1)[1] for line in lines if line and not line.startswith("#"))
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m selects by mark
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Heaviest files first (FILE_SECONDS); the order within a file is kept."""
+    """Mark the long tests slow (:func:`long_tests`); hand out the heaviest files first
+    (FILE_SECONDS), keeping the order within a file."""
+    listed = long_tests()
+    for item in items:
+        if item.nodeid in listed:
+            item.add_marker(pytest.mark.slow)
     items.sort(key=lambda item: -FILE_SECONDS.get(item.path.name, 0))
 
 
