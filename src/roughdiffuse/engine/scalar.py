@@ -22,7 +22,9 @@ prints them as two functions:
 
 ``p`` is a tuple of float64 values, the parameters met while tracing (:func:`scalar_sources`
 returns them): a new albedo or roughness needs no new code. The code is float64, without
-``fastmath``. A model or strategy the trace cannot express raises :class:`.trace.TraceError`.
+``fastmath``; each function asks LLVM to inline it into its compiled caller
+(:func:`.numba_math.inline_in_callers`), so that a walk's compiled loop interleaves the
+base's independent computations (its f at one cosine while its sampler runs). A model or strategy the trace cannot express raises :class:`.trace.TraceError`.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ PRELUDE = "\n".join([
     "import numba",
     "import numpy as np",
     "",
-    "from roughdiffuse.engine.numba_math import exp2i, exp2i_f64",
+    "from roughdiffuse.engine.numba_math import exp2i, exp2i_f64, inline_in_callers",
     "",
 ])
 """The imports the printed functions need (a module that ``exec``\\ s them starts with it)."""
@@ -61,7 +63,7 @@ class ScalarBase(NamedTuple):
 
 
 def _unpack(graph: Graph) -> list[str]:
-    return [f"    p{k} = p[{k}]" for k in range(len(graph.params))]
+    return ["    inline_in_callers()", *(f"    p{k} = p[{k}]" for k in range(len(graph.params)))]
 
 
 def _params(graph: Graph) -> tuple[float, ...]:
