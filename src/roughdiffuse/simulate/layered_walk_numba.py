@@ -124,8 +124,9 @@ def _reflect_inside(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - 
     mz = -mz
     d = wx * mx + wy * my + wz * mz  # < 0: the facet faces the ray
     rx, ry, rz = wx - 2.0 * d * mx, wy - 2.0 * d * my, wz - 2.0 * d * mz
-    weight = _fresnel(min(max(-d, 0.0), 1.0), 1.0 / eta) * _g1(ggx, rz, alpha)
-    weight = weight if rz < 0.0 else 0.0
+    weight = 0.0  # reflected up again: lost
+    if rz < 0.0:
+        weight = _fresnel(min(max(-d, 0.0), 1.0), 1.0 / eta) * _g1(ggx, rz, alpha)
     return rx, ry, min(rz, -1e-12), weight, c
 
 
