@@ -205,11 +205,21 @@ def test_package_data_lists_every_static_file():
             assert any(fnmatch.fnmatch(rel, p) for p in patterns), rel
 
 
+# The command as a terminal runs it: SIGINT at its default. A process started in the
+# background by a shell inherits SIGINT ignored, and Python then installs no KeyboardInterrupt
+# handler, so when pytest itself runs in the background (``make test &``) Ctrl-C could not
+# reach the server; the child restores the default before it runs ``python -m roughdiffuse``.
+_AS_FROM_A_TERMINAL = (
+    "import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+    "sys.argv[0] = 'roughdiffuse'; runpy.run_module('roughdiffuse', run_name='__main__')"
+)
+
+
 def _start_cli(*args: str) -> tuple[subprocess.Popen, str]:
     proc = subprocess.Popen(
         # -X faulthandler: a SIGABRT prints every thread's stack (see _stop_with_ctrl_c)
-        [sys.executable, "-X", "faulthandler", "-m", "roughdiffuse", "explore", "--no-browser",
-         *args],
+        [sys.executable, "-X", "faulthandler", "-c", _AS_FROM_A_TERMINAL, "explore",
+         "--no-browser", *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

@@ -269,11 +269,27 @@ EQUATION_NUMBER = re.compile(
 )
 """An equation number a formula cites ("Eq. 27", "Eq. 9.40, 12.55", "Eq. 28 and 37")."""
 
-CHECKED_EQUATION_NUMBERS: dict[str, str] = {}
+CHECKED_EQUATION_NUMBERS: dict[str, str] = {
+    "hapke-legendre": (
+        "the book's text was not at hand; two independent programs that transcribe the 2nd "
+        "edition (2012) give this number to the whole rough-surface reflectance (porosity K, "
+        "effective cosines, shadow-hiding term, H functions, shadowing S): Marc W. Buie's IDL "
+        "routine `bidr4.pro` (\"combined model, eqn. 12.55, p. 323\") and the IDL routine "
+        "`HAPKE_CS` (\"computes Equation 12.55 in the Hapke (2012) Book\")."
+    ),
+    "lambert-sphere": (
+        "the paper's text was not at hand; the paper's author cites the same numbers in his "
+        "own implementation (eugenedeon/mitsuba, `src/bsdfs/lambert_sphere.cpp`): `c_from_kd` "
+        "\"[d'Eon 2021, Eq.(46)]\", `H0` \"Eq.(37)\" and `H1` \"Eq.(28)\"."
+    ),
+}
 """Model id -> how the equation numbers its formula cites were checked against the paper's
-own numbering (the text the page then shows). A model not here gets the note that its numbers
-are not checked: they are carried over from the sources the implementation was written from,
-and no copy of the paper was at hand to compare them with."""
+own numbering (the text the page then shows). A model is listed only when every number its
+formula cites was found in the paper's text, in two independent sources that quote the paper,
+or in the paper's author's own implementation;
+a model not here gets the note that its numbers are not checked: they are carried over from the
+sources the implementation was written from, and no copy of the paper was at hand to compare
+them with."""
 
 
 def equation_note(entry: Any) -> str:

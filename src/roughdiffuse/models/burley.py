@@ -14,7 +14,8 @@ cos² θd = (1 + wi·wo)/2 (:func:`roughdiffuse.frames.half_vector_cosines`).
   1 − r (1 − 1/1.51), so that the albedo stays at or below 1.
 
 * Burley, "Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering",
-  SIGGRAPH 2015 course notes, Sec. 5.3, Eq. (4)–(5), the diffuse of Mitsuba 3's ``principled``::
+  SIGGRAPH 2015 course notes, Eq. (4) (its Eq. (5) is the diffusion profile of the subsurface
+  part), the diffuse of Mitsuba 3's ``principled``::
 
       f = ρ/π [(1 − F_L/2)(1 − F_V/2) + R_R (F_L + F_V + F_L F_V (R_R − 1))],
       F = (1 − μ)⁵,  R_R = 2 r cos² θd.
@@ -219,7 +220,7 @@ class Burley2015(Model):
     """Burley's 2015 diffuse: a Lambertian part and a separate retro-reflection lobe.
 
     Burley, "Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering",
-    SIGGRAPH 2015 course notes, Eq. (4)–(5); the diffuse of Mitsuba 3's ``principled``
+    SIGGRAPH 2015 course notes, Eq. (4); the diffuse of Mitsuba 3's ``principled``
     (``src/bsdfs/principled.cpp``, without sheen and flatness).
 
     Parameters
@@ -256,7 +257,7 @@ class Burley2015(Model):
     labels: ClassVar[dict[str, str]] = {"burley-2015": "Burley 2015 (diffuse + retro-reflection)"}
     reference: ClassVar[str] = (
         "B. Burley, Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering, "
-        "SIGGRAPH 2015 course notes, Eq. 4-5"
+        "SIGGRAPH 2015 course notes, Eq. 4"
     )
     glsl: ClassVar[dict[str, int]] = {"burley-2015": 11}
     order: ClassVar[int] = 100
@@ -273,13 +274,13 @@ class Burley2015(Model):
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
         f_r = \frac{\rho}{\pi}\Bigl[\bigl(1-\tfrac{F_L}{2}\bigr)\bigl(1-\tfrac{F_V}{2}\bigr)
-        + R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr], \tag{Eq. 4–5}
+        + R_R\bigl(F_L + F_V + F_L F_V (R_R-1)\bigr)\Bigr], \tag{Eq. 4}
         ```
         ```{math}
         F_L = (1-\mu_i)^5,\ F_V = (1-\mu_o)^5,\ R_R = 2r\cos^2\theta_d
         ```
 
-        Burley (SIGGRAPH 2015 course notes, Sec. 5.3), the diffuse of Mitsuba 3's
+        Burley (SIGGRAPH 2015 course notes), the diffuse of Mitsuba 3's
         ``principled`` without sheen and flatness; {math}`\cos^2\theta_d =
         (1+\omega_i\cdot\omega_o)/2`. Expanded, it is Burley 2012 with {math}`F_{D90} =
         \tfrac12 + R_R`.

@@ -17,26 +17,43 @@ const float RD_K2 = 2.0 / 3.0 - 28.0 / (15.0 * RD_PI);    // fujii.K2
 const float RD_MX_EPS = 1e-8;                             // renderers.MX_EPS
 
 // model ids: the numbers each model class declares in its `glsl` attribute (roughdiffuse/models/)
-const int RD_LAMBERT = 0;
-const int RD_ON_QUALITATIVE = 1;
-const int RD_ON_FULL = 2;
-const int RD_FUJII = 3;
-const int RD_EON = 4;
-const int RD_TORRANCE_SPARROW = 5;
-const int RD_MIX = 6;              // (1 - weight) Oren-Nayar full + weight Torrance-Sparrow
-const int RD_LOMMEL_SEELIGER = 7;
-const int RD_LUNAR_LAMBERT = 8;
-const int RD_BURLEY = 9;
-const int RD_FROSTBITE = 10;
-const int RD_BURLEY_2015 = 11;
-const int RD_HAMMON = 12;
-const int RD_CHAN = 13;
-const int RD_LAMBERT_SPHERE = 14;
-const int RD_HAPKE = 15;
-const int RD_MINNAERT = 16;
-const int RD_COATED = 17;
-const int RD_CYCLES_DIFFUSE = 20;   // renderers.CyclesDiffuse (Diffuse BSDF, Principled)
-const int RD_MATERIALX_EON = 21;    // renderers.MaterialXEON
+// (macros, so that the dispatch below can leave models out at compile time)
+#define RD_LAMBERT 0
+#define RD_ON_QUALITATIVE 1
+#define RD_ON_FULL 2
+#define RD_FUJII 3
+#define RD_EON 4
+#define RD_TORRANCE_SPARROW 5
+#define RD_MIX 6              // (1 - weight) Oren-Nayar full + weight Torrance-Sparrow
+#define RD_LOMMEL_SEELIGER 7
+#define RD_LUNAR_LAMBERT 8
+#define RD_BURLEY 9
+#define RD_FROSTBITE 10
+#define RD_BURLEY_2015 11
+#define RD_HAMMON 12
+#define RD_CHAN 13
+#define RD_LAMBERT_SPHERE 14
+#define RD_HAPKE 15
+#define RD_MINNAERT 16
+#define RD_COATED 17
+#define RD_CYCLES_DIFFUSE 20   // renderers.CyclesDiffuse (Diffuse BSDF, Principled)
+#define RD_MATERIALX_EON 21    // renderers.MaterialXEON
+
+// The models this program holds. The page compiles one program per model (evaluate.frag) or
+// per pair (sphere.frag) and defines RD_MODEL_A and RD_MODEL_B before this file (gl.js):
+// rd_brdf then holds those models' code alone. A software renderer (SwiftShader) takes
+// seconds to compile the dispatch over every model, and a fraction of that for one or two.
+// Without RD_MODEL_A every model is compiled in.
+#ifdef RD_MODEL_A
+#define RD_EVERY_MODEL 0
+#else
+#define RD_EVERY_MODEL 1
+#define RD_MODEL_A (-1)
+#endif
+#ifndef RD_MODEL_B
+#define RD_MODEL_B RD_MODEL_A
+#endif
+#define RD_HAS(id) (RD_EVERY_MODEL == 1 || RD_MODEL_A == (id) || RD_MODEL_B == (id))
 
 struct RDParams {
   int model;
@@ -613,30 +630,70 @@ vec3 rd_brdf(RDParams p, float mu_i, float mu_o, float cos_io) {
   float mi = clamp(mu_i, 0.0, 1.0);
   float mo = clamp(mu_o, 0.0, 1.0);
   float c = clamp(cos_io, -1.0, 1.0);
+#if RD_HAS(RD_LAMBERT)
   if (p.model == RD_LAMBERT) return p.albedo / RD_PI;
+#endif
+#if RD_HAS(RD_ON_QUALITATIVE)
   if (p.model == RD_ON_QUALITATIVE) return p.albedo / RD_PI * rd_on_qualitative(mi, mo, c, p.sigma);
+#endif
+#if RD_HAS(RD_ON_FULL)
   if (p.model == RD_ON_FULL) return rd_on_full(mi, mo, c, p.sigma, p.albedo);
+#endif
+#if RD_HAS(RD_FUJII)
   if (p.model == RD_FUJII) return p.albedo / RD_PI * rd_fon_lobe(mi, mo, c, p.roughness);
+#endif
+#if RD_HAS(RD_EON)
   if (p.model == RD_EON) return rd_eon(mi, mo, c, p.albedo, p.roughness);
+#endif
+#if RD_HAS(RD_TORRANCE_SPARROW)
   if (p.model == RD_TORRANCE_SPARROW)
     return vec3(rd_torrance_sparrow(mi, mo, c, p.eta, p.sigma, p.distribution));
+#endif
+#if RD_HAS(RD_MIX)
   if (p.model == RD_MIX)
     return (1.0 - p.weight) * rd_on_full(mi, mo, c, p.sigma, p.albedo)
          + p.weight * rd_torrance_sparrow(mi, mo, c, p.eta, p.sigma, p.distribution);
+#endif
+#if RD_HAS(RD_LOMMEL_SEELIGER)
   if (p.model == RD_LOMMEL_SEELIGER) return rd_lommel_seeliger(mi, mo, p.albedo);
+#endif
+#if RD_HAS(RD_LUNAR_LAMBERT)
   if (p.model == RD_LUNAR_LAMBERT) return rd_lunar_lambert(mi, mo, p.albedo, p.limb);
+#endif
+#if RD_HAS(RD_BURLEY)
   if (p.model == RD_BURLEY) return rd_burley(mi, mo, c, p.albedo, p.roughness);
+#endif
+#if RD_HAS(RD_FROSTBITE)
   if (p.model == RD_FROSTBITE) return rd_frostbite(mi, mo, c, p.albedo, p.roughness);
+#endif
+#if RD_HAS(RD_BURLEY_2015)
   if (p.model == RD_BURLEY_2015) return rd_burley_2015(mi, mo, c, p.albedo, p.roughness);
+#endif
+#if RD_HAS(RD_HAMMON)
   if (p.model == RD_HAMMON) return rd_hammon(mi, mo, c, p.albedo, p.alpha);
+#endif
+#if RD_HAS(RD_CHAN)
   if (p.model == RD_CHAN) return rd_chan(mi, mo, c, p.albedo, p.alpha);
+#endif
+#if RD_HAS(RD_LAMBERT_SPHERE)
   if (p.model == RD_LAMBERT_SPHERE) return rd_lambert_sphere(mi, mo, c, p.albedo, p.variant);
+#endif
+#if RD_HAS(RD_HAPKE)
   if (p.model == RD_HAPKE) return rd_hapke(mi, mo, c, p.albedo, p.b0, p.h, p.g, p.theta_bar, p.hg2);
+#endif
+#if RD_HAS(RD_MINNAERT)
   if (p.model == RD_MINNAERT) return rd_minnaert(mi, mo, p.albedo, p.k);
+#endif
+#if RD_HAS(RD_COATED)
   if (p.model == RD_COATED)
     return rd_coated(mi, mo, c, p.base, p.albedo, p.sigma, p.base_roughness, p.eta, p.roughness,
                      p.distribution, p.absorption, p.coat_k, p.coat_ak);
+#endif
+#if RD_HAS(RD_CYCLES_DIFFUSE)
   if (p.model == RD_CYCLES_DIFFUSE) return rd_cycles_diffuse(mi, mo, c, p.albedo, p.roughness);
+#endif
+#if RD_HAS(RD_MATERIALX_EON)
   if (p.model == RD_MATERIALX_EON) return rd_materialx_eon(mi, mo, c, p.albedo, p.roughness);
+#endif
   return vec3(0.0);
 }

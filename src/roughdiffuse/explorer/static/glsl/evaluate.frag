@@ -7,6 +7,7 @@ out vec4 o_color;
 
 void main() {
   vec4 g = texelFetch(u_geometry, ivec2(gl_FragCoord.xy), 0);
+#if RD_HAS(RD_COATED)
   if (g.w > 0.5) {  // Coated's parameter-only sums: w = 1 gives K, w = 2 gives a-bar K
     vec3 k, ak;
     rd_ct_sums(u_p.base, u_p.albedo, u_p.sigma, u_p.base_roughness, u_p.eta, u_p.roughness,
@@ -14,5 +15,6 @@ void main() {
     o_color = vec4(g.w > 1.5 ? ak : k, 1.0);
     return;
   }
+#endif
   o_color = vec4(rd_brdf(u_p, g.x, g.y, g.z), 1.0);
 }

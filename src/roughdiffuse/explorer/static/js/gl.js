@@ -26,16 +26,40 @@ function compile(gl, type, source, label) {
   return sh;
 }
 
-function program(gl, src, fragName) {
+/**
+ * The program of `fragName` over brdf.glsl holding the models numbered `models` alone (their
+ * GLSL ids: RD_MODEL_A and RD_MODEL_B, see brdf.glsl). A software renderer compiles a program
+ * for one or two models in a fraction of the time it takes for all of them.
+ */
+function program(gl, src, fragName, models) {
   const p = gl.createProgram();
   gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, HEADER + src["fullscreen.vert"], "fullscreen.vert"));
-  const frag = HEADER + src["brdf.glsl"] + "\n" + src[fragName];
+  const [a, b = a] = models;
+  const select = `#define RD_MODEL_A ${a}\n#define RD_MODEL_B ${b}\n`;
+  const frag = HEADER + select + src["brdf.glsl"] + "\n" + src[fragName];
   gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, frag, fragName));
   gl.linkProgram(p);
   if (!gl.getProgramParameter(p, gl.LINK_STATUS)) {
     throw new Error(`GLSL link ${fragName}: ${gl.getProgramInfoLog(p)}`);
   }
   return p;
+}
+
+/** Programs of one fragment shader, compiled on first use for each set of models and kept. */
+class Programs {
+  constructor(gl, src, fragName) {
+    Object.assign(this, { gl, src, fragName, byKey: new Map() });
+  }
+
+  for(...models) {
+    const key = models.join(",");
+    let p = this.byKey.get(key);
+    if (!p) {
+      p = program(this.gl, this.src, this.fragName, models);
+      this.byKey.set(key, p);
+    }
+    return p;
+  }
 }
 
 const ZERO3 = new Float32Array(3);
@@ -81,7 +105,7 @@ export class Evaluator {
       throw new Error("WebGL2 float render targets (EXT_color_buffer_float) are not available");
     }
     this.gl = gl;
-    this.prog = program(gl, src, "evaluate.frag");
+    this.programs = new Programs(gl, src, "evaluate.frag");
     this.width = 256;
   }
 
@@ -133,11 +157,12 @@ export class Evaluator {
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
     gl.viewport(0, 0, w, h);
-    gl.useProgram(this.prog);
+    const prog = this.programs.for(params.model);
+    gl.useProgram(prog);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, tex);
-    gl.uniform1i(gl.getUniformLocation(this.prog, "u_geometry"), 0);
-    setParams(gl, this.prog, "u_p", params);
+    gl.uniform1i(gl.getUniformLocation(prog, "u_geometry"), 0);
+    setParams(gl, prog, "u_p", params);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     const out = new Float32Array(w * h * 4);
     gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
@@ -156,7 +181,7 @@ export class SphereView {
     if (!gl) throw new Error("WebGL2 is not available in this browser");
     this.canvas = canvas;
     this.gl = gl;
-    this.prog = program(gl, src, "sphere.frag");
+    this.programs = new Programs(gl, src, "sphere.frag");
   }
 
   /** mode: 0 A only, 1 A | B, 2 A - B; light: unit vector; exposure: multiplier. */
@@ -164,13 +189,14 @@ export class SphereView {
     const gl = this.gl;
     const c = this.canvas;
     gl.viewport(0, 0, c.width, c.height);
-    gl.useProgram(this.prog);
-    setParams(gl, this.prog, "u_a", a);
-    setParams(gl, this.prog, "u_b", b);
-    gl.uniform1i(gl.getUniformLocation(this.prog, "u_mode"), mode);
-    gl.uniform3fv(gl.getUniformLocation(this.prog, "u_light"), light);
-    gl.uniform1f(gl.getUniformLocation(this.prog, "u_exposure"), exposure);
-    gl.uniform2f(gl.getUniformLocation(this.prog, "u_size"), c.width, c.height);
+    const prog = this.programs.for(a.model, b.model);
+    gl.useProgram(prog);
+    setParams(gl, prog, "u_a", a);
+    setParams(gl, prog, "u_b", b);
+    gl.uniform1i(gl.getUniformLocation(prog, "u_mode"), mode);
+    gl.uniform3fv(gl.getUniformLocation(prog, "u_light"), light);
+    gl.uniform1f(gl.getUniformLocation(prog, "u_exposure"), exposure);
+    gl.uniform2f(gl.getUniformLocation(prog, "u_size"), c.width, c.height);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
 }
