@@ -24,7 +24,8 @@ prints them as two functions:
 returns them): a new albedo or roughness needs no new code. The code is float64, without
 ``fastmath``; each function asks LLVM to inline it into its compiled caller
 (:func:`.numba_math.inline_in_callers`), so that a walk's compiled loop interleaves the
-base's independent computations (its f at one cosine while its sampler runs). A model or strategy the trace cannot express raises :class:`.trace.TraceError`.
+base's independent computations (its f at one cosine while its sampler runs). A model or
+strategy the trace cannot express raises :class:`.trace.TraceError`.
 """
 
 from __future__ import annotations
