@@ -5,7 +5,7 @@ Carlo walk that meets the model once per path vertex needs the same code as a *f
 can call from its own compiled loop. :func:`scalar_sources` traces (:mod:`.trace`) the model's
 ``brdf_cosines`` (each colour channel, as :mod:`.fastpath` does) and its sampling strategy's
 ``sample`` (:mod:`roughdiffuse.models.sampling`: branch-free code on vector components) and
-prints them as two functions:
+prints them as functions:
 
 * ``base_f(mu_i, mu_o, cos_io, out, p)``: writes f into ``out[0 .. C−1]``;
 * ``base_sample(u1, u2, wox, woy, woz, p)``: returns ``(x, y, z, pdf)``, the sampled direction
