@@ -115,14 +115,20 @@ def test_traced_base_functions_match_the_model(model) -> None:
     ref_f = np.asarray(model.brdf_cosines(w[:, 2], v[:, 2], np.sum(w * v, 1))).reshape(n, -1)
     out = np.empty(traced.channels)
     got_f = []
-    f_o, f_at = namespace["base_f_o"].py_func, namespace["base_f_at"].py_func
+    f_o, f_i, f_io, i_as_o = (namespace[name].py_func for name in (
+        "base_f_o", "base_f_i", "base_f_io", "base_f_i_as_o"))
+    p = traced.f_params
     split_f = []
     for k in range(n):
-        f(w[k, 2], v[k, 2], float(w[k] @ v[k]), out, traced.f_params)
+        f(w[k, 2], v[k, 2], float(w[k] @ v[k]), out, p)
         got_f.append(out.copy())
-        # f in the walk's two parts: the μo-only values, then the rest
-        f_at(w[k, 2], v[k, 2], float(w[k] @ v[k]), f_o(v[k, 2], traced.f_params), out,
-             traced.f_params)
-        split_f.append(out.copy())
+        # f in the walk's parts: the μi-only and μo-only values, then the rest; the μi part
+        # also from the μo part at the same cosine
+        for hi in (f_i(w[k, 2], p), i_as_o(w[k, 2], f_o(w[k, 2], p), p)):
+            f_io(w[k, 2], v[k, 2], float(w[k] @ v[k]), hi, f_o(v[k, 2], p), out, p)
+            split_f.append(out.copy())
     np.testing.assert_allclose(np.array(got_f), ref_f, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(np.array(split_f), ref_f, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(np.array(split_f), np.repeat(ref_f, 2, axis=0), rtol=1e-12,
+                               atol=1e-15)
+    # EON and Oren-Nayar treat μi and μo alike: one part serves both
+    assert ("    return ho" in traced.source) == (not isinstance(model, rd.Lambert))

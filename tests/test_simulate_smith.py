@@ -142,6 +142,26 @@ def test_lambda_closed_forms():
     assert float(smith_lambda("beckmann", -z, 1.0)) == pytest.approx(-1 - ref, 1e-13)
 
 
+@pytest.mark.parametrize("dist", DISTS)
+def test_g1_formula_is_one_over_one_plus_lambda(dist):
+    """``smith_g1`` (GGX as 2z/(z + √(α²(1 − z²) + z²))) against 1/(1 + Λ) from
+    ``smith_lambda`` (Heitz 2014 eqs. 72, 86), from grazing to the normal; and G1 = 1 in
+    float64 where Beckmann's a = cot θ/α ≥ 6 (the compiled layered walk skips erfc there)."""
+    from roughdiffuse.simulate.smith_formulas import numpy_formulas
+
+    f = numpy_formulas()
+    ggx = dist == "ggx"
+    z = np.concatenate([np.logspace(-8, -1, 50), np.linspace(0.1, 1.0, 200)])
+    for alpha in (0.05, 0.3, 1.0, 2.5):
+        ref = 1.0 / (1.0 + smith_lambda(dist, z, alpha))
+        got = np.array([f.smith_g1(ggx, v, alpha) for v in z])
+        np.testing.assert_allclose(got, ref, rtol=2e-15, atol=0)
+        if not ggx:
+            z6 = 6.0 * alpha / math.sqrt(1.0 + 36.0 * alpha * alpha)  # a = 6
+            edge = np.linspace(z6, 1.0, 1000)
+            assert np.all(1.0 / (1.0 + smith_lambda(dist, edge, alpha)) == 1.0)
+
+
 @functools.cache
 def _compiled_sampler():
     """A Numba loop drawing n visible normals of ω from the compiled walks' sampler (its own

@@ -427,9 +427,8 @@ def _atan2_polynomial(xp: TraceNamespace, y: Any, x: Any) -> Any:
     ax, ay = abs(x), abs(y)
     big = xp.where(ay > ax, ay, ax)
     small = xp.where(ay > ax, ax, ay)
-    t = small / xp.where(big > 0.0, big, 1.0)  # in [0, 1]
-    red = t > 0.4142135623730950  # tan(π/8)
-    u = xp.where(red, (t - 1.0) / (t + 1.0), t)
+    red = small > 0.4142135623730950 * big  # t = small/big > tan(π/8)
+    u = _reduced_ratio(xp, small, big, red)
     z = u * u
     p = (
         ((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1
@@ -438,6 +437,13 @@ def _atan2_polynomial(xp: TraceNamespace, y: Any, x: Any) -> Any:
     a = xp.where(ay > ax, math.pi / 2 - a, a)
     a = xp.where(x < 0.0, math.pi - a, a)
     return xp.where(y < 0.0, -a, a)
+
+
+def _reduced_ratio(xp: TraceNamespace, small: Any, big: Any, red: Any) -> Any:
+    """t = small/big (0 ≤ small ≤ big), or (t − 1)/(t + 1) where ``red``, in one division:
+    (small − big)/(small + big) (no division waits for another; 0 for 0/0)."""
+    num = xp.where(red, small - big, small)
+    return num / xp.where(red, small + big, xp.where(big > 0.0, big, 1.0))
 
 
 def _round(xp: TraceNamespace, x: Any) -> Any:
@@ -531,9 +537,8 @@ def _atan2_polynomial_f64(xp: TraceNamespace, y: Any, x: Any) -> Any:
     ax, ay = abs(x), abs(y)
     big = xp.where(ay > ax, ay, ax)
     small = xp.where(ay > ax, ax, ay)
-    t = small / xp.where(big > 0.0, big, 1.0)  # in [0, 1]
-    red = t > 0.66
-    u = xp.where(red, (t - 1.0) / (t + 1.0), t)
+    red = small > 0.66 * big  # t = small/big > 0.66
+    u = _reduced_ratio(xp, small, big, red)
     z = u * u
     p = (
         (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z

@@ -39,9 +39,11 @@ def build(p: Any) -> SimpleNamespace:
         c = minimum(maximum(cos_t, 0.0), 1.0)
         k = 1.0 - (1.0 - c * c) / (eta * eta)
         ct = sqrt(maximum(k, 0.0))
-        rs = (c - eta * ct) / (c + eta * ct)
-        rp = (eta * c - ct) / (eta * c + ct)
-        return where(k > 0.0, 0.5 * (rs * rs + rp * rp), 1.0)
+        # r_s² + r_p² over the common denominator: one division
+        ns, ds = c - eta * ct, c + eta * ct
+        np_, dp = eta * c - ct, eta * c + ct
+        f = 0.5 * (ns * ns * dp * dp + np_ * np_ * ds * ds) / (ds * ds * dp * dp)
+        return where(k > 0.0, f, 1.0)
 
     @jit
     def refract_in(wx, wy, wz, mx, my, mz, eta):

@@ -12,9 +12,11 @@ Smith's Λ and the visible normals (:mod:`.smith_formulas`, through
 
 The base enters as scalar functions traced from the model's own code
 (:func:`roughdiffuse.engine.scalar.scalar_sources`): its ``brdf_cosines`` and its sampling
-strategy's ``sample``. f is taken in two parts (``base_f_o``, ``base_f_at``): the next
-events, all at one ωo per path, compute the part that depends on μo alone once per path, and
-the continuation computes its part at μo = u_z while the sampler runs. The kernel is
+strategy's ``sample``. f is taken in parts (``base_f_o``, ``base_f_i``, ``base_f_io``): the
+next events, all at one ωo per path, compute the part that depends on μo alone once per path;
+the continuation computes its part at μo = u_z while the sampler runs, and the next event of
+the same arrival, whose μi is that u_z, takes its μi part from it (``base_f_i_as_o``) when the
+base's f treats μi and μo alike. The kernel is
 compiled once per base *structure* (the printed source of those functions: a new albedo or
 roughness reuses it) and cached on disk like the Smith
 walk, in a folder named by a hash of the sources it is compiled from, in the fast path's
@@ -50,7 +52,7 @@ _JIT = PRIMITIVES.jit
 _I = build_interface(PRIMITIVES)
 _fresnel = _I.fresnel
 _refract_in = _I.refract_in
-_smith_lambda = FORMULAS.smith_lambda
+_smith_g1 = FORMULAS.smith_g1
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
@@ -61,8 +63,18 @@ def base_f_o(mu_o, p):  # pragma: no cover - replaced per base
     raise NotImplementedError
 
 
-def base_f_at(mu_i, mu_o, cos_io, h, out, p):  # pragma: no cover - replaced per base
-    """Placeholder of the traced base BRDF given ``base_f_o``'s values ``h``."""
+def base_f_i(mu_i, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base BRDF's part that depends on μi alone."""
+    raise NotImplementedError
+
+
+def base_f_i_as_o(mu, ho, p):  # pragma: no cover - replaced per base
+    """Placeholder of ``base_f_i(mu, p)`` given ``ho = base_f_o(mu, p)``."""
+    raise NotImplementedError
+
+
+def base_f_io(mu_i, mu_o, cos_io, hi, ho, out, p):  # pragma: no cover - replaced per base
+    """Placeholder of the traced base BRDF given its parts ``hi`` and ``ho``."""
     raise NotImplementedError
 
 
@@ -76,13 +88,17 @@ def _g1(ggx, z, alpha):  # pragma: no cover - compiled by Numba
     """Smith's G1 = 1 / (1 + Λ(|z|)) (1 for a smooth interface)."""
     if alpha == 0.0:
         return 1.0
-    return 1.0 / (1.0 + _smith_lambda(ggx, min(max(abs(z), 1e-12), 1.0), alpha))
+    z = min(max(abs(z), 1e-12), 1.0)
+    if not ggx and z * z > 36.0 * alpha * alpha * (1.0 - z * z):
+        # Beckmann's a = cot θ / α > 6: Λ < 1.5e-19, 1/(1 + Λ) is 1 in float64 (no erfc)
+        return 1.0
+    return _smith_g1(ggx, z, alpha)
 
 
 @_JIT
 def _unit(x, y, z):  # pragma: no cover - compiled by Numba
-    n = math.sqrt(x * x + y * y + z * z)
-    return x / n, y / n, z / n
+    r = 1.0 / math.sqrt(x * x + y * y + z * z)
+    return x * r, y * r, z * r
 
 
 @_JIT
@@ -99,18 +115,19 @@ def _enter(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - compiled 
 
 @_JIT
 def _reflect_inside(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - compiled
-    """Light going up (ω) reflected down at the interface's underside: the direction, the
-    weight F(·, 1/η) (× G1 when rough; 0 if it goes up again) and the next draw."""
+    """Light going up (ω) reflected down at the interface's underside: the direction (a
+    mirror image of the unit ω, unit but for rounding), the weight F(·, 1/η) (× G1 when rough;
+    0 if it goes up again) and the next draw."""
     if alpha == 0.0:
         return wx, wy, -wz, _fresnel(wz, 1.0 / eta), c
     mx, my, mz, c = visible_normal(ggx, -wx, -wy, wz, alpha, key, c)
     mz = -mz
     d = wx * mx + wy * my + wz * mz  # < 0: the facet faces the ray
     rx, ry, rz = wx - 2.0 * d * mx, wy - 2.0 * d * my, wz - 2.0 * d * mz
-    weight = _fresnel(min(max(-d, 0.0), 1.0), 1.0 / eta) * _g1(ggx, rz, alpha)
-    weight = weight if rz < 0.0 else 0.0
-    rx, ry, rz = _unit(rx, ry, min(rz, -1e-12))
-    return rx, ry, rz, weight, c
+    weight = 0.0  # reflected up again: lost
+    if rz < 0.0:
+        weight = _fresnel(min(max(-d, 0.0), 1.0), 1.0 / eta) * _g1(ggx, rz, alpha)
+    return rx, ry, min(rz, -1e-12), weight, c
 
 
 def _walk_blocks(
@@ -154,7 +171,7 @@ def _walk_blocks(
             h_exit = base_f_o(-tz, pf)  # the next events' f: its part at μo = −t_z
             live = False
             for ch in range(n_c):
-                beta[ch] = w_in * (math.exp(-tau[ch % n_t] / abs(dz)) if absorbs else 1.0)
+                beta[ch] = w_in * (math.exp(-tau[min(ch, n_t - 1)] / abs(dz)) if absorbs else 1.0)
                 tot[ch] = 0.0
                 live |= beta[ch] > cut
             for _ in range(max_k):
@@ -162,27 +179,29 @@ def _walk_blocks(
                     break
                 nseg += 1
                 ux, uy, uz = -dx, -dy, -dz  # the base's light direction
-                base_f_at(uz, -tz, -(ux * tx + uy * ty + uz * tz), h_exit, fb, pf)  # next event
-                for ch in range(n_c):
-                    att = math.exp(tau[ch % n_t] / tz) if absorbs else 1.0
-                    tot[ch] += beta[ch] * w_exit * fb[ch % n_f] * att
-                # continue: the base's own sampler, up, reflected inside, down; f's part at
-                # μo = u_z does not wait for the sample
+                # f's part at μo = u_z (the continuation's) and at μi = u_z (the next event's)
                 h_u = base_f_o(uz, pf)
+                base_f_io(uz, -tz, -(ux * tx + uy * ty + uz * tz), base_f_i_as_o(uz, h_u, pf),
+                          h_exit, fb, pf)  # next event
+                for ch in range(n_c):
+                    att = math.exp(tau[min(ch, n_t - 1)] / tz) if absorbs else 1.0
+                    tot[ch] += beta[ch] * w_exit * fb[min(ch, n_f - 1)] * att
+                # continue: the base's own sampler, up, reflected inside, down
                 sx, sy, sz, pdf = base_sample(uniform(key, c), uniform(key, c + 1), ux, uy, uz, ps)
                 c += 2
                 ratio = 0.0
                 valid = pdf > 0.0 and sz > 0.0
-                sx, sy, sz = _unit(sx, sy, max(sz, 1e-12))
-                if valid:
+                if not valid:  # the path ends (β = 0); the normal, for the interface below
+                    sx, sy, sz = 0.0, 0.0, 1.0
+                else:  # a unit vector (the strategy's), up
                     ratio = sz / pdf
-                    base_f_at(sz, uz, sx * ux + sy * uy + sz * uz, h_u, fb, pf)
+                    base_f_io(sz, uz, sx * ux + sy * uy + sz * uz, base_f_i(sz, pf), h_u, fb, pf)
                 dx, dy, dz, refl, c = _reflect_inside(sx, sy, sz, eta, alpha, ggx, key, c)
                 live = False
                 for ch in range(n_c):
-                    t = tau[ch % n_t]
+                    t = tau[min(ch, n_t - 1)]
                     att = math.exp(-t / sz - t / abs(dz)) if absorbs else 1.0
-                    beta[ch] *= (fb[ch % n_f] * ratio if valid else 0.0) * refl * att
+                    beta[ch] *= (fb[min(ch, n_f - 1)] * ratio if valid else 0.0) * refl * att
                     live |= beta[ch] > cut
             for ch in range(n_c):
                 sum1[j, ch] += tot[ch]
@@ -220,7 +239,8 @@ def _kernel(source: str) -> Any:
         exec(compile(PRELUDE + source, f"<layered base {digest}>", "exec"), namespace)  # noqa: S102
         scope = dict(globals())
         scope.update({name: namespace[name]
-                      for name in ("base_f_o", "base_f_at", "base_sample")})
+                      for name in ("base_f_o", "base_f_i", "base_f_i_as_o", "base_f_io",
+                                   "base_sample")})
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
         flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
         from ..engine.cache import private_cache_dir

@@ -13,10 +13,11 @@ may divide by zero.
 
 Formulas (per direction ω = (x, y, z), roughness α, isotropic slopes):
 
-* ``lambda_upper`` / ``smith_lambda``: Smith's Λ (Heitz 2014, "Understanding the
-  masking-shadowing function in microfacet-based BRDFs", JCGT 3(2), eqs. 72 (GGX) and 86
-  (Beckmann)), Λ(−ω) = −1 − Λ(ω) below the horizon (Heitz, Hanika, d'Eon, Dachsbacher 2016,
-  "Multiple-scattering microfacet BSDFs with the Smith model", Sec. 3);
+* ``lambda_upper`` / ``smith_lambda``, ``smith_g1``: Smith's Λ and G1 = 1/(1 + Λ) (Heitz
+  2014, "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2),
+  eqs. 72 (GGX) and 86 (Beckmann)), Λ(−ω) = −1 − Λ(ω) below the horizon (Heitz, Hanika,
+  d'Eon, Dachsbacher 2016, "Multiple-scattering microfacet BSDFs with the Smith model",
+  Sec. 3);
 * ``visible_ggx`` (``visible_ggx_at`` from the azimuth's cosine and sine): GGX visible
   normals by spherical caps (Dupuy & Benyoub 2023, "Sampling visible GGX normals with
   spherical caps", Listing 3);
@@ -53,7 +54,7 @@ def build(p: Any) -> SimpleNamespace:
     ----------
     p : namespace
         ``jit`` (a decorator), ``where(c, a, b)``, ``maximum``, ``minimum``, ``sqrt``, ``exp``,
-        ``log1p``, ``sin``, ``cos``, ``erf``, ``erfinv``, ``erfcx``, ``isfinite``.
+        ``log1p``, ``sin``, ``cos``, ``erf``, ``erfc``, ``erfinv``, ``isfinite``.
 
     Returns
     -------
@@ -63,7 +64,7 @@ def build(p: Any) -> SimpleNamespace:
     jit: Callable = p.jit
     where, maximum, minimum = p.where, p.maximum, p.minimum
     sqrt, exp, log1p, sin, cos = p.sqrt, p.exp, p.log1p, p.sin, p.cos
-    erf, erfinv, erfcx, isfinite = p.erf, p.erfinv, p.erfcx, p.isfinite
+    erf, erfc, erfinv, isfinite = p.erf, p.erfc, p.erfinv, p.isfinite
 
     @jit
     def lambda_upper(ggx, cot, alpha):
@@ -73,8 +74,9 @@ def build(p: Any) -> SimpleNamespace:
             t2 = 1.0 / (a * a)  # α² tan² θ
             lam = t2 / (2.0 * (1.0 + sqrt(1.0 + t2)))
         else:
-            # (erf(a) − 1)/2 + exp(−a²)/(2a√π), with erfcx against the cancellation
-            lam = 0.5 * exp(-a * a) * (1.0 / (a * _SQRT_PI) - erfcx(a))
+            # (erf(a) − 1)/2 + exp(−a²)/(2a√π), with erfc(a) for 1 − erf(a) against the
+            # cancellation (one exp and one erfc)
+            lam = 0.5 * (exp(-a * a) / (a * _SQRT_PI) - erfc(a))
         up = where(a > 0.0, maximum(lam, 0.0), _INF)
         return where(a < _INF, up, 0.0)
 
@@ -88,18 +90,27 @@ def build(p: Any) -> SimpleNamespace:
         return where(z >= 0.0, up, -1.0 - up)
 
     @jit
+    def smith_g1(ggx, z, alpha):
+        """Smith's G1 = 1/(1 + Λ(ω)) above the horizon, z in (0, 1]; for GGX in the form
+        2z/(z + √(α²(1 − z²) + z²)) (Heitz 2014, eq. 72 with tan² θ = (1 − z²)/z²: one
+        square root and one division)."""
+        if ggx:
+            return 2.0 * z / (z + sqrt(alpha * alpha * (1.0 - z * z) + z * z))
+        return 1.0 / (1.0 + smith_lambda(ggx, z, alpha))
+
+    @jit
     def visible_ggx_at(wx, wy, wz, alpha, cphi, sphi, u2):
         """A GGX visible normal of ω (either side of the horizon) from the cosine and sine
         of a uniform azimuth and a uniform ``u2``."""
         sx, sy = alpha * wx, alpha * wy
-        n = sqrt(sx * sx + sy * sy + wz * wz)
-        sx, sy, sz = sx / n, sy / n, wz / n
+        inv = 1.0 / sqrt(sx * sx + sy * sy + wz * wz)
+        sx, sy, sz = sx * inv, sy * inv, wz * inv
         z = (1.0 - u2) * (1.0 + sz) - sz
         r = sqrt(minimum(maximum(1.0 - z * z, 0.0), 1.0))
         mx, my, mz = alpha * (r * cphi + sx), alpha * (r * sphi + sy), maximum(z + sz, 0.0)
         norm = sqrt(mx * mx + my * my + mz * mz)
-        norm = where(norm > 0.0, norm, 1.0)
-        return mx / norm, my / norm, mz / norm
+        inv = 1.0 / where(norm > 0.0, norm, 1.0)
+        return mx * inv, my * inv, mz * inv
 
     @jit
     def visible_ggx(wx, wy, wz, alpha, u1, u2):
@@ -109,13 +120,13 @@ def build(p: Any) -> SimpleNamespace:
 
     @jit
     def beckmann_frame(wx, wy, wz, alpha):
-        """μ = cot θ̃ of ω in the stretched (α = 1) configuration and its azimuth's cos, sin."""
+        """μ = cot θ̃ of ω in the stretched (α = 1) configuration and its azimuth's cos, sin
+        (1, 0 within 1e-300 of the normal, where μ = ∞ and any azimuth serves)."""
         sx, sy = alpha * wx, alpha * wy
         rho = sqrt(sx * sx + sy * sy)
-        mu = where(rho > 1e-300, wz / where(rho > 1e-300, rho, 1.0), _INF)
-        cphi = where(rho > 0.0, sx / where(rho > 0.0, rho, 1.0), 1.0)
-        sphi = where(rho > 0.0, sy / where(rho > 0.0, rho, 1.0), 0.0)
-        return mu, cphi, sphi
+        big = rho > 1e-300  # 1/ρ is finite; below, μ = ∞ and the slopes are isotropic
+        inv = 1.0 / where(big, rho, 1.0)
+        return where(big, wz * inv, _INF), where(big, sx * inv, 1.0), where(big, sy * inv, 0.0)
 
     @jit
     def gaussian_pair(u2, u3):
@@ -166,8 +177,8 @@ def build(p: Any) -> SimpleNamespace:
         """The unit normal of the stretched slope (x̃, ỹ) rotated to ω's azimuth."""
         px = alpha * (cphi * tx - sphi * ty)
         py = alpha * (sphi * tx + cphi * ty)
-        n = sqrt(px * px + py * py + 1.0)
-        return -px / n, -py / n, 1.0 / n
+        inv = 1.0 / sqrt(px * px + py * py + 1.0)
+        return -px * inv, -py * inv, inv
 
     @jit
     def cosine_about(mx, my, mz, u0, u1):
@@ -206,6 +217,7 @@ def build(p: Any) -> SimpleNamespace:
     return SimpleNamespace(
         lambda_upper=lambda_upper,
         smith_lambda=smith_lambda,
+        smith_g1=smith_g1,
         visible_ggx_at=visible_ggx_at,
         visible_ggx=visible_ggx,
         beckmann_frame=beckmann_frame,
@@ -227,7 +239,7 @@ def _identity(f: Callable) -> Callable:
 def numpy_formulas() -> SimpleNamespace:
     """The formulas on NumPy arrays: NumPy and SciPy ufuncs, ``np.where``, no compilation."""
     import numpy as np
-    from scipy.special import erf, erfcx, erfinv
+    from scipy.special import erf, erfc, erfinv
 
     return build(
         SimpleNamespace(
@@ -242,7 +254,7 @@ def numpy_formulas() -> SimpleNamespace:
             cos=np.cos,
             erf=erf,
             erfinv=erfinv,
-            erfcx=erfcx,
+            erfc=erfc,
             isfinite=np.isfinite,
         )
     )

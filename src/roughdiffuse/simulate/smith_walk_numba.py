@@ -34,7 +34,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from ..engine.numba_math import erfcx, erfinv
+from ..engine.numba_math import erfinv
 from ..engine.numba_random import circle_point, normal_pair, path_key, uniform
 from .smith_formulas import build
 
@@ -61,6 +61,11 @@ def _erf(x: Any) -> Any:  # pragma: no cover - compiled by Numba
 
 
 @_JIT
+def _erfc(x: Any) -> Any:  # pragma: no cover - compiled by Numba
+    return math.erfc(x)
+
+
+@_JIT
 def _isfinite(x: Any) -> Any:  # pragma: no cover - compiled by Numba
     return math.isfinite(x)
 
@@ -77,7 +82,7 @@ PRIMITIVES = SimpleNamespace(
     cos=np.cos,
     erf=_erf,
     erfinv=erfinv,
-    erfcx=erfcx,
+    erfc=_erfc,
     isfinite=_isfinite,
 )
 """The scalar primitives the formula builders (:mod:`.smith_formulas`,
