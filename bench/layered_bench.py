@@ -174,25 +174,35 @@ BEGIN = "<!-- layered_bench walk: begin -->"
 END = "<!-- layered_bench walk: end -->"
 
 
-def walk_markdown(samples: int, repeat: int) -> str:
-    """The walk table with its command, date and machine, between :data:`BEGIN` and
-    :data:`END` (the part of bench/RESULTS.md that ``--write`` replaces)."""
+def _run_line(command: str) -> str:
+    """``command`` with the date, the machine and its load, NumPy's and Numba's versions: the
+    opening of each table's paragraph."""
     import os
     import platform
     from datetime import UTC, datetime
 
     import numba
 
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return (
+        f"`{command}` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores "
+        f"({platform.processor() or platform.machine()}, load average {load:.1f} at the end: "
+        f"shared), NumPy {np.__version__}, Numba {numba.__version__}."
+    )
+
+
+def walk_markdown(samples: int, repeat: int) -> str:
+    """The walk table with its command, date and machine, between :data:`BEGIN` and
+    :data:`END` (the part of bench/RESULTS.md that ``--write`` replaces)."""
+    import numba
+
     rows = walk_rates(samples, repeat)
     threads = numba.get_num_threads()
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    command = (f"python bench/layered_bench.py --walk-only --samples {samples} --repeat "
+               f"{repeat} --threads {threads} --write")
     return "\n".join([
         BEGIN,
-        f"`python bench/layered_bench.py --walk-only --samples {samples} --repeat {repeat} "
-        f"--threads {threads} --write` on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, "
-        f"{os.cpu_count()} cores "
-        f"({platform.processor() or platform.machine()}, load average {load:.1f} at the end: "
-        f"shared), NumPy {np.__version__}, Numba {numba.__version__}. Path segments (arrivals "
+        _run_line(command) + " Path segments (arrivals "
         f"on the base) per CPU second on {threads} Numba thread(s), every thread counted "
         "(`time.process_time`), 4 "
         f"geometries × {samples:,} paths; the compiled walks interleaved over {repeat} rounds, "
@@ -303,21 +313,14 @@ def coated_markdown(rows_log2: int, repeat: int) -> str:
     """The closed form's table against C with its command, date and machine, between
     :data:`C_BEGIN` and :data:`C_END` (the part of bench/RESULTS.md that ``--write``
     replaces)."""
-    import os
-    import platform
-    from datetime import UTC, datetime
-
     import numba
 
     rows = coated_vs_c(rows_log2, repeat)
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    command = (f"python bench/layered_bench.py --coated-only --rows-log2 {rows_log2} "
+               f"--repeat {repeat} --write")
     return "\n".join([
         C_BEGIN,
-        f"`python bench/layered_bench.py --coated-only --rows-log2 {rows_log2} --repeat "
-        f"{repeat} --write` "
-        f"on {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores "
-        f"({platform.processor() or platform.machine()}, load average {load:.1f} at the end: "
-        f"shared), NumPy {np.__version__}, Numba {numba.__version__}. `Coated` over Lambert "
+        _run_line(command) + " `Coated` over Lambert "
         "with a rough coat: the default call `model.brdf(wi, wo)` (the compiled fast path, "
         f"{numba.config.NUMBA_NUM_THREADS} threads) against a C loop of the same formula "
         "(the same node rules, gcc -O3 -march=native -fopenmp, every core), interleaved, "
