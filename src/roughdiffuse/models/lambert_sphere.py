@@ -213,8 +213,8 @@ class LambertSphere(Model):
         "lambert-sphere": r"""
             ```{math}
             f_r &= \max\Bigl(0,\ c\,f_1 + f_0(\mu_i,\mu_o,c) - c\,f_{0,1}(\mu_i,\mu_o) \\ &\qquad +
-            f_{1m}(\mu_i,\mu_o,c)\,\sin\theta_i\sin\theta_o\cos\phi\Bigr)\quad(\text{variant
-            full})
+            f_{1m}(\mu_i,\mu_o,c)\,\sin\theta_i\sin\theta_o\cos\phi\Bigr)
+            \quad(\text{variant full})
             ```
             ```{math}
             f_1 = \frac{P(u)}{\mu_i+\mu_o},
