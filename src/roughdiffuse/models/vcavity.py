@@ -203,8 +203,8 @@ class VCavity(Model):
         P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\ (\text{measure angle}),
         ```
         ```{math}
-        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\sin\theta_a\ (\text{measure
-        solid-angle})
+        P(\theta_a) \propto e^{-\theta_a^2/2\sigma^2}\sin\theta_a
+        \ (\text{measure solid-angle})
         ```
 
         Oren and Nayar (1994, Sec. 3–4): long symmetric V-cavities with Lambertian facets of
