@@ -22,6 +22,9 @@ def test_model_declares_a_typeset_formula(entry: registry.Entry) -> None:
     blocks = re.findall(r"```\{math\}\n(.*?)\n```", text, flags=re.S)
     assert blocks, f"{entry.id}: no math block in its formula"
     assert all(b.count("{") == b.count("}") for b in blocks), entry.id  # balanced LaTeX
+    # MathJax drops the line break inside a \text{...}: "variant\n full" reads "variantfull"
+    broken = re.findall(r"\\text\{[^}]*\n[^}]*\}", " ".join(blocks))
+    assert not broken, f"{entry.id}: a \\text{{}} broken across lines: {broken}"
     latex = " ".join(blocks) + " " + " ".join(re.findall(r"\{math\}`([^`]*)`", text))
     for p in entry.parameters:
         if p.choices is not None or p.name in entry.fixed:
