@@ -153,23 +153,32 @@ passes them to its components, Coated has a per-channel absorption); Lambert sta
 generic path. Three-channel cases of other models run only in the full set (marked slow)."""
 
 
+COMPILE_HEAVY_CLASSES = frozenset({"Coated"})
+"""Models whose every kernel (Numba, XLA) takes tens of CPU-seconds to compile: their first
+test point runs in ``make test``, the others in the full set."""
+
+
 def rgb_cases(models: list[rd.Model], rgb: list[rd.Model]) -> list:
     """pytest parameters for grey ``models`` and their three-channel twins ``rgb``: every grey
-    case, and the three-channel case of the first test point of each class in
-    CHANNEL_CLASSES; the other three-channel cases are marked slow."""
-    return [pytest.param(m, id=repr(m)) for m in models] + representative_cases(
-        rgb, CHANNEL_CLASSES
+    case (of COMPILE_HEAVY_CLASSES the first test point only), and the three-channel case of
+    the first test point of each class in CHANNEL_CLASSES; the other cases are marked slow."""
+    grey = frozenset(type(m).__name__ for m in models) - COMPILE_HEAVY_CLASSES
+    return representative_cases(models, grey | COMPILE_HEAVY_CLASSES, every=grey) + (
+        representative_cases(rgb, CHANNEL_CLASSES)
     )
 
 
-def representative_cases(models: list[rd.Model], classes: frozenset[str]) -> list:
+def representative_cases(
+    models: list[rd.Model], classes: frozenset[str], every: frozenset[str] = frozenset()
+) -> list:
     """pytest parameters for ``models``: the first test point of each class named in
-    ``classes`` runs in ``make test``, every other case only in the full set (marked slow)."""
+    ``classes`` (every test point of a class in ``every``) runs in ``make test``, every other
+    case only in the full set (marked slow)."""
     out = []
     seen: set[str] = set()
     for m in models:
         name = type(m).__name__
-        fast = name in classes and name not in seen
+        fast = name in every or (name in classes and name not in seen)
         seen.add(name)
         out.append(pytest.param(m, id=repr(m), marks=() if fast else (pytest.mark.slow,)))
     return out
