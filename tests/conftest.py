@@ -163,7 +163,7 @@ def rgb_cases(models: list[rd.Model], rgb: list[rd.Model]) -> list:
     case (of COMPILE_HEAVY_CLASSES the first test point only), and the three-channel case of
     the first test point of each class in CHANNEL_CLASSES; the other cases are marked slow."""
     grey = frozenset(type(m).__name__ for m in models) - COMPILE_HEAVY_CLASSES
-    return representative_cases(models, grey | COMPILE_HEAVY_CLASSES, every=grey) + (
+    return representative_cases(models, COMPILE_HEAVY_CLASSES, every=grey) + (
         representative_cases(rgb, CHANNEL_CLASSES)
     )
 
