@@ -48,8 +48,9 @@ def _models() -> Any:
 
 def _from_models() -> list[str]:
     """The names of :mod:`roughdiffuse.models` served here: its models, ``Model``, ``Param``,
-    ``BSDFSample`` and helper functions (not its registry plumbing)."""
-    return [n for n in _models().__all__ if n not in ("builtin_classes", "register_pytree")]
+    ``BSDFSample`` and helper functions (not its declaration plumbing)."""
+    plumbing = ("builtin_classes", "param", "register_pytree")
+    return [n for n in _models().__all__ if n not in plumbing]
 
 
 def __getattr__(name: str) -> Any:

@@ -268,6 +268,8 @@ def _check_class(cls: type) -> None:
                 raise TypeError(f"{name}: id {model_id!r} fixes {key}={value!r}, not a choice")
     if hasattr(cls, "from_params") or not dataclasses.is_dataclass(cls):
         return
+    # fields declared by param() agree with params by construction; a class that lists
+    # params itself (written before param(), or in another package) is held to its fields
     fields = {f.name: f for f in dataclasses.fields(cls)}
     for p in cls.params:
         f = fields.get(p.name)

@@ -17,6 +17,7 @@ from .base import BSDFSample as BSDFSample
 from .base import Model
 from .base import register_pytree as register_pytree
 from .declaration import Param as Param
+from .declaration import param as param
 
 HELPERS: dict[str, str] = {
     "fon_albedo": "fujii",
@@ -59,6 +60,6 @@ for _name, _module in HELPERS.items():
     globals()[_name] = getattr(importlib.import_module(f"{__name__}.{_module}"), _name)
 
 __all__ = sorted(
-    ["BSDFSample", "Model", "Param", "builtin_classes", "register_pytree", *HELPERS]
+    ["BSDFSample", "Model", "Param", "builtin_classes", "param", "register_pytree", *HELPERS]
     + [cls.__name__ for cls in _CLASSES]
 )

@@ -1,6 +1,8 @@
 """The interface every reflectance model shares (after pbrt-v4's BxDF: f, Sample_f, PDF, rho).
 
-A model is a frozen dataclass holding its parameters. Its formula lives in one method,
+A model is a frozen dataclass holding its parameters: :class:`Model` makes each subclass one
+(and a JAX pytree), and builds its ``params`` from the fields declared by
+:func:`~roughdiffuse.models.declaration.param`. Its formula lives in one method,
 ``_kernel(xp, mu_i, mu_o, cos_io, **params)``, written against the array API standard and
 evaluated on the three local cosines (see :mod:`roughdiffuse.frames`). Everything else, the
 vector interface, validation, horizon handling, colour channels, JAX dispatch, quadrature and
@@ -14,7 +16,7 @@ no cosine in it (pbrt's convention); it is 0 when either direction is below the 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, ClassVar
+from typing import Any, ClassVar, dataclass_transform
 
 import numpy as np
 
@@ -32,7 +34,7 @@ from .._lazy import when_imported
 from .._validate import ParameterError
 from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
-from .declaration import Param
+from .declaration import Param, declared_params, param
 from .sampling import COSINE, BSDFSample, Strategy
 
 __all__ = ["BSDFSample", "Model"]
@@ -54,19 +56,24 @@ def _jitted(method: str) -> Any:
     return fn
 
 
+@dataclass_transform(frozen_default=True, field_specifiers=(dataclasses.field, param))
 class Model:
     """Base class of the reflectance models. Subclasses are frozen dataclasses.
 
-    A model declares itself once, in class attributes; validation, the pytree leaves, the
-    command line, fits, ``roughdiffuse models`` and the explorer derive from them (see
-    :mod:`roughdiffuse.registry` and docs/developer/adding-a-model.md).
+    Each subclass is made a frozen dataclass and a JAX pytree (:func:`register_pytree`) when
+    it is defined: it declares its fields, with no decorator. A model declares itself once,
+    in its fields (``name: float | Array = param(...)``) and class attributes; validation,
+    the pytree leaves, the command line, fits, ``roughdiffuse models`` and the explorer
+    derive from them (see :mod:`roughdiffuse.registry` and docs/developer/adding-a-model.md).
 
     Class attributes
     ----------------
     params : tuple of Param
         The parameters (:class:`~roughdiffuse.models.declaration.Param`): name, meaning,
-        unit, range, default, colour channels, choices. The constructor checks each value
-        against its declaration.
+        unit, range, default, colour channels, choices. Derived from the fields declared by
+        :func:`~roughdiffuse.models.declaration.param`, in field order; a class whose
+        registry parameters are not its fields (a ``from_params`` factory) lists them here
+        itself. The constructor checks each value against its declaration.
     ids : dict
         Public kebab-case id(s) -> the categorical values each fixes, e.g.
         ``{"oren-nayar": {"variant": "qualitative"}, "oren-nayar-full": {"variant": "full"}}``.
@@ -147,9 +154,29 @@ class Model:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
+        own_fields = set(cls.__dict__.get("__annotations__", {}))
+        dataclasses.dataclass(frozen=True)(cls)
+        # the frozen dataclass's __setattr__/__delattr__ are Model's (the same rule for every
+        # model): a class that still applies @dataclass(frozen=True) itself may do so
+        for name in ("__setattr__", "__delattr__"):
+            if name in cls.__dict__:
+                delattr(cls, name)
+        fields = dataclasses.fields(cls)  # type: ignore[arg-type]
+        declared = declared_params(fields)
+        if "params" in cls.__dict__:
+            if declared:
+                raise TypeError(
+                    f"{cls.__name__} lists params and declares fields with param(): "
+                    "declare each parameter once"
+                )
+            own_params = True
+        else:
+            own_params = any(p.name in own_fields for p in declared)
+            if declared:
+                cls.params = declared
         if not any("mitsuba" in c.__dict__ for c in cls.__mro__ if c is not Model):
             cls.mitsuba = cls.closed_form  # a closed form is a plugin unless it says otherwise
-        if "params" in cls.__dict__:
+        if own_params:
             if "array_fields" not in cls.__dict__:
                 cls.array_fields = tuple(p.name for p in cls.params if not p.categorical)
             if "channel_fields" not in cls.__dict__:
@@ -158,6 +185,13 @@ class Model:
             raise TypeError(f"{cls.__name__}.sampling must be a Strategy (got {cls.sampling!r})")
         if cls.lobe not in LOBES:
             raise TypeError(f"{cls.__name__}.lobe must be one of {LOBES} (got {cls.lobe!r})")
+        register_pytree(cls)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+
+    def __delattr__(self, name: str) -> None:
+        raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
 
     def __post_init__(self) -> None:
         self._validate()
@@ -434,12 +468,17 @@ def _check_irradiance(value: Any) -> None:
 def register_pytree(cls: type) -> type:
     """Make a model dataclass a JAX pytree: numeric fields are leaves, the rest static.
 
-    Registered when JAX is imported (now, if it is), so defining a model does not import JAX.
+    :class:`Model` applies it to each subclass; applying it again (as a decorator, in code
+    written before) does nothing. Registered when JAX is imported (now, if it is), so
+    defining a model does not import JAX.
     ``jax.tree_util.register_dataclass`` is not used: in JAX 0.10 its tree definitions of two
     classes with the same field names compare equal (Lambert and LommelSeeliger, say), so a
     jitted function could reuse one model's compiled code for the other. Unflattening skips
     ``__post_init__``: JAX passes placeholders that are not parameter values.
     """
+    if cls.__dict__.get("_pytree_registered"):
+        return cls
+    cls._pytree_registered = True  # type: ignore[attr-defined]
     fields = [f.name for f in dataclasses.fields(cls)]
     data = tuple(f for f in fields if f in cls.array_fields)
     meta = tuple(f for f in fields if f not in cls.array_fields)

@@ -24,13 +24,12 @@ cos² θd = (1 + wi·wo)/2 (:func:`roughdiffuse.frames.half_vector_cosines`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array
 from ..frames import half_vector_cosines
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 __all__ = ["Burley", "Burley2015", "BurleyRenormalized", "schlick_weight"]
 
@@ -56,23 +55,16 @@ def _schlick_product(mu_i: Array, mu_o: Array, f90: Array) -> Array:
     return (1.0 + (f90 - 1.0) * schlick_weight(mu_i)) * (1.0 + (f90 - 1.0) * schlick_weight(mu_o))
 
 
-def _params(roughness: str) -> tuple[Param, ...]:
-    return (
-        Param(
-            "albedo",
-            "base colour ρ",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param("roughness", roughness, min=0.0, max=1.0, default=0.5),
-    )
+def _albedo() -> Any:
+    """The base colour ρ, declared alike in the three Burley models."""
+    return param("base colour ρ", min=0.0, max=1.0, default=1.0, channels=True, example=0.8)
 
 
-@register_pytree
-@dataclass(frozen=True)
+def _roughness(description: str) -> Any:
+    """The roughness r in [0, 1], each model saying what it means."""
+    return param(description, min=0.0, max=1.0, default=0.5)
+
+
 class Burley(Model):
     """Burley's (Disney's) 2012 diffuse BRDF.
 
@@ -100,10 +92,9 @@ class Burley(Model):
     1.0
     """
 
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.5
+    albedo: float | Array = _albedo()
+    roughness: float | Array = _roughness("Disney's roughness r (as it is, not squared)")
 
-    params: ClassVar[tuple[Param, ...]] = _params("Disney's roughness r (as it is, not squared)")
     ids: ClassVar[dict[str, dict[str, Any]]] = {"burley": {}}
     labels: ClassVar[dict[str, str]] = {"burley": "Burley 2012 (Disney)"}
     reference: ClassVar[str] = (
@@ -141,8 +132,6 @@ class Burley(Model):
         return albedo / math.pi * _schlick_product(mu_i, mu_o, f90)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class BurleyRenormalized(Model):
     """Frostbite's renormalised Disney diffuse.
 
@@ -170,10 +159,9 @@ class BurleyRenormalized(Model):
     0.662251655629
     """
 
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.5
+    albedo: float | Array = _albedo()
+    roughness: float | Array = _roughness("Frostbite's linear roughness r")
 
-    params: ClassVar[tuple[Param, ...]] = _params("Frostbite's linear roughness r")
     ids: ClassVar[dict[str, dict[str, Any]]] = {"frostbite": {}}
     labels: ClassVar[dict[str, str]] = {"frostbite": "Frostbite (renormalised Burley)"}
     reference: ClassVar[str] = (
@@ -214,8 +202,6 @@ class BurleyRenormalized(Model):
         return albedo / math.pi * factor * _schlick_product(mu_i, mu_o, f90)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Burley2015(Model):
     """Burley's 2015 diffuse: a Lambertian part and a separate retro-reflection lobe.
 
@@ -249,10 +235,9 @@ class Burley2015(Model):
     1.0
     """
 
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.5
+    albedo: float | Array = _albedo()
+    roughness: float | Array = _roughness("Disney's roughness r")
 
-    params: ClassVar[tuple[Param, ...]] = _params("Disney's roughness r")
     ids: ClassVar[dict[str, dict[str, Any]]] = {"burley-2015": {}}
     labels: ClassVar[dict[str, str]] = {"burley-2015": "Burley 2015 (diffuse + retro-reflection)"}
     reference: ClassVar[str] = (

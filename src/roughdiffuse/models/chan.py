@@ -16,14 +16,13 @@ Unreal's extra ``RetroReflectivityWeight`` (a fade for area lights) is 1 here.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_sqrt
 from ..frames import half_vector_cosines
-from .base import Model, register_pytree
+from .base import Model
 from .burley import schlick_weight
-from .declaration import Param
+from .declaration import param
 
 __all__ = ["Chan", "chan_gloss"]
 
@@ -37,8 +36,6 @@ def chan_gloss(xp: Any, alpha: Array) -> Array:
     return clip(xp, xp.log(2.0 / a2 - 1.0) / (18.0 * _LN2), 0.0, 1.0)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Chan(Model):
     """Chan's diffuse BRDF (SIGGRAPH 2018).
 
@@ -62,21 +59,16 @@ class Chan(Model):
     True
     """
 
-    albedo: float | Array = 1.0
-    alpha: float | Array = 0.3
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "albedo ρ",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param("alpha", "GGX roughness α", min=0.0, max=1.0, default=0.3),
+    albedo: float | Array = param(
+        "albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    alpha: float | Array = param("GGX roughness α", min=0.0, max=1.0, default=0.3)
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"chan": {}}
     labels: ClassVar[dict[str, str]] = {"chan": "Chan (Call of Duty: WWII)"}
     reference: ClassVar[str] = (

@@ -46,7 +46,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -54,7 +53,7 @@ import numpy as np
 from .._array import Array, asarray, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
 from ..quadrature import gauss_legendre
-from .base import Model, register_pytree
+from .base import Model
 from .declaration import Param
 from .eon import EON
 from .lambert import Lambert
@@ -315,8 +314,6 @@ COAT_GGX = coat_strategy("ggx")
 COAT_BECKMANN = coat_strategy("beckmann")
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Coated(Model):
     """A dielectric coat of index η (smooth, or rough with α) over a base model.
 

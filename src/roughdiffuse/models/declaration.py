@@ -1,30 +1,37 @@
 """How a model declares its parameters, once; validation, the CLI, fits and the explorer read it.
 
-A model class lists its parameters as :class:`Param` records in its ``params`` class attribute
-(see :class:`roughdiffuse.models.base.Model` and :mod:`roughdiffuse.registry`)::
+A model class declares each parameter once, as a field whose default is :func:`param` (as
+astropy.modeling's ``Parameter``; see :class:`roughdiffuse.models.base.Model` and
+:mod:`roughdiffuse.registry`)::
 
-    params = (
-        Param("albedo", "facet albedo ρ", min=0.0, max=1.0, default=1.0, channels=True),
-        Param("sigma", "slope-angle standard deviation σ", unit="radians",
-              min=0.0, max=math.pi / 2, default=0.0),
-    )
+    albedo: float | Array = param("facet albedo ρ", min=0.0, max=1.0, default=1.0,
+                                  channels=True)
+    sigma: float | Array = param("slope-angle standard deviation σ", unit="radians",
+                                 min=0.0, max=math.pi / 2, default=0.0)
 
-From this the constructor's checks (a :class:`~roughdiffuse._validate.ParameterError`, a
-``ValueError``, naming the parameter, its unit and its range), the pytree leaves (numeric
-parameters), the colour-channel parameters, the command line's options (``--NAME`` and
-``--param NAME=VALUE``, degrees for radians), fit bounds and ``roughdiffuse models`` are
-derived. This module is a leaf: it imports :mod:`roughdiffuse._validate` only.
+The class's ``params`` (a tuple of :class:`Param` records, in field order) is derived from
+these fields. A class whose registry parameters are not its fields (a ``from_params``
+factory, as :class:`~roughdiffuse.models.mix.Mix`) lists :class:`Param` records in
+``params`` itself instead. From this the constructor's checks (a
+:class:`~roughdiffuse._validate.ParameterError`, a ``ValueError``, naming the parameter, its unit
+and its range), the pytree leaves (numeric parameters), the colour-channel parameters, the command
+line's options (``--NAME`` and ``--param NAME=VALUE``, degrees for radians), fit bounds and
+``roughdiffuse models`` are derived. This module is a leaf: it imports
+:mod:`roughdiffuse._validate` only.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field
 from typing import Any
 
 from .._validate import ParameterError, check_real, describe_value, format_interval
 
-__all__ = ["Param", "Unit", "UNITS"]
+__all__ = ["Param", "Unit", "UNITS", "param", "declared_params"]
+
+_SPEC = "roughdiffuse.param"
+"""The key of a field's metadata holding its declaration (the keywords of :class:`Param`)."""
 
 Unit = str
 UNITS: tuple[str, ...] = ("dimensionless", "radians")
@@ -47,8 +54,8 @@ class Param:
         Accepted interval, ends included (``min`` excluded when ``min_open``); ``None`` for an
         unbounded end. ``None`` for both in a categorical parameter.
     default : float or str
-        Value when the parameter is not given (the dataclass field's default agrees; a test
-        checks it).
+        Value when the parameter is not given (the dataclass field's default, declared by
+        :func:`param`).
     channels : bool
         The value may be a 1-D array with one value per colour channel (albedo).
     choices : tuple of str or None
@@ -198,3 +205,62 @@ class Param:
                 k: list(v) if isinstance(v, tuple) else [v] for k, v in self.when.items()
             } if self.when else None,
         }
+
+
+def param(
+    description: str,
+    *,
+    default: float | str | None,
+    unit: Unit = "dimensionless",
+    min: float | None = None,  # noqa: A002 - Param's own names
+    max: float | None = None,  # noqa: A002
+    channels: bool = False,
+    choices: tuple[str, ...] | None = None,
+    min_open: bool = False,
+    when: Mapping[str, str | tuple[str, ...]] | None = None,
+    example: float | None = None,
+    fit_range: tuple[float, float] | None = None,
+    unset: Any = MISSING,
+) -> Any:
+    """A model's parameter, declared once: the dataclass field and its :class:`Param`.
+
+    Returns a :func:`dataclasses.field` whose default is ``default`` (``unset`` instead,
+    where given) and whose metadata holds the declaration; the class's ``params`` is built
+    from these fields (:func:`declared_params`), the field's name being the parameter's.
+    The keywords are those of :class:`Param`.
+
+    ``unset``: the field's default when it differs from the declared default, for a
+    parameter that exists only for some choices (``when``) and that ``__post_init__`` fills
+    in (Torrance–Sparrow's ``alpha`` is ``None`` until derived from σ).
+
+    >>> import dataclasses
+    >>> f = param("exponent k", default=1.0, min=0.0, max=2.0)
+    >>> f.default
+    1.0
+    """
+    if unset is not MISSING and when is None:
+        raise TypeError("param(unset=...) is for a parameter that exists only for some choices "
+                        "(when=...); the field's default is otherwise the declared default")
+    spec = {
+        "description": description,
+        "unit": unit,
+        "min": min,
+        "max": max,
+        "default": default,
+        "channels": channels,
+        "choices": choices,
+        "min_open": min_open,
+        "when": when,
+        "example": example,
+        "fit_range": fit_range,
+    }
+    return field(default=default if unset is MISSING else unset, metadata={_SPEC: spec})
+
+
+def declared_params(fields: Any) -> tuple[Param, ...]:
+    """The :class:`Param` of each field declared by :func:`param`, in field order.
+
+    ``fields``: the class's :func:`dataclasses.fields`. A declaration error (a default out
+    of its range, a unit not in :data:`UNITS`) raises here, when the class is defined.
+    """
+    return tuple(Param(f.name, **f.metadata[_SPEC]) for f in fields if _SPEC in f.metadata)

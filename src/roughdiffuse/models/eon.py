@@ -15,12 +15,11 @@ so that with ρ = 1 the directional albedo is 1 at every angle (the white furnac
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, safe_div
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
 from .sampling import CLTC, Strategy
 
@@ -40,8 +39,6 @@ def multiple_scattering(xp: Any, mu_i: Array, mu_o: Array, albedo: Array, r: Arr
     return _rho_ms(albedo, e_avg) / math.pi * safe_div(xp, lobe, 1.0 - e_avg + 0.0 * lobe)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class EON(Model):
     """Energy-preserving Oren–Nayar BRDF, f = f_ss + f_ms.
 
@@ -62,28 +59,22 @@ class EON(Model):
     1.0
     """
 
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "single-scattering albedo ρ",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param(
-            "roughness",
-            "Fujii's roughness r (not an angle)",
-            min=0.0,
-            max=1.0,
-            default=0.0,
-            example=0.5,
-        ),
+    albedo: float | Array = param(
+        "single-scattering albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    roughness: float | Array = param(
+        "Fujii's roughness r (not an angle)",
+        min=0.0,
+        max=1.0,
+        default=0.0,
+        example=0.5,
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"eon": {}}
     labels: ClassVar[dict[str, str]] = {"eon": "EON"}
     sampling: ClassVar[Strategy] = CLTC

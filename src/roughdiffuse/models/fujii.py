@@ -19,12 +19,11 @@ and its cosine-weighted average Ē_F = A_F (1 + K2 r), K2 = 2/3 − 28/(15π).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_sqrt
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 from .oren_nayar import TAN_FLOOR
 from .sampling import CLTC, Strategy
 
@@ -60,8 +59,6 @@ def fon_average_albedo(r: Array) -> Array:
     return (1.0 + K2 * r) / (1.0 + K1 * r)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Fujii(Model):
     """Fujii's Oren–Nayar (FON) BRDF, f = ρ (A + B s/t).
 
@@ -80,20 +77,22 @@ class Fujii(Model):
     1.0
     """
 
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param("albedo", "albedo ρ", min=0.0, max=1.0, default=1.0, channels=True, example=0.8),
-        Param(
-            "roughness",
-            "Fujii's roughness r (not an angle)",
-            min=0.0,
-            max=1.0,
-            default=0.0,
-            example=0.5,
-        ),
+    albedo: float | Array = param(
+        "albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    roughness: float | Array = param(
+        "Fujii's roughness r (not an angle)",
+        min=0.0,
+        max=1.0,
+        default=0.0,
+        example=0.5,
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"fujii": {}}
     labels: ClassVar[dict[str, str]] = {"fujii": "Fujii (FON)"}
     sampling: ClassVar[Strategy] = CLTC

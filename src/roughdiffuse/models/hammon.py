@@ -19,14 +19,13 @@ is ρ/π times a lerp; the multiple-scattering part 0.1159 α ρ² carries no 1/
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum
 from ..frames import half_vector_cosines
-from .base import Model, register_pytree
+from .base import Model
 from .burley import schlick_weight
-from .declaration import Param
+from .declaration import param
 
 __all__ = ["Hammon"]
 
@@ -34,8 +33,6 @@ _NH_FLOOR = 1e-6
 """n·h is 0 only when wi = −wo on the horizon; f_rough's 1/n·h is floored there."""
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Hammon(Model):
     """Hammon's GGX diffuse (GDC 2017).
 
@@ -59,21 +56,21 @@ class Hammon(Model):
     1.05
     """
 
-    albedo: float | Array = 1.0
-    alpha: float | Array = 0.3
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "facet albedo ρ",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param("alpha", "GGX roughness α (perceptual roughness²)", min=0.0, max=1.0, default=0.3),
+    albedo: float | Array = param(
+        "facet albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    alpha: float | Array = param(
+        "GGX roughness α (perceptual roughness²)",
+        min=0.0,
+        max=1.0,
+        default=0.3,
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hammon": {}}
     labels: ClassVar[dict[str, str]] = {"hammon": "Hammon (GGX diffuse)"}
     reference: ClassVar[str] = (

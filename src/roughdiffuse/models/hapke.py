@@ -33,13 +33,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = [
@@ -221,9 +220,9 @@ def _isis_hapke(
 
 
 # ---------------------------------------------------------------- declarations
-def _albedo() -> Param:
-    return Param(
-        "albedo",
+# functions, not constants: each model's field is a declaration of its own
+def _albedo() -> Any:
+    return param(
         "single-scattering albedo w",
         min=0.0,
         max=1.0,
@@ -233,54 +232,57 @@ def _albedo() -> Param:
     )
 
 
-def _surge(name: str, what: str, example: float) -> tuple[Param, Param]:
-    amp, width = ("b0", "h") if name == "" else (f"b{name}0", f"h_{name}")
-    return (
-        Param(
-            amp,
-            f"{what} amplitude (unbounded above)",
-            min=0.0,
-            max=None,
-            default=0.0,
-            example=example,
-            fit_range=(0.0, B0_SOFT_MAX),
-        ),
-        Param(width, f"{what} width", min=0.0, max=1.0, default=0.1, example=0.06),
+def _surge_amplitude(what: str, example: float) -> Any:
+    return param(
+        f"{what} amplitude (unbounded above)",
+        min=0.0,
+        max=None,
+        default=0.0,
+        example=example,
+        fit_range=(0.0, B0_SOFT_MAX),
     )
 
 
-_THETA_BAR = Param(
-    "theta_bar",
-    "mean slope angle θ̄ of the macroscopic roughness",
-    unit="radians",
-    min=0.0,
-    max=THETA_BAR_MAX,
-    default=0.0,
-    example=0.35,
-)
-_XI = Param(
-    "g",
-    "Henyey–Greenstein asymmetry ξ (< 0 backscatters; ISIS Hg1)",
-    min=-0.99,
-    max=0.99,
-    default=0.0,
-    example=-0.3,
-)
-_HG2 = Param(
-    "hg2",
-    "weight c of the mirrored lobe HG(−ξ) (ISIS Hg2; 0: one-term HG)",
-    min=0.0,
-    max=1.0,
-    default=0.0,
-)
+def _surge_width(what: str) -> Any:
+    return param(f"{what} width", min=0.0, max=1.0, default=0.1, example=0.06)
+
+
+def _theta_bar() -> Any:
+    return param(
+        "mean slope angle θ̄ of the macroscopic roughness",
+        unit="radians",
+        min=0.0,
+        max=THETA_BAR_MAX,
+        default=0.0,
+        example=0.35,
+    )
+
+
+def _xi() -> Any:
+    return param(
+        "Henyey–Greenstein asymmetry ξ (< 0 backscatters; ISIS Hg1)",
+        min=-0.99,
+        max=0.99,
+        default=0.0,
+        example=-0.3,
+    )
+
+
+def _hg2() -> Any:
+    return param(
+        "weight c of the mirrored lobe HG(−ξ) (ISIS Hg2; 0: one-term HG)",
+        min=0.0,
+        max=1.0,
+        default=0.0,
+    )
+
+
 _REFERENCE = (
     "B. Hapke, Theory of Reflectance and Emittance Spectroscopy,"
     " 2nd ed. (2012); roughness: Hapke, Icarus 59 (1984) 41; as USGS ISIS3 Hapke.cpp"
 )
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Hapke(Model):
     """Hapke's model with a one- or two-term Henyey–Greenstein function, as ISIS's ``HapkeHen``.
 
@@ -316,20 +318,12 @@ class Hapke(Model):
     2.0
     """
 
-    albedo: float | Array = 0.5
-    b0: float | Array = 0.0
-    h: float | Array = 0.1
-    g: float | Array = 0.0
-    theta_bar: float | Array = 0.0
-    hg2: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _albedo(),
-        *_surge("", "shadow-hiding opposition-surge", 0.8),
-        _XI,
-        _THETA_BAR,
-        _HG2,
-    )
+    albedo: float | Array = _albedo()
+    b0: float | Array = _surge_amplitude("shadow-hiding opposition-surge", 0.8)
+    h: float | Array = _surge_width("shadow-hiding opposition-surge")
+    g: float | Array = _xi()
+    theta_bar: float | Array = _theta_bar()
+    hg2: float | Array = _hg2()
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke": {}}
     labels: ClassVar[dict[str, str]] = {"hapke": "Hapke (planetary)"}
     reference: ClassVar[str] = _REFERENCE
@@ -414,8 +408,6 @@ class Hapke(Model):
         return _isis_hapke(xp, mu_i, mu_o, cos_io, albedo, surge, p, theta_bar)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class HapkeLegendre(Model):
     """Hapke's model with ISIS's Legendre phase function, as ISIS's ``HapkeLeg``.
 
@@ -443,34 +435,24 @@ class HapkeLegendre(Model):
     0.16145
     """
 
-    albedo: float | Array = 0.5
-    b0: float | Array = 0.0
-    h: float | Array = 0.1
-    bh: float | Array = 0.0
-    ch: float | Array = 0.0
-    theta_bar: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _albedo(),
-        *_surge("", "shadow-hiding opposition-surge", 0.8),
-        Param(
-            "bh",
-            "Legendre coefficient b of cos g (ISIS Bh)",
-            min=-1.0,
-            max=1.0,
-            default=0.0,
-            example=-0.4,
-        ),
-        Param(
-            "ch",
-            "Legendre coefficient c of P2(cos g) (ISIS Ch)",
-            min=-1.0,
-            max=1.0,
-            default=0.0,
-            example=0.3,
-        ),
-        _THETA_BAR,
+    albedo: float | Array = _albedo()
+    b0: float | Array = _surge_amplitude("shadow-hiding opposition-surge", 0.8)
+    h: float | Array = _surge_width("shadow-hiding opposition-surge")
+    bh: float | Array = param(
+        "Legendre coefficient b of cos g (ISIS Bh)",
+        min=-1.0,
+        max=1.0,
+        default=0.0,
+        example=-0.4,
     )
+    ch: float | Array = param(
+        "Legendre coefficient c of P2(cos g) (ISIS Ch)",
+        min=-1.0,
+        max=1.0,
+        default=0.0,
+        example=0.3,
+    )
+    theta_bar: float | Array = _theta_bar()
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"w",
         "b0": r"B_0",
@@ -518,8 +500,6 @@ class HapkeLegendre(Model):
         return _isis_hapke(xp, mu_i, mu_o, cos_io, albedo, surge, p, theta_bar)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Hapke2012(Model):
     """Hapke's 2012 model: porosity, shadow-hiding and coherent-backscatter surges.
 
@@ -559,49 +539,35 @@ class Hapke2012(Model):
     0.179845
     """
 
-    albedo: float | Array = 0.5
-    bs0: float | Array = 0.0
-    h_s: float | Array = 0.1
-    bc0: float | Array = 0.0
-    h_c: float | Array = 0.1
-    porosity: float | Array = 1.0
-    g: float | Array = 0.0
-    hg2: float | Array = 0.0
-    theta_bar: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _albedo(),
-        *_surge("s", "shadow-hiding surge", 0.8),
-        Param(
-            "bc0",
-            "coherent-backscatter surge amplitude B_C0",
-            min=0.0,
-            max=None,
-            default=0.0,
-            example=0.4,
-            fit_range=(0.0, 1.0),
-        ),
-        Param(
-            "h_c",
-            "coherent-backscatter surge width h_C",
-            min=0.0,
-            max=1.0,
-            default=0.1,
-            example=0.02,
-        ),
-        Param(
-            "porosity",
-            "porosity factor K (1: very porous)",
-            min=1.0,
-            max=None,
-            default=1.0,
-            example=1.3,
-            fit_range=(1.0, 3.0),
-        ),
-        _XI,
-        _HG2,
-        _THETA_BAR,
+    albedo: float | Array = _albedo()
+    bs0: float | Array = _surge_amplitude("shadow-hiding surge", 0.8)
+    h_s: float | Array = _surge_width("shadow-hiding surge")
+    bc0: float | Array = param(
+        "coherent-backscatter surge amplitude B_C0",
+        min=0.0,
+        max=None,
+        default=0.0,
+        example=0.4,
+        fit_range=(0.0, 1.0),
     )
+    h_c: float | Array = param(
+        "coherent-backscatter surge width h_C",
+        min=0.0,
+        max=1.0,
+        default=0.1,
+        example=0.02,
+    )
+    porosity: float | Array = param(
+        "porosity factor K (1: very porous)",
+        min=1.0,
+        max=None,
+        default=1.0,
+        example=1.3,
+        fit_range=(1.0, 3.0),
+    )
+    g: float | Array = _xi()
+    hg2: float | Array = _hg2()
+    theta_bar: float | Array = _theta_bar()
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"w",
         "bs0": r"B_{S0}",

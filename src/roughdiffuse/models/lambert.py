@@ -6,16 +6,13 @@ f = ρ/π (Lambert 1760; the lecture's recap, L = ρ/π E0 n·s).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Lambert(Model):
     """Lambertian BRDF, f = ρ/π.
 
@@ -31,11 +28,15 @@ class Lambert(Model):
     0.15915494309189535
     """
 
-    albedo: float | Array = 1.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param("albedo", "albedo ρ", min=0.0, max=1.0, default=1.0, channels=True, example=0.8),
+    albedo: float | Array = param(
+        "albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert": {}}
     labels: ClassVar[dict[str, str]] = {"lambert": "Lambert"}
     reference: ClassVar[str] = "J. H. Lambert, Photometria (1760)"

@@ -33,12 +33,11 @@ rounding puts cos φ at or below −1.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 __all__ = ["LambertSphere", "lambert_sphere_phase", "single_scattering_albedo"]
 
@@ -143,8 +142,6 @@ def _f1m(xp: Any, ui: Array, uo: Array, c: Array) -> Array:
     return -2.0 / math.pi * inner / (8.0 * maximum(xp, ui + uo, _SUM_FLOOR))
 
 
-@register_pytree
-@dataclass(frozen=True)
 class LambertSphere(Model):
     """d'Eon's Lambert-sphere BRDF (EGSR 2021), full or fast.
 
@@ -173,26 +170,20 @@ class LambertSphere(Model):
     1.0
     """
 
-    albedo: float | Array = 0.8
-    variant: Literal["full", "fast"] = "full"
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "diffuse colour k_d (mapped to the single-scattering albedo c)",
-            min=0.0,
-            max=1.0,
-            default=0.8,
-            channels=True,
-            example=0.8,
-        ),
-        Param(
-            "variant",
-            "d'Eon's analytic fit or its fast approximation",
-            choices=("full", "fast"),
-            default="full",
-        ),
+    albedo: float | Array = param(
+        "diffuse colour k_d (mapped to the single-scattering albedo c)",
+        min=0.0,
+        max=1.0,
+        default=0.8,
+        channels=True,
+        example=0.8,
     )
+    variant: Literal["full", "fast"] = param(
+        "d'Eon's analytic fit or its fast approximation",
+        choices=("full", "fast"),
+        default="full",
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert-sphere": {}}
     labels: ClassVar[dict[str, str]] = {"lambert-sphere": "d'Eon Lambertian spheres"}
     reference: ClassVar[str] = (

@@ -22,12 +22,11 @@ grazing; the sum of cosines is floored at 1e-6.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum, safe_div
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
@@ -35,8 +34,6 @@ __all__ = ["LommelSeeliger", "LunarLambert"]
 _SUM_FLOOR = 1e-6
 
 
-@register_pytree
-@dataclass(frozen=True)
 class LommelSeeliger(Model):
     """Lommel–Seeliger BRDF, f = w / (4π (μi + μo)).
 
@@ -46,19 +43,15 @@ class LommelSeeliger(Model):
         Single-scattering albedo w in [0, 1].
     """
 
-    albedo: float | Array = 1.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "single-scattering albedo w",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
+    albedo: float | Array = param(
+        "single-scattering albedo w",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lommel-seeliger": {}}
     labels: ClassVar[dict[str, str]] = {"lommel-seeliger": "Lommel–Seeliger"}
     reference: ClassVar[str] = (
@@ -99,8 +92,6 @@ class LommelSeeliger(Model):
         return self._closed_form_albedo(wo, closed)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class LunarLambert(Model):
     """McEwen's Lunar-Lambert BRDF, f = ρ/π [(1 − L) + 2L/(μi + μo)].
 
@@ -116,28 +107,22 @@ class LunarLambert(Model):
         model up to its normalisation).
     """
 
-    albedo: float | Array = 1.0
-    limb_darkening: float | Array = 0.5
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "albedo ρ (L = 0: Lambert)",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param(
-            "limb_darkening",
-            "L, weight of the Lommel–Seeliger term (unbounded above, as ISIS)",
-            min=0.0,
-            max=None,
-            default=0.5,
-            fit_range=(0.0, 1.0),
-        ),
+    albedo: float | Array = param(
+        "albedo ρ (L = 0: Lambert)",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    limb_darkening: float | Array = param(
+        "L, weight of the Lommel–Seeliger term (unbounded above, as ISIS)",
+        min=0.0,
+        max=None,
+        default=0.5,
+        fit_range=(0.0, 1.0),
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lunar-lambert": {}}
     labels: ClassVar[dict[str, str]] = {"lunar-lambert": "Lunar-Lambert"}
     reference: ClassVar[str] = (

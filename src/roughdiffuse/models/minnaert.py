@@ -14,12 +14,11 @@ albedo is closed: 2ρ μo^(k−1)/(k + 1).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, maximum
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["Minnaert"]
@@ -28,8 +27,6 @@ _MU_FLOOR = 1e-6
 """μ^(k−1) diverges at the limb for k < 1; μ is floored here so the value stays finite."""
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Minnaert(Model):
     """Minnaert BRDF, f = ρ/π (μi μo)^(k−1).
 
@@ -53,21 +50,22 @@ class Minnaert(Model):
     0.903602
     """
 
-    albedo: float | Array = 1.0
-    k: float | Array = 1.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "normal albedo ρ (I/F at i = e = 0)",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param("k", "Minnaert exponent k (1 = Lambert)", min=0.0, max=2.0, default=1.0, example=0.7),
+    albedo: float | Array = param(
+        "normal albedo ρ (I/F at i = e = 0)",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    k: float | Array = param(
+        "Minnaert exponent k (1 = Lambert)",
+        min=0.0,
+        max=2.0,
+        default=1.0,
+        example=0.7,
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"minnaert": {}}
     labels: ClassVar[dict[str, str]] = {"minnaert": "Minnaert (planetary)"}
     reference: ClassVar[str] = (

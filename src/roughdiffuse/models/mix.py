@@ -17,12 +17,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, safe_div
 from .._validate import ParameterError, check_range
-from .base import Model, register_pytree
+from .base import Model
 from .declaration import Param
 from .oren_nayar import SIGMA_MAX, OrenNayar
 from .sampling import Strategy, strategy_for
@@ -31,8 +30,6 @@ from .torrance_sparrow import ETA_MAX, TorranceSparrow
 __all__ = ["Mix", "mixture"]
 
 
-@register_pytree
-@dataclass(frozen=True)
 class Mix(Model):
     """f = Σ_k w_k f_k.
 

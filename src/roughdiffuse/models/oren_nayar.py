@@ -29,14 +29,13 @@ pp. 239–246. Roughness σ is the standard deviation of the facet slope angle, 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 from .._array import Array, clip, maximum, minimum, namespace, result_dtype, safe_div, safe_sqrt
 from .._validate import check_range
 from ..frames import angles_to_cosines
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 __all__ = ["OrenNayar", "oren_nayar", "SIGMA_MAX"]
 
@@ -92,8 +91,6 @@ def _full(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array, albedo
     return maximum(xp, l1 + l2, 0.0)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class OrenNayar(Model):
     """Oren–Nayar BRDF (SIGGRAPH 1994), qualitative or full.
 
@@ -118,36 +115,28 @@ class OrenNayar(Model):
     0.892857
     """
 
-    albedo: float | Array = 1.0
-    sigma: float | Array = 0.0
-    variant: Variant = "qualitative"
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "albedo",
-            "facet albedo ρ",
-            min=0.0,
-            max=1.0,
-            default=1.0,
-            channels=True,
-            example=0.8,
-        ),
-        Param(
-            "sigma",
-            "roughness σ, standard deviation of the facet slope angle",
-            unit="radians",
-            min=0.0,
-            max=SIGMA_MAX,
-            default=0.0,
-            example=math.radians(20.0),
-        ),
-        Param(
-            "variant",
-            "qualitative model (Eq. 30) or full model with interreflection (Eq. 27-31)",
-            choices=("qualitative", "full"),
-            default="qualitative",
-        ),
+    albedo: float | Array = param(
+        "facet albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
     )
+    sigma: float | Array = param(
+        "roughness σ, standard deviation of the facet slope angle",
+        unit="radians",
+        min=0.0,
+        max=SIGMA_MAX,
+        default=0.0,
+        example=math.radians(20.0),
+    )
+    variant: Variant = param(
+        "qualitative model (Eq. 30) or full model with interreflection (Eq. 27-31)",
+        choices=("qualitative", "full"),
+        default="qualitative",
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {
         "oren-nayar": {"variant": "qualitative"},
         "oren-nayar-full": {"variant": "full"},

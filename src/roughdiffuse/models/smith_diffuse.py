@@ -15,21 +15,18 @@ for tables, comparisons and reports, not images.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from .._array import Array, asarray, concrete
 from .._validate import ParameterError
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 __all__ = ["SmithDiffuse"]
 
 
-@register_pytree
-@dataclass(frozen=True)
 class SmithDiffuse(Model):
     """Smith microsurface of Lambertian facets, all bounces, by Monte Carlo (1/sr).
 
@@ -55,20 +52,25 @@ class SmithDiffuse(Model):
     0.5
     """
 
-    albedo: float | Array = 1.0
-    alpha: float | Array = 0.0
-    distribution: str = "beckmann"
+    albedo: float | Array = param(
+        "facet albedo ρ",
+        min=0.0,
+        max=1.0,
+        default=1.0,
+        channels=True,
+        example=0.8,
+    )
+    alpha: float | Array = param(
+        "roughness α of the slope distribution",
+        min=0.0,
+        max=2.0,
+        default=0.0,
+        example=0.5,
+    )
+    distribution: str = param("slope distribution", choices=("beckmann", "ggx"), default="beckmann")
     samples: int = 4096
     seed: int = 0
 
-    params: ClassVar[tuple[Param, ...]] = (
-        Param("albedo", "facet albedo ρ", min=0.0, max=1.0, default=1.0, channels=True,
-              example=0.8),
-        Param("alpha", "roughness α of the slope distribution", min=0.0, max=2.0, default=0.0,
-              example=0.5),
-        Param("distribution", "slope distribution", choices=("beckmann", "ggx"),
-              default="beckmann"),
-    )
     ids: ClassVar[dict[str, dict[str, Any]]] = {
         "smith-diffuse-beckmann": {"distribution": "beckmann"},
         "smith-diffuse-ggx": {"distribution": "ggx"},

@@ -29,15 +29,14 @@ Earlier versions took σ for Beckmann too, as the standard deviation of each slo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 from .._array import Array, asarray, clip, maximum, minimum, result_dtype, safe_div, safe_sqrt
 from .._validate import ParameterError
 from ..frames import unit_components
 from ..quadrature import gauss_legendre
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import Param, param
 from .microfacet import (
     SIGMA_FLOOR,
     fresnel_dielectric,
@@ -58,8 +57,6 @@ float range of the formula's intermediate terms long before anything physical.""
 _SQRT2 = math.sqrt(2.0)
 
 
-@register_pytree
-@dataclass(frozen=True)
 class TorranceSparrow(Model):
     """Torrance–Sparrow specular BRDF, F G D / (4 cos θi cos θr).
 
@@ -88,48 +85,39 @@ class TorranceSparrow(Model):
     True
     """
 
-    eta: float | Array = 1.5
-    sigma: float | Array | None = 0.2
-    distribution: Distribution = "gaussian"
-    alpha: float | Array | None = None
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param(
-            "eta",
-            "relative refractive index η of the facets",
-            min=0.0,
-            max=ETA_MAX,
-            min_open=True,
-            default=1.5,
-            fit_range=(1.0, 3.0),
-        ),
-        Param(
-            "sigma",
-            "σ, standard deviation of the facet slope angle (Gaussian distribution)",
-            unit="radians",
-            min=0.0,
-            max=SIGMA_MAX,
-            default=0.2,
-            when={"distribution": "gaussian"},
-            example=math.radians(20.0),
-            fit_range=(0.02, SIGMA_MAX),
-        ),
-        Param(
-            "distribution",
-            "facet distribution: Gaussian in the slope angle, or Beckmann",
-            choices=("gaussian", "beckmann"),
-            default="gaussian",
-        ),
-        Param(
-            "alpha",
-            "α, RMS facet slope (Beckmann distribution; α = √2 σ at small slopes)",
-            min=0.0,
-            max=_SQRT2 * SIGMA_MAX,
-            default=_SQRT2 * 0.2,
-            when={"distribution": "beckmann"},
-            fit_range=(_SQRT2 * 0.02, _SQRT2 * SIGMA_MAX),
-        ),
+    eta: float | Array = param(
+        "relative refractive index η of the facets",
+        min=0.0,
+        max=ETA_MAX,
+        min_open=True,
+        default=1.5,
+        fit_range=(1.0, 3.0),
     )
+    sigma: float | Array | None = param(
+        "σ, standard deviation of the facet slope angle (Gaussian distribution)",
+        unit="radians",
+        min=0.0,
+        max=SIGMA_MAX,
+        default=0.2,
+        when={"distribution": "gaussian"},
+        example=math.radians(20.0),
+        fit_range=(0.02, SIGMA_MAX),
+    )
+    distribution: Distribution = param(
+        "facet distribution: Gaussian in the slope angle, or Beckmann",
+        choices=("gaussian", "beckmann"),
+        default="gaussian",
+    )
+    alpha: float | Array | None = param(
+        "α, RMS facet slope (Beckmann distribution; α = √2 σ at small slopes)",
+        min=0.0,
+        max=_SQRT2 * SIGMA_MAX,
+        default=_SQRT2 * 0.2,
+        when={"distribution": "beckmann"},
+        fit_range=(_SQRT2 * 0.02, _SQRT2 * SIGMA_MAX),
+        unset=None,
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {
         "torrance-sparrow": {"distribution": "gaussian"},
         "torrance-sparrow-beckmann": {"distribution": "beckmann"},

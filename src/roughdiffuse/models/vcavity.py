@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
 from .._array import Array, clip
-from .base import Model, register_pytree
-from .declaration import Param
+from .base import Model
+from .declaration import param
 
 __all__ = ["VCavity", "THETA_CAP", "vcavity_table"]
 
@@ -99,8 +98,6 @@ def _cell(xp: Any, u: Array, cells: int) -> tuple[Array, Array]:
     return xp.astype(i, xp.int32), u - i
 
 
-@register_pytree
-@dataclass(frozen=True)
 class VCavity(Model):
     """The exact V-cavity surface (Oren & Nayar 1994): shadowing, masking, interreflection.
 
@@ -147,34 +144,25 @@ class VCavity(Model):
     0.5
     """
 
-    albedo: float | Array = 1.0
-    sigma: float | Array = 0.3
-    bounces: str = "all"
-    measure: str = "solid-angle"
-
-    params: ClassVar[tuple[Param, ...]] = (
-        Param("albedo", "facet albedo ρ", min=0.0, max=1.0, default=1.0, example=0.8),
-        Param(
-            "sigma",
-            "standard deviation σ of the facet slope angle",
-            unit="radians",
-            min=0.0,
-            max=math.pi / 2,
-            default=0.3,
-        ),
-        Param(
-            "bounces",
-            "light paths kept: 1 (shadowing and masking), up to 2 or 3, or all",
-            choices=("all", "1", "2", "3"),
-            default="all",
-        ),
-        Param(
-            "measure",
-            "reading of the slope measure: per solid angle of normals, or per slope angle",
-            choices=("solid-angle", "angle"),
-            default="solid-angle",
-        ),
+    albedo: float | Array = param("facet albedo ρ", min=0.0, max=1.0, default=1.0, example=0.8)
+    sigma: float | Array = param(
+        "standard deviation σ of the facet slope angle",
+        unit="radians",
+        min=0.0,
+        max=math.pi / 2,
+        default=0.3,
     )
+    bounces: str = param(
+        "light paths kept: 1 (shadowing and masking), up to 2 or 3, or all",
+        choices=("all", "1", "2", "3"),
+        default="all",
+    )
+    measure: str = param(
+        "reading of the slope measure: per solid angle of normals, or per slope angle",
+        choices=("solid-angle", "angle"),
+        default="solid-angle",
+    )
+
     ids: ClassVar[dict[str, dict[str, Any]]] = {"v-cavity": {}}
     labels: ClassVar[dict[str, str]] = {"v-cavity": "V-cavity surface (exact)"}
     reference: ClassVar[str] = (
