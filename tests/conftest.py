@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import roughdiffuse as rd
+from example_models import points_of
 from explorer_browser import browser, explorer_url  # noqa: F401 - session fixtures for all modules
 from roughdiffuse import registry
 
@@ -133,16 +134,16 @@ def midpoint_albedo(model: rd.Model, mu_o: float, n_mu: int = 600, n_phi: int = 
 
 def all_models(rgb: bool = False) -> list[rd.Model]:
     """One instance per test point of every closed-form model of the package, for
-    interface-wide tests: each registry id's declared ``example`` point and its class's
-    ``test_points`` (:meth:`roughdiffuse.registry.Entry.test_points`), with every colour
-    parameter set to 0.7 (or three channels with ``rgb``)."""
+    interface-wide tests: each registry id's declared ``example`` point and the points listed
+    for it in ``tests/example_models.py`` (:func:`example_models.points_of`), with every
+    colour parameter set to 0.7 (or three channels with ``rgb``)."""
     a = [0.9, 0.5, 0.2] if rgb else 0.7
     out = []
     for entry in registry.entries():
         if entry.source != "roughdiffuse" or not entry.cls.closed_form:
             continue
         channels = {p.name for p in entry.parameters if p.channels}
-        for point in entry.test_points():
+        for point in points_of(entry):
             out.append(entry.create(**{**point, **dict.fromkeys(channels, a)}))
     return out
 

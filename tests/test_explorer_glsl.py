@@ -31,6 +31,7 @@ import math
 import numpy as np
 import pytest
 
+from example_models import points_of
 from explorer_browser import open_page
 from roughdiffuse.explorer import model_from_params
 from roughdiffuse.explorer.params import explorer_entries, flat_key
@@ -49,7 +50,7 @@ def _parameter_sets() -> dict[str, list[dict]]:
     out = {}
     for entry in explorer_entries():
         sets = []
-        for point in entry.glsl_test_points():
+        for point in entry.glsl_test_points() or points_of(entry):
             record = {}
             for name, value in point.items():
                 if entry.param(name).channels and np.ndim(value) == 0:

@@ -108,22 +108,18 @@ class Entry:
         """The model number ``brdf.glsl`` dispatches on for this id (``None``: no GLSL)."""
         return self.cls.glsl.get(self.id)
 
-    def test_points(self) -> list[dict[str, Any]]:
-        """Parameter sets the interface-wide tests run: the declared ``example`` (else the
-        default) of each parameter, then the class's ``test_points`` for this id (duplicates
-        dropped)."""
+    def example(self) -> dict[str, Any]:
+        """The example parameter set: the declared ``example`` (else the default) of each
+        parameter that exists for the example's choices; where the command line and the
+        benchmarks start, and the first point the interface-wide tests run."""
         start = {p.name: p.default if p.example is None else p.example for p in self.parameters}
-        points = [{p.name: start[p.name] for p in self.applicable(start)}]
-        for point in self.cls.test_points.get(self.id, ()):
-            if point not in points:
-                points.append(dict(point))
-        return points
+        return {p.name: start[p.name] for p in self.applicable(start)}
 
     def glsl_test_points(self) -> list[dict[str, Any]]:
         """Parameter sets the GLSL copy is checked at: the class's ``glsl_test_points`` for
-        this id, else :meth:`test_points`."""
-        declared = self.cls.glsl_test_points.get(self.id)
-        return [dict(p) for p in declared] if declared else self.test_points()
+        this id (empty if it declares none: the test then takes the interface-wide
+        points)."""
+        return [dict(p) for p in self.cls.glsl_test_points.get(self.id, ())]
 
     @property
     def parameters(self) -> tuple[Param, ...]:

@@ -103,12 +103,9 @@ class Model:
         Where the model's ids come in the registry (``roughdiffuse models``): classes are
         sorted by ``order``, then module name, then definition order. Default 1000 (after
         the package's first models).
-    test_points : dict
-        Registry id -> parameter sets (keyword arguments of ``registry.get(id).create``) that
-        the interface-wide tests run besides each parameter's ``example``.
     glsl_test_points : dict
         Registry id -> parameter sets the GLSL copy is checked at (float32 edge cases);
-        default: the ``example`` point and ``test_points``.
+        default: the points of the interface-wide tests (``tests/example_models.py``).
     traceable : bool
         False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
         it cannot be traced by ``jax.jit`` (the renderer, fits).
@@ -144,7 +141,6 @@ class Model:
     glsl: ClassVar[dict[str, int]] = {}
     glsl_keys: ClassVar[dict[str, str]] = {}
     order: ClassVar[int] = 1000
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True

@@ -102,7 +102,6 @@ class Burley(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"burley": 9}
     order: ClassVar[int] = 80
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"burley": ({"roughness": 0.5},)}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "burley": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
@@ -170,9 +169,6 @@ class BurleyRenormalized(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"frostbite": 10}
     order: ClassVar[int] = 90
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "frostbite": ({"roughness": 0.7},)
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "frostbite": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
@@ -246,9 +242,6 @@ class Burley2015(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"burley-2015": 11}
     order: ClassVar[int] = 100
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "burley-2015": ({"roughness": 0.3},)
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "burley-2015": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }

@@ -76,7 +76,6 @@ class Chan(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"chan": 13}
     order: ClassVar[int] = 120
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"chan": ({"alpha": 0.4},)}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "chan": tuple({"albedo": [0.9, 0.5, 0.05], "alpha": a} for a in (0.0, 0.01, 0.3, 1.0))
     }

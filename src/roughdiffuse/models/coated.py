@@ -418,18 +418,6 @@ class Coated(Model):
     trailing node axis that ``xp.sum`` adds up (a loop in the compiled kernel), not unrolled
     Python loops."""
     order: ClassVar[int] = 175
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "coated": (
-            {"sigma": 0.3, "eta": 1.5},
-            {"sigma": 0.0, "eta": 1.5, "roughness": 0.3, "distribution": "beckmann",
-             "absorption": 0.2},
-            # one other base (each interface-wide test compiles every point: one is enough
-            # to check that a base's own parameter reaches it; tests/test_coated_bases.py
-            # checks every base)
-            {"base": "eon", "base_roughness": 0.7, "eta": 1.5, "roughness": 0.2,
-             "absorption": 0.1},
-        )
-    }
     glsl: ClassVar[dict[str, int]] = {"coated": 17}
     glsl_keys: ClassVar[dict[str, str]] = {}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {

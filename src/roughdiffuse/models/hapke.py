@@ -329,13 +329,6 @@ class Hapke(Model):
     reference: ClassVar[str] = _REFERENCE
     glsl: ClassVar[dict[str, int]] = {"hapke": 15}
     order: ClassVar[int] = 140
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "hapke": (
-            {"b0": 0.8, "h": 0.1, "g": -0.3, "theta_bar": 0.35},
-            {"b0": 0.0, "h": 0.0, "g": 0.2, "theta_bar": 0.0},
-            {"b0": 2.5, "h": 0.05, "g": 0.4, "theta_bar": 0.3, "hg2": 0.7},
-        )
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "hapke": (
             {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
@@ -478,9 +471,6 @@ class HapkeLegendre(Model):
     labels: ClassVar[dict[str, str]] = {"hapke-legendre": "Hapke, Legendre phase (planetary)"}
     reference: ClassVar[str] = _REFERENCE
     order: ClassVar[int] = 141
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "hapke-legendre": ({"b0": 1.5, "h": 0.06, "bh": -0.4, "ch": 0.3, "theta_bar": 0.3},)
-    }
 
     def _kernel(
         self,
@@ -613,20 +603,6 @@ class Hapke2012(Model):
         " (arunoruto/reflectance-models)"
     )
     order: ClassVar[int] = 142
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "hapke-2012": (
-            {
-                "bs0": 1.2,
-                "h_s": 0.06,
-                "bc0": 0.5,
-                "h_c": 0.02,
-                "porosity": 1.4,
-                "g": -0.3,
-                "hg2": 0.2,
-                "theta_bar": 0.35,
-            },
-        )
-    }
 
     def _kernel(
         self,

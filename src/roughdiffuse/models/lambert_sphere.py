@@ -191,9 +191,6 @@ class LambertSphere(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"lambert-sphere": 14}
     order: ClassVar[int] = 130
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lambert-sphere": ({"variant": "full"}, {"variant": "fast"})
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lambert-sphere": tuple({"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast"))
     }

@@ -132,9 +132,6 @@ class LunarLambert(Model):
     glsl: ClassVar[dict[str, int]] = {"lunar-lambert": 8}
     order: ClassVar[int] = 70
     glsl_keys: ClassVar[dict[str, str]] = {"limb_darkening": "limb"}
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lunar-lambert": ({"limb_darkening": 0.6},)
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lunar-lambert": tuple(
             {"albedo": [0.9, 0.5, 0.05], "limb_darkening": v} for v in (0.0, 0.6, 1.0)

@@ -78,9 +78,6 @@ class Mix(Model):
     reference: ClassVar[str] = "weighted sum of models (Mitsuba 3 blendbsdf)"
     glsl: ClassVar[dict[str, int]] = {"mix": 6}
     order: ClassVar[int] = 50
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "mix": ({"sigma": 0.3, "weight": 0.1, "eta": 1.5},)
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "mix": (
             {"albedo": [0.9, 0.5, 0.05], "sigma": 0.3, "weight": 0.3, "eta": 1.5},

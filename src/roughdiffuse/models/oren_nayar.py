@@ -150,10 +150,6 @@ class OrenNayar(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"oren-nayar": 1, "oren-nayar-full": 2}
     order: ClassVar[int] = 10
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "oren-nayar": ({"sigma": 0.0}, {"sigma": 0.4}),
-        "oren-nayar-full": ({"sigma": 0.4}, {"sigma": math.pi / 2}),
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "oren-nayar": tuple(
             {"albedo": [0.9, 0.5, 0.05], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)

@@ -122,9 +122,6 @@ class CyclesDiffuse(Model):
         "and bsdf_oren_nayar_get_intensity (closure weight: svm/closure.h)"
     )
     order: ClassVar[int] = _ORDER
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "cycles-diffuse": ({"roughness": 0.0}, {"roughness": 1.0, "albedo": 0.5})
-    }
     glsl: ClassVar[dict[str, int]] = {"cycles-diffuse": 20, "cycles-principled": 20}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "cycles-diffuse": tuple(
@@ -184,9 +181,6 @@ class MaterialXEON(Model):
         "mx_oren_nayar_compensated_diffuse"
     )
     order: ClassVar[int] = _ORDER + 10
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "materialx-eon": ({"roughness": 0.0}, {"roughness": 1.0})
-    }
     glsl: ClassVar[dict[str, int]] = {"materialx-eon": 21}
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "materialx-eon": tuple(

@@ -134,10 +134,6 @@ class TorranceSparrow(Model):
     )
     glsl: ClassVar[dict[str, int]] = {"torrance-sparrow": 5, "torrance-sparrow-beckmann": 5}
     order: ClassVar[int] = 40
-    test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "torrance-sparrow": ({"eta": 1.5, "sigma": 0.3}, {"eta": 0.7, "sigma": 0.2}),
-        "torrance-sparrow-beckmann": ({"eta": 1.5, "alpha": _SQRT2 * 0.3},),
-    }
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         # σ from 0.03 rad (float32 limit), η = 0.75 (no grid point on the critical angle)
         "torrance-sparrow": tuple(
