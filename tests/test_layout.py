@@ -12,7 +12,7 @@ SRC = ROOT / "src" / "roughdiffuse"
 PY = sorted(SRC.rglob("*.py"))
 
 # the private hooks of a model, used only inside roughdiffuse/models/
-MODEL_PRIVATE = {"_kernel", "_params", "_xp", "_eval", "_param_values"}
+MODEL_PRIVATE = {"_kernel", "_xp", "_validate", "_should_jit", "_coerce_channels"}
 
 
 def _module(path: Path) -> tuple[str, str]:
@@ -55,6 +55,23 @@ def test_models_private_hooks_are_not_used_outside_the_models_package():
             if isinstance(node, ast.Attribute) and node.attr in MODEL_PRIVATE:
                 if not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")):
                     offenders.append(f"{path.relative_to(ROOT)}:{node.lineno} .{node.attr}")
+    assert offenders == []
+
+
+def test_models_built_of_models_use_the_public_model_interface():
+    """Mix and Coated reach their components and base through the public interface
+    (``evaluate``, ``parameter_arrays``, ``parameter_values``, ``channel``...), never a private
+    name of another object."""
+    offenders = []
+    for path in (SRC / "models" / "mix.py", SRC / "models" / "coated.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Attribute) or not node.attr.startswith("_"):
+                continue
+            if node.attr.startswith("__") or (
+                isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")
+            ):
+                continue
+            offenders.append(f"{path.relative_to(ROOT)}:{node.lineno} .{node.attr}")
     assert offenders == []
 
 

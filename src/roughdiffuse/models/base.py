@@ -239,12 +239,6 @@ class Model:
         """
         return self._kernel(xp, mu_i, mu_o, cos_io, **params)
 
-    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
-        """The numeric parameters as arrays of namespace ``xp``: what :meth:`kernel` and the
-        sampling strategies (:mod:`.sampling`) receive. Subclasses adapt it in ``_params``.
-        """
-        return self._params(xp, dtype)
-
     # ------------------------------------------------------------------ helpers
     def _coerce_channels(self) -> None:
         """Turn a list or tuple of channel values into a float64 array (one pytree leaf)."""
@@ -253,14 +247,19 @@ class Model:
             if isinstance(value, list | tuple):
                 object.__setattr__(self, f, np.asarray(value, dtype=np.float64))
 
-    def _param_values(self) -> list[Any]:
+    def parameter_values(self) -> list[Any]:
+        """The numeric parameters as given (those unset, ``None``, left out; a model holding
+        models, :class:`~roughdiffuse.models.mix.Mix`, includes theirs): what decides the
+        array namespace of a call and whether it is traced."""
         return [getattr(self, f) for f in self.array_fields if getattr(self, f) is not None]
 
     def _xp(self, *arrays: Any) -> Any:
-        return namespace(*arrays, *self._param_values())
+        return namespace(*arrays, *self.parameter_values())
 
-    def _params(self, xp: Any, dtype: Any) -> dict[str, Array]:
-        """The numeric parameters as arrays (those unset, ``None``, for this instance left out)."""
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
+        """The numeric parameters as arrays of namespace ``xp`` (those unset, ``None``, for
+        this instance left out): what :meth:`kernel` and the sampling strategies
+        (:mod:`.sampling`) receive. A model holding models nests their records."""
         return {
             f: asarray(xp, getattr(self, f), dtype)
             for f in self.array_fields
@@ -281,7 +280,7 @@ class Model:
     def _should_jit(self, xp: Any, *arrays: Any) -> bool:
         if not is_jax(xp):
             return False
-        return not any(is_tracer(a) for a in (*arrays, *self._param_values()))
+        return not any(is_tracer(a) for a in (*arrays, *self.parameter_values()))
 
     def brdf_cosines(self, mu_i: Array, mu_o: Array, cos_io: Array) -> Array:
         """The BRDF from the local cosines n·wi, n·wo and wi·wo (no normalisation done).
@@ -296,10 +295,18 @@ class Model:
         xp = self._xp(mu_i, mu_o, cos_io)
         dtype = result_dtype(xp, mu_i, mu_o, cos_io)
         mu_i, mu_o, cos_io = (asarray(xp, a, dtype) for a in (mu_i, mu_o, cos_io))
-        return self._eval(xp, mu_i, mu_o, cos_io, dtype)
+        return self.evaluate(xp, mu_i, mu_o, cos_io, dtype)
 
-    def _eval(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
-        p = self._params(xp, dtype)
+    def evaluate(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
+        """The BRDF on local cosines already arrays of namespace ``xp`` and ``dtype``: 0 where
+        either direction is below the horizon, the cosines clamped, a channel axis added for
+        channel parameters, then :meth:`kernel` on :meth:`parameter_arrays`.
+
+        :meth:`brdf_cosines` once the namespace is chosen: what a model built of other models
+        (:class:`~roughdiffuse.models.mix.Mix`, :class:`~roughdiffuse.models.coated.Coated`)
+        calls on them, inside its own evaluation (traced or not).
+        """
+        p = self.parameter_arrays(xp, dtype)
         above = (mu_i >= 0) & (mu_o >= 0)
         mi, mo, c = clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0), clip(xp, cos_io, -1.0, 1.0)
         if self.channels:
@@ -335,7 +342,7 @@ class Model:
             return _jitted("brdf")(self, wi, wo)
         dtype = result_dtype(xp, wi, wo)
         mu_i, mu_o, cos_io = local_cosines(xp, wi, wo, dtype)
-        return self._eval(xp, mu_i, mu_o, cos_io, dtype)
+        return self.evaluate(xp, mu_i, mu_o, cos_io, dtype)
 
     def radiance(self, n: Array, l: Array, v: Array, irradiance: Array | float = 1.0) -> Array:
         """Reflected radiance L = f_r · E0 · cos θi for world-space directions.
@@ -364,7 +371,7 @@ class Model:
             return _jitted("radiance")(self, n, l, v, irradiance)
         dtype = result_dtype(xp, n, l, v)
         mu_i, mu_o, cos_io = world_cosines(xp, n, l, v, dtype)
-        f = self._eval(xp, mu_i, mu_o, cos_io, dtype)
+        f = self.evaluate(xp, mu_i, mu_o, cos_io, dtype)
         cos_i = clip(xp, mu_i, 0.0, 1.0)
         e0 = asarray(xp, irradiance, dtype)
         if f.ndim == cos_i.ndim + 1:
@@ -422,11 +429,12 @@ class Model:
     def albedo_estimate(self, xp: Any, mu_o: Array, p: dict[str, Any]) -> Array:
         """A cheap estimate of the directional albedo at view cosine ``mu_o``.
 
-        ``p`` holds the parameters as the sampling strategies receive them (``_params``).
-        :class:`~roughdiffuse.models.mix.Mix` samples component k with probability
-        proportional to w_k times this estimate. Default: the ``albedo`` parameter (the mean
-        of its channels), or 1 for a model without one; Torrance–Sparrow overrides it. It
-        only steers sampling: the estimates change the variance, never the mean.
+        ``p`` holds the parameters as the sampling strategies receive them
+        (:meth:`parameter_arrays`). :class:`~roughdiffuse.models.mix.Mix` samples component
+        k with probability proportional to w_k times this estimate. Default: the ``albedo``
+        parameter (the mean of its channels), or 1 for a model without one; Torrance–Sparrow
+        overrides it. It only steers sampling: the estimates change the variance, never the
+        mean.
         """
         a = p.get("albedo")
         if a is None:
@@ -446,7 +454,7 @@ class Model:
         _, _, z = unit_components(xp, wo, "wo", dtype)
         if self.channels:
             z = z[..., None]
-        val = albedo_of_mu(xp, clip(xp, z, 0.0, 1.0), **self._params(xp, dtype))
+        val = albedo_of_mu(xp, clip(xp, z, 0.0, 1.0), **self.parameter_arrays(xp, dtype))
         return xp.where(z >= 0, val, 0.0 * val)
 
 

@@ -221,7 +221,7 @@ def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
     sin = safe_sqrt(xp, 1.0 - mu * mu)
     m2 = asarray(xp, _BA_MU, dtype)
     c = mu * m2 + sin * asarray(xp, _BA_SIN_COS, dtype)
-    f = base._eval(xp, mu + 0.0 * m2, m2 + 0.0 * mu, c, dtype)
+    f = base.evaluate(xp, mu + 0.0 * m2, m2 + 0.0 * mu, c, dtype)
     w = asarray(xp, _BA_W, dtype)
     if base.channels:
         return xp.sum(f * w[..., None], axis=-2)
@@ -508,15 +508,15 @@ class Coated(Model):
                 object.__setattr__(self, p.name, p.check(getattr(self, p.name)))
 
     # ------------------------------------------------------------------ parameters
-    def _param_values(self) -> list[Any]:
-        return [*self.base._param_values(), self.eta, self.roughness, self.absorption]
+    def parameter_values(self) -> list[Any]:
+        return [*self.base.parameter_values(), self.eta, self.roughness, self.absorption]
 
-    def _params(self, xp: Any, dtype: Any) -> dict[str, Any]:
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
         return {
             "eta": asarray(xp, self.eta, dtype),
             "roughness": asarray(xp, self.roughness, dtype),
             "absorption": asarray(xp, self.absorption, dtype),
-            "base": self.base._params(xp, dtype),
+            "base": self.base.parameter_arrays(xp, dtype),
         }
 
     @property
@@ -546,8 +546,8 @@ class Coated(Model):
         return self.base.albedo_estimate(xp, mu_o, p["base"])
 
     # ------------------------------------------------------------------ formula
-    def _eval(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
-        p = self._params(xp, dtype)
+    def evaluate(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
+        p = self.parameter_arrays(xp, dtype)
         eta, alpha, tau = p["eta"], p["roughness"], p["absorption"]
         above = (mu_i >= 0) & (mu_o >= 0)
         mi, mo = clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0)
@@ -558,7 +558,7 @@ class Coated(Model):
         dist = self.distribution
         trans = interface_albedo(xp, mi, eta, alpha, dist, transmitted=True) * interface_albedo(
             xp, mo, eta, alpha, dist, transmitted=True)
-        single = self.base._eval(xp, ri, ro, cos_in, dtype)
+        single = self.base.evaluate(xp, ri, ro, cos_in, dtype)
         chan = self.channels > 0
         k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype, chan)
         a_i = base_albedo(xp, self.base, ri, dtype)
@@ -601,10 +601,11 @@ def _check_base_id(base: object) -> None:
     takes (:data:`COAT_BASES`)."""
     if isinstance(base, str) and base in COAT_BASES:
         return
-    from . import builtin_classes
+    from .. import registry
 
     choices = ", ".join(map(repr, COAT_BASES))
-    cls = next((c for c in builtin_classes() if isinstance(base, str) and base in c.ids), None)
+    known = isinstance(base, str) and base in registry.ids()
+    cls = registry.get(base).cls if known else None
     if cls is None:
         why = "is not a model id" if isinstance(base, str) else "must be a registry id"
     elif getattr(cls, "is_coat", False):
@@ -618,15 +619,13 @@ def _check_base_id(base: object) -> None:
 
 
 def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
-    """The package's model of id ``model_id`` (its class's ``ids``) with ``params``."""
-    from . import builtin_classes
+    """The registry's model of id ``model_id`` with ``params``."""
+    from .. import registry
 
-    for cls in builtin_classes():
-        if model_id in cls.ids:
-            factory = getattr(cls, "from_params", cls)
-            return factory(**{**cls.ids[model_id], **params})
-    known = ", ".join(i for c in builtin_classes() for i in c.ids)
-    raise ParameterError(f"base: unknown model id {model_id!r}; choose one of: {known}")
+    if model_id not in registry.ids():
+        known = ", ".join(registry.ids())
+        raise ParameterError(f"base: unknown model id {model_id!r}; choose one of: {known}")
+    return registry.create(model_id, **params)
 
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:

@@ -143,20 +143,20 @@ class Mix(Model):
                 raise ParameterError(f"components[{k}] must be a (weight, Model) pair (got {m!r})")
         object.__setattr__(self, "components", comps)
 
-    def _param_values(self) -> list[Any]:
+    def parameter_values(self) -> list[Any]:
         vals: list[Any] = []
         for w, m in self.components:
             vals.append(w)
-            vals.extend(m._param_values())
+            vals.extend(m.parameter_values())
         return vals
 
-    def _params(self, xp: Any, dtype: Any) -> dict[str, Any]:
+    def parameter_arrays(self, xp: Any, dtype: Any = None) -> dict[str, Any]:
         """The weights and each component's parameters, as :func:`mixture` reads them."""
         from .._array import asarray
 
         return {
             "weights": tuple(asarray(xp, w, dtype) for w, _ in self.components),
-            "components": tuple(m._params(xp, dtype) for _, m in self.components),
+            "components": tuple(m.parameter_arrays(xp, dtype) for _, m in self.components),
         }
 
     @property
@@ -185,9 +185,9 @@ class Mix(Model):
             total = term if total is None else total + term
         return total
 
-    def _eval(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
+    def evaluate(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
         return self._weighted_sum(
-            [m._eval(xp, mu_i, mu_o, cos_io, dtype) for _, m in self.components],
+            [m.evaluate(xp, mu_i, mu_o, cos_io, dtype) for _, m in self.components],
             [m.channels for _, m in self.components],
         )
 
@@ -242,7 +242,7 @@ def mixture(models: Sequence[Model]) -> Strategy:
     """The sampling strategy of a mixture of ``models`` (Mitsuba 3's ``blendbsdf``).
 
     The strategy's parameters ``p`` are ``{"weights": (w_k), "components": (p_k)}``
-    (:meth:`Mix._params`). Sampling: component k is chosen with probability
+    (:meth:`Mix.parameter_arrays`). Sampling: component k is chosen with probability
     q_k = w_k a_k(μo) / Σ_j w_j a_j(μo) (a_k the component's
     :meth:`~roughdiffuse.models.base.Model.albedo_estimate`) by the first uniform number u1,
     which is then rescaled to [0, 1] within the chosen interval and handed to the

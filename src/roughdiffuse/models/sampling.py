@@ -276,7 +276,7 @@ def sample_model(model: Model, u: Array, wo: Array, strategy: Strategy | None = 
     u = _check_u(xp, u, dtype)
     wo = asarray(xp, wo, dtype)
     wox, woy, woz = unit_components(xp, wo, "wo", dtype)
-    p = model._params(xp, dtype)
+    p = model.parameter_arrays(xp, dtype)
     x, y, z, pdf = strategy.sample(xp, u[..., 0], u[..., 1], wox, woy, woz, p)
     valid = (pdf > 0) & (z > 0) & (woz > 0)
     pdf = _where(xp, valid, pdf, 0.0 * pdf)
@@ -296,7 +296,7 @@ def pdf_model(model: Model, wi: Array, wo: Array, strategy: Strategy | None = No
     dtype = result_dtype(xp, wi, wo)
     wix, wiy, wiz = unit_components(xp, wi, "wi", dtype)
     wox, woy, woz = unit_components(xp, wo, "wo", dtype)
-    p = model._params(xp, dtype)
+    p = model.parameter_arrays(xp, dtype)
     pdf = strategy.pdf(xp, wix, wiy, wiz, wox, woy, woz, p)
     return _where(xp, (wiz > 0) & (woz > 0), pdf, 0.0 * pdf)
 
