@@ -110,8 +110,12 @@ class Entry:
 
     def example(self) -> dict[str, Any]:
         """The example parameter set: the declared ``example`` (else the default) of each
-        parameter that exists for the example's choices; where the command line and the
-        benchmarks start, and the first point the interface-wide tests run."""
+        parameter that exists for the example's choices (the benchmarks' point and the first
+        one the interface-wide tests run).
+
+        >>> get("oren-nayar").example()
+        {'albedo': 0.8, 'sigma': 0.3490658503988659}
+        """
         start = {p.name: p.default if p.example is None else p.example for p in self.parameters}
         return {p.name: start[p.name] for p in self.applicable(start)}
 

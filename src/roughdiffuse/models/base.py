@@ -16,6 +16,7 @@ no cosine in it (pbrt's convention); it is 0 when either direction is below the 
 from __future__ import annotations
 
 import dataclasses
+import inspect
 from typing import Any, ClassVar, dataclass_transform
 
 import numpy as np
@@ -150,7 +151,7 @@ class Model:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        own_fields = set(cls.__dict__.get("__annotations__", {}))
+        own_fields = set(inspect.get_annotations(cls))
         dataclasses.dataclass(frozen=True)(cls)
         # the frozen dataclass's __setattr__/__delattr__ are Model's (the same rule for every
         # model): a class that still applies @dataclass(frozen=True) itself may do so

@@ -29,7 +29,7 @@ from typing import Any, ClassVar
 from .._array import Array
 from ..frames import half_vector_cosines
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["Burley", "Burley2015", "BurleyRenormalized", "schlick_weight"]
 
@@ -53,11 +53,6 @@ def _cos2_d(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> Array:
 def _schlick_product(mu_i: Array, mu_o: Array, f90: Array) -> Array:
     """(1 + (f90 − 1) F(μi)) (1 + (f90 − 1) F(μo)): Schlick with f0 = 1 at both ends."""
     return (1.0 + (f90 - 1.0) * schlick_weight(mu_i)) * (1.0 + (f90 - 1.0) * schlick_weight(mu_o))
-
-
-def _albedo() -> Any:
-    """The base colour ρ, declared alike in the three Burley models."""
-    return param("base colour ρ", min=0.0, max=1.0, default=1.0, channels=True, example=0.8)
 
 
 def _roughness(description: str) -> Any:
@@ -92,7 +87,7 @@ class Burley(Model):
     1.0
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("base colour ρ")
     roughness: float | Array = _roughness("Disney's roughness r (as it is, not squared)")
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"burley": {}}
@@ -158,7 +153,7 @@ class BurleyRenormalized(Model):
     0.662251655629
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("base colour ρ")
     roughness: float | Array = _roughness("Frostbite's linear roughness r")
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"frostbite": {}}
@@ -231,7 +226,7 @@ class Burley2015(Model):
     1.0
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("base colour ρ")
     roughness: float | Array = _roughness("Disney's roughness r")
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"burley-2015": {}}

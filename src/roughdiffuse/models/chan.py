@@ -22,7 +22,7 @@ from .._array import Array, clip, maximum, safe_sqrt
 from ..frames import half_vector_cosines
 from .base import Model
 from .burley import schlick_weight
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["Chan", "chan_gloss"]
 
@@ -59,14 +59,7 @@ class Chan(Model):
     True
     """
 
-    albedo: float | Array = param(
-        "albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("albedo ρ")
     alpha: float | Array = param("GGX roughness α", min=0.0, max=1.0, default=0.3)
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"chan": {}}

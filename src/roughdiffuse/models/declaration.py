@@ -28,7 +28,7 @@ from typing import Any
 
 from .._validate import ParameterError, check_real, describe_value, format_interval
 
-__all__ = ["Param", "Unit", "UNITS", "param", "declared_params"]
+__all__ = ["Param", "Unit", "UNITS", "albedo_param", "param", "declared_params"]
 
 _SPEC = "roughdiffuse.param"
 """The key of a field's metadata holding its declaration (the keywords of :class:`Param`)."""
@@ -255,6 +255,17 @@ def param(
         "fit_range": fit_range,
     }
     return field(default=default if unset is MISSING else unset, metadata={_SPEC: spec})
+
+
+def albedo_param(description: str, *, default: float = 1.0, example: float | None = 0.8) -> Any:
+    """The albedo most models take: a :func:`param` in [0, 1], one value per colour channel
+    allowed (``albedo: float | Array = albedo_param("facet albedo ρ")``).
+
+    >>> import dataclasses
+    >>> albedo_param("albedo ρ").metadata["roughdiffuse.param"]["channels"]
+    True
+    """
+    return param(description, min=0.0, max=1.0, default=default, channels=True, example=example)
 
 
 def declared_params(fields: Any) -> tuple[Param, ...]:

@@ -19,7 +19,7 @@ from typing import Any, ClassVar
 
 from .._array import Array, safe_div
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 from .fujii import fon_albedo, fon_average_albedo, fon_lobe
 from .sampling import CLTC, Strategy
 
@@ -59,14 +59,7 @@ class EON(Model):
     1.0
     """
 
-    albedo: float | Array = param(
-        "single-scattering albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("single-scattering albedo ρ")
     roughness: float | Array = param(
         "Fujii's roughness r (not an angle)",
         min=0.0,

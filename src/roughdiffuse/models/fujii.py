@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_sqrt
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 from .oren_nayar import TAN_FLOOR
 from .sampling import CLTC, Strategy
 
@@ -77,14 +77,7 @@ class Fujii(Model):
     1.0
     """
 
-    albedo: float | Array = param(
-        "albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("albedo ρ")
     roughness: float | Array = param(
         "Fujii's roughness r (not an angle)",
         min=0.0,

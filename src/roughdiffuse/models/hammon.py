@@ -25,7 +25,7 @@ from .._array import Array, maximum
 from ..frames import half_vector_cosines
 from .base import Model
 from .burley import schlick_weight
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["Hammon"]
 
@@ -56,14 +56,7 @@ class Hammon(Model):
     1.05
     """
 
-    albedo: float | Array = param(
-        "facet albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("facet albedo ρ")
     alpha: float | Array = param(
         "GGX roughness α (perceptual roughness²)",
         min=0.0,

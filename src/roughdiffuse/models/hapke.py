@@ -38,7 +38,7 @@ from typing import Any, ClassVar
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = [
@@ -221,17 +221,6 @@ def _isis_hapke(
 
 # ---------------------------------------------------------------- declarations
 # functions, not constants: each model's field is a declaration of its own
-def _albedo() -> Any:
-    return param(
-        "single-scattering albedo w",
-        min=0.0,
-        max=1.0,
-        default=0.5,
-        channels=True,
-        example=0.3,
-    )
-
-
 def _surge_amplitude(what: str, example: float) -> Any:
     return param(
         f"{what} amplitude (unbounded above)",
@@ -318,7 +307,7 @@ class Hapke(Model):
     2.0
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("single-scattering albedo w", default=0.5, example=0.3)
     b0: float | Array = _surge_amplitude("shadow-hiding opposition-surge", 0.8)
     h: float | Array = _surge_width("shadow-hiding opposition-surge")
     g: float | Array = _xi()
@@ -428,7 +417,7 @@ class HapkeLegendre(Model):
     0.16145
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("single-scattering albedo w", default=0.5, example=0.3)
     b0: float | Array = _surge_amplitude("shadow-hiding opposition-surge", 0.8)
     h: float | Array = _surge_width("shadow-hiding opposition-surge")
     bh: float | Array = param(
@@ -529,7 +518,7 @@ class Hapke2012(Model):
     0.179845
     """
 
-    albedo: float | Array = _albedo()
+    albedo: float | Array = albedo_param("single-scattering albedo w", default=0.5, example=0.3)
     bs0: float | Array = _surge_amplitude("shadow-hiding surge", 0.8)
     h_s: float | Array = _surge_width("shadow-hiding surge")
     bc0: float | Array = param(

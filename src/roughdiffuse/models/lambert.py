@@ -10,7 +10,7 @@ from typing import Any, ClassVar
 
 from .._array import Array
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param
 
 
 class Lambert(Model):
@@ -28,14 +28,7 @@ class Lambert(Model):
     0.15915494309189535
     """
 
-    albedo: float | Array = param(
-        "albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("albedo ρ")
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert": {}}
     labels: ClassVar[dict[str, str]] = {"lambert": "Lambert"}

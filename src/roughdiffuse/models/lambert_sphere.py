@@ -37,7 +37,7 @@ from typing import Any, ClassVar, Literal
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["LambertSphere", "lambert_sphere_phase", "single_scattering_albedo"]
 
@@ -170,13 +170,8 @@ class LambertSphere(Model):
     1.0
     """
 
-    albedo: float | Array = param(
-        "diffuse colour k_d (mapped to the single-scattering albedo c)",
-        min=0.0,
-        max=1.0,
-        default=0.8,
-        channels=True,
-        example=0.8,
+    albedo: float | Array = albedo_param(
+        "diffuse colour k_d (mapped to the single-scattering albedo c)", default=0.8
     )
     variant: Literal["full", "fast"] = param(
         "d'Eon's analytic fit or its fast approximation",

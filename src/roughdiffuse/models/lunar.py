@@ -26,7 +26,7 @@ from typing import Any, ClassVar
 
 from .._array import Array, maximum, safe_div
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
@@ -43,14 +43,7 @@ class LommelSeeliger(Model):
         Single-scattering albedo w in [0, 1].
     """
 
-    albedo: float | Array = param(
-        "single-scattering albedo w",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("single-scattering albedo w")
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lommel-seeliger": {}}
     labels: ClassVar[dict[str, str]] = {"lommel-seeliger": "Lommel–Seeliger"}
@@ -107,14 +100,7 @@ class LunarLambert(Model):
         model up to its normalisation).
     """
 
-    albedo: float | Array = param(
-        "albedo ρ (L = 0: Lambert)",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("albedo ρ (L = 0: Lambert)")
     limb_darkening: float | Array = param(
         "L, weight of the Lommel–Seeliger term (unbounded above, as ISIS)",
         min=0.0,

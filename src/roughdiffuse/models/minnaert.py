@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 
 from .._array import Array, maximum
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 from .photometry import brdf_from_radiance_factor
 
 __all__ = ["Minnaert"]
@@ -50,14 +50,7 @@ class Minnaert(Model):
     0.903602
     """
 
-    albedo: float | Array = param(
-        "normal albedo ρ (I/F at i = e = 0)",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("normal albedo ρ (I/F at i = e = 0)")
     k: float | Array = param(
         "Minnaert exponent k (1 = Lambert)",
         min=0.0,

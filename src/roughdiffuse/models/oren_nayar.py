@@ -35,7 +35,7 @@ from .._array import Array, clip, maximum, minimum, namespace, result_dtype, saf
 from .._validate import check_range
 from ..frames import angles_to_cosines
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["OrenNayar", "oren_nayar", "SIGMA_MAX"]
 
@@ -115,14 +115,7 @@ class OrenNayar(Model):
     0.892857
     """
 
-    albedo: float | Array = param(
-        "facet albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("facet albedo ρ")
     sigma: float | Array = param(
         "roughness σ, standard deviation of the facet slope angle",
         unit="radians",

@@ -22,7 +22,7 @@ import numpy as np
 from .._array import Array, asarray, concrete
 from .._validate import ParameterError
 from .base import Model
-from .declaration import param
+from .declaration import albedo_param, param
 
 __all__ = ["SmithDiffuse"]
 
@@ -52,14 +52,7 @@ class SmithDiffuse(Model):
     0.5
     """
 
-    albedo: float | Array = param(
-        "facet albedo ρ",
-        min=0.0,
-        max=1.0,
-        default=1.0,
-        channels=True,
-        example=0.8,
-    )
+    albedo: float | Array = albedo_param("facet albedo ρ")
     alpha: float | Array = param(
         "roughness α of the slope distribution",
         min=0.0,
