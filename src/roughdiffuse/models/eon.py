@@ -19,8 +19,8 @@ from typing import Any, ClassVar
 
 from .._array import Array, safe_div
 from .base import Model
-from .declaration import albedo_param, param
-from .fujii import fon_albedo, fon_average_albedo, fon_lobe
+from .declaration import albedo_param
+from .fujii import fon_albedo, fon_average_albedo, fon_lobe, fon_roughness_param
 from .sampling import CLTC, Strategy
 
 __all__ = ["EON", "eon_albedo", "multiple_scattering"]
@@ -60,13 +60,7 @@ class EON(Model):
     """
 
     albedo: float | Array = albedo_param("single-scattering albedo ρ")
-    roughness: float | Array = param(
-        "Fujii's roughness r (not an angle)",
-        min=0.0,
-        max=1.0,
-        default=0.0,
-        example=0.5,
-    )
+    roughness: float | Array = fon_roughness_param()
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"eon": {}}
     labels: ClassVar[dict[str, str]] = {"eon": "EON"}

@@ -33,6 +33,13 @@ K1 = 0.5 - 2.0 / (3.0 * math.pi)
 K2 = 2.0 / 3.0 - 28.0 / (15.0 * math.pi)
 
 
+def fon_roughness_param() -> Any:
+    """Fujii's roughness r in [0, 1] (not an angle): the field of Fujii's and EON's models."""
+    return param(
+        "Fujii's roughness r (not an angle)", min=0.0, max=1.0, default=0.0, example=0.5
+    )
+
+
 def fon_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, r: Array) -> Array:
     """A_F (1 + r s/t): the FON BRDF times π/ρ (EON paper Eq. 3–5)."""
     s = cos_io - mu_i * mu_o
@@ -78,13 +85,7 @@ class Fujii(Model):
     """
 
     albedo: float | Array = albedo_param("albedo ρ")
-    roughness: float | Array = param(
-        "Fujii's roughness r (not an angle)",
-        min=0.0,
-        max=1.0,
-        default=0.0,
-        example=0.5,
-    )
+    roughness: float | Array = fon_roughness_param()
 
     ids: ClassVar[dict[str, dict[str, Any]]] = {"fujii": {}}
     labels: ClassVar[dict[str, str]] = {"fujii": "Fujii (FON)"}
