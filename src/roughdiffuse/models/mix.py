@@ -23,9 +23,9 @@ from .._array import Array, safe_div
 from .._validate import ParameterError, check_range
 from .base import Model
 from .declaration import Param
-from .oren_nayar import SIGMA_MAX, OrenNayar
+from .oren_nayar import SIGMA_MAX
 from .sampling import Strategy, strategy_for
-from .torrance_sparrow import ETA_MAX, TorranceSparrow
+from .torrance_sparrow import ETA_MAX
 
 __all__ = ["Mix", "mixture"]
 
@@ -113,7 +113,8 @@ class Mix(Model):
         eta: float | Array = 1.5,
         distribution: str = "gaussian",
     ) -> Mix:
-        """The registry's ``mix``: (1 − w) OrenNayar(ρ, σ, "full") + w TorranceSparrow(η, σ).
+        """The registry's ``mix``: (1 − w) ``oren-nayar-full``(ρ, σ) + w ``torrance-sparrow``(η,
+        σ), both made by the registry.
 
         With ``distribution="beckmann"`` the specular part has α = √2 σ (the explorer's
         reading: the same small-slope width as the Gaussian).
@@ -122,15 +123,18 @@ class Mix(Model):
         >>> [round(float(w), 2) for w, _ in m.components]
         [0.75, 0.25]
         """
+        from .. import registry
+
         checked = {p.name: p for p in cls.params}
         w = checked["weight"].check(weight)
         checked["distribution"].check(distribution)
-        diffuse = OrenNayar(albedo, sigma, "full")
+        diffuse = registry.create("oren-nayar-full", albedo=albedo, sigma=sigma)
         if distribution == "beckmann":
             sigma = checked["sigma"].check(sigma)
-            specular = TorranceSparrow(eta, None, "beckmann", alpha=math.sqrt(2.0) * sigma)
+            alpha = math.sqrt(2.0) * sigma
+            specular = registry.create("torrance-sparrow-beckmann", eta=eta, alpha=alpha)
         else:
-            specular = TorranceSparrow(eta, sigma)
+            specular = registry.create("torrance-sparrow", eta=eta, sigma=sigma)
         return cls([(1.0 - w, diffuse), (w, specular)])
 
     def __post_init__(self) -> None:
