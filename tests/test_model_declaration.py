@@ -103,3 +103,15 @@ def test_a_declaration_error_shows_when_the_class_is_defined():
             k: Any = param("exponent", min=0.0, max=1.0, default=2.0)
     with pytest.raises(TypeError, match="when="):
         param("exponent", min=0.0, max=1.0, default=0.5, unset=None)
+
+
+def test_a_factory_lists_its_own_parameters_before_the_fields():
+    """Coated: the registry's base id and the base's parameters are from_params arguments
+    (factory_params), the coat's own are its fields."""
+    from roughdiffuse.models.coated import Coated
+
+    names = [p.name for p in Coated.params]
+    assert names[:4] == [p.name for p in Coated.factory_params]
+    assert names[4:] == ["eta", "roughness", "distribution", "absorption"]
+    fields = {f.name: f.default for f in dataclasses.fields(Coated)}
+    assert all(fields[p.name] == p.default for p in Coated.params[4:])

@@ -75,6 +75,9 @@ class Model:
         :func:`~roughdiffuse.models.declaration.param`, in field order; a class whose
         registry parameters are not its fields (a ``from_params`` factory) lists them here
         itself. The constructor checks each value against its declaration.
+    factory_params : tuple of Param
+        Parameters of a ``from_params`` factory that are not fields (``Coated``'s ``base``
+        id and the base's albedo); they come first in ``params``, before the fields'.
     ids : dict
         Public kebab-case id(s) -> the categorical values each fixes, e.g.
         ``{"oren-nayar": {"variant": "qualitative"}, "oren-nayar-full": {"variant": "full"}}``.
@@ -132,6 +135,7 @@ class Model:
     """
 
     params: ClassVar[tuple[Param, ...]] = ()
+    factory_params: ClassVar[tuple[Param, ...]] = ()
     ids: ClassVar[dict[str, dict[str, Any]]] = {}
     labels: ClassVar[dict[str, str]] = {}
     lobe: ClassVar[str] = "diffuse"
@@ -168,9 +172,10 @@ class Model:
                 )
             own_params = True
         else:
-            own_params = any(p.name in own_fields for p in declared)
-            if declared:
-                cls.params = declared
+            factory = cls.__dict__.get("factory_params", ())
+            own_params = bool(factory) or any(p.name in own_fields for p in declared)
+            if declared or factory:
+                cls.params = (*factory, *declared)
         if not any("mitsuba" in c.__dict__ for c in cls.__mro__ if c is not Model):
             cls.mitsuba = cls.closed_form  # a closed form is a plugin unless it says otherwise
         if own_params:

@@ -54,7 +54,7 @@ from .._array import Array, asarray, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
 from ..quadrature import gauss_legendre
 from .base import Model
-from .declaration import Param
+from .declaration import Param, declared_params, param
 from .eon import EON
 from .lambert import Lambert
 from .microfacet import fresnel_dielectric, slope_distribution
@@ -351,10 +351,14 @@ class Coated(Model):
     """
 
     base: Any = None
-    eta: float | Array = 1.5
-    roughness: float | Array = 0.0
-    distribution: str = "ggx"
-    absorption: float | Array = 0.0
+    eta: float | Array = param("relative refractive index η of the coat", min=0.0, max=ETA_MAX,
+                               min_open=True, default=1.5, fit_range=(1.05, 3.0))
+    roughness: float | Array = param("α, roughness of the coat (0: smooth)", min=0.0, max=1.0,
+                                     default=0.0, fit_range=(0.0, 1.0))
+    distribution: str = param("facet distribution of the rough coat",
+                              choices=COAT_DISTRIBUTIONS, default="ggx")
+    absorption: float | Array = param("τ, optical depth of the coat (thickness × absorption)",
+                                      min=0.0, max=50.0, default=0.0, channels=True)
     base_params: Any = None
 
     is_coat: ClassVar[bool] = True
@@ -362,8 +366,9 @@ class Coated(Model):
     channel_fields: ClassVar[tuple[str, ...]] = ("absorption",)
     # The registry's "coated": a coat over the base of registry id `base` (one of COAT_BASES)
     # with albedo ρ and the base's own parameter: σ (Oren–Nayar), r (Fujii, EON, as
-    # base_roughness: the coat's roughness is α), none (Lambert). See from_params.
-    params: ClassVar[tuple[Param, ...]] = (
+    # base_roughness: the coat's roughness is α), none (Lambert). See from_params. The
+    # coat's own parameters follow, declared on its fields.
+    factory_params: ClassVar[tuple[Param, ...]] = (
         Param("base", "base under the coat (registry id)", choices=COAT_BASES,
               default="oren-nayar-full"),
         Param("albedo", "albedo ρ of the base", min=0.0, max=1.0,
@@ -374,14 +379,6 @@ class Coated(Model):
         _base_param(EON, "roughness", "base_roughness", _FON_BASES,
                     "r of the Fujii or EON base, Fujii's roughness (not an angle)",
                     default=0.5),
-        Param("eta", "relative refractive index η of the coat", min=0.0, max=ETA_MAX,
-              min_open=True, default=1.5, fit_range=(1.05, 3.0)),
-        Param("roughness", "α, roughness of the coat (0: smooth)", min=0.0, max=1.0,
-              default=0.0, fit_range=(0.0, 1.0)),
-        Param("distribution", "facet distribution of the rough coat",
-              choices=COAT_DISTRIBUTIONS, default="ggx"),
-        Param("absorption", "τ, optical depth of the coat (thickness × absorption)",
-              min=0.0, max=50.0, default=0.0, channels=True),
     )
     ids: ClassVar[dict[str, dict[str, Any]]] = {"coated": {}}
     labels: ClassVar[dict[str, str]] = {"coated": "Coated: dielectric coat over a diffuse base"}
@@ -500,12 +497,12 @@ class Coated(Model):
             )
 
     def _validate(self) -> None:
-        """The coat's own declared parameters (η, α, distribution, τ) checked by name; the
-        field ``base`` holds the base model (:func:`~roughdiffuse.simulate.layered.check_base`),
-        where the declared ``base`` is the registry's choice of id (:meth:`from_params`)."""
-        for p in self.params:
-            if p.name in _COAT_FIELDS:
-                object.__setattr__(self, p.name, p.check(getattr(self, p.name)))
+        """The coat's own parameters (η, α, distribution, τ: those declared on its fields)
+        checked by name; the field ``base`` holds the base model
+        (:func:`~roughdiffuse.simulate.layered.check_base`), where the declared ``base`` is the
+        registry's choice of id (:meth:`from_params`)."""
+        for p in declared_params(dataclasses.fields(self)):
+            object.__setattr__(self, p.name, p.check(getattr(self, p.name)))
 
     # ------------------------------------------------------------------ parameters
     def parameter_values(self) -> list[Any]:
@@ -591,9 +588,6 @@ class Coated(Model):
         if self.channels:
             correction = correction[..., None]
         return total + correction
-
-
-_COAT_FIELDS = ("eta", "roughness", "distribution", "absorption")
 
 
 def _check_base_id(base: object) -> None:
