@@ -72,12 +72,13 @@ class Model:
     params : tuple of Param
         The parameters (:class:`~roughdiffuse.models.declaration.Param`): name, meaning,
         unit, range, default, colour channels, choices. Derived from the fields declared by
-        :func:`~roughdiffuse.models.declaration.param`, in field order; a class whose
-        registry parameters are not its fields (a ``from_params`` factory) lists them here
-        itself. The constructor checks each value against its declaration.
+        :func:`~roughdiffuse.models.declaration.param`, in field order, after
+        ``factory_params``. The constructor checks each value against its declaration. (A
+        class may still list ``params`` itself, with plain fields: code written before
+        ``param``; the registry then checks the fields' defaults against it.)
     factory_params : tuple of Param
-        Parameters of a ``from_params`` factory that are not fields (``Coated``'s ``base``
-        id and the base's albedo); they come first in ``params``, before the fields'.
+        Parameters of a ``from_params`` factory that are not fields (``Mix``'s σ and weight,
+        ``Coated``'s ``base`` id and the base's albedo); they come first in ``params``.
     ids : dict
         Public kebab-case id(s) -> the categorical values each fixes, e.g.
         ``{"oren-nayar": {"variant": "qualitative"}, "oren-nayar-full": {"variant": "full"}}``.

@@ -10,13 +10,13 @@ astropy.modeling's ``Parameter``; see :class:`roughdiffuse.models.base.Model` an
                                  min=0.0, max=math.pi / 2, default=0.0)
 
 The class's ``params`` (a tuple of :class:`Param` records, in field order) is derived from
-these fields. A class whose registry parameters are not its fields (a ``from_params``
-factory, as :class:`~roughdiffuse.models.mix.Mix`) lists :class:`Param` records in
-``params`` itself instead. From this the constructor's checks (a
-:class:`~roughdiffuse._validate.ParameterError`, a ``ValueError``, naming the parameter, its unit
-and its range), the pytree leaves (numeric parameters), the colour-channel parameters, the command
-line's options (``--NAME`` and ``--param NAME=VALUE``, degrees for radians), fit bounds and
-``roughdiffuse models`` are derived. This module is a leaf: it imports
+these fields. The arguments of a ``from_params`` factory that are not fields
+(:class:`~roughdiffuse.models.mix.Mix`) are :class:`Param` records in the class's
+``factory_params``, first in ``params``. From this the constructor's checks (a
+:class:`~roughdiffuse._validate.ParameterError`, a ``ValueError``, naming the parameter, its
+unit and its range), the pytree leaves (numeric parameters), the colour-channel parameters,
+the command line's options (``--NAME`` and ``--param NAME=VALUE``, degrees for radians), fit
+bounds and ``roughdiffuse models`` are derived. This module is a leaf: it imports
 :mod:`roughdiffuse._validate` only.
 """
 

@@ -62,7 +62,7 @@ class Mix(Model):
     # The registry's "mix" is the lecture's rough surface with diffuse and surface reflection,
     # (1 − w) Oren–Nayar full + w Torrance–Sparrow with one σ (see from_params); these are its
     # parameters, not fields of the class.
-    params: ClassVar[tuple[Param, ...]] = (
+    factory_params: ClassVar[tuple[Param, ...]] = (
         Param("albedo", "facet albedo ρ of the diffuse part", min=0.0, max=1.0, default=1.0,
               channels=True, example=0.8),
         Param("sigma", "σ, slope-angle standard deviation of both parts", unit="radians",
