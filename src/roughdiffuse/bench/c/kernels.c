@@ -22,6 +22,7 @@
 
 #define TAN_FLOOR 1e-6
 #define COS_FLOOR 1e-6
+#define SIGMA_FLOOR 1e-4 /* microfacet.SIGMA_FLOOR */
 
 /* Gauss-Legendre nodes and weights on [0, 1] (roughdiffuse.quadrature.gauss_legendre) */
 static const double GL4_T[4] = {0.06943184420297371, 0.33000947820757187, 0.6699905217924281,
@@ -114,11 +115,13 @@ MODEL(oren_nayar_full, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(fujii, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(eon, P2(float), P2(double), (mi, mo, cio, p0, p1))
 /* Gaussian-in-slope-angle Torrance-Sparrow; p2 is the distribution's normalisation (times
- * sigma^2), a parameter-only quantity that run.py takes from the model module. */
+ * sigma^2, sigma floored at SIGMA_FLOOR), a parameter-only quantity that run.py takes from
+ * the model module. */
 MODEL(torrance_sparrow, P3(float), P3(double), (mi, mo, cio, p0, p1, p2))
 /* the production and photometric models (src/roughdiffuse/models/burley.py,
  * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) */
 #define P5(T) T p0, T p1, T p2, T p3, T p4
+#define P6(T) T p0, T p1, T p2, T p3, T p4, T p5
 MODEL(burley, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(frostbite, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(burley_2015, P2(float), P2(double), (mi, mo, cio, p0, p1))
@@ -127,7 +130,7 @@ MODEL(chan, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(minnaert, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(lambert_sphere_fast, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(lambert_sphere_full, P1(float), P1(double), (mi, mo, cio, p0))
-MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
+MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
 
 /* A dielectric coat over the full Oren-Nayar base (src/roughdiffuse/models/coated.py, the
  * registry's "coated"): the parameter-only quantities (the coat's internal sums K and a K, the
@@ -203,7 +206,9 @@ static inline real RD_F(oren_nayar_full)(real mi, real mo, real cio, real albedo
      * sincos, which has no vector variant in glibc's libmvec and keeps the loop scalar */
     real tan_half = sin(half) / fmax(sin(C(0.5) * PI - half), C(TAN_FLOOR));
     real l1 = albedo / PI * (c1 + c * c2 * tan_beta + (C(1) - fabs(c)) * c3 * tan_half);
-    return l1 + k2 * (C(1) - c * b2);
+    /* the fitted C2 term (c < 0) drives L1 + L2 below 0 at grazing backscatter for sigma
+     * above about 1: a BRDF is not negative */
+    return fmax(l1 + k2 * (C(1) - c * b2), C(0));
 }
 
 static inline real RD_F(fon_lobe)(real mi, real mo, real cio, real r) {
@@ -236,14 +241,19 @@ static inline real RD_F(eon)(real mi, real mo, real cio, real albedo, real r) {
 
 static inline real RD_F(torrance_sparrow)(real mi, real mo, real cio, real eta, real sigma,
                                           real gauss_norm) {
-    real inv_2s2 = C(1) / (C(2) * sigma * sigma), dscale = gauss_norm / (sigma * sigma);
+    /* sigma floored for the arithmetic (gauss_norm is taken at the floored value); sigma = 0,
+     * a mirror, gives 0 */
+    real s = fmax(sigma, C(SIGMA_FLOOR));
+    real inv_2s2 = C(1) / (C(2) * s * s), dscale = gauss_norm / (s * s);
     real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
     real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
     real cos_d = C(0.5) * len_h;
     real sin_h = sqrt(fmax(C(1) - cos_h * cos_h, C(0)));
     real theta = atan2(sin_h, cos_h);
     real d = sigma > C(0) ? exp(-theta * theta * inv_2s2) * dscale : C(0);
-    real c = cos_d, g2 = eta * eta - C(1) + c * c;
+    /* g^2 = eta^2 - 1 + c^2 written (eta - 1)(eta + 1) + c^2: -ffast-math may reassociate the
+     * first into (eta^2 + c^2) - 1, which loses c^2 at eta = 1 near grazing */
+    real c = cos_d, g2 = (eta - C(1)) * (eta + C(1)) + c * c;
     real g = sqrt(fmax(g2, C(0)));
     real a = (g + c) != C(0) ? (g - c) / (g + c) : C(1);
     real bden = c * (g - c) + C(1);
@@ -357,11 +367,18 @@ static inline real RD_F(lambert_sphere_full)(real mi, real mo, real cio, real kd
 
 static inline real RD_F(hapke_h)(real x, real gamma) { return (C(1) + C(2) * x) / (C(1) + C(2) * x * gamma); }
 
-static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real hh, real xi, real theta_bar) {
+static inline real RD_F(hg)(real xi, real cio) {
+    return (C(1) - xi * xi) / pow(C(1) + xi * xi + C(2) * xi * cio, C(1.5));
+}
+
+/* cio = cos g (g the phase angle); xi the Henyey-Greenstein asymmetry, hg2 the weight of the
+ * mirrored lobe HG(-xi) */
+static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real hh, real xi,
+                               real theta_bar, real hg2) {
     real gamma = sqrt(fmax(C(1) - w, C(0)));
     real tan_half = sqrt(fmax((C(1) - cio) / fmax(C(1) + cio, C(1e-12)), C(0)));
     real surge = b0 * hh / fmax(hh + tan_half, C(1e-12));
-    real pg = (C(1) - xi * xi) / pow(C(1) + xi * xi + C(2) * xi * cio, C(1.5));
+    real pg = (C(1) - hg2) * RD_F(hg)(xi, cio) + hg2 * RD_F(hg)(-xi, cio);
     real lobe = (C(1) + surge) * pg - C(1);
     if (!(theta_bar > C(0)))
         return w / C(4) * (lobe + RD_F(hapke_h)(mi, gamma) * RD_F(hapke_h)(mo, gamma)) / fmax(mi + mo, C(1e-12)) / PI;
@@ -390,7 +407,8 @@ static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real
 
 /* ---- Coated (src/roughdiffuse/models/coated.py and microfacet.py) ---- */
 static inline real RD_F(fresnel)(real c, real eta) {
-    real g2 = eta * eta - C(1) + c * c, g = sqrt(fmax(g2, C(0)));
+    /* (eta - 1)(eta + 1): as in torrance_sparrow */
+    real g2 = (eta - C(1)) * (eta + C(1)) + c * c, g = sqrt(fmax(g2, C(0)));
     real a = (g + c) != C(0) ? (g - c) / (g + c) : C(1);
     real bden = c * (g - c) + C(1);
     real b = bden != C(0) ? (c * (g + c) - C(1)) / bden : C(1);
