@@ -122,6 +122,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     prog = f"roughdiffuse {args.command}"
     try:
         debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
+        env_flag("ROUGHDIFFUSE_FASTPATH", default=True)  # read by the models: refused here first
     except ValueError as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return 2
