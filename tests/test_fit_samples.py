@@ -87,7 +87,7 @@ def _mix(weight: float, sigma: float) -> rd.Mix:
         (rd.Chan, {"albedo": 0.7, "alpha": 0.4}, None, None),
         (rd.LambertSphere, {"albedo": 0.6}, {"variant": "full"}, None),
         (rd.Minnaert, {"albedo": 0.5, "k": 0.7}, None, None),
-        (rd.Hapke, {"albedo": 0.4, "theta_bar": 0.3}, {"b0": 0.0, "h": 0.1, "g": -0.2}, None),
+        (rd.Hapke, {"albedo": 0.4, "theta_bar": 0.3}, {"b0": 0.0, "h": 0.1, "xi": -0.2}, None),
     ],
 )
 def test_every_model_fits_back(factory, truth, fixed, bounds) -> None:  # noqa: ANN001

@@ -128,7 +128,7 @@ C_KERNELS: dict[str, Callable[[Any], tuple[str, tuple[float, ...]]]] = {
     "chan": lambda m: ("rd_chan", _c_args("albedo", "alpha")(m)),
     "minnaert": lambda m: ("rd_minnaert", _c_args("albedo", "k")(m)),
     "lambert-sphere": lambda m: (f"rd_lambert_sphere_{m.variant}", _c_args("albedo")(m)),
-    "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "g", "theta_bar", "hg2")(m)),
+    "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "xi", "theta_bar", "hg2")(m)),
     "coated": _c_coated,
 }
 """Registry id -> (C function of ``kernels.c``, its arguments) for a model instance: the C
