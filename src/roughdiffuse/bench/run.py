@@ -101,13 +101,17 @@ def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
 
 
 def _c_coated(model: Any) -> tuple[str | None, tuple[float, ...]]:
-    """The registry's ``coated`` over its default base, the full Oren–Nayar model (the C
-    kernel has no other base)."""
-    base = model.base
-    if getattr(base, "variant", None) != "full":
+    """The registry's ``coated`` over the full Oren–Nayar model (its default base) or over
+    Lambert (σ passed as 0, unused); the C file has no other base."""
+    from roughdiffuse import registry
+
+    base, base_id = model.base, registry.id_of(model.base)
+    if base_id not in ("oren-nayar-full", "lambert"):
         return None, ()
-    args = (base.albedo, base.sigma, model.eta, model.roughness, model.absorption)
-    return f"rd_coated_{model.distribution}", tuple(float(a) for a in args)
+    sigma = base.sigma if base_id == "oren-nayar-full" else 0.0
+    args = (base.albedo, sigma, model.eta, model.roughness, model.absorption)
+    name = "rd_coated_" + ("lambert_" if base_id == "lambert" else "") + model.distribution
+    return name, tuple(float(a) for a in args)
 
 
 def _c_args(*names: str) -> Callable[[Any], tuple[float, ...]]:

@@ -1,5 +1,5 @@
-/* C reference kernels for roughdiffuse.bench (run.py): each model's formula on (N, 3) arrays,
- * exactly as the package computes it, in two forms:
+/* C reference kernels for roughdiffuse.bench (run.py, layered_bench.py): each model's formula
+ * on (N, 3) arrays, exactly as the package computes it, in two forms:
  *
  *   rd_<model>(n, l, v, out, count, e0, params...)         float32 radiance
  *       L = f_r E0 cos(theta_i), as Model.radiance: normalise n, l, v; mu_i = n.l,
@@ -12,7 +12,7 @@
  * of src/roughdiffuse/models/ (see the docstrings there for the papers), transcribed by hand
  * once, as type-generic inline functions (<tgmath.h>) that this file instantiates for float
  * and double by including itself; run.py checks every kernel against the package before
- * timing it.
+ * timing it, and tests/test_c_baselines.py at the corners of each model's domain.
  *
  * Built by run.py with: gcc -O3 -march=native -fopenmp -ffast-math -shared -fPIC
  */
@@ -132,14 +132,15 @@ MODEL(lambert_sphere_fast, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(lambert_sphere_full, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
 
-/* A dielectric coat over the full Oren-Nayar base (src/roughdiffuse/models/coated.py, the
- * registry's "coated"): the parameter-only quantities (the coat's internal sums K and a K, the
+/* A dielectric coat over the full Oren-Nayar base (rd_coated_ggx, rd_coated_beckmann: the
+ * registry's "coated") or over Lambert (rd_coated_lambert_ggx, ..._beckmann; sigma unused), as
+ * src/roughdiffuse/models/coated.py: the parameter-only quantities (the coat's internal sums K and a K, the
  * rules' facet nodes) once per call, as the fast path computes them once per trace; then the
  * per-row formula with the same node rules. p0..p4 = albedo, sigma, eta, alpha, tau. */
-#define COATED(dist, BECK)                                                               \
+#define COATED(dist, BECK, LAMBERT)                                                               \
     void rd_coated_##dist(ARGS, P5(float)) {                                             \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             GEOMETRY                                                                     \
             STORE(coated_f32(&s, mi, mo, cio))                                           \
@@ -147,7 +148,7 @@ MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
     }                                                                                    \
     void rd_coated_##dist##_brdf_f32(BARGS(float), P5(float)) {                          \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             BRDF_GEOMETRY(float, _f32)                                                   \
             out[i] = above ? coated_f32(&s, mi, mo, cio) : 0.0f;                         \
@@ -155,14 +156,16 @@ MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
     }                                                                                    \
     void rd_coated_##dist##_brdf_f64(BARGS(double), P5(double)) {                        \
         coat_f64 s;                                                                      \
-        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             BRDF_GEOMETRY(double, _f64)                                                  \
             out[i] = above ? coated_f64(&s, mi, mo, cio) : 0.0;                          \
         }                                                                                \
     }
-COATED(ggx, 0)
-COATED(beckmann, 1)
+COATED(ggx, 0, 0)
+COATED(beckmann, 1, 0)
+COATED(lambert_ggx, 0, 1)
+COATED(lambert_beckmann, 1, 1)
 
 #else /* ------------------------------------------ the formulas, for RD_REAL = float, double */
 #define real RD_REAL
@@ -441,7 +444,7 @@ static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
 /* the parameter-only quantities of one call */
 typedef struct {
     real albedo, sigma, eta, alpha, tau, k, ak;
-    int beck;
+    int beck, lambert; /* the distribution (Beckmann or GGX), the base (Lambert or Oren-Nayar) */
     real cos_h[COAT_IF], sin_h[COAT_IF], cos_phi[COAT_IF], w_if[COAT_IF];
     real m2[COAT_BA], sin_cos[COAT_BA], w_ba[COAT_BA];
 } RD_F(coat);
@@ -473,6 +476,8 @@ static inline real RD_F(coat_interface)(const RD_F(coat) *s, real mu, real eta, 
 
 /* the base's directional albedo at cosine mu: coated.py base_albedo */
 static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
+    if (s->lambert)
+        return s->albedo;
     real sin = sqrt(fmax(C(1) - mu * mu, C(0))), total = C(0);
     for (int j = 0; j < COAT_BA; ++j) {
         real c = RD_F(clamp)(mu * s->m2[j] + sin * s->sin_cos[j], C(-1), C(1));
@@ -482,9 +487,9 @@ static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
 }
 
 static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
-                             real tau, int beck) {
+                             real tau, int beck, int lambert) {
     s->albedo = albedo, s->sigma = sigma, s->eta = eta, s->alpha = alpha, s->tau = tau;
-    s->beck = beck;
+    s->beck = beck, s->lambert = lambert;
     for (int iu = 0; iu < 6; ++iu)
         for (int h = 0; h < 2; ++h)
             for (int it = 0; it < 4; ++it) {
@@ -527,7 +532,8 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
     real ro = sqrt(fmax(C(1) - (C(1) - mo * mo) * inv_eta2, C(0)));
     real cos_in = RD_F(clamp)(ri * ro + (cio - mi * mo) * inv_eta2, C(-1), C(1));
     real trans = RD_F(coat_interface)(s, mi, eta, 1) * RD_F(coat_interface)(s, mo, eta, 1);
-    real single = RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
+    real single = s->lambert ? s->albedo / PI
+                             : RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
     real a_i = RD_F(coat_base_albedo)(s, ri), a_o = RD_F(coat_base_albedo)(s, ro);
     real den = C(1) - s->ak;
     real multi = a_i * a_o * (den != C(0) ? s->k / den : C(0)) / PI;
