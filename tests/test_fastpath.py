@@ -676,7 +676,7 @@ def test_bad_directions_raise_the_reference_paths_error_on_the_default_path(rng,
 
 
 def test_the_cache_is_used_only_in_a_private_folder(rng, tmp_path, monkeypatch):
-    """Numba unpickles its index files: a folder others may write to is not used (issue 21)."""
+    """Numba unpickles its index files: a folder others may write to is not used."""
     import os
 
     shared = tmp_path / "shared"

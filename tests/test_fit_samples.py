@@ -80,7 +80,7 @@ def _mix(weight: float, sigma: float) -> rd.Mix:
         (rd.LommelSeeliger, {"albedo": 0.4}, None, None),
         (rd.LunarLambert, {"albedo": 0.4, "limb_darkening": 0.6}, None, None),
         (_mix, {"weight": 0.3, "sigma": 0.25}, None, {"weight": (0, 2), "sigma": (0.05, 1)}),
-        # issue 17: bounds from the declarations
+        # the production models: bounds from the declarations
         (rd.Burley, {"albedo": 0.7, "roughness": 0.4}, None, None),
         (rd.BurleyRenormalized, {"albedo": 0.7, "roughness": 0.6}, None, None),
         (rd.Hammon, {"albedo": 0.7, "alpha": 0.5}, None, None),

@@ -49,7 +49,7 @@ __all__ = ["RoughResult", "roughness_parameter", "rough"]
 
 CHUNK = 1 << 13
 """Pixels per compiled call. Small enough that a chunk's K × CHUNK arrays stay in the CPU's
-cache across the many fused loops of an LM step (measured 1.7× faster per pixel than 2¹⁵)."""
+cache across the many fused loops of an LM step (measured: bench/RESULTS.md, "Thresholds")."""
 
 SUBSET = 1 << 13
 """Pixels of the random subset that gives the global roughness its starting value."""
