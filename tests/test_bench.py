@@ -181,10 +181,13 @@ pathlib.Path(__file__).resolve().parents[{up}].joinpath("RAN-{name}").write_text
 
 
 def plant(folder: Path) -> list[Path]:
-    """Files a command must never run: bench/run.py (which `roughdiffuse bench` used to load
-    from the current directory), and modules the old benchmark scripts imported by name."""
+    """Files a command must never run: a checkout's bench scripts and modules named like the
+    package's benchmark modules, where a command that loaded code by path or by bare module
+    name from the current directory would find them."""
     planted = {
         "bench/run.py": 1,
+        "bench/layered_bench.py": 1,
+        "bench/stereo_bench.py": 1,
         "bench/timing.py": 1,
         "bench/fit_bench.py": 1,
         "bench/simulate_bench.py": 1,
