@@ -9,11 +9,8 @@ import sys
 from pathlib import Path
 
 from roughdiffuse.bench.layered_bench import main
+from roughdiffuse.bench.timing import with_write_target
 
 if __name__ == "__main__":
-    argv = sys.argv[1:]
-    if "--write" in argv:
-        k = argv.index("--write")
-        if k + 1 >= len(argv) or argv[k + 1].startswith("-"):
-            argv.insert(k + 1, str(Path(__file__).resolve().parent / "RESULTS.md"))
+    argv = with_write_target(sys.argv[1:], Path(__file__).resolve().parent / "RESULTS.md")
     main(argv, prog="python bench/layered_bench.py")

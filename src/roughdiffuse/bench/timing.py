@@ -121,6 +121,17 @@ def write_atomic(path: Path, text: str) -> None:
     write_text(path, text)
 
 
+def with_write_target(argv: list[str], results: Path) -> list[str]:
+    """``argv`` with ``results`` after a ``--write`` given without a file (the checkout's
+    scripts in bench/ write there by default)."""
+    argv = list(argv)
+    if "--write" in argv:
+        k = argv.index("--write")
+        if k + 1 >= len(argv) or argv[k + 1].startswith("-"):
+            argv.insert(k + 1, str(results))
+    return argv
+
+
 def write_section(path: Path, text: str, begin: str, end: str, heading: str | None = None) -> None:
     """Replace the section of ``path`` marked by ``begin`` ... ``end`` by ``text`` (which
     holds both markers); the first time, put it at the end of the section ``heading`` (a
