@@ -79,12 +79,17 @@ def lib(tmp_path_factory):
         "\0".join([bench.C_SOURCE.read_text(), *bench.CFLAGS, version, *flags]).encode()
     ).hexdigest()[:16]
     cache = os.environ.get("ROUGHDIFFUSE_CACHE_DIR")
-    folder = Path(cache) / "c-baselines" / key if cache else tmp_path_factory.mktemp("c")
-    if (folder / "kernels.so").is_file():
-        return ctypes.CDLL(str(folder / "kernels.so"))
-    folder.mkdir(parents=True, exist_ok=True)
+    kept = Path(cache) / "c-baselines" / f"{key}.so" if cache else None
+    if kept is not None and kept.is_file():
+        return ctypes.CDLL(str(kept))
+    folder = tmp_path_factory.mktemp("c-baselines")
     library, note = bench.build_c(folder)
     assert library is not None, note  # gcc is there (skipif above): it must compile
+    if kept is not None:  # whole or not at all: renamed into the cache once written
+        kept.parent.mkdir(parents=True, exist_ok=True)
+        part = kept.with_name(f"{key}.{os.getpid()}.part")  # beside it: same file system
+        shutil.copyfile(folder / "kernels.so", part)
+        part.rename(kept)
     return library
 
 
