@@ -225,7 +225,7 @@ def current_name(model: Any, name: str, flag: str) -> str:
     a ``DeprecationWarning`` naming ``flag`` (:mod:`roughdiffuse.deprecation`)."""
     from ..deprecation import rename_keywords
 
-    return next(iter(rename_keywords(model, {name: None}, flag, stacklevel=3)))
+    return next(iter(rename_keywords(model, {name: None}, flag)))
 
 
 def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dict[str, Any]:
