@@ -13,11 +13,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before NumPy is imported
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from roughdiffuse.bench.smith_bench import main  # noqa: E402
+from roughdiffuse.bench.timing import with_write_target  # noqa: E402
 
 if __name__ == "__main__":
-    argv = sys.argv[1:]
-    if "--write" in argv:
-        k = argv.index("--write")
-        if k + 1 >= len(argv) or argv[k + 1].startswith("-"):
-            argv.insert(k + 1, str(Path(__file__).resolve().parent / "RESULTS.md"))
+    argv = with_write_target(sys.argv[1:], Path(__file__).resolve().parent / "RESULTS.md")
     main(argv, prog="python bench/smith_bench.py")

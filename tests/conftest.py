@@ -27,13 +27,13 @@ def pytest_configure(config: pytest.Config) -> None:
     """Compiled code cached in pytest's cache folder (``.pytest_cache``), shared by the xdist
     workers and by the CLI subprocesses the tests start, and kept from one run to the next:
 
-    * the fast path's kernels and the compiled walks (``ROUGHDIFFUSE_CACHE_DIR``): each test
-      file used to compile into a folder of its own, so a kernel two files need was compiled
-      twice; compiling every model's kernels costs minutes of CPU, loading them seconds. A
+    * the fast path's kernels and the compiled walks (``ROUGHDIFFUSE_CACHE_DIR``): one folder
+      for every test file, so that a kernel two files need is compiled once; compiling every
+      model's kernels costs minutes of CPU, loading them seconds. A
       kernel's file is named by the digest of its generated source, so a changed generator
       compiles afresh.
     * JAX's persistent compilation cache: the fits compile a few programs per model, and
-      reading them back instead cut the fit tests' CPU time about fourfold. JAX keys each
+      reading them back saves most of the fit tests' CPU time. JAX keys each
       entry by the program, its compile options and the JAX/XLA versions.
 
     Nothing is cached under ``-p no:cacheprovider`` (the kernels then go to the user's cache
@@ -61,6 +61,7 @@ FILE_SECONDS = {
     "test_models_coated.py": 50, "test_explorer_data.py": 40, "test_stereo_cli.py": 40,
     "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
     "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,
+    "test_c_baselines.py": 20,
 }
 
 

@@ -32,9 +32,9 @@ EXAMPLES: dict[str, tuple[dict[str, Any], ...]] = {
     "minnaert": ({"k": 0.7},),
     "lambert-sphere": ({"variant": "full"}, {"variant": "fast"}),
     "hapke": (
-        {"b0": 0.8, "h": 0.1, "g": -0.3, "theta_bar": 0.35},
-        {"b0": 0.0, "h": 0.0, "g": 0.2, "theta_bar": 0.0},
-        {"b0": 2.5, "h": 0.05, "g": 0.4, "theta_bar": 0.3, "hg2": 0.7},
+        {"b0": 0.8, "h": 0.1, "xi": -0.3, "theta_bar": 0.35},
+        {"b0": 0.0, "h": 0.0, "xi": 0.2, "theta_bar": 0.0},
+        {"b0": 2.5, "h": 0.05, "xi": 0.4, "theta_bar": 0.3, "hg2": 0.7},
     ),
     "hapke-legendre": ({"b0": 1.5, "h": 0.06, "bh": -0.4, "ch": 0.3, "theta_bar": 0.3},),
     "hapke-2012": (
@@ -44,7 +44,7 @@ EXAMPLES: dict[str, tuple[dict[str, Any], ...]] = {
             "bc0": 0.5,
             "h_c": 0.02,
             "porosity": 1.4,
-            "g": -0.3,
+            "xi": -0.3,
             "hg2": 0.2,
             "theta_bar": 0.35,
         },

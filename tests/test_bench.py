@@ -181,10 +181,13 @@ pathlib.Path(__file__).resolve().parents[{up}].joinpath("RAN-{name}").write_text
 
 
 def plant(folder: Path) -> list[Path]:
-    """Files a command must never run: bench/run.py (which `roughdiffuse bench` used to load
-    from the current directory), and modules the old benchmark scripts imported by name."""
+    """Files a command must never run: a checkout's bench scripts and modules named like the
+    package's benchmark modules, where a command that loaded code by path or by bare module
+    name from the current directory would find them."""
     planted = {
         "bench/run.py": 1,
+        "bench/layered_bench.py": 1,
+        "bench/stereo_bench.py": 1,
         "bench/timing.py": 1,
         "bench/fit_bench.py": 1,
         "bench/simulate_bench.py": 1,
@@ -229,3 +232,14 @@ def test_no_command_runs_a_bench_script_from_the_current_directory(tmp_path, mon
         assert proc.returncode == 0, proc.stderr
     assert (tmp_path / "out" / "RESULTS.md").is_file()
     assert sorted(p.name for p in tmp_path.glob("RAN-*")) == []
+
+
+def test_bench_folder_holds_only_thin_entry_scripts():
+    """The benchmark code has one home, the package (``roughdiffuse.bench``): each script in
+    a checkout's bench/ only calls the ``main`` of the package module of its name."""
+    scripts = sorted((ROOT / "bench").glob("*.py"))
+    assert {p.stem for p in scripts} >= {"run", "smith_bench", "layered_bench", "stereo_bench"}
+    for path in scripts:
+        text = path.read_text(encoding="utf-8")
+        assert f"from roughdiffuse.bench.{path.stem} import main" in text, path.name
+        assert len(text.splitlines()) <= 30, f"{path.name} holds more than an entry point"

@@ -1,4 +1,5 @@
-"""roughdiffuse.conversion: parameters of one model that best reproduce another.
+"""rd.convert (roughdiffuse.fit.between_models): the parameters of one model that best
+reproduce another.
 
 References independent of the code under test: a model converted to itself returns its own
 parameters; pbrt-v3's σ in degrees is Oren–Nayar's σ in radians times 180/π and Mitsuba 0.6's

@@ -1,4 +1,4 @@
-"""The explorer's views, URL state, export, ground-truth switch and layout (issue 18).
+"""The explorer's views, URL state, export, ground-truth switch and layout.
 
 Headless Chromium through Playwright (fixtures in explorer_browser.py). Reference values come
 from the Python models (roughdiffuse.models), never from the page's JavaScript: the page's

@@ -620,6 +620,30 @@ def test_the_environment_switch_turns_the_default_off():
         assert proc.stdout.strip() == expected, proc.stderr
 
 
+def test_an_unreadable_environment_switch_is_refused(monkeypatch, capsys):
+    """``ROUGHDIFFUSE_FASTPATH=maybe``: every command stops with one line naming it (exit 2);
+    in Python, the first model evaluation raises the same ``ValueError``, and an explicit
+    ``use_fastpath`` decides without the variable."""
+    from roughdiffuse.cli import main
+    from roughdiffuse.engine import dispatch
+
+    monkeypatch.setenv("ROUGHDIFFUSE_FASTPATH", "maybe")
+    for argv in (["models"], ["eval", "--model", "lambert"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "ROUGHDIFFUSE_FASTPATH" in err[0] and "'maybe'" in err[0]
+    monkeypatch.setattr(dispatch, "_ENABLED", None)  # not yet read, as in a new process
+    wi = np.array([0.3, 0.0, 1.0])
+    with pytest.raises(ValueError, match="ROUGHDIFFUSE_FASTPATH must be one of .*'maybe'"):
+        rd.Lambert(0.5).brdf(wi, wi)
+    with pytest.raises(ValueError, match="ROUGHDIFFUSE_FASTPATH"):
+        rd.fastpath_enabled()
+    with rd.use_fastpath(False):
+        assert float(rd.Lambert(0.5).brdf(wi, wi)) == pytest.approx(0.5 / math.pi)
+    monkeypatch.setenv("ROUGHDIFFUSE_FASTPATH", "off")  # read again after the block
+    assert not rd.fastpath_enabled()
+
+
 class NumpyOnly(Minnaert):
     """Minnaert through NumPy functions: fine on NumPy arrays, not traceable."""
 
@@ -652,7 +676,7 @@ def test_bad_directions_raise_the_reference_paths_error_on_the_default_path(rng,
 
 
 def test_the_cache_is_used_only_in_a_private_folder(rng, tmp_path, monkeypatch):
-    """Numba unpickles its index files: a folder others may write to is not used (issue 21)."""
+    """Numba unpickles its index files: a folder others may write to is not used."""
     import os
 
     shared = tmp_path / "shared"

@@ -19,7 +19,8 @@ from roughdiffuse.fit import (
 )
 
 N = 90 * 90 * 180
-SCALE = (1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0)  # the issue's numbers, typed again
+# MERL's BRDFRead.cpp RED_SCALE, GREEN_SCALE, BLUE_SCALE, typed again
+SCALE = (1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0)
 
 
 def _file(path, raw: np.ndarray, dims=(90, 90, 180)) -> None:  # noqa: ANN001
@@ -106,7 +107,8 @@ def test_nan_entries(tmp_path) -> None:  # noqa: ANN001
 
 
 def _index_by_hand(th: float, td: float, pd: float) -> tuple[int, int, int]:
-    """The issue's index rules, one scalar at a time."""
+    """MERL's BRDFRead.cpp index rules (theta_half_index, theta_diff_index, phi_diff_index),
+    one scalar at a time."""
     ih = 0 if th <= 0 else min(89, int(math.sqrt(th / (math.pi / 2)) * 90))
     idd = min(89, max(0, int(td / (math.pi / 2) * 90)))
     if pd < 0:

@@ -80,14 +80,14 @@ def _mix(weight: float, sigma: float) -> rd.Mix:
         (rd.LommelSeeliger, {"albedo": 0.4}, None, None),
         (rd.LunarLambert, {"albedo": 0.4, "limb_darkening": 0.6}, None, None),
         (_mix, {"weight": 0.3, "sigma": 0.25}, None, {"weight": (0, 2), "sigma": (0.05, 1)}),
-        # issue 17: bounds from the declarations
+        # the production models: bounds from the declarations
         (rd.Burley, {"albedo": 0.7, "roughness": 0.4}, None, None),
         (rd.BurleyRenormalized, {"albedo": 0.7, "roughness": 0.6}, None, None),
         (rd.Hammon, {"albedo": 0.7, "alpha": 0.5}, None, None),
         (rd.Chan, {"albedo": 0.7, "alpha": 0.4}, None, None),
         (rd.LambertSphere, {"albedo": 0.6}, {"variant": "full"}, None),
         (rd.Minnaert, {"albedo": 0.5, "k": 0.7}, None, None),
-        (rd.Hapke, {"albedo": 0.4, "theta_bar": 0.3}, {"b0": 0.0, "h": 0.1, "g": -0.2}, None),
+        (rd.Hapke, {"albedo": 0.4, "theta_bar": 0.3}, {"b0": 0.0, "h": 0.1, "xi": -0.2}, None),
     ],
 )
 def test_every_model_fits_back(factory, truth, fixed, bounds) -> None:  # noqa: ANN001

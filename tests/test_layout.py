@@ -1,4 +1,4 @@
-"""One place for each shared thing (issue 13): one atomic writer, one Gauss–Legendre helper, no
+"""One place for each shared thing: one atomic writer, one Gauss–Legendre helper, no
 module reaching into another package's private names. Checked on the source, so a new copy or
 a new private import fails here."""
 

@@ -7,7 +7,7 @@ lunar models and models registered from other packages included), at two paramet
 For each plugin, roughness and incident direction (normal to 85°), Mitsuba draws 10⁶
 directions with the plugin's ``sample`` and compares their histogram on the sphere with the
 integral of the plugin's ``pdf`` over each cell (Pearson's test at Mitsuba's significance
-level). Parameter sets follow the issue: σ (or EON/Fujii's r) in {0, 0.2, 0.5, 1.0}.
+level). Parameter sets: σ (or EON/Fujii's r) in {0, 0.2, 0.5, 1.0}.
 Torrance–Sparrow at σ = 0 is a mirror (a Dirac delta, f = 0 as a function): nothing to
 sample, so it is not in the list.
 """

@@ -1,5 +1,5 @@
 """`roughdiffuse models --json`, the Python classes' defaults and the explorer's /api/models
-say the same thing (issue 13: one declaration per model)."""
+say the same thing (one declaration per model)."""
 
 from __future__ import annotations
 

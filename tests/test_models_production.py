@@ -1,4 +1,4 @@
-"""The production renderers' diffuse models against their public reference code (issue 17).
+"""The production renderers' diffuse models against their public reference code.
 
 Each reference below is the formula of the named file and function, transcribed from its
 source into scalar Python on the vectors L, V, N (not on roughdiffuse's three cosines), so it

@@ -26,7 +26,7 @@ import roughdiffuse as rd
 from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
 from roughdiffuse.planetary.correct import normalize, phototopder
 
-HAPKE = {"b0": 1.2, "h": 0.06, "g": -0.3, "theta_bar": math.radians(20.0)}
+HAPKE = {"b0": 1.2, "h": 0.06, "xi": -0.3, "theta_bar": math.radians(20.0)}
 
 
 def albedo_map(lat, lon):

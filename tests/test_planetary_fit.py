@@ -18,7 +18,7 @@ import roughdiffuse as rd
 from roughdiffuse.models.photometry import radiance_factor
 from roughdiffuse.planetary.disk import DiskData, fit_disk
 
-TRUE = {"albedo": 0.3, "b0": 1.6, "h": 0.06, "g": -0.3, "theta_bar": math.radians(20.0)}
+TRUE = {"albedo": 0.3, "b0": 1.6, "h": 0.06, "xi": -0.3, "theta_bar": math.radians(20.0)}
 
 
 def flyby(rng, phases_deg, per_image=80, max_angle=80.0):
@@ -49,7 +49,7 @@ def test_flyby_fit_recovers_hapke_parameters():
     data = synthetic(rng, [5, 8, 12, 20, 30, 45, 60, 75, 90])
     f = fit_disk("hapke", data, fixed={"hg2": 0.0})
     r = f.result
-    assert r.names == ("albedo", "b0", "h", "g", "theta_bar")
+    assert r.names == ("albedo", "b0", "h", "xi", "theta_bar")
     z = {n: (v - TRUE[n]) / s for n, v, s in zip(r.names, r.values, r.errors, strict=True)}
     assert all(abs(x) < 3.0 for x in z.values()), z
     assert all(np.isfinite(r.errors))

@@ -1,5 +1,5 @@
-"""The model registry and the declarations it reads (issue 13), and values no model may take
-(issue 21, model side)."""
+"""The model registry and the declarations it reads, and values no model may take (None,
+booleans, strings, NaN, out of range: refused, naming the parameter)."""
 
 from __future__ import annotations
 
@@ -139,7 +139,7 @@ def test_alpha_refused_for_the_gaussian_and_both_refused_together():
         rd.TorranceSparrow(1.5, 0.3, "beckmann", alpha=0.2)
 
 
-# ------------------------------------------------------------------ issue 21: values that fail
+# ------------------------------------------------------------------ values that fail
 @pytest.mark.parametrize(
     ("build", "match"),
     [

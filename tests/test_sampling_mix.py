@@ -160,8 +160,8 @@ def test_mean_weight_is_the_closed_form_albedo(theta):
 
 
 def test_mixture_sampling_beats_cosine_sampling_on_a_coated_surface():
-    """The issue's case: 0.5 Oren–Nayar + 0.5 Torrance–Sparrow (σ = 0.05) at θr = 0, where
-    cosine sampling gives a weight variance of about 1e-2 (the README's table)."""
+    """A glossy coat over a rough base, 0.5 Oren–Nayar + 0.5 Torrance–Sparrow (σ = 0.05) at
+    θr = 0, where cosine sampling gives a weight variance of about 1e-2 (the README's table)."""
     m = rd.Mix([(0.5, rd.OrenNayar(0.7, 0.3)), (0.5, rd.TorranceSparrow(1.5, 0.05))])
     for theta in (0.0, math.radians(45), math.radians(80)):
         _, v_mix = weight_variance(m, theta, n=50_000)

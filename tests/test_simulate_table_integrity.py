@@ -1,4 +1,4 @@
-"""Ground-truth tables lose nothing and adopt nothing (issue 21): killed runs, corrupt, swapped
+"""Ground-truth tables lose nothing and adopt nothing: killed runs, corrupt, swapped
 and NaN chunks, two runs on one table, a finished table kept, bad output paths."""
 
 from __future__ import annotations
@@ -140,7 +140,7 @@ def test_nan_other_albedo_and_wrong_shape_chunks_are_not_adopted(tmp_path, monke
     good = np.load(chunks / "s000_r0000.npz")["values"]
     _rewrite_chunk(chunks / "s000_r0000.npz", np.full_like(good, np.nan), {})  # valid checksum
     _rewrite_chunk(chunks / "s000_r0001.npz", good[:, :1], {})  # wrong shape
-    # a chunk of a run with another albedo, left without its manifest (the crash of issue 21)
+    # a chunk of a run with another albedo, left without its manifest (as a crashed run leaves)
     other = tmp_path / "other.npz"
     n.clear()
     monkeypatch.setattr(table_mod, "compute_chunk", stop)

@@ -51,7 +51,7 @@ def test_rough_fit_with_noise_is_within_its_standard_errors(rough_sphere):
     data = stereo.StereoInput.from_arrays(np.abs(noisy), clean.directions, mask=clean.mask)
     res = stereo.rough(data, rd.OrenNayar(variant="full"))
     err = np.nanmean(stereo.angular_error(res.normals, truth))
-    assert err < 0.5  # the target, 1% noise on each value
+    assert err < 0.5  # degrees: the target with 1% noise on each value
     # the reported angular standard errors describe the actual errors (within 30%)
     se = np.degrees(np.nanmean(res.normal_se))
     assert 0.7 * se < err < 1.3 * se

@@ -19,11 +19,14 @@ The sorting looks at the exception's type only.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
 import traceback
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
+from typing import Any
 
 from ._env import env_flag
 from ._validate import ParameterError
@@ -112,6 +115,24 @@ def report_error(exc: BaseException, prog: str, debug: bool) -> int:
     return 1
 
 
+@contextlib.contextmanager
+def deprecations_shown(prog: str) -> Iterator[None]:
+    """roughdiffuse's own ``DeprecationWarning``s (a renamed parameter, say) shown as one line
+    each, ``<prog>: warning: …``: Python hides them outside ``__main__``."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("always", category=DeprecationWarning, module=r"roughdiffuse\b")
+        others = warnings.showwarning
+
+        def show(message: Any, category: type[Warning], *args: Any, **kwargs: Any) -> None:
+            if issubclass(category, DeprecationWarning):
+                print(f"{prog}: warning: {message}", file=sys.stderr)
+            else:
+                others(message, category, *args, **kwargs)
+
+        warnings.showwarning = show
+        yield
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``roughdiffuse`` console script; returns the exit status."""
     parser = build_parser()
@@ -122,12 +143,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     prog = f"roughdiffuse {args.command}"
     try:
         debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
+        env_flag("ROUGHDIFFUSE_FASTPATH", default=True)  # read by the models: refused here first
     except ValueError as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return 2
     try:
         check_options(parser, args, argv)  # conflicting or inapplicable flags: exit 2
-        return int(args.func(args) or 0)
+        with deprecations_shown(prog):
+            return int(args.func(args) or 0)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130

@@ -106,7 +106,7 @@ def _lambert_sphere() -> Any:
     return fig
 
 
-LUNAR_HAPKE = Hapke(0.12, b0=1.0, h=0.06, g=-0.25, theta_bar=math.radians(20.0))
+LUNAR_HAPKE = Hapke(0.12, b0=1.0, h=0.06, xi=-0.25, theta_bar=math.radians(20.0))
 """Hapke with lunar-like parameters (B0 ≈ 1, h ≈ 0.06, backscattering ξ ≈ −0.25, θ̄ ≈ 20°:
 the range of Helfenstein & Veverka, Icarus 1987, and Hapke 2012, Table 12.1); w is set by the
 moon preset."""

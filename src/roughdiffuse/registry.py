@@ -34,6 +34,7 @@ from collections.abc import Mapping
 from typing import Any, TypeVar
 
 from ._validate import ParameterError
+from .deprecation import rename_keywords
 from .models.base import Model
 from .models.declaration import Param
 
@@ -181,6 +182,7 @@ class Entry:
         ValueError
             For a parameter this id does not take, or a value out of its range.
         """
+        params = rename_keywords(self.cls, params, f"model {self.id!r}")
         for name in params:
             self.param(name)
         kwargs = {**self.fixed, **params}

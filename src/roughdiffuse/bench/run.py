@@ -93,19 +93,25 @@ class BenchCase(NamedTuple):
 def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
     from roughdiffuse.models import microfacet
 
+    """The Gaussian Torrance–Sparrow kernel: η, σ and the distribution's normalisation at
+    σ floored as the model floors it (the C zeroes σ = 0 itself)."""
     s = max(float(model.sigma), microfacet.SIGMA_FLOOR)
     norm = float(microfacet.gaussian_norm(np, np.float64(s), np.float64))
-    return "rd_torrance_sparrow", (float(model.eta), s, norm)
+    return "rd_torrance_sparrow", (float(model.eta), float(model.sigma), norm)
 
 
 def _c_coated(model: Any) -> tuple[str | None, tuple[float, ...]]:
-    """The registry's ``coated`` over its default base, the full Oren–Nayar model (the C
-    kernel has no other base)."""
-    base = model.base
-    if getattr(base, "variant", None) != "full":
+    """The registry's ``coated`` over the full Oren–Nayar model (its default base) or over
+    Lambert (σ passed as 0, unused); the C file has no other base."""
+    from roughdiffuse import registry
+
+    base, base_id = model.base, registry.id_of(model.base)
+    if base_id not in ("oren-nayar-full", "lambert"):
         return None, ()
-    args = (base.albedo, base.sigma, model.eta, model.roughness, model.absorption)
-    return f"rd_coated_{model.distribution}", tuple(float(a) for a in args)
+    sigma = base.sigma if base_id == "oren-nayar-full" else 0.0
+    args = (base.albedo, sigma, model.eta, model.roughness, model.absorption)
+    name = "rd_coated_" + ("lambert_" if base_id == "lambert" else "") + model.distribution
+    return name, tuple(float(a) for a in args)
 
 
 def _c_args(*names: str) -> Callable[[Any], tuple[float, ...]]:
@@ -126,7 +132,7 @@ C_KERNELS: dict[str, Callable[[Any], tuple[str, tuple[float, ...]]]] = {
     "chan": lambda m: ("rd_chan", _c_args("albedo", "alpha")(m)),
     "minnaert": lambda m: ("rd_minnaert", _c_args("albedo", "k")(m)),
     "lambert-sphere": lambda m: (f"rd_lambert_sphere_{m.variant}", _c_args("albedo")(m)),
-    "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "g", "theta_bar")(m)),
+    "hapke": lambda m: ("rd_hapke", _c_args("albedo", "b0", "h", "xi", "theta_bar", "hg2")(m)),
     "coated": _c_coated,
 }
 """Registry id -> (C function of ``kernels.c``, its arguments) for a model instance: the C
@@ -170,7 +176,8 @@ def _point_for(entry: Any, values: dict[str, Any]) -> dict[str, Any]:
 
 
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
-    """Compile bench/c/kernels.c; return (library or None, a line saying what happened)."""
+    """Compile roughdiffuse/bench/c/kernels.c into ``workdir``; return (library or None, a
+    line saying what happened)."""
     gcc = shutil.which("gcc")
     if gcc is None:
         return None, "gcc not found: no C reference in this run"

@@ -40,7 +40,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from roughdiffuse.bench.timing import summary, write_atomic  # noqa: E402
+from roughdiffuse.bench.timing import summary, write_section  # noqa: E402
 
 CASES = (("beckmann", 0.3), ("beckmann", 1.0), ("ggx", 0.3), ("ggx", 1.0))
 GEOMETRIES = 48
@@ -161,13 +161,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     text = markdown(run(a.paths, a.repeat), a.paths)
     print(text)
     if a.write:
-        path = Path(a.write)
-        old = path.read_text(encoding="utf-8") if path.exists() else ""
-        if BEGIN in old and END in old:
-            new = old[: old.index(BEGIN)] + text + old[old.index(END) + len(END) :]
-        else:
-            new = old.rstrip("\n") + "\n\n" + text + "\n"
-        write_atomic(path, new)
+        write_section(Path(a.write), text, BEGIN, END)
 
 
 if __name__ == "__main__":

@@ -121,6 +121,34 @@ def write_atomic(path: Path, text: str) -> None:
     write_text(path, text)
 
 
+def with_write_target(argv: list[str], results: Path) -> list[str]:
+    """``argv`` with ``results`` after a ``--write`` given without a file (the checkout's
+    scripts in bench/ write there by default)."""
+    argv = list(argv)
+    if "--write" in argv:
+        k = argv.index("--write")
+        if k + 1 >= len(argv) or argv[k + 1].startswith("-"):
+            argv.insert(k + 1, str(results))
+    return argv
+
+
+def write_section(path: Path, text: str, begin: str, end: str, heading: str | None = None) -> None:
+    """Replace the section of ``path`` marked by ``begin`` ... ``end`` by ``text`` (which
+    holds both markers); the first time, put it at the end of the section ``heading`` (a
+    Markdown heading line), else at the end of the file. Whole or not at all."""
+    old = path.read_text(encoding="utf-8") if path.exists() else ""
+    if begin in old and end in old:
+        new = old[: old.index(begin)] + text + old[old.index(end) + len(end) :]
+    elif heading is not None and heading in old:
+        at = old.index(heading) + len(heading)
+        after = old.find("\n## ", at)
+        at = len(old) if after < 0 else after + 1
+        new = old[:at].rstrip("\n") + "\n\n" + text + "\n\n" + old[at:]
+    else:
+        new = old.rstrip("\n") + "\n\n" + (heading + "\n" if heading else "") + text + "\n"
+    write_atomic(path, new)
+
+
 def rel_error(a: Any, ref: Any) -> float:
     """Largest |a − ref| relative to the largest |ref| (any arrays NumPy can read)."""
     import numpy as np

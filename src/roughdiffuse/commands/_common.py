@@ -220,6 +220,14 @@ def parse_value(p: Param, text: str, flag: str) -> Any:
     raise UsageError(f"{flag} takes one number{' or R,G,B' if p.channels else ''} (got {text!r})")
 
 
+def current_name(model: Any, name: str, flag: str) -> str:
+    """``name``, or the current name of a renamed parameter of ``model`` (a model class), with
+    a ``DeprecationWarning`` naming ``flag`` (:mod:`roughdiffuse.deprecation`)."""
+    from ..deprecation import rename_keywords
+
+    return next(iter(rename_keywords(model, {name: None}, flag)))
+
+
 def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dict[str, Any]:
     """The parameters the user gave for the model ``args.model``, starting values filled in.
 
@@ -254,13 +262,18 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
             continue
         p = taken[name]
         values[name] = _degrees(p, value, flag) if p.unit == "radians" else value
-    for name, text in getattr(args, "param", None) or []:
+    typed = {n for n in getattr(args, "shorthand_params", ()) if getattr(args, n, None) is not None}
+    for given_name, text in getattr(args, "param", None) or []:
+        flag = f"--param {given_name}"
+        name = current_name(entry.cls, given_name, flag)
         if name not in taken:
             raise UsageError(
-                f"--param {name}: model {entry.id!r} has no parameter {name!r}; its parameters: "
+                f"{flag}: model {entry.id!r} has no parameter {name!r}; its parameters: "
                 f"{', '.join(taken) or 'none'}"
             )
-        values[name] = parse_value(taken[name], text, f"--param {name}")
+        if name != given_name and name in typed | {n for n, _ in args.param}:
+            raise UsageError(f"{flag} is the former name of {name}, also given; give {name} once")
+        values[name] = parse_value(taken[name], text, flag)
     # starting values of parameters the chosen categorical values leave out (σ of an
     # Oren–Nayar base when --param base=eon) are dropped; those the user gave are refused by
     # the model, by name
@@ -271,7 +284,12 @@ def model_params_from_args(args: argparse.Namespace, strict: bool = True) -> dic
 
 def given_names(args: argparse.Namespace) -> set[str]:
     """The model parameters the user gave (``--param`` or a shorthand flag)."""
-    given = {n for n, _ in getattr(args, "param", None) or []}
+    from .. import registry
+    from ..deprecation import renamed_keywords
+
+    known = getattr(args, "model", None) in registry.ids()
+    renamed = renamed_keywords(registry.get(args.model).cls) if known else {}  # old -> new
+    given = {renamed.get(n, n) for n, _ in getattr(args, "param", None) or []}
     shorthand = getattr(args, "shorthand_params", ())
     return given | {n for n in shorthand if getattr(args, n, None) is not None}
 

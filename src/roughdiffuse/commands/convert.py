@@ -37,7 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from .. import registry
-    from ..conversion import convert
+    from ..fit.between_models import convert
 
     try:
         registry.get(args.to)

@@ -83,12 +83,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _fixed(model: str, pairs: list[tuple[str, str]]) -> dict[str, object]:
     from .. import registry
     from ..planetary.isis import parameter_name
-    from ._common import parse_value
+    from ._common import current_name, parse_value
 
     declared = {p.name: p for p in registry.get(model).parameters}
     out: dict[str, object] = {}
     for isis_name, text in pairs:
-        name = parameter_name(model, isis_name)
+        name = current_name(registry.get(model).cls, parameter_name(model, isis_name), "--fix")
         if name not in declared:
             raise UsageError(
                 f"--fix: {model} has no parameter {name!r} (it has: {', '.join(declared)})"

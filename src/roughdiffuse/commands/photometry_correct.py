@@ -109,13 +109,13 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
 def _model(model_id: str, pairs: list[tuple[str, str]]) -> Any:
     from .. import registry
     from ..planetary.isis import parameter_name
-    from ._common import parse_value
+    from ._common import current_name, parse_value
 
     entry = registry.get(model_id)
     declared = {p.name: p for p in entry.parameters}
     kwargs: dict[str, Any] = {}
     for name, text in pairs:
-        ours = parameter_name(model_id, name)
+        ours = current_name(entry.cls, parameter_name(model_id, name), f"--param {name}")
         if ours not in declared:
             raise UsageError(
                 f"--param: {model_id} has no parameter {name!r} (it has: {', '.join(declared)})"

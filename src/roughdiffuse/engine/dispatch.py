@@ -46,10 +46,9 @@ BUILD_ROWS = 1 << 20
 rows builds it at once): NumPy work of the order of a kernel load from the disk cache (a cold
 compilation is far longer, once per machine; bench/RESULTS.md)."""
 
-try:
-    _ENABLED = env_flag("ROUGHDIFFUSE_FASTPATH", default=True)
-except ValueError:  # an unreadable value: the fast path stays on, as before
-    _ENABLED = True
+_ENABLED: bool | None = None
+"""The switch; ``None`` until the first call reads ``ROUGHDIFFUSE_FASTPATH`` (a value
+:func:`~roughdiffuse._env.env_flag` cannot read is a ``ValueError`` naming the variable)."""
 _LOCK = threading.Lock()
 _SEEN_ROWS: dict[Any, int] = {}
 _FAILED: set[Any] = set()
@@ -57,7 +56,17 @@ _PLAIN = (float, int, np.ndarray, np.floating, np.integer)
 
 
 def fastpath_enabled() -> bool:
-    """Whether large NumPy calls run compiled (see :func:`use_fastpath`)."""
+    """Whether large NumPy calls run compiled (see :func:`use_fastpath`).
+
+    Raises
+    ------
+    ValueError
+        If ``ROUGHDIFFUSE_FASTPATH`` decides (no :func:`use_fastpath` has) and is set to
+        something other than the words :func:`~roughdiffuse._env.env_flag` reads.
+    """
+    global _ENABLED
+    if _ENABLED is None:
+        _ENABLED = env_flag("ROUGHDIFFUSE_FASTPATH", default=True)
     return _ENABLED
 
 
@@ -143,7 +152,7 @@ def compiled(model: Any, entry: str, *arrays: Any, irradiance: Any = 1.0) -> Any
 
     ``entry`` is ``"brdf"``, ``"brdf_cosines"`` or ``"radiance"``.
     """
-    if not _ENABLED or not type(model).traceable:  # a simulation (SmithDiffuse) runs as it is
+    if not fastpath_enabled() or not type(model).traceable:  # a simulation runs as it is
         return None
     rows = _rows(entry, arrays)
     if rows < MIN_ROWS or not _plain_parameters(model):

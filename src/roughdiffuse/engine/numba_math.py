@@ -54,11 +54,9 @@ def exp2i_f64(k: Any) -> Any:  # pragma: no cover - compiled by Numba
 # attribute, and LLVM then takes 512-bit vectors as legal on an AVX-512 CPU even where the
 # CPU's tuning prefers 256 bits (Ice Lake, Rocket Lake, Sapphire Rapids...). The loop vectoriser
 # picks 8-wide float32 vectors, but the stride-3 deinterleaving of the (N, 3) rows is then
-# lowered to 512-bit shuffles (vpermt2ps on zmm): mixing them into the 256-bit loop made the
-# qualitative Oren-Nayar kernel 1.8x slower than with all-256-bit code (2^16 rows, one thread:
-# 0.58 of gcc's loop, 1.05 with this attribute; 2^22 rows, two threads: 0.82, 1.00). Asking for
-# 512-bit vectors instead ("prefer-vector-width"="512") gave 1.26 of C in cache but 0.94 at
-# 2^22 rows on two threads, so the kernels keep to the width the CPU's tuning prefers.
+# lowered to 512-bit shuffles (vpermt2ps on zmm), which slow the 256-bit loop down. The
+# kernels keep to the vector width the CPU's tuning prefers (measurements, including
+# "prefer-vector-width"="512": bench/RESULTS.md, "Thresholds").
 _FUNCTION_ATTRIBUTES = ('"min-legal-vector-width"="0"',)
 
 

@@ -419,10 +419,11 @@ def _atan2_polynomial(xp: TraceNamespace, y: Any, x: Any) -> Any:
     """atan2 for float32 kernels, branch-free so that the compiled loop vectorises.
 
     libm's atan2f is a call the loop vectoriser cannot widen (Numba has no vector math
-    library here), which made kernels with atan2 5–10x slower than C (gcc uses glibc's
-    vector ``_ZGVdN8vv_atan2f``). This is Cephes' ``atanf`` (S. Moshier): reduction to
-    |t| <= tan(π/8) and a degree-9 odd polynomial, maximum relative error about 1e-7 (float32
-    rounding); quadrants as in C's atan2; atan2(0, 0) = 0 like NumPy's.
+    library here), which keeps a kernel with atan2 scalar where C is vectorised (gcc uses
+    glibc's vector ``_ZGVdN8vv_atan2f``; bench/RESULTS.md, "Thresholds"). This is Cephes'
+    ``atanf`` (S. Moshier): reduction to |t| <= tan(π/8) and a degree-9 odd polynomial,
+    maximum relative error about 1e-7 (float32 rounding); quadrants as in C's atan2;
+    atan2(0, 0) = 0 like NumPy's.
     """
     ax, ay = abs(x), abs(y)
     big = xp.where(ay > ax, ay, ax)
@@ -508,8 +509,8 @@ def _exp_polynomial(xp: TraceNamespace, x: Any) -> Any:
 def _acos_polynomial(xp: TraceNamespace, x: Any) -> Any:
     """acos for float32 kernels: atan2(√(1 − x²), x) through :func:`_atan2_polynomial`.
 
-    libm's acosf is a call the loop vectoriser cannot widen, as atan2f is, which made the
-    Lambert-sphere models (acos in the phase function and the azimuth) far slower than C. Same
+    libm's acosf is a call the loop vectoriser cannot widen, as atan2f is, which would keep
+    the Lambert-sphere models (acos in the phase function and the azimuth) scalar. Same
     accuracy as the atan2 polynomial (about 1e-7 relative); √(1 − x²) is clamped at 0 so
     |x| slightly above 1 from rounding gives 0 or π as NumPy's clipped inputs do.
     """

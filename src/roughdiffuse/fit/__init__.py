@@ -13,6 +13,7 @@
 from .._lazy import attach
 
 _NAMES: dict[str, tuple[str, ...]] = {
+    "between_models": ("Conversion", "convert"),
     "compare": ("CANDIDATES", "Comparison", "compare_models"),
     "csv_samples": ("csv_from_text", "read_csv", "samples_from_table", "write_csv"),
     "images": ("image_measurements", "read_image", "read_normals", "shape_normals"),

@@ -13,8 +13,8 @@ Targets (:data:`TARGETS`):
   (:mod:`roughdiffuse.materials.blender_run`).
 
 Where the target cannot hold the model exactly, the parameters are converted
-(:func:`roughdiffuse.conversion.convert`) and the conversion error is written into the file's
-comments and returned. A ``UsdPreviewSurface`` is not offered: its diffuse lobe has no
+(:func:`roughdiffuse.fit.between_models.convert`) and the conversion error is written into
+the file's comments and returned. A ``UsdPreviewSurface`` is not offered: its diffuse lobe has no
 roughness, so any rough model would be exported wrong.
 """
 

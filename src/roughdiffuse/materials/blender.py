@@ -3,7 +3,7 @@
 Cycles computes roughdiffuse's ``cycles-diffuse`` (Fujii's single scattering plus ρ times
 EON's multiple-scattering lobe, ``intern/cycles/kernel/closure/bsdf_oren_nayar.h``); the
 Principled BSDF's "Diffuse Roughness" builds the same closure (``cycles-principled``). Any
-other model is converted to it (:func:`roughdiffuse.conversion.convert`).
+other model is converted to it (:func:`roughdiffuse.fit.between_models.convert`).
 """
 
 from __future__ import annotations

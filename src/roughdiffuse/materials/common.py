@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import registry
 from .._validate import ParameterError
-from ..conversion import Conversion, convert
+from ..fit.between_models import Conversion, convert
 from ..io.atomic import write_text
 from ..models.base import Model
 
@@ -53,7 +53,8 @@ def error_lines(conversion: Conversion | None) -> list[str]:
     if conversion is None:
         return ["exact: the target computes this model (no conversion)"]
     return [
-        f"converted from {conversion.source} by least squares (roughdiffuse.conversion):",
+        f"converted from {conversion.source} by least squares "
+        "(roughdiffuse.fit.between_models):",
         f"f cos theta_i differs by {100 * conversion.rms_f:.3g} % RMS, "
         f"{100 * conversion.max_f:.3g} % at most (relative to the source's RMS);",
         f"directional albedo differs by {100 * conversion.rms_albedo:.3g} % RMS, "

@@ -37,6 +37,7 @@ from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
+from ..deprecation import renamed_parameter
 from .base import Model
 from .declaration import albedo_param, param
 from .photometry import brdf_from_radiance_factor
@@ -272,6 +273,7 @@ _REFERENCE = (
 )
 
 
+@renamed_parameter("g", "xi", since="0.2")
 class Hapke(Model):
     """Hapke's model with a one- or two-term Henyey–Greenstein function, as ISIS's ``HapkeHen``.
 
@@ -284,8 +286,10 @@ class Hapke(Model):
         in ISIS.
     h : float
         Angular width h of the surge, in [0, 1] (``Hh``; 0: no surge).
-    g : float
-        Henyey–Greenstein asymmetry ξ in [−0.99, 0.99] (``Hg1``); negative backscatters.
+    xi : float
+        Henyey–Greenstein asymmetry ξ in [−0.99, 0.99] (``Hg1``); negative backscatters. The
+        former keyword ``g`` (the phase angle's letter in the formulas) still works, with a
+        ``DeprecationWarning``.
     theta_bar : float
         Mean slope angle θ̄ of the macroscopic roughness, radians in [0, π/3] (``Theta``, which
         ISIS takes in degrees).
@@ -310,7 +314,7 @@ class Hapke(Model):
     albedo: float | Array = albedo_param("single-scattering albedo w", default=0.5, example=0.3)
     b0: float | Array = _surge_amplitude("shadow-hiding opposition-surge", 0.8)
     h: float | Array = _surge_width("shadow-hiding opposition-surge")
-    g: float | Array = _xi()
+    xi: float | Array = _xi()
     theta_bar: float | Array = _theta_bar()
     hg2: float | Array = _hg2()
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke": {}}
@@ -320,14 +324,14 @@ class Hapke(Model):
     order: ClassVar[int] = 140
     glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "hapke": (
-            {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
-            {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
-            {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
+            {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "xi": -0.3, "theta_bar": 0.35},
+            {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "xi": 0.4, "theta_bar": 0.0},
+            {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "xi": 0.0, "theta_bar": math.pi / 3},
             {
                 "albedo": [0.9, 0.5, 0.05],
                 "b0": 2.5,
                 "h": 0.05,
-                "g": 0.45,
+                "xi": 0.45,
                 "theta_bar": 0.4,
                 "hg2": 0.7,
             },
@@ -337,7 +341,7 @@ class Hapke(Model):
         "albedo": r"w",
         "b0": r"B_0",
         "h": r"h",
-        "g": r"\xi",
+        "xi": r"\xi",
         "theta_bar": r"\bar\theta",
         "hg2": r"c",
     }
@@ -381,12 +385,12 @@ class Hapke(Model):
         albedo: Array,
         b0: Array,
         h: Array,
-        g: Array,
+        xi: Array,
         theta_bar: Array,
         hg2: Array,
     ) -> Array:
         surge = shadow_hiding(xp, b0, h, cos_io)
-        p = two_term_hg(g, hg2, cos_io)
+        p = two_term_hg(xi, hg2, cos_io)
         return _isis_hapke(xp, mu_i, mu_o, cos_io, albedo, surge, p, theta_bar)
 
 
@@ -479,6 +483,7 @@ class HapkeLegendre(Model):
         return _isis_hapke(xp, mu_i, mu_o, cos_io, albedo, surge, p, theta_bar)
 
 
+@renamed_parameter("g", "xi", since="0.2")
 class Hapke2012(Model):
     """Hapke's 2012 model: porosity, shadow-hiding and coherent-backscatter surges.
 
@@ -497,8 +502,9 @@ class Hapke2012(Model):
     porosity : float
         Porosity factor K >= 1 (1: very porous; :func:`porosity_factor` from the filling
         factor).
-    g, hg2 : float
-        Two-term Henyey–Greenstein function, as :class:`Hapke`.
+    xi, hg2 : float
+        Two-term Henyey–Greenstein function, as :class:`Hapke` (``g``, the former name of
+        ``xi``, still works with a ``DeprecationWarning``).
     theta_bar : float
         Mean slope angle θ̄, radians in [0, π/3] (Hapke 1984).
 
@@ -544,7 +550,7 @@ class Hapke2012(Model):
         example=1.3,
         fit_range=(1.0, 3.0),
     )
-    g: float | Array = _xi()
+    xi: float | Array = _xi()
     hg2: float | Array = _hg2()
     theta_bar: float | Array = _theta_bar()
     symbols: ClassVar[dict[str, str]] = {
@@ -554,7 +560,7 @@ class Hapke2012(Model):
         "bc0": r"B_{C0}",
         "h_c": r"h_C",
         "porosity": r"K",
-        "g": r"\xi",
+        "xi": r"\xi",
         "hg2": r"c",
         "theta_bar": r"\bar\theta",
     }
@@ -605,12 +611,12 @@ class Hapke2012(Model):
         bc0: Array,
         h_c: Array,
         porosity: Array,
-        g: Array,
+        xi: Array,
         hg2: Array,
         theta_bar: Array,
     ) -> Array:
         w, k = albedo, porosity
-        lobe = (1.0 + shadow_hiding(xp, bs0, h_s, cos_io)) * two_term_hg(g, hg2, cos_io) - 1.0
+        lobe = (1.0 + shadow_hiding(xp, bs0, h_s, cos_io)) * two_term_hg(xi, hg2, cos_io) - 1.0
 
         def bracket(mu0e: Array, mue: Array) -> Array:
             return lobe + chandrasekhar_h_2002(xp, mu0e / k, w) * chandrasekhar_h_2002(

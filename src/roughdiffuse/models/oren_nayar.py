@@ -80,8 +80,8 @@ def _full(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, sigma: Array, albedo
     c2 = 0.45 * t * xp.where(c >= 0, sin_alpha, sin_alpha - b2 * (2.0 * beta / math.pi))
     c3 = 0.125 * t * (4.0 * alpha * beta / math.pi**2) ** 2
     # tan((α + β)/2) = (sin α + sin β)/(cos α + cos β), exact and without a sine or cosine,
-    # which XLA recomputes in every loop of a Jacobian (a stereo fit, stereo/rough.py: 1.3x
-    # less CPU time). cos α + cos β = 2 cos((α + β)/2) cos((α − β)/2): floored at twice the
+    # which XLA recomputes in every loop of a Jacobian (bench/RESULTS.md, "Photometric
+    # stereo"). cos α + cos β = 2 cos((α + β)/2) cos((α − β)/2): floored at twice the
     # floor of cos((α + β)/2), the same value where both directions are grazing
     tan_half = (sin_alpha + sin_beta) / maximum(xp, cos_alpha + cos_beta, 2.0 * TAN_FLOOR)
     l1 = albedo / math.pi * (c1 + c * c2 * tan_beta + (1.0 - xp.abs(c)) * c3 * tan_half)

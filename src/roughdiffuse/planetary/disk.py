@@ -213,6 +213,8 @@ def fit_disk(
     -------
     DiskFit
     """
+    from .. import registry
+    from ..deprecation import rename_keywords
     from ..fit import DegenerateDataWarning, fit
     from ..fit.compare import candidate
 
@@ -222,7 +224,7 @@ def fit_disk(
             f"{', '.join(PHOTOMETRIC_MODELS)}"
         )
     c = candidate(model)
-    fixed = dict(fixed or {})
+    fixed = rename_keywords(registry.get(model).cls, fixed or {}, "fit_disk(fixed=...)")
     unknown = set(fixed) - set(c.params)
     if unknown:
         raise ParameterError(

@@ -25,7 +25,7 @@ ISIS_PARAMETERS: dict[str, dict[str, str]] = {
         "Wh": "albedo",
         "B0": "b0",
         "Hh": "h",
-        "Hg1": "g",
+        "Hg1": "xi",
         "Hg2": "hg2",
         "Theta": "theta_bar",
     },

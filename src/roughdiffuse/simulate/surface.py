@@ -490,7 +490,7 @@ def brdf(
         Slope measure and quadrature settings (default :class:`Settings`).
     chunk : int
         Geometries evaluated at once (memory: about chunk × 2000 × 4K doubles). Small
-        chunks keep the work in cache: 32 ran 1.8× faster than 256 in NumPy here.
+        chunks keep the work in the CPU's cache (measured: bench/RESULTS.md, "Thresholds").
     return_difference : bool
         Also return f(K) − f(2K) elementwise for the interreflected part (zeros for one
         bounce or without extrapolation).

@@ -17,10 +17,11 @@ bundle adjustment; Triggs et al., "Bundle Adjustment — A Modern Synthesis", 20
 after the per-pixel parameters have been refined for the current roughness; its start comes
 from the same fit on a random subset of the pixels.
 
-Speed (``bench/stereo_bench.py``): the pixels go in cache-sized chunks, each running several
-LM steps in one compiled loop, on as many threads as there are cores; the model's terms that
-depend only on the pixel (n·v) or only on the light (l·v) are evaluated once per pixel or
-light, and the roughness's Jacobian column comes out of the same forward pass as the others.
+Speed (:mod:`roughdiffuse.bench.stereo_bench`): the pixels go in cache-sized chunks, each
+running several LM steps in one compiled loop, on as many threads as there are cores; the
+model's terms that depend only on the pixel (n·v) or only on the light (l·v) are evaluated once
+per pixel or light, and the roughness's Jacobian column comes out of the same forward pass as
+the others.
 
 Standard errors are the Gauss–Newton ones, s² (JᵀJ)⁻¹ with s² the residual variance, per
 pixel; for the global roughness from the Schur complement, with s² over all pixels.
@@ -48,7 +49,7 @@ __all__ = ["RoughResult", "roughness_parameter", "rough"]
 
 CHUNK = 1 << 13
 """Pixels per compiled call. Small enough that a chunk's K × CHUNK arrays stay in the CPU's
-cache across the many fused loops of an LM step (measured 1.7× faster per pixel than 2¹⁵)."""
+cache across the many fused loops of an LM step (measured: bench/RESULTS.md, "Thresholds")."""
 
 SUBSET = 1 << 13
 """Pixels of the random subset that gives the global roughness its starting value."""

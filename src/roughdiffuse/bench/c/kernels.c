@@ -1,5 +1,5 @@
-/* C reference kernels for roughdiffuse.bench (run.py): each model's formula on (N, 3) arrays,
- * exactly as the package computes it, in two forms:
+/* C reference kernels for roughdiffuse.bench (run.py, layered_bench.py): each model's formula
+ * on (N, 3) arrays, exactly as the package computes it, in two forms:
  *
  *   rd_<model>(n, l, v, out, count, e0, params...)         float32 radiance
  *       L = f_r E0 cos(theta_i), as Model.radiance: normalise n, l, v; mu_i = n.l,
@@ -12,7 +12,7 @@
  * of src/roughdiffuse/models/ (see the docstrings there for the papers), transcribed by hand
  * once, as type-generic inline functions (<tgmath.h>) that this file instantiates for float
  * and double by including itself; run.py checks every kernel against the package before
- * timing it.
+ * timing it, and tests/test_c_baselines.py at the corners of each model's domain.
  *
  * Built by run.py with: gcc -O3 -march=native -fopenmp -ffast-math -shared -fPIC
  */
@@ -22,6 +22,7 @@
 
 #define TAN_FLOOR 1e-6
 #define COS_FLOOR 1e-6
+#define SIGMA_FLOOR 1e-4 /* microfacet.SIGMA_FLOOR */
 
 /* Gauss-Legendre nodes and weights on [0, 1] (roughdiffuse.quadrature.gauss_legendre) */
 static const double GL4_T[4] = {0.06943184420297371, 0.33000947820757187, 0.6699905217924281,
@@ -114,11 +115,13 @@ MODEL(oren_nayar_full, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(fujii, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(eon, P2(float), P2(double), (mi, mo, cio, p0, p1))
 /* Gaussian-in-slope-angle Torrance-Sparrow; p2 is the distribution's normalisation (times
- * sigma^2), a parameter-only quantity that run.py takes from the model module. */
+ * sigma^2, sigma floored at SIGMA_FLOOR), a parameter-only quantity that run.py takes from
+ * the model module. */
 MODEL(torrance_sparrow, P3(float), P3(double), (mi, mo, cio, p0, p1, p2))
 /* the production and photometric models (src/roughdiffuse/models/burley.py,
  * hammon.py, chan.py, lambert_sphere.py, hapke.py, minnaert.py) */
 #define P5(T) T p0, T p1, T p2, T p3, T p4
+#define P6(T) T p0, T p1, T p2, T p3, T p4, T p5
 MODEL(burley, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(frostbite, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(burley_2015, P2(float), P2(double), (mi, mo, cio, p0, p1))
@@ -127,16 +130,17 @@ MODEL(chan, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(minnaert, P2(float), P2(double), (mi, mo, cio, p0, p1))
 MODEL(lambert_sphere_fast, P1(float), P1(double), (mi, mo, cio, p0))
 MODEL(lambert_sphere_full, P1(float), P1(double), (mi, mo, cio, p0))
-MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
+MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
 
-/* A dielectric coat over the full Oren-Nayar base (src/roughdiffuse/models/coated.py, the
- * registry's "coated"): the parameter-only quantities (the coat's internal sums K and a K, the
+/* A dielectric coat over the full Oren-Nayar base (rd_coated_ggx, rd_coated_beckmann: the
+ * registry's "coated") or over Lambert (rd_coated_lambert_ggx, ..._beckmann; sigma unused), as
+ * src/roughdiffuse/models/coated.py: the parameter-only quantities (the coat's internal sums K and a K, the
  * rules' facet nodes) once per call, as the fast path computes them once per trace; then the
  * per-row formula with the same node rules. p0..p4 = albedo, sigma, eta, alpha, tau. */
-#define COATED(dist, BECK)                                                               \
+#define COATED(dist, BECK, LAMBERT)                                                               \
     void rd_coated_##dist(ARGS, P5(float)) {                                             \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             GEOMETRY                                                                     \
             STORE(coated_f32(&s, mi, mo, cio))                                           \
@@ -144,7 +148,7 @@ MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
     }                                                                                    \
     void rd_coated_##dist##_brdf_f32(BARGS(float), P5(float)) {                          \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             BRDF_GEOMETRY(float, _f32)                                                   \
             out[i] = above ? coated_f32(&s, mi, mo, cio) : 0.0f;                         \
@@ -152,14 +156,16 @@ MODEL(hapke, P5(float), P5(double), (mi, mo, cio, p0, p1, p2, p3, p4))
     }                                                                                    \
     void rd_coated_##dist##_brdf_f64(BARGS(double), P5(double)) {                        \
         coat_f64 s;                                                                      \
-        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK);                                    \
+        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
         LOOP {                                                                           \
             BRDF_GEOMETRY(double, _f64)                                                  \
             out[i] = above ? coated_f64(&s, mi, mo, cio) : 0.0;                          \
         }                                                                                \
     }
-COATED(ggx, 0)
-COATED(beckmann, 1)
+COATED(ggx, 0, 0)
+COATED(beckmann, 1, 0)
+COATED(lambert_ggx, 0, 1)
+COATED(lambert_beckmann, 1, 1)
 
 #else /* ------------------------------------------ the formulas, for RD_REAL = float, double */
 #define real RD_REAL
@@ -203,7 +209,9 @@ static inline real RD_F(oren_nayar_full)(real mi, real mo, real cio, real albedo
      * sincos, which has no vector variant in glibc's libmvec and keeps the loop scalar */
     real tan_half = sin(half) / fmax(sin(C(0.5) * PI - half), C(TAN_FLOOR));
     real l1 = albedo / PI * (c1 + c * c2 * tan_beta + (C(1) - fabs(c)) * c3 * tan_half);
-    return l1 + k2 * (C(1) - c * b2);
+    /* the fitted C2 term (c < 0) drives L1 + L2 below 0 at grazing backscatter for sigma
+     * above about 1: a BRDF is not negative */
+    return fmax(l1 + k2 * (C(1) - c * b2), C(0));
 }
 
 static inline real RD_F(fon_lobe)(real mi, real mo, real cio, real r) {
@@ -236,14 +244,19 @@ static inline real RD_F(eon)(real mi, real mo, real cio, real albedo, real r) {
 
 static inline real RD_F(torrance_sparrow)(real mi, real mo, real cio, real eta, real sigma,
                                           real gauss_norm) {
-    real inv_2s2 = C(1) / (C(2) * sigma * sigma), dscale = gauss_norm / (sigma * sigma);
+    /* sigma floored for the arithmetic (gauss_norm is taken at the floored value); sigma = 0,
+     * a mirror, gives 0 */
+    real s = fmax(sigma, C(SIGMA_FLOOR));
+    real inv_2s2 = C(1) / (C(2) * s * s), dscale = gauss_norm / (s * s);
     real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
     real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
     real cos_d = C(0.5) * len_h;
     real sin_h = sqrt(fmax(C(1) - cos_h * cos_h, C(0)));
     real theta = atan2(sin_h, cos_h);
     real d = sigma > C(0) ? exp(-theta * theta * inv_2s2) * dscale : C(0);
-    real c = cos_d, g2 = eta * eta - C(1) + c * c;
+    /* g^2 = eta^2 - 1 + c^2 written (eta - 1)(eta + 1) + c^2: -ffast-math may reassociate the
+     * first into (eta^2 + c^2) - 1, which loses c^2 at eta = 1 near grazing */
+    real c = cos_d, g2 = (eta - C(1)) * (eta + C(1)) + c * c;
     real g = sqrt(fmax(g2, C(0)));
     real a = (g + c) != C(0) ? (g - c) / (g + c) : C(1);
     real bden = c * (g - c) + C(1);
@@ -357,11 +370,18 @@ static inline real RD_F(lambert_sphere_full)(real mi, real mo, real cio, real kd
 
 static inline real RD_F(hapke_h)(real x, real gamma) { return (C(1) + C(2) * x) / (C(1) + C(2) * x * gamma); }
 
-static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real hh, real xi, real theta_bar) {
+static inline real RD_F(hg)(real xi, real cio) {
+    return (C(1) - xi * xi) / pow(C(1) + xi * xi + C(2) * xi * cio, C(1.5));
+}
+
+/* cio = cos g (g the phase angle); xi the Henyey-Greenstein asymmetry, hg2 the weight of the
+ * mirrored lobe HG(-xi) */
+static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real hh, real xi,
+                               real theta_bar, real hg2) {
     real gamma = sqrt(fmax(C(1) - w, C(0)));
     real tan_half = sqrt(fmax((C(1) - cio) / fmax(C(1) + cio, C(1e-12)), C(0)));
     real surge = b0 * hh / fmax(hh + tan_half, C(1e-12));
-    real pg = (C(1) - xi * xi) / pow(C(1) + xi * xi + C(2) * xi * cio, C(1.5));
+    real pg = (C(1) - hg2) * RD_F(hg)(xi, cio) + hg2 * RD_F(hg)(-xi, cio);
     real lobe = (C(1) + surge) * pg - C(1);
     if (!(theta_bar > C(0)))
         return w / C(4) * (lobe + RD_F(hapke_h)(mi, gamma) * RD_F(hapke_h)(mo, gamma)) / fmax(mi + mo, C(1e-12)) / PI;
@@ -390,7 +410,8 @@ static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real
 
 /* ---- Coated (src/roughdiffuse/models/coated.py and microfacet.py) ---- */
 static inline real RD_F(fresnel)(real c, real eta) {
-    real g2 = eta * eta - C(1) + c * c, g = sqrt(fmax(g2, C(0)));
+    /* (eta - 1)(eta + 1): as in torrance_sparrow */
+    real g2 = (eta - C(1)) * (eta + C(1)) + c * c, g = sqrt(fmax(g2, C(0)));
     real a = (g + c) != C(0) ? (g - c) / (g + c) : C(1);
     real bden = c * (g - c) + C(1);
     real b = bden != C(0) ? (c * (g + c) - C(1)) / bden : C(1);
@@ -423,7 +444,7 @@ static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
 /* the parameter-only quantities of one call */
 typedef struct {
     real albedo, sigma, eta, alpha, tau, k, ak;
-    int beck;
+    int beck, lambert; /* the distribution (Beckmann or GGX), the base (Lambert or Oren-Nayar) */
     real cos_h[COAT_IF], sin_h[COAT_IF], cos_phi[COAT_IF], w_if[COAT_IF];
     real m2[COAT_BA], sin_cos[COAT_BA], w_ba[COAT_BA];
 } RD_F(coat);
@@ -455,6 +476,8 @@ static inline real RD_F(coat_interface)(const RD_F(coat) *s, real mu, real eta, 
 
 /* the base's directional albedo at cosine mu: coated.py base_albedo */
 static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
+    if (s->lambert)
+        return s->albedo;
     real sin = sqrt(fmax(C(1) - mu * mu, C(0))), total = C(0);
     for (int j = 0; j < COAT_BA; ++j) {
         real c = RD_F(clamp)(mu * s->m2[j] + sin * s->sin_cos[j], C(-1), C(1));
@@ -464,9 +487,9 @@ static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
 }
 
 static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
-                             real tau, int beck) {
+                             real tau, int beck, int lambert) {
     s->albedo = albedo, s->sigma = sigma, s->eta = eta, s->alpha = alpha, s->tau = tau;
-    s->beck = beck;
+    s->beck = beck, s->lambert = lambert;
     for (int iu = 0; iu < 6; ++iu)
         for (int h = 0; h < 2; ++h)
             for (int it = 0; it < 4; ++it) {
@@ -509,7 +532,8 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
     real ro = sqrt(fmax(C(1) - (C(1) - mo * mo) * inv_eta2, C(0)));
     real cos_in = RD_F(clamp)(ri * ro + (cio - mi * mo) * inv_eta2, C(-1), C(1));
     real trans = RD_F(coat_interface)(s, mi, eta, 1) * RD_F(coat_interface)(s, mo, eta, 1);
-    real single = RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
+    real single = s->lambert ? s->albedo / PI
+                             : RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
     real a_i = RD_F(coat_base_albedo)(s, ri), a_o = RD_F(coat_base_albedo)(s, ro);
     real den = C(1) - s->ak;
     real multi = a_i * a_o * (den != C(0) ? s->k / den : C(0)) / PI;

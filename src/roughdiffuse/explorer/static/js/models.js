@@ -152,7 +152,7 @@ export function gpuParams(s) {
     k: s.k ?? 1.0,
     b0: s.b0 ?? 0.0,
     h: s.h ?? 0.1,
-    g: s.g ?? 0.0,
+    g: s.xi ?? 0.0,  // Hapke's asymmetry ξ (its parameter xi)
     theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
     hg2: s.hg2 ?? 0.0,
     sums: m.key === "coated",  // its parameter-only sums come first (gl.js Evaluator.withSums)

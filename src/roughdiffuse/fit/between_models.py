@@ -1,4 +1,4 @@
-"""Convert a model's parameters into another model's: the best match, and how far apart they stay.
+"""Fit one model's parameters to another model: the best match, and how far apart they stay.
 
 :func:`convert` finds the parameters of a target model (a registry id) whose reflectance best
 reproduces a source model, by least squares over the hemisphere, and reports the difference
@@ -32,10 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from . import registry
-from ._validate import ParameterError
-from .engine.dispatch import use_fastpath
-from .models.base import Model
+from .. import registry
+from .._validate import ParameterError
+from ..engine.dispatch import use_fastpath
+from ..models.base import Model
 
 __all__ = ["Conversion", "convert"]
 
@@ -126,7 +126,7 @@ def _unpack(x: np.ndarray, colour: list, shape: list, reps: int, channels: int) 
 
 
 def _grid(n: int) -> tuple[np.ndarray, ...]:
-    from .quadrature import gauss_legendre
+    from ..quadrature import gauss_legendre
 
     mu, wmu = gauss_legendre(n, 0.0, 1.0)
     phi = (np.arange(n) + 0.5) * math.pi / n
