@@ -421,6 +421,11 @@ def _feeds(graph: Graph, m: int, target: int) -> bool:
 
 
 # ------------------------------------------------------------------ printing
+def _literal_par(graph: Graph, lang: str) -> Any:
+    """Concrete scalars of the graph (``("par", k)``) printed as literals."""
+    return lambda k: _float_literal(float(graph.params[k]), lang)
+
+
 @dataclasses.dataclass
 class Printed:
     """One model printed for a shader with a prepass (:func:`print_function`).
@@ -465,7 +470,8 @@ def _hoist(traced: Traced, pars_as_values: bool) -> list[tuple[Any, ...]]:
         if r in seen:
             continue
         seen.add(r)
-        if _is_parameter_only(g, r, pixel) or (pars_as_values and r[0] == "par"):
+        hoistable = _is_parameter_only(g, r, pixel) and not g.is_bool(r)  # uniforms: floats
+        if hoistable or (pars_as_values and r[0] == "par"):
             found.add(r)
             continue
         stack.extend(_deps(g, r))
@@ -488,7 +494,7 @@ def print_function(
     models of one shader)."""
     hoisted = _hoist(traced, pars_as_values=not traced.symbolic)
     names = {r: f"h{k}" for k, r in enumerate(hoisted)}
-    ctx = _Context("glsl", prefix, str, names, lambda k: f"p{k}",
+    ctx = _Context("glsl", prefix, str, names, _literal_par(traced.graph, "glsl"),
                    {} if helpers is None else helpers, {} if arrays is None else arrays)
     outputs = _outputs(traced)
     body = _statements(traced.graph, outputs, ctx, set(names))
@@ -511,7 +517,7 @@ def javascript_prepass(traced: Traced, printed: Printed, prefix: str = "rd") -> 
         base, _, channel = key.partition(".")
         return f"p[{base!r}][{channel}]" if channel else f"p[{base!r}]"
 
-    ctx = _Context("js", prefix, input_name, {}, lambda k: "NaN", {}, {})
+    ctx = _Context("js", prefix, input_name, {}, _literal_par(traced.graph, "js"), {}, {})
     body = _statements(traced.graph, printed.hoisted, ctx, set())
     values = ", ".join(ctx.name(traced.graph, r) for r in printed.hoisted)
     return "\n".join([*ctx.arrays.values(), *body, f"return [{values}];"])
@@ -624,8 +630,7 @@ def glsl_source(model: Any, *, name: str = "rd_brdf", bake: bool = True) -> str:
     arrays: dict[str, str] = {}
     if bake:
         traced = trace_model(model)
-        ctx = _Context("glsl", name, str, {}, None, helpers, arrays)
-        ctx.par_name = lambda k: _float_literal(float(traced.graph.params[k]), "glsl")
+        ctx = _Context("glsl", name, str, {}, _literal_par(traced.graph, "glsl"), helpers, arrays)
         outputs = _outputs(traced)
         body = _statements(traced.graph, outputs, ctx, set())
         top: list[str] = ["// Parameter values baked in: " + repr(model)]
@@ -646,8 +651,8 @@ def glsl_source(model: Any, *, name: str = "rd_brdf", bake: bool = True) -> str:
             base, _, channel = key.partition(".")
             return f"{base}.{_SWIZZLE[int(channel)]}" if channel else base
 
-        ctx = _Context("glsl", name, input_name, {}, lambda k: _float_literal(
-            float(traced.graph.params[k]), "glsl"), helpers, arrays)
+        ctx = _Context("glsl", name, input_name, {}, _literal_par(traced.graph, "glsl"), helpers,
+                       arrays)
         outputs = _outputs(traced)
         body = _statements(traced.graph, outputs, ctx, set())
         listed = ", ".join(f"{t} {n}" for n, t in traced.params.items())
