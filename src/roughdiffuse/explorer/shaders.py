@@ -1,4 +1,4 @@
-"""The explorer's model shaders, printed from the models' own code (:mod:`roughdiffuse.engine.glsl`).
+"""The explorer's model shaders, printed from the models' own code (:mod:`..engine.glsl`).
 
 Every closed-form registry model is offered by the page. For each id and each combination of
 its free categorical parameters (Mix's distribution, the Lambert spheres' variant) the model
@@ -14,9 +14,10 @@ is traced with symbolic parameters (:func:`~roughdiffuse.engine.glsl.trace_entry
 
 A model whose parameter math cannot be traced with symbolic parameters (``coated``: its
 internal sums are a quadrature over two node axes) is traced with concrete parameters on the
-server for each parameter set the page asks for (``/api/shader?model=…&…``,
-:func:`server_shader`): the page compiles the baked function it receives
-(:func:`~roughdiffuse.engine.glsl.glsl_source`), whose parameter-only values NumPy computed.
+server for each parameter set the page asks for (``/api/shader?p=<JSON record>``,
+:func:`server_shader`): NumPy computes its parameter-only values, which the page sends as
+uniforms to a function it compiles once per structure of the model (its base, its
+distribution; :func:`~roughdiffuse.engine.glsl.uniform_function`).
 
 A model that is not a closed form (a simulation, a table) is left out, with the reason.
 """
@@ -34,10 +35,10 @@ from typing import Any
 from .. import registry
 from ..engine.glsl import (
     Printed,
-    glsl_source,
     javascript_prepass,
     print_function,
     trace_entry,
+    uniform_function,
 )
 from ..engine.trace import TraceError
 
@@ -194,11 +195,13 @@ _SERVED: OrderedDict[str, dict[str, str]] = OrderedDict()
 _SERVED_LOCK = threading.Lock()
 
 
-def server_shader(params: Mapping[str, Any]) -> dict[str, str]:
-    """``{"name", "source"}``: the baked GLSL of the model of one explorer parameter set
-    (:func:`~roughdiffuse.explorer.params.model_from_params`) and the name of its function
-    of the cosines (``vec3 name(float mu_i, float mu_o, float cos_io)``), named after a
-    digest of its code, for a model traced on the server."""
+def server_shader(params: Mapping[str, Any]) -> dict[str, Any]:
+    """``{"name", "source", "values"}`` for a model traced on the server: the GLSL function
+    ``vec3 name(float mu_i, float mu_o, float cos_io)`` of the model of one explorer parameter
+    set (:func:`~roughdiffuse.explorer.params.model_from_params`), named after a digest of its
+    code, which reads the values of that parameter set from ``uniform float name_u[]``
+    (:func:`~roughdiffuse.engine.glsl.uniform_function`): a new value of the same structure
+    is new uniforms, not a new shader."""
     from .params import model_from_params
 
     model = model_from_params(params)
@@ -208,9 +211,9 @@ def server_shader(params: Mapping[str, Any]) -> dict[str, str]:
         if hit is not None:
             _SERVED.move_to_end(key)
             return hit
-    source = glsl_source(model, name="rd_server")
+    source, values = uniform_function(model, "rd_server")
     name = "rd_s" + hashlib.sha1(source.encode()).hexdigest()[:12]
-    out = {"name": name + "_cosines", "source": source.replace("rd_server", name)}
+    out = {"name": name, "source": source.replace("rd_server", name), "values": values}
     with _SERVED_LOCK:
         _SERVED[key] = out
         while len(_SERVED) > SERVER_SHADERS_KEPT:

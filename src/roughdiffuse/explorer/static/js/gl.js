@@ -83,6 +83,7 @@ function setParams(gl, prog, name, g) {
   gl.uniform1i(gl.getUniformLocation(prog, `${name}.model`), g.model);
   const loc = gl.getUniformLocation(prog, `${name}.h[0]`);
   if (loc !== null && g.h.length) gl.uniform1fv(loc, g.h);
+  if (g.fn) gl.uniform1fv(gl.getUniformLocation(prog, `${g.fn}_u[0]`), g.values);
 }
 
 /** Record `b` drawn beside `a`: a second server function is model -3 (RD_SERVER_B). */

@@ -184,14 +184,15 @@ function serverShader(record) {
  * The record the GLSL receives (models.glsl's RDParams): the model number of its menus'
  * values and the parameter-only values its prepass computes from the state (UI state with
  * sigmaDeg, or a record with sigma in radians already, as the tests send it); for a model
- * traced on the server, its GLSL function (`fn`, `source`) and the number -2.
+ * traced on the server, its GLSL function (`fn`, `source`), the values of its uniform array
+ * `${fn}_u` and the number -2.
  */
 export function gpuParams(s) {
   const m = BY_KEY[s.model];
   if (!m) throw new Error(`unknown model ${JSON.stringify(s.model)}`);
   if (m.shader.server) {
     const sh = serverShader(serverRecord(s));
-    return { model: -2, h: new Float32Array(0), fn: sh.name, source: sh.source };
+    return { model: -2, h: new Float32Array(0), fn: sh.name, source: sh.source, values: Float32Array.from(sh.values) };
   }
   const choices = choicesOf(m, s);
   const v = m.shader.variants.find((x) => Object.entries(x.choices).every(([k, c]) => choices[k] === c));
