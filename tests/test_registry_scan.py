@@ -91,7 +91,7 @@ def test_a_new_model_module_is_found_everywhere(package_copy):
     assert res["in_all"] and res["same_class"]
     assert res["source"] == "roughdiffuse" and res["last"] == "minnaert-demo"  # order 1000
     api = res["api"]
-    assert api["glsl"] is False and api["glsl_id"] is None  # no GLSL copy declared
+    assert api["glsl"] is True  # a closed form: the explorer prints its GLSL from its code
     assert [p["name"] for p in api["parameters"]] == ["albedo", "k"]
     assert res["matrix"], "the test matrix does not hold the new model"
     # exact, noise-free data: the fit recovers the parameters that made it

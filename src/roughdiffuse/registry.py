@@ -100,13 +100,9 @@ class Entry:
 
     @property
     def glsl(self) -> bool:
-        """Whether the explorer's GLSL holds a copy of the formula."""
-        return self.id in self.cls.glsl
-
-    @property
-    def glsl_id(self) -> int | None:
-        """The model number ``brdf.glsl`` dispatches on for this id (``None``: no GLSL)."""
-        return self.cls.glsl.get(self.id)
+        """Whether the explorer draws this model: a closed form, whose GLSL is printed from its
+        code (:mod:`roughdiffuse.engine.glsl`)."""
+        return bool(self.cls.closed_form)
 
     def test_points(self) -> list[dict[str, Any]]:
         """Parameter sets the interface-wide tests run: the declared ``example`` (else the
@@ -118,12 +114,6 @@ class Entry:
             if point not in points:
                 points.append(dict(point))
         return points
-
-    def glsl_test_points(self) -> list[dict[str, Any]]:
-        """Parameter sets the GLSL copy is checked at: the class's ``glsl_test_points`` for
-        this id, else :meth:`test_points`."""
-        declared = self.cls.glsl_test_points.get(self.id)
-        return [dict(p) for p in declared] if declared else self.test_points()
 
     @property
     def parameters(self) -> tuple[Param, ...]:
@@ -240,8 +230,6 @@ class Entry:
             "reference": self.reference,
             "source": self.source,
             "glsl": self.glsl,
-            "glsl_id": self.glsl_id,
-            "glsl_keys": dict(self.cls.glsl_keys) if self.glsl else {},
             "fixed": dict(self.fixed),
             "parameters": [p.to_json() for p in self.parameters],
             "alias": self.alias(),
