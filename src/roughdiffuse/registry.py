@@ -186,26 +186,27 @@ class Entry:
         )
 
     def alias(self) -> dict[str, Any] | None:
-        """For an :class:`~roughdiffuse.models.alias.Alias`, what the explorer needs to
-        evaluate it with its base model's GLSL (``None`` for any other model).
+        """For an :class:`~roughdiffuse.models.alias.Alias`, its base model and conversion
+        (``None`` for any other model): what the explorer shows and uses for the base
+        model's ground truth (the alias itself is traced like any model).
 
         ``base``: the registry id of the equal model (from :meth:`Alias.base_model`);
-        ``fixed``: the base's categorical values that id leaves open; ``to_base``: the
-        conversion recorded from ``to_base`` (:meth:`Alias.conversion`), one expression tree
-        per base parameter (``None`` with the reason in ``why`` when ``to_base`` cannot be
-        recorded), and ``text``, each tree as an expression to show.
+        ``fixed``: the base's categorical values that id leaves open; ``text``: each base
+        parameter as an expression of this model's; ``to_base``: the body of a JavaScript
+        function computing them (``None`` with the reason in ``why`` when ``to_base``
+        cannot be traced); both from :meth:`Alias.conversion`.
         """
         from .models.alias import Alias
 
         if not issubclass(self.cls, Alias):
             return None
         key = (self.id, self.cls)
-        if key not in _ALIAS_RECORDS:  # recorded and checked once: /api/models asks often
+        if key not in _ALIAS_RECORDS:  # traced once: /api/models asks often
             _ALIAS_RECORDS[key] = self._alias_record()
         return copy.deepcopy(_ALIAS_RECORDS[key])
 
     def _alias_record(self) -> dict[str, Any]:
-        from .models.conversion import NotRecordable, text
+        from .engine.trace import TraceError
 
         base = self.create().base_model()
         base_id = id_of(base)
@@ -214,11 +215,12 @@ class Entry:
             return {"base": None, "fixed": {}, "to_base": None, "text": None, "why": why}
         fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
         try:
-            trees, why = self.cls.conversion(), None
-        except NotRecordable as exc:
-            trees, why = None, str(exc)
-        shown = {k: text(v, 6) for k, v in trees.items()} if trees else None
-        return {"base": base_id, "fixed": fixed, "to_base": trees, "text": shown, "why": why}
+            traced, why = self.cls.conversion(), None
+        except TraceError as exc:
+            return {"base": base_id, "fixed": fixed, "to_base": None, "text": None,
+                    "why": str(exc)}
+        return {"base": base_id, "fixed": fixed, "to_base": traced["javascript"],
+                "text": traced["text"], "why": why}
 
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""
