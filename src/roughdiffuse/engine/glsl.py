@@ -169,20 +169,6 @@ def trace_entry(entry: Any, choices: Mapping[str, Any] | None = None) -> Traced:
     return Traced(graph, outputs, params, symbolic=True)
 
 
-class _Unshared(dict):  # type: ignore[type-arg]
-    """A graph's table of parameter values that finds no scalar: each concrete number the
-    trace meets is its own parameter, even when two are equal, so that the printed code does
-    not depend on the values (only on the model's structure). Equal node arrays (the
-    quadrature rules, met once per channel) are still one."""
-
-    def get(self, key: Any, default: Any = None) -> Any:
-        return super().get(key, default) if key[0] else default
-
-    def __setitem__(self, key: Any, value: Any) -> None:
-        if key[0]:
-            super().__setitem__(key, value)
-
-
 def trace_model(model: Any, *, share_equal_values: bool = True) -> Traced:
     """Trace ``model`` with its parameter values concrete (as the fast path does): the
     parameter math runs in NumPy; its results are ``graph.params``. With
@@ -193,9 +179,7 @@ def trace_model(model: Any, *, share_equal_values: bool = True) -> Traced:
             f"{type(model).__name__} is not a closed form (a simulation or a table): it has "
             "no GLSL code"
         )
-    graph = Graph(np.dtype(np.float32))
-    if not share_equal_values:
-        graph._param_values = _Unshared()
+    graph = Graph(np.dtype(np.float32), share_scalars=share_equal_values)
     cosines = _cosine_inputs(graph)
     outputs = []
     for c in range(_CHANNELS):

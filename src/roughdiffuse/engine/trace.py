@@ -85,10 +85,16 @@ class Graph:
     k)`` (a concrete 1-D array of nodes: a run-time array argument read at the loop index) and
     ``("in", name)`` (an input component). ``loops[k]`` is the number of nodes node ``k``
     runs over (0: one value per row).
+
+    Equal concrete values are one parameter (``share_scalars``), so that the operations on
+    them are shared; with ``share_scalars=False`` each concrete number met is a parameter of
+    its own (node arrays are still shared), so that the graph does not depend on which
+    values happen to be equal (the GLSL printer's uniforms, :mod:`.glsl`).
     """
 
-    def __init__(self, dtype: np.dtype) -> None:
+    def __init__(self, dtype: np.dtype, share_scalars: bool = True) -> None:
         self.dtype = np.dtype(dtype)
+        self.share_scalars = share_scalars
         self.nodes: list[tuple[Any, ...]] = []
         self._index: dict[tuple[Any, ...], int] = {}
         self.params: list[np.ndarray] = []
@@ -125,7 +131,7 @@ class Graph:
             # an RGB model converts its own copy) is one operand, so the operations on it
             # are shared (common subexpressions across channels)
             key = (np.ndim(value), np.asarray(value).tobytes())
-            k = self._param_values.get(key)
+            k = self._param_values.get(key) if self.share_scalars or key[0] else None
             if k is None:
                 k = len(self.params)
                 self._param_values[key] = k

@@ -13,12 +13,15 @@ like any model (:mod:`roughdiffuse.engine.glsl`); :meth:`Alias.conversion` trace
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array
-from .base import Model
+from .base import Model, register_pytree
+from .declaration import Param
 
-__all__ = ["Alias"]
+__all__ = ["Alias", "alias"]
 
 
 class Alias(Model):
@@ -81,3 +84,50 @@ class Alias(Model):
     def directional_albedo(self, wo: Array) -> Array:
         """The base model's (closed form where it has one)."""
         return self.base_model().directional_albedo(wo)
+
+
+def alias(
+    name: str,
+    module: str,
+    *,
+    model_id: str,
+    label: str,
+    base: type[Model],
+    params: tuple[Param, ...],
+    to_base: Callable[..., dict[str, Any]],
+    rule: str,
+    reference: str,
+    formula: str,
+    doc: str,
+    order: int,
+    base_fixed: dict[str, Any] | None = None,
+    symbols: dict[str, str] | None = None,
+) -> type[Alias]:
+    """A one-id :class:`Alias` class from one row of a table (``models/renderers.py``).
+
+    The class is a frozen dataclass (a JAX pytree) whose fields are ``params`` with their
+    declared defaults, in order; ``to_base`` its conversion, whose docstring becomes ``rule``
+    (the rule docs/implementations.md shows); the other arguments are the class attributes
+    of :class:`~roughdiffuse.models.base.Model` (``model_id`` and ``label`` its one id and
+    label; ``symbols`` defaults to ρ for albedo and r for roughness).
+    """
+    convert = staticmethod(to_base)
+    to_base.__doc__ = rule + "."
+    attributes: dict[str, Any] = {
+        "__module__": module,
+        "__qualname__": name,
+        "__doc__": doc,
+        "__annotations__": {p.name: Any for p in params},
+        **{p.name: p.default for p in params},
+        "params": params,
+        "ids": {model_id: {}},
+        "labels": {model_id: label},
+        "reference": reference,
+        "formula": formula,
+        "symbols": symbols or {"albedo": r"\rho", "roughness": r"r"},
+        "order": order,
+        "base": base,
+        "base_fixed": dict(base_fixed or {}),
+        "to_base": convert,
+    }
+    return register_pytree(dataclass(frozen=True)(type(name, (Alias,), attributes)))
