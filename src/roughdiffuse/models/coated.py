@@ -69,7 +69,7 @@ COAT_DISTRIBUTIONS: tuple[str, ...] = ("ggx", "beckmann")
 
 COAT_BASES: tuple[str, ...] = ("lambert", "oren-nayar", "oren-nayar-full", "fujii", "eon")
 """The registry ids the registry's ``coated`` accepts as its ``base`` (the explorer's base
-menu; each has a GLSL copy). In Python, :class:`Coated` takes any closed-form model."""
+menu). In Python, :class:`Coated` takes any closed-form model."""
 
 _ON_BASES = ("oren-nayar", "oren-nayar-full")
 _FON_BASES = ("fujii", "eon")
