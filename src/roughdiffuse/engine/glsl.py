@@ -68,13 +68,13 @@ import dataclasses
 import hashlib
 import math
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from .._validate import ParameterError
-from .trace import Graph, Sym, TraceError
+from .trace import Graph, Sym, TraceError, loop_body
 
 __all__ = [
     "Printed",
@@ -191,6 +191,25 @@ def trace_model(model: Any, *, share_equal_values: bool = True) -> Traced:
 # ------------------------------------------------------------------ graph analysis
 def _deps(graph: Graph, ref: tuple[Any, ...]) -> list[tuple[Any, ...]]:
     return list(graph.nodes[ref[1]][1:]) if ref[0] == "node" else []
+
+
+def _reached(
+    graph: Graph, roots: Iterable[tuple[Any, ...]], stop: Callable[[tuple[Any, ...]], bool]
+) -> set[tuple[Any, ...]]:
+    """The refs for which ``stop`` holds among those ``roots`` read, directly or through
+    other nodes (not looking past them)."""
+    found: set[tuple[Any, ...]] = set()
+    stack, seen = list(roots), set()
+    while stack:
+        r = stack.pop()
+        if r in seen:
+            continue
+        seen.add(r)
+        if stop(r):
+            found.add(r)
+        else:
+            stack.extend(_deps(graph, r))
+    return found
 
 
 def _pixel_nodes(graph: Graph) -> set[int]:
@@ -399,7 +418,7 @@ def _statements(
             lines.append(declare(k))
             continue
         operand = node[1]
-        inner = sorted(_loop_body(graph, operand) & live)
+        inner = sorted(loop_body(graph, operand) & live)
         n = graph.loop_of(operand)
         zero = "0.0" if glsl else "0"
         lines.append(f"float t{k} = {zero};" if glsl else f"let t{k} = 0;")
@@ -409,20 +428,6 @@ def _statements(
         lines.append(f"  t{k} += {ctx.name(graph, operand)};")
         lines.append("}")
     return lines
-
-
-def _loop_body(graph: Graph, operand: tuple[Any, ...]) -> set[int]:
-    """The per-node values the operand of a node sum reads (itself included): the body of
-    its loop."""
-    inner: set[int] = set()
-    stack = [operand[1]] if operand[0] == "node" else []
-    while stack:
-        m = stack.pop()
-        if m in inner or not graph.loops[m]:
-            continue
-        inner.add(m)
-        stack.extend(r[1] for r in graph.nodes[m][1:] if r[0] == "node")
-    return inner
 
 
 # ------------------------------------------------------------------ printing
@@ -466,20 +471,13 @@ def _hoist(traced: Traced, pars_as_values: bool) -> list[tuple[Any, ...]]:
     ``pars_as_values``, the concrete parameters it reads (uniform values from the server)."""
     g = traced.graph
     pixel = _pixel_nodes(g)
-    found: set[tuple[Any, ...]] = set()
-    outputs = _outputs(traced)
-    stack: list[tuple[Any, ...]] = list(outputs)
-    seen: set[tuple[Any, ...]] = set()
-    while stack:
-        r = stack.pop()
-        if r in seen:
-            continue
-        seen.add(r)
-        hoistable = _is_parameter_only(g, r, pixel) and not g.is_bool(r)  # uniforms: floats
-        if hoistable or (pars_as_values and r[0] == "par"):
-            found.add(r)
-            continue
-        stack.extend(_deps(g, r))
+
+    def hoisted(r: tuple[Any, ...]) -> bool:
+        if pars_as_values and r[0] == "par":
+            return True
+        return _is_parameter_only(g, r, pixel) and not g.is_bool(r)  # uniforms are floats
+
+    found = _reached(g, _outputs(traced), hoisted)
 
     def order(r: tuple[Any, ...]) -> tuple[int, Any]:
         return ({"in": 0, "par": 1, "node": 2}[r[0]], r[1])
@@ -601,20 +599,10 @@ def uniform_function(
     traced = trace_model(model, share_equal_values=share_equal_values)
     g = traced.graph
     outputs = _outputs(traced)
-    used: list[int] = []
-    stack: list[tuple[Any, ...]] = list(outputs)
-    seen: set[tuple[Any, ...]] = set()
-    while stack:
-        r = stack.pop()
-        if r in seen:
-            continue
-        seen.add(r)
-        if r[0] in ("par", "vec"):
-            used.append(r[1])
-        stack.extend(_deps(g, r))
+    used = _reached(g, outputs, lambda r: r[0] in ("par", "vec"))
     offsets: dict[int, int] = {}
     values: list[float] = []
-    for k in sorted(set(used)):
+    for k in sorted(r[1] for r in used):
         offsets[k] = len(values)
         values.extend(float(v) for v in np.asarray(g.params[k], dtype=np.float64).reshape(-1))
     values = values or [0.0]

@@ -723,18 +723,25 @@ def scalar_source(
     return constants, body
 
 
-def _sum_loop(graph: Graph, k: int, expression: Any, zero: str) -> list[str]:
-    """The statements of sum node ``k``: a loop over its nodes computing the per-node values
-    it depends on (in graph order) and adding up its operand."""
-    operand = graph.nodes[k][1]
+def loop_body(graph: Graph, operand: tuple[Any, ...]) -> set[int]:
+    """The per-node values the operand of a node sum reads, itself included: what the loop
+    of the sum computes at each node."""
     inner: set[int] = set()
-    stack = [operand[1]]
+    stack = [operand[1]] if operand[0] == "node" else []
     while stack:
         m = stack.pop()
         if m in inner or not graph.loops[m]:
             continue
         inner.add(m)
         stack.extend(r[1] for r in graph.nodes[m][1:] if r[0] == "node")
+    return inner
+
+
+def _sum_loop(graph: Graph, k: int, expression: Any, zero: str) -> list[str]:
+    """The statements of sum node ``k``: a loop over its nodes computing the per-node values
+    it depends on (in graph order) and adding up its operand."""
+    operand = graph.nodes[k][1]
+    inner = loop_body(graph, operand)
     lines = [f"t{k} = {zero}", f"for j in range({graph.loop_of(operand)}):"]
     lines += [f"    t{m} = {expression(graph.nodes[m])}" for m in sorted(inner)]
     lines.append(f"    t{k} = t{k} + t{operand[1]}")
