@@ -53,7 +53,7 @@ DEFAULTS: dict[str, Any] = _flat_defaults()
 
 
 def model_from_params(params: Mapping[str, Any]) -> Model:
-    """The Python model for one explorer parameter set (one flat record, as the GLSL reads it).
+    """The Python model for one explorer parameter set (one flat record of the page's state).
 
     Parameters
     ----------
