@@ -291,8 +291,14 @@ _JS_UNARY = {
     "floor": "Math.floor",
 }
 _GLSL_HELPERS = {
-    # 2^k for an integer-valued k in [-126, 127], from the exponent bits (numba_math.exp2i)
-    "exp2i": "float {p}_exp2i(float k) {{ return intBitsToFloat((int(k) + 127) << 23); }}",
+    # 2^k for an integer-valued k in [-126, 127], from the exponent bits (numba_math.exp2i);
+    # highp: a fragment shader's ints are mediump (maybe 16 bits) unless said otherwise
+    "exp2i": (
+        "float {p}_exp2i(float k) {{\n"
+        "  highp int bits = (int(k) + 127) << 23;\n"
+        "  return intBitsToFloat(bits);\n"
+        "}}"
+    ),
     # log(1 + x) accurate for small x (Goldberg, "What every computer scientist should know
     # about floating-point arithmetic", 1991, theorem 4)
     "log1p": (
