@@ -55,7 +55,8 @@ Baking (``bake=True``) and models whose parameter math cannot be traced symbolic
 trace with concrete parameters instead (:func:`trace_model`, as the fast path does): the
 parameter math runs in NumPy, and its results, the graph's ``params``, are either printed as
 constants or read from a uniform array whose values the explorer's Python server sends
-(:func:`uniform_values`).
+(:func:`uniform_function`: ``Coated``, whose internal sums are a quadrature over two node
+axes, which the tracer does not follow with symbols).
 
 The trace is float32 (WebGL's highp float): the polynomial substitutes of the float32 trace
 have a maximum relative error of about 1e-7 (:mod:`.trace`), and GLSL's own sqrt, log, tan,
@@ -88,7 +89,6 @@ __all__ = [
     "trace_entry",
     "trace_model",
     "uniform_function",
-    "uniform_values",
 ]
 
 COSINES = ("mu_i", "mu_o", "cos_io")
@@ -497,7 +497,7 @@ def print_function(
 ) -> Printed:
     """Print the per-pixel part of ``traced`` as a GLSL function of the cosines and of its
     parameter-only values (``h0, h1, ...``: :func:`javascript_prepass` computes them from
-    the parameters, :func:`uniform_values` from a concrete trace's ``graph.params``).
+    the parameters; for a concrete trace, its ``graph.params`` it reads).
 
     Helpers and constant arrays are added to ``helpers`` and ``arrays`` (shared between the
     models of one shader)."""
@@ -520,7 +520,7 @@ def javascript_prepass(traced: Traced, printed: Printed, prefix: str = "rd") -> 
     of ``printed`` from the parameter values ``p`` (``p.sigma``, ``p.albedo[0]`` ...), in
     float64. Constant arrays are defined inside the body."""
     if not traced.symbolic:
-        raise TraceError("a trace with concrete parameters has no prepass (uniform_values)")
+        raise TraceError("a trace with concrete parameters has no prepass (uniform_function)")
 
     def input_name(key: str) -> str:
         base, _, channel = key.partition(".")
@@ -576,17 +576,6 @@ def expression_text(graph: Graph, value: Any, digits: int = 6) -> str:
         return f"{op}({', '.join(p for p, _ in parts)})", 9
 
     return text(graph.ref(value))[0]
-
-
-def uniform_values(traced: Traced, printed: Printed) -> list[float]:
-    """The values ``h0, h1, ...`` of a trace with concrete parameters (:func:`trace_model`):
-    its ``graph.params`` that the per-pixel code reads."""
-    out = []
-    for r in printed.hoisted:
-        if r[0] != "par":
-            raise TraceError("uniform_values takes a trace with concrete parameters")
-        out.append(float(traced.graph.params[r[1]]))
-    return out
 
 
 def uniform_function(
