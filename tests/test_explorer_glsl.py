@@ -290,3 +290,36 @@ def test_alias_in_the_menu_plot_and_url(page):
     )
     assert len(set(shorts)) == len(shorts), shorts  # the legends tell every model apart
     assert not page.errors, page.errors
+
+
+@pytest.mark.slow  # its own page and three coat programs in SwiftShader: about 10 s
+def test_two_coats_side_by_side_keep_their_own_values(browser, explorer_url):
+    """A coat traced on the server beside another model, and beside another coat of the same
+    structure with other values: each sphere shows its own coat (the second server function
+    under names of its own, with its own uniforms)."""
+    log = open_page(browser, explorer_url, 1000, 700)
+    p = log.page
+    centre = (
+        "() => { const c = document.getElementById('sphere'); const g = c.getContext('webgl2');"
+        " return [0.25, 0.75].map((x) => { const px = new Uint8Array(4);"
+        " g.readPixels(Math.round(c.width * x), c.height >> 1, 1, 1, g.RGBA, g.UNSIGNED_BYTE, px);"
+        " return px[1]; }); }"
+    )
+    settle = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
+    try:
+        p.select_option("#mode", "1")
+        p.select_option("#a-model", "eon")
+        p.select_option("#b-model", "coated")
+        p.evaluate(settle)
+        eon, coat = p.evaluate(centre)
+        p.select_option("#a-model", "coated")
+        p.evaluate(settle)
+        assert p.evaluate(centre) == [coat, coat] and 0 < coat < eon
+        p.fill("#b-eta", "2.5")
+        p.dispatch_event("#b-eta", "input")
+        p.evaluate(settle)
+        a, b = p.evaluate(centre)
+        assert a == coat and b < coat  # a denser coat reflects more, transmits less
+        assert not log.errors, log.errors
+    finally:
+        p.close()

@@ -39,12 +39,14 @@ function program(gl, src, fragName, records) {
   const [a, b = a] = records;
   let select = `#define RD_MODEL_A ${a.model}\n#define RD_MODEL_B ${b.model}\n`;
   let server = "";
-  for (const [r, macro] of [[a, "RD_SERVER_A"], [b, "RD_SERVER_B"]]) {
-    if (!r.source || select.includes(`${macro} `)) continue;
-    if (r.model === -3 || (r.model === -2 && macro === "RD_SERVER_A")) {
-      select += `#define ${macro} ${r.fn}\n`;
-      if (!server.includes(r.source)) server += r.source + "\n";
-    }
+  const defined = new Set();
+  for (const r of [a, b]) {  // a server function: -2 is RD_SERVER_A, -3 RD_SERVER_B
+    if (!r.source) continue;
+    const macro = r.model === -3 ? "RD_SERVER_B" : "RD_SERVER_A";
+    if (defined.has(macro)) continue;
+    defined.add(macro);
+    select += `#define ${macro} ${r.fn}\n`;
+    server += r.source + "\n";
   }
   const frag = HEADER + select + server + src["models.glsl"] + "\n" + src[fragName];
   gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, frag, fragName));
@@ -86,9 +88,12 @@ function setParams(gl, prog, name, g) {
   if (g.fn) gl.uniform1fv(gl.getUniformLocation(prog, `${g.fn}_u[0]`), g.values);
 }
 
-/** Record `b` drawn beside `a`: a second server function is model -3 (RD_SERVER_B). */
+/** Record `b` drawn beside `a`: a second server function is model -3 (RD_SERVER_B), under
+ * names of its own (its uniform array holds b's values, which may differ from a's). */
 function pairWith(a, b) {
-  return b.source && a.source && b.fn !== a.fn ? { ...b, model: -3 } : b;
+  if (!(b.source && a.source)) return b;
+  const fn = `${b.fn}b`;
+  return { ...b, model: -3, fn, source: b.source.replaceAll(b.fn, fn) };
 }
 
 /**
