@@ -2,7 +2,7 @@
 
 Headless Chromium through Playwright (fixtures in explorer_browser.py). Reference values come
 from the Python models (roughdiffuse.models), never from the page's JavaScript: the page's
-BRDF values are the GLSL copy, held to the Python originals to 1e-4 relative by
+BRDF values are the GLSL printed from the Python models, held to them to 1e-4 relative by
 tests/test_explorer_glsl.py, and float32 on the GPU, so the tolerances below are 2e-4 relative.
 """
 

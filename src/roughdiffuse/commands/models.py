@@ -47,7 +47,7 @@ def table() -> str:
 
     lines = []
     for e in registry.entries():
-        lobe = f"{e.lobe}, GLSL" if e.glsl else f"{e.lobe}, no GLSL (explorer: server only)"
+        lobe = f"{e.lobe}, GLSL" if e.glsl else f"{e.lobe}, no GLSL (not in the explorer)"
         source = "" if e.source == "roughdiffuse" else f" [from {e.source}]"
         lines.append(f"{e.id}  {e.label} ({lobe}){source}")
         for p in e.parameters:

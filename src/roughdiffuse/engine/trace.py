@@ -85,10 +85,16 @@ class Graph:
     k)`` (a concrete 1-D array of nodes: a run-time array argument read at the loop index) and
     ``("in", name)`` (an input component). ``loops[k]`` is the number of nodes node ``k``
     runs over (0: one value per row).
+
+    Equal concrete values are one parameter (``share_scalars``), so that the operations on
+    them are shared; with ``share_scalars=False`` each concrete number met is a parameter of
+    its own (node arrays are still shared), so that the graph does not depend on which
+    values happen to be equal (the GLSL printer's uniforms, :mod:`.glsl`).
     """
 
-    def __init__(self, dtype: np.dtype) -> None:
+    def __init__(self, dtype: np.dtype, share_scalars: bool = True) -> None:
         self.dtype = np.dtype(dtype)
+        self.share_scalars = share_scalars
         self.nodes: list[tuple[Any, ...]] = []
         self._index: dict[tuple[Any, ...], int] = {}
         self.params: list[np.ndarray] = []
@@ -125,7 +131,7 @@ class Graph:
             # an RGB model converts its own copy) is one operand, so the operations on it
             # are shared (common subexpressions across channels)
             key = (np.ndim(value), np.asarray(value).tobytes())
-            k = self._param_values.get(key)
+            k = self._param_values.get(key) if self.share_scalars or key[0] else None
             if k is None:
                 k = len(self.params)
                 self._param_values[key] = k
@@ -718,18 +724,25 @@ def scalar_source(
     return constants, body
 
 
-def _sum_loop(graph: Graph, k: int, expression: Any, zero: str) -> list[str]:
-    """The statements of sum node ``k``: a loop over its nodes computing the per-node values
-    it depends on (in graph order) and adding up its operand."""
-    operand = graph.nodes[k][1]
+def loop_body(graph: Graph, operand: tuple[Any, ...]) -> set[int]:
+    """The per-node values the operand of a node sum reads, itself included: what the loop
+    of the sum computes at each node."""
     inner: set[int] = set()
-    stack = [operand[1]]
+    stack = [operand[1]] if operand[0] == "node" else []
     while stack:
         m = stack.pop()
         if m in inner or not graph.loops[m]:
             continue
         inner.add(m)
         stack.extend(r[1] for r in graph.nodes[m][1:] if r[0] == "node")
+    return inner
+
+
+def _sum_loop(graph: Graph, k: int, expression: Any, zero: str) -> list[str]:
+    """The statements of sum node ``k``: a loop over its nodes computing the per-node values
+    it depends on (in graph order) and adding up its operand."""
+    operand = graph.nodes[k][1]
+    inner = loop_body(graph, operand)
     lines = [f"t{k} = {zero}", f"for j in range({graph.loop_of(operand)}):"]
     lines += [f"    t{m} = {expression(graph.nodes[m])}" for m in sorted(inner)]
     lines.append(f"    t{k} = t{k} + t{operand[1]}")

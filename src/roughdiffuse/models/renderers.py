@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum
-from .alias import Alias
+from .alias import Alias, alias
 from .base import Model, register_pytree
 from .burley import Burley
 from .chan import Chan
@@ -55,13 +55,6 @@ def _colour(text: str = "base colour ρ") -> Param:
 
 def _unit(name: str, text: str, example: float = 0.5, hi: float = 1.0) -> Param:
     return Param(name, text, min=0.0, max=hi, default=0.0, example=example)
-
-
-def _glsl_points(ids: Any, name: str, values: tuple[float, ...]) -> dict[str, Any]:
-    """``glsl_test_points`` of an alias: the explorer evaluates its base model's GLSL after
-    the recorded conversion, checked at these values of ``name`` (coloured ρ)."""
-    points = tuple({"albedo": [1.0, 0.5, 0.05], name: v} for v in values)
-    return {i: points for i in ids}
 
 
 # ----------------------------------------------------------------------------- new formulas
@@ -122,12 +115,6 @@ class CyclesDiffuse(Model):
         "and bsdf_oren_nayar_get_intensity (closure weight: svm/closure.h)"
     )
     order: ClassVar[int] = _ORDER
-    glsl: ClassVar[dict[str, int]] = {"cycles-diffuse": 20, "cycles-principled": 20}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "cycles-diffuse": tuple(
-            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
-        )
-    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -181,12 +168,6 @@ class MaterialXEON(Model):
         "mx_oren_nayar_compensated_diffuse"
     )
     order: ClassVar[int] = _ORDER + 10
-    glsl: ClassVar[dict[str, int]] = {"materialx-eon": 21}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "materialx-eon": tuple(
-            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
-        )
-    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -207,85 +188,6 @@ class MaterialXEON(Model):
 
 
 # ----------------------------------------------------------------------------- aliases
-@register_pytree
-@dataclass(frozen=True)
-class MaterialXOrenNayar(Alias):
-    """MaterialX ``oren_nayar_diffuse_bsdf`` (``energy_compensation = false``): the
-    qualitative Oren–Nayar model, ``roughness`` = σ in radians. Its L·V clamp changes
-    nothing (the s/t term is cut at 0 anyway) except within 1e-8 of the horizon."""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("color ρ"),
-        _unit("roughness", "roughness = Oren–Nayar σ in radians"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
-        ```{math}
-        f = f_{\mathrm{ON}}(\rho, \sigma = r)
-        ```
-
-        The qualitative Oren–Nayar model (the `oren-nayar` page) with σ = roughness, in radians.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"materialx-oren-nayar": {}}
-    labels: ClassVar[dict[str, str]] = {"materialx-oren-nayar": "MaterialX oren_nayar_diffuse_bsdf"}
-    reference: ClassVar[str] = (
-        "MaterialX, libraries/pbrlib/genglsl/lib/mx_microfacet_diffuse.glsl, mx_oren_nayar_diffuse"
-    )
-    order: ClassVar[int] = _ORDER + 20
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("materialx-oren-nayar",), "roughness", (0.0, 0.5, 1.0)
-    )
-    base: ClassVar[type[Model]] = OrenNayar
-    base_fixed: ClassVar[dict[str, Any]] = {"variant": "qualitative"}
-
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """σ = roughness."""
-        return {"albedo": albedo, "sigma": roughness}
-
-
-@register_pytree
-@dataclass(frozen=True)
-class OpenPBRDiffuse(Alias):
-    """OpenPBR 1.1's diffuse base (``base_color``, ``base_diffuse_roughness``): EON as the
-    specification writes it. (MaterialX's ``open_pbr_surface`` graph evaluates it through
-    ``oren_nayar_diffuse_bsdf``: ``materialx-eon``, with the L·V clamp.)"""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("base_color ρ"),
-        _unit("roughness", "base_diffuse_roughness r"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
-        ```{math}
-        f = f_{\mathrm{EON}}(\rho, r)
-        ```
-
-        EON (the `eon` page), base_color ρ and base_diffuse_roughness r.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"openpbr-diffuse": {}}
-    labels: ClassVar[dict[str, str]] = {"openpbr-diffuse": "OpenPBR base_diffuse_roughness"}
-    reference: ClassVar[str] = (
-        "OpenPBR Surface 1.1 specification, section 'Base: Diffuse' (base_diffuse_roughness, EON)"
-    )
-    order: ClassVar[int] = _ORDER + 30
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("openpbr-diffuse",), "roughness", (0.0, 0.3, 1.0)
-    )
-    base: ClassVar[type[Model]] = EON
-
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """r = base_diffuse_roughness."""
-        return {"albedo": albedo, "roughness": roughness}
-
-
 ALPHA_MAX = SIGMA_MAX * math.sqrt(2.0)
 
 
@@ -323,9 +225,6 @@ class Mitsuba06RoughDiffuse(Alias):
     }
     reference: ClassVar[str] = "Mitsuba 0.6, src/bsdfs/roughdiffuse.cpp, RoughDiffuse::eval"
     order: ClassVar[int] = _ORDER + 40
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ids, "alpha", (0.0, 0.5, ALPHA_MAX)
-    )
     base: ClassVar[type[Model]] = OrenNayar
 
     def base_model(self) -> Model:
@@ -345,184 +244,138 @@ class Mitsuba06RoughDiffuse(Alias):
         return {"albedo": albedo, "sigma": alpha * (1.0 / math.sqrt(2.0))}
 
 
-@register_pytree
-@dataclass(frozen=True)
-class Pbrt3OrenNayar(Alias):
-    """pbrt-v3 ``OrenNayar``: the qualitative model with σ given in degrees."""
+# ----------------------------------------------------------------------------- the table
+# The variants that are another model after a change of parameters, one row each: class
+# name, id and label (the renderer), the base model (and the categorical values it fixes),
+# the renderer's parameters, the conversion and its rule, the source (file, function), the
+# formula the model page shows, and the class docstring.
+_M = __name__
 
-    albedo: float | Array = 1.0
-    sigma_deg: float | Array = 0.0
+MaterialXOrenNayar = alias(
+    "MaterialXOrenNayar", _M, model_id="materialx-oren-nayar",
+    label="MaterialX oren_nayar_diffuse_bsdf", base=OrenNayar,
+    base_fixed={"variant": "qualitative"},
+    params=(_colour("color ρ"), _unit("roughness", "roughness = Oren–Nayar σ in radians")),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "sigma": roughness},
+    rule="σ = roughness", order=_ORDER + 20,
+    reference="MaterialX, libraries/pbrlib/genglsl/lib/mx_microfacet_diffuse.glsl, "
+    "mx_oren_nayar_diffuse",
+    formula=r"""
+        ```{math}
+        f = f_{\mathrm{ON}}(\rho, \sigma = r)
+        ```
 
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("R ρ"),
-        _unit("sigma_deg", "sigma, σ in degrees", 20.0, 90.0),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "sigma_deg": r"\sigma_{\circ}"}
-    formula: ClassVar[str | dict[str, str]] = r"""
+        The qualitative Oren–Nayar model (the `oren-nayar` page) with σ = roughness, in radians.
+        """,
+    doc="""MaterialX ``oren_nayar_diffuse_bsdf`` (``energy_compensation = false``): the
+    qualitative Oren–Nayar model, ``roughness`` = σ in radians. Its L·V clamp changes
+    nothing (the s/t term is cut at 0 anyway) except within 1e-8 of the horizon.""",
+)
+
+OpenPBRDiffuse = alias(
+    "OpenPBRDiffuse", _M, model_id="openpbr-diffuse", label="OpenPBR base_diffuse_roughness",
+    base=EON, params=(_colour("base_color ρ"), _unit("roughness", "base_diffuse_roughness r")),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "roughness": roughness},
+    rule="r = base_diffuse_roughness", order=_ORDER + 30,
+    reference="OpenPBR Surface 1.1 specification, section 'Base: Diffuse' "
+    "(base_diffuse_roughness, EON)",
+    formula=r"""
+        ```{math}
+        f = f_{\mathrm{EON}}(\rho, r)
+        ```
+
+        EON (the `eon` page), base_color ρ and base_diffuse_roughness r.
+        """,
+    doc="""OpenPBR 1.1's diffuse base (``base_color``, ``base_diffuse_roughness``): EON as the
+    specification writes it. (MaterialX's ``open_pbr_surface`` graph evaluates it through
+    ``oren_nayar_diffuse_bsdf``: ``materialx-eon``, with the L·V clamp.)""",
+)
+
+Pbrt3OrenNayar = alias(
+    "Pbrt3OrenNayar", _M, model_id="pbrt3-oren-nayar", label="pbrt-v3 OrenNayar",
+    base=OrenNayar, base_fixed={"variant": "qualitative"},
+    params=(_colour("R ρ"), _unit("sigma_deg", "sigma, σ in degrees", 20.0, 90.0)),
+    to_base=lambda albedo, sigma_deg: {"albedo": albedo, "sigma": sigma_deg * (math.pi / 180.0)},
+    rule="σ = sigma · π/180", order=_ORDER + 50,
+    reference="pbrt-v3, src/core/reflection.cpp, OrenNayar::f (and its constructor)",
+    symbols={"albedo": r"\rho", "sigma_deg": r"\sigma_{\circ}"},
+    formula=r"""
         ```{math}
         f = f_{\mathrm{ON}}\Bigl(\rho, \sigma = \frac{\pi}{180}\,\sigma_{\circ}\Bigr)
         ```
 
         The qualitative Oren–Nayar model (the `oren-nayar` page), σ given in degrees.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"pbrt3-oren-nayar": {}}
-    labels: ClassVar[dict[str, str]] = {"pbrt3-oren-nayar": "pbrt-v3 OrenNayar"}
-    reference: ClassVar[str] = (
-        "pbrt-v3, src/core/reflection.cpp, OrenNayar::f (and its constructor)"
-    )
-    order: ClassVar[int] = _ORDER + 50
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("pbrt3-oren-nayar",), "sigma_deg", (0.0, 20.0, 90.0)
-    )
-    base: ClassVar[type[Model]] = OrenNayar
-    base_fixed: ClassVar[dict[str, Any]] = {"variant": "qualitative"}
+        """,
+    doc="""pbrt-v3 ``OrenNayar``: the qualitative model with σ given in degrees.""",
+)
 
-    @staticmethod
-    def to_base(albedo: Any, sigma_deg: Any) -> dict[str, Any]:
-        """σ = sigma · π/180."""
-        return {"albedo": albedo, "sigma": sigma_deg * (math.pi / 180.0)}
-
-
-@register_pytree
-@dataclass(frozen=True)
-class UnrealBurley(Alias):
-    """Unreal Engine ``Diffuse_Burley``: Burley 2012 with the material's Roughness as it is."""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("DiffuseColor ρ"),
-        _unit("roughness", "Roughness"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
+UnrealBurley = alias(
+    "UnrealBurley", _M, model_id="unreal-burley", label="Unreal Diffuse_Burley", base=Burley,
+    params=(_colour("DiffuseColor ρ"), _unit("roughness", "Roughness")),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "roughness": roughness},
+    rule="r = Roughness", order=_ORDER + 60,
+    reference="Unreal Engine, Engine/Shaders/Private/BRDF.ush, Diffuse_Burley",
+    formula=r"""
         ```{math}
         f = f_{\mathrm{Burley}}(\rho, r)
         ```
 
         Burley's diffuse (the `burley` page) at Unreal's Roughness r.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"unreal-burley": {}}
-    labels: ClassVar[dict[str, str]] = {"unreal-burley": "Unreal Diffuse_Burley"}
-    reference: ClassVar[str] = "Unreal Engine, Engine/Shaders/Private/BRDF.ush, Diffuse_Burley"
-    order: ClassVar[int] = _ORDER + 60
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unreal-burley",), "roughness", (0.0, 0.5, 1.0)
-    )
-    base: ClassVar[type[Model]] = Burley
+        """,
+    doc="""Unreal Engine ``Diffuse_Burley``: Burley 2012 with the material's Roughness as it
+    is.""",
+)
 
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """r = Roughness."""
-        return {"albedo": albedo, "roughness": roughness}
-
-
-@register_pytree
-@dataclass(frozen=True)
-class FilamentBurley(Alias):
-    """Filament ``Fd_Burley``: Burley 2012 called with α = perceptual roughness²."""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("baseColor ρ"),
-        _unit("roughness", "perceptual roughness (squared before Fd_Burley)"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
+FilamentBurley = alias(
+    "FilamentBurley", _M, model_id="filament-burley", label="Filament Fd_Burley", base=Burley,
+    params=(_colour("baseColor ρ"),
+            _unit("roughness", "perceptual roughness (squared before Fd_Burley)")),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "roughness": roughness * roughness},
+    rule="r = perceptual roughness²", order=_ORDER + 70,
+    reference="Filament, shaders/src/brdf.fs, Fd_Burley (roughness = perceptual²)",
+    formula=r"""
         ```{math}
         f = f_{\mathrm{Burley}}(\rho, r^2)
         ```
 
         Burley's diffuse (the `burley` page) at Filament's perceptual roughness squared.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"filament-burley": {}}
-    labels: ClassVar[dict[str, str]] = {"filament-burley": "Filament Fd_Burley"}
-    reference: ClassVar[str] = "Filament, shaders/src/brdf.fs, Fd_Burley (roughness = perceptual²)"
-    order: ClassVar[int] = _ORDER + 70
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("filament-burley",), "roughness", (0.0, 0.5, 1.0)
-    )
-    base: ClassVar[type[Model]] = Burley
+        """,
+    doc="""Filament ``Fd_Burley``: Burley 2012 called with α = perceptual roughness².""",
+)
 
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """r = perceptual roughness²."""
-        return {"albedo": albedo, "roughness": roughness * roughness}
-
-
-@register_pytree
-@dataclass(frozen=True)
-class UnrealChan(Alias):
-    """Unreal Engine 5 ``Diffuse_Chan``: Chan's diffuse with a2 = Roughness⁴ (GGX α =
-    Roughness²) and RetroReflectivityWeight 1."""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("DiffuseColor ρ"),
-        _unit("roughness", "Roughness (perceptual; α = Roughness²)"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
+UnrealChan = alias(
+    "UnrealChan", _M, model_id="unreal-chan", label="Unreal Diffuse_Chan", base=Chan,
+    params=(_colour("DiffuseColor ρ"),
+            _unit("roughness", "Roughness (perceptual; α = Roughness²)")),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "alpha": roughness * roughness},
+    rule="α = Roughness²", order=_ORDER + 80,
+    reference="Unreal Engine 5, Engine/Shaders/Private/BRDF.ush, Diffuse_Chan",
+    formula=r"""
         ```{math}
         f = f_{\mathrm{Chan}}(\rho, \alpha = r^2)
         ```
 
         Chan's diffuse (the `chan` page) at α = Roughness².
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"unreal-chan": {}}
-    labels: ClassVar[dict[str, str]] = {"unreal-chan": "Unreal Diffuse_Chan"}
-    reference: ClassVar[str] = "Unreal Engine 5, Engine/Shaders/Private/BRDF.ush, Diffuse_Chan"
-    order: ClassVar[int] = _ORDER + 80
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unreal-chan",), "roughness", (0.0, 0.5, 1.0)
-    )
-    base: ClassVar[type[Model]] = Chan
+        """,
+    doc="""Unreal Engine 5 ``Diffuse_Chan``: Chan's diffuse with a2 = Roughness⁴ (GGX α =
+    Roughness²) and RetroReflectivityWeight 1.""",
+)
 
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """α = Roughness²."""
-        return {"albedo": albedo, "alpha": roughness * roughness}
-
-
-@register_pytree
-@dataclass(frozen=True)
-class UnityDiffuseGGX(Alias):
-    """Unity's ``DiffuseGGX`` (``DiffuseGGXNoPI``/π times the diffuse colour): Hammon's
-    GGX diffuse with ``roughness`` = GGX α (HDRP passes perceptual roughness²)."""
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("albedo ρ"),
-        _unit("roughness", "roughness = GGX α (perceptual roughness²)", 0.3),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
-    formula: ClassVar[str | dict[str, str]] = r"""
+UnityDiffuseGGX = alias(
+    "UnityDiffuseGGX", _M, model_id="unity-diffuse-ggx", label="Unity DiffuseGGX (Hammon)",
+    base=Hammon, params=(_colour("albedo ρ"),
+                         _unit("roughness", "roughness = GGX α (perceptual roughness²)", 0.3)),
+    to_base=lambda albedo, roughness: {"albedo": albedo, "alpha": roughness},
+    rule="α = roughness", order=_ORDER + 90,
+    reference="Unity Graphics, Packages/com.unity.render-pipelines.core/ShaderLibrary/"
+    "BSDF.hlsl, DiffuseGGXNoPI and DiffuseGGX",
+    formula=r"""
         ```{math}
         f = f_{\mathrm{Hammon}}(\rho, \alpha = r)
         ```
 
         Hammon's GGX diffuse (the `hammon` page) with Unity's roughness as the GGX α.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {"unity-diffuse-ggx": {}}
-    labels: ClassVar[dict[str, str]] = {"unity-diffuse-ggx": "Unity DiffuseGGX (Hammon)"}
-    reference: ClassVar[str] = (
-        "Unity Graphics, Packages/com.unity.render-pipelines.core/ShaderLibrary/BSDF.hlsl, "
-        "DiffuseGGXNoPI and DiffuseGGX"
-    )
-    order: ClassVar[int] = _ORDER + 90
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unity-diffuse-ggx",), "roughness", (0.0, 0.3, 1.0)
-    )
-    base: ClassVar[type[Model]] = Hammon
-
-    @staticmethod
-    def to_base(albedo: Any, roughness: Any) -> dict[str, Any]:
-        """α = roughness."""
-        return {"albedo": albedo, "alpha": roughness}
+        """,
+    doc="""Unity's ``DiffuseGGX`` (``DiffuseGGXNoPI``/π times the diffuse colour): Hammon's
+    GGX diffuse with ``roughness`` = GGX α (HDRP passes perceptual roughness²).""",
+)

@@ -97,7 +97,7 @@ function buildPanel(slot) {
   if (slot === "a" && LEFT_OUT.length) {
     const note = document.createElement("p");
     note.id = "models-left-out";
-    note.textContent = "Not in the menus (no GLSL copy of the formula): " +
+    note.textContent = "Not in the menus (computed by simulation or from a table, not a formula the GLSL is printed from): " +
       LEFT_OUT.map((m) => m.key).join(", ") + ". `roughdiffuse render --model ID` renders them.";
     root.append(note);
   }
@@ -247,7 +247,7 @@ function fitSphere() {
 function draw() {
   if (!state.a || !state.b) return; // a resize before /api/models is read: start() draws later
   fitSphere();
-  const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
+  const a = gpuParams(state.a), b = gpuParams(state.b);
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
   $("panel-b").classList.toggle("disabled", state.mode === 0);
