@@ -1,7 +1,8 @@
 """A sphere rendered by three.js with an exported GLSL function, read back as float radiance.
 
 The page ``tests/js/sphere.html`` puts the function in a ``THREE.ShaderMaterial`` (the user's
-way: the exported text pasted above a ``main``) on a sphere under a distant light, seen by a
+way: the exported text pasted above a ``main``; ``tests/js/material.js`` is the material the
+documentation shows) on a sphere under a distant light, seen by a
 ``THREE.OrthographicCamera`` framed as :class:`roughdiffuse.render.OrthographicCamera` frames
 the same sphere, so that pixel (row, column) sees the same point in both renderers. The
 fragment shader writes f E0 max(n·l, 0) to an RGBA float32 render target; alpha is 1 where the
@@ -71,6 +72,7 @@ def threejs_sphere(
     camera: OrthographicCamera | None = None,
     size: int = 64,
     radius: float = 1.0,
+    normals: str = "exact",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Render a sphere of ``radius`` whose material calls ``name(wi, wo)`` of ``glsl``.
 
@@ -89,6 +91,11 @@ def threejs_sphere(
         As for :func:`roughdiffuse.render.render` (defaults: light and camera along +z).
     size : int
         Image side in pixels.
+    normals : {"exact", "mesh"}
+        ``"exact"``: the sphere's normal where each pixel centre's ray meets it, as
+        roughdiffuse's ray tracer finds it; ``"mesh"``: the user's material of
+        ``tests/js/material.js``, the normals of a ``SphereGeometry`` (256 × 128 segments)
+        interpolated across its triangles.
 
     Returns
     -------
@@ -118,6 +125,7 @@ def threejs_sphere(
         "top": cy + half,
         "bottom": cy - half,
         "radius": float(radius),
+        "normals": normals,
     }
     got = page.page.evaluate("(spec) => window.renderSphere(spec)", spec)
     if "error" in got:
