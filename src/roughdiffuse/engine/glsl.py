@@ -85,6 +85,7 @@ __all__ = [
     "print_function",
     "trace_entry",
     "trace_model",
+    "uniform_function",
     "uniform_values",
 ]
 
@@ -166,15 +167,33 @@ def trace_entry(entry: Any, choices: Mapping[str, Any] | None = None) -> Traced:
     return Traced(graph, outputs, params, symbolic=True)
 
 
-def trace_model(model: Any) -> Traced:
+class _Unshared(dict):  # type: ignore[type-arg]
+    """A graph's table of parameter values that finds no scalar: each concrete number the
+    trace meets is its own parameter, even when two are equal, so that the printed code does
+    not depend on the values (only on the model's structure). Equal node arrays (the
+    quadrature rules, met once per channel) are still one."""
+
+    def get(self, key: Any, default: Any = None) -> Any:
+        return super().get(key, default) if key[0] else default
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        if key[0]:
+            super().__setitem__(key, value)
+
+
+def trace_model(model: Any, *, share_equal_values: bool = True) -> Traced:
     """Trace ``model`` with its parameter values concrete (as the fast path does): the
-    parameter math runs in NumPy; its results are ``graph.params``."""
+    parameter math runs in NumPy; its results are ``graph.params``. With
+    ``share_equal_values=False`` two equal values stay two parameters (the graph is the same
+    for other values of the same structure: :func:`uniform_function`)."""
     if not getattr(model, "closed_form", False):
         raise ParameterError(
             f"{type(model).__name__} is not a closed form (a simulation or a table): it has "
             "no GLSL code"
         )
     graph = Graph(np.dtype(np.float32))
+    if not share_equal_values:
+        graph._param_values = _Unshared()
     cosines = _cosine_inputs(graph)
     outputs = []
     for c in range(_CHANNELS):
@@ -394,7 +413,7 @@ def _statements(
             lines.append(declare(k))
             continue
         operand = node[1]
-        inner = sorted(m for m in live if graph.loops[m] and _feeds(graph, m, operand[1]))
+        inner = sorted(_loop_body(graph, operand) & live)
         n = graph.loop_of(operand)
         zero = "0.0" if glsl else "0"
         lines.append(f"float t{k} = {zero};" if glsl else f"let t{k} = 0;")
@@ -406,21 +425,26 @@ def _statements(
     return lines
 
 
-def _feeds(graph: Graph, m: int, target: int) -> bool:
-    """Whether per-node value ``m`` is ``target`` or among the per-node values it reads."""
-    stack, seen = [target], set()
+def _loop_body(graph: Graph, operand: tuple[Any, ...]) -> set[int]:
+    """The per-node values the operand of a node sum reads (itself included): the body of
+    its loop."""
+    inner: set[int] = set()
+    stack = [operand[1]] if operand[0] == "node" else []
     while stack:
-        k = stack.pop()
-        if k == m:
-            return True
-        if k in seen or not graph.loops[k]:
+        m = stack.pop()
+        if m in inner or not graph.loops[m]:
             continue
-        seen.add(k)
-        stack.extend(r[1] for r in graph.nodes[k][1:] if r[0] == "node")
-    return False
+        inner.add(m)
+        stack.extend(r[1] for r in graph.nodes[m][1:] if r[0] == "node")
+    return inner
 
 
 # ------------------------------------------------------------------ printing
+def _literal_par(graph: Graph, lang: str) -> Any:
+    """Concrete scalars of the graph (``("par", k)``) printed as literals."""
+    return lambda k: _float_literal(float(graph.params[k]), lang)
+
+
 @dataclasses.dataclass
 class Printed:
     """One model printed for a shader with a prepass (:func:`print_function`).
@@ -465,7 +489,8 @@ def _hoist(traced: Traced, pars_as_values: bool) -> list[tuple[Any, ...]]:
         if r in seen:
             continue
         seen.add(r)
-        if _is_parameter_only(g, r, pixel) or (pars_as_values and r[0] == "par"):
+        hoistable = _is_parameter_only(g, r, pixel) and not g.is_bool(r)  # uniforms: floats
+        if hoistable or (pars_as_values and r[0] == "par"):
             found.add(r)
             continue
         stack.extend(_deps(g, r))
@@ -488,7 +513,7 @@ def print_function(
     models of one shader)."""
     hoisted = _hoist(traced, pars_as_values=not traced.symbolic)
     names = {r: f"h{k}" for k, r in enumerate(hoisted)}
-    ctx = _Context("glsl", prefix, str, names, lambda k: f"p{k}",
+    ctx = _Context("glsl", prefix, str, names, _literal_par(traced.graph, "glsl"),
                    {} if helpers is None else helpers, {} if arrays is None else arrays)
     outputs = _outputs(traced)
     body = _statements(traced.graph, outputs, ctx, set(names))
@@ -511,7 +536,7 @@ def javascript_prepass(traced: Traced, printed: Printed, prefix: str = "rd") -> 
         base, _, channel = key.partition(".")
         return f"p[{base!r}][{channel}]" if channel else f"p[{base!r}]"
 
-    ctx = _Context("js", prefix, input_name, {}, lambda k: "NaN", {}, {})
+    ctx = _Context("js", prefix, input_name, {}, _literal_par(traced.graph, "js"), {}, {})
     body = _statements(traced.graph, printed.hoisted, ctx, set())
     values = ", ".join(ctx.name(traced.graph, r) for r in printed.hoisted)
     return "\n".join([*ctx.arrays.values(), *body, f"return [{values}];"])
@@ -526,6 +551,64 @@ def uniform_values(traced: Traced, printed: Printed) -> list[float]:
             raise TraceError("uniform_values takes a trace with concrete parameters")
         out.append(float(traced.graph.params[r[1]]))
     return out
+
+
+def uniform_function(
+    model: Any, name: str, *, share_equal_values: bool = True
+) -> tuple[str, list[float]]:
+    """``model`` traced with concrete parameters as ``vec3 NAME(float mu_i, float mu_o,
+    float cos_io)`` reading every value the parameter math gave (scalars and node arrays)
+    from ``uniform float NAME_u[n]``; and those n values.
+
+    The code depends on the model's structure (its class, categorical values, which
+    parameters are per channel, the Python branches its parameter math takes) and, with
+    ``share_equal_values`` (one parameter for equal values: shorter code, e.g. one
+    evaluation for three equal channels), on which of its values are equal; not on the
+    values themselves: the explorer compiles it once and sends new values as uniforms.
+    """
+    traced = trace_model(model, share_equal_values=share_equal_values)
+    g = traced.graph
+    outputs = _outputs(traced)
+    used: list[int] = []
+    stack: list[tuple[Any, ...]] = list(outputs)
+    seen: set[tuple[Any, ...]] = set()
+    while stack:
+        r = stack.pop()
+        if r in seen:
+            continue
+        seen.add(r)
+        if r[0] in ("par", "vec"):
+            used.append(r[1])
+        stack.extend(_deps(g, r))
+    offsets: dict[int, int] = {}
+    values: list[float] = []
+    for k in sorted(set(used)):
+        offsets[k] = len(values)
+        values.extend(float(v) for v in np.asarray(g.params[k], dtype=np.float64).reshape(-1))
+    values = values or [0.0]
+
+    class _Uniforms(_Context):
+        def name(self, graph: Graph, r: tuple[Any, ...]) -> str:
+            if r[0] == "par":
+                return f"{name}_u[{offsets[r[1]]}]"
+            if r[0] == "vec":
+                return f"{name}_u[{offsets[r[1]]} + j]"
+            return super().name(graph, r)
+
+    ctx = _Uniforms("glsl", name, str, {}, None, {}, {})
+    body = _statements(g, outputs, ctx, set())
+    result = ", ".join(ctx.name(g, r) for r in outputs)
+    lines = [
+        f"uniform float {name}_u[{len(values)}];",
+        *ctx.arrays.values(),
+        *ctx.helpers.values(),
+        f"vec3 {name}(float mu_i, float mu_o, float cos_io) {{",
+        *("  " + line for line in body),
+        f"  return vec3({result});",
+        "}",
+        "",
+    ]
+    return "\n".join(lines), values
 
 
 # ------------------------------------------------------------------ the user's function
@@ -624,8 +707,7 @@ def glsl_source(model: Any, *, name: str = "rd_brdf", bake: bool = True) -> str:
     arrays: dict[str, str] = {}
     if bake:
         traced = trace_model(model)
-        ctx = _Context("glsl", name, str, {}, None, helpers, arrays)
-        ctx.par_name = lambda k: _float_literal(float(traced.graph.params[k]), "glsl")
+        ctx = _Context("glsl", name, str, {}, _literal_par(traced.graph, "glsl"), helpers, arrays)
         outputs = _outputs(traced)
         body = _statements(traced.graph, outputs, ctx, set())
         top: list[str] = ["// Parameter values baked in: " + repr(model)]
@@ -646,8 +728,8 @@ def glsl_source(model: Any, *, name: str = "rd_brdf", bake: bool = True) -> str:
             base, _, channel = key.partition(".")
             return f"{base}.{_SWIZZLE[int(channel)]}" if channel else base
 
-        ctx = _Context("glsl", name, input_name, {}, lambda k: _float_literal(
-            float(traced.graph.params[k]), "glsl"), helpers, arrays)
+        ctx = _Context("glsl", name, input_name, {}, _literal_par(traced.graph, "glsl"), helpers,
+                       arrays)
         outputs = _outputs(traced)
         body = _statements(traced.graph, outputs, ctx, set())
         listed = ", ".join(f"{t} {n}" for n, t in traced.params.items())

@@ -1,8 +1,9 @@
 """The explorer's model parameters and the Python model each parameter set stands for.
 
-The page (``static/js/models.js``) and the GLSL (``static/glsl/brdf.glsl``) describe a model
-by a name and a flat set of parameters (the page's sliders). :func:`model_from_params` builds
-the :class:`roughdiffuse.models.Model` those parameters mean, so that the tests can compare the
+The page (``static/js/models.js``) describes a model by a name and a flat set of parameters
+(the page's sliders); its GLSL is printed from the model's own code
+(:mod:`roughdiffuse.explorer.shaders`). :func:`model_from_params` builds the
+:class:`roughdiffuse.models.Model` those parameters mean, so that the tests can compare the
 GLSL with the Python formula and the server can render the same material with the Python
 renderer.
 """
@@ -17,32 +18,23 @@ from .. import registry
 from .._validate import ParameterError
 from ..models import Model
 
-__all__ = ["DEFAULTS", "explorer_entries", "flat_key", "glsl_entries", "model_from_params"]
+__all__ = ["DEFAULTS", "STATE_KEYS", "explorer_entries", "flat_key", "model_from_params"]
 
-
-def glsl_entries() -> list[registry.Entry]:
-    """The registry ids the explorer's GLSL holds a copy of (each model class's ``glsl``
-    declaration, published as ``glsl_id`` in ``/api/models``)."""
-    return [e for e in registry.entries() if e.glsl]
+STATE_KEYS: dict[str, str] = {"limb_darkening": "limb"}
+"""Declared parameter name -> the page's key for it, where the two differ (the key in the
+page's state, its URLs and the vase's query; published as ``state_keys`` in ``/api/models``)."""
 
 
 def explorer_entries() -> list[registry.Entry]:
-    """The registry ids the explorer offers: those with a GLSL copy and the aliases of one
-    (:meth:`~roughdiffuse.registry.Entry.alias`: the base's GLSL after the recorded
-    conversion, as ``static/js/models.js`` evaluates them); the page leaves the others out."""
-    offered = {e.id for e in glsl_entries()}
-    out = []
-    for e in registry.entries():
-        alias = e.alias()
-        if e.id in offered or (alias and alias["base"] in offered and alias["to_base"]):
-            out.append(e)
-    return out
+    """The registry ids the explorer offers: every closed form (its GLSL is printed from its
+    code, :mod:`.shaders`); the page leaves the simulations and tables out."""
+    return [e for e in registry.entries() if e.cls.closed_form]
 
 
 def flat_key(entry: registry.Entry, name: str) -> str:
-    """The key of parameter ``name`` of ``entry`` in the flat record (the GLSL's
-    ``RDParams``): the class's ``glsl_keys`` declaration, else the parameter's name."""
-    return entry.cls.glsl_keys.get(name, name)
+    """The key of parameter ``name`` of ``entry`` in the flat record: :data:`STATE_KEYS`,
+    else the parameter's name."""
+    return STATE_KEYS.get(name, name)
 
 
 def _flat_defaults() -> dict[str, Any]:

@@ -53,6 +53,7 @@ once (more get 503), and a client that goes away is one quiet line, not a traceb
 from __future__ import annotations
 
 import ipaddress
+import json
 import mimetypes
 import posixpath
 import socket
@@ -362,6 +363,11 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         if self.path.startswith("/api/"):
             self._api(url.path, parse_qs(url.query), head)
             return
+        if url.path == "/glsl/models.glsl":  # printed from the models' code, not a file
+            from .shaders import models_glsl
+
+            self._send(HTTPStatus.OK, models_glsl().encode(), CONTENT_TYPES[".glsl"], head)
+            return
         try:
             file = resolve_static(url.path if self.path.startswith("/") else self.path)
         except UnicodeDecodeError:
@@ -378,9 +384,11 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             if path == "/api/info.json":
                 self._json(HTTPStatus.OK, backend.info(), head)
             elif path == "/api/models":
-                from .. import registry
+                self._json(HTTPStatus.OK, models_json(), head)
+            elif path == "/api/shader":
+                from .shaders import server_shader
 
-                self._json(HTTPStatus.OK, registry.to_json(), head)
+                self._json(HTTPStatus.OK, server_shader(_json_query(q, "p")), head)
             elif path == "/api/vase.png":
                 self._send(HTTPStatus.OK, backend.vase_png(q), "image/png", head)
             elif path == "/api/groundtruth.json":
@@ -405,6 +413,34 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self._json(HTTPStatus.NOT_FOUND, {"error": str(exc)}, head)
         except ValueError as exc:
             self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc)}, head)
+
+
+def models_json() -> list[dict[str, Any]]:
+    """``/api/models``: the registry's records (``roughdiffuse models --json``), each with its
+    printed shader (``shader``, :func:`.shaders.shader_records`) and the page's keys of the
+    parameters whose key differs from their name (``state_keys``)."""
+    from .. import registry
+    from .params import STATE_KEYS
+    from .shaders import shader_records
+
+    shaders = shader_records()
+    out = []
+    for record in registry.to_json():
+        keys = {n: k for n, k in STATE_KEYS.items()
+                if any(p["name"] == n for p in record["parameters"])}
+        out.append({**record, "shader": shaders.get(record["id"]), "state_keys": keys})
+    return out
+
+
+def _json_query(q: dict[str, str], key: str) -> dict[str, Any]:
+    """The JSON object in query value ``key`` (a ValueError, 400, if it is not one)."""
+    try:
+        value = json.loads(q.get(key, ""))
+    except json.JSONDecodeError:
+        raise ParameterError(f"{key} must be a JSON object") from None
+    if not isinstance(value, dict):
+        raise ParameterError(f"{key} must be a JSON object")
+    return value
 
 
 def _split_host(value: str) -> tuple[str, str] | None:

@@ -247,7 +247,7 @@ function fitSphere() {
 function draw() {
   if (!state.a || !state.b) return; // a resize before /api/models is read: start() draws later
   fitSphere();
-  const a = evaluator.withSums(gpuParams(state.a)), b = evaluator.withSums(gpuParams(state.b));
+  const a = gpuParams(state.a), b = gpuParams(state.b);
   sphere.draw(a, b, state.mode, lightVector(), Math.pow(2, state.exposure));
   $("light-readout").textContent = `light θ = ${state.light.theta.toFixed(1)}°, φ = ${state.light.phi.toFixed(1)}°`;
   $("panel-b").classList.toggle("disabled", state.mode === 0);

@@ -1,16 +1,19 @@
 // The models the explorer offers come from the server's /api/models: the registry
 // (roughdiffuse/registry.py), the same JSON as `roughdiffuse models --json`, with each
-// model's parameters, units, ranges and defaults, and what each model class declares about
-// its GLSL copy: `glsl_id`, the number brdf.glsl dispatches on (null: no GLSL copy), and
-// `glsl_keys`, the RDParams field of each declared parameter whose name differs.
+// model's parameters, units, ranges and defaults, and its printed shader (`shader`, from
+// roughdiffuse.explorer.shaders): for each set of its menus' values a model number of the
+// generated models.glsl and the JavaScript prepass that computes the model's parameter-only
+// values (the uniform array RDParams.h); or `server: true` (the server traces the model for
+// each parameter set and sends its GLSL: /api/shader); or `left_out` (why the page cannot
+// draw it). `state_keys`: the page's key of each parameter whose key differs from its name.
 
-/** Declared parameter name -> key of the page's state and of RDParams, where they differ
- * (the union of the models' published glsl_keys). */
+/** Declared parameter name -> key of the page's state, where they differ (the union of the
+ * models' published state_keys). */
 const FLAT_KEY = {};
 export const flatKey = (name) => FLAT_KEY[name] ?? name;
 
-/** Every model of the registry with a GLSL copy, and every alias of one:
- * {key, id, label, short, uses, params, fixed, alias}. */
+/** Every model of the registry the page can draw:
+ * {key, label, short, uses, params, fixed, alias, shader}. */
 export const MODELS = [];
 /** The registry's models the page leaves out, with the reason: [{key, label, reason}]. */
 export const LEFT_OUT = [];
@@ -18,14 +21,19 @@ export const BY_KEY = {};
 /** One declaration per state key (the first model declaring it): unit, range, default. */
 export const PARAMS = {};
 
-/** Why the page cannot offer record r (null: it can). An alias (roughdiffuse.models.alias)
- * is offered when its base model has a GLSL copy and its conversion was recorded. */
-function leftOutReason(r, glsl) {
-  if (r.glsl && r.glsl_id !== null && r.glsl_id !== undefined) return null;
-  if (!r.alias) return "no GLSL copy of its formula";
-  if (!r.alias.to_base) return `its conversion to ${r.alias.base} could not be recorded: ${r.alias.why}`;
-  if (!glsl.has(r.alias.base)) return `its base model ${r.alias.base} has no GLSL copy`;
-  return null;
+/** Why the page cannot offer record r (null: it can). */
+function leftOutReason(r) {
+  if (!r.shader) return "the server printed no shader for it";
+  return r.shader.left_out ?? null;
+}
+
+/** The shader record of /api/models with each variant's prepass made a function. */
+function withPrepass(shader) {
+  if (!shader.variants) return shader;
+  // the prepass is code the server printed from the model's own Python (engine/glsl.py)
+  // eslint-disable-next-line no-new-func
+  const variants = shader.variants.map((v) => ({ ...v, prepass: new Function("p", v.prepass) }));
+  return { ...shader, variants };
 }
 
 /** Fill MODELS, LEFT_OUT, BY_KEY and PARAMS from the JSON of /api/models. */
@@ -35,21 +43,17 @@ export function setModels(records) {
   for (const k of Object.keys(BY_KEY)) delete BY_KEY[k];
   for (const k of Object.keys(PARAMS)) delete PARAMS[k];
   for (const k of Object.keys(FLAT_KEY)) delete FLAT_KEY[k];
-  for (const r of records) Object.assign(FLAT_KEY, r.glsl_keys ?? {});
-  const byId = Object.fromEntries(records.map((r) => [r.id, r]));
-  const glsl = new Set(records.filter((r) => r.glsl && r.glsl_id !== null && r.glsl_id !== undefined).map((r) => r.id));
+  for (const r of records) Object.assign(FLAT_KEY, r.state_keys ?? {});
   for (const r of records) {
-    const reason = leftOutReason(r, glsl);
+    const reason = leftOutReason(r);
     if (reason !== null) {
       LEFT_OUT.push({ key: r.id, label: r.label, reason });
       continue;
     }
     const params = {};
     for (const p of r.parameters) params[flatKey(p.name)] = p;
-    // an alias: its own sliders; the base's GLSL after the conversion its to_base recorded
-    const alias = r.alias ? { ...r.alias, glslKeys: byId[r.alias.base].glsl_keys ?? {} } : null;
-    const id = alias ? byId[alias.base].glsl_id : r.glsl_id;
-    const m = { key: r.id, id, label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {}, alias };
+    const shader = withPrepass(r.shader);
+    const m = { key: r.id, label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {}, alias: r.alias ?? null, shader };
     MODELS.push(m);
     BY_KEY[m.key] = m;
     for (const [k, p] of Object.entries(params)) {
@@ -124,45 +128,77 @@ export function defaultState(key = "oren-nayar") {
   return s;
 }
 
+/** The value of declared parameter `p` (key `k`) in state `s`: radians from the sliders'
+ * degrees (`${k}Deg`) unless given in radians, three channels for a colour, else the
+ * declaration's starting value. */
+function valueOf(p, k, s) {
+  let v = s[k];
+  if (v === undefined && p.unit === "radians" && s[`${k}Deg`] !== undefined) v = s[`${k}Deg`] * DEG;
+  if (v === undefined) v = start(p);
+  if (p.channels) return Array.isArray(v) || ArrayBuffer.isView(v) ? Array.from(v) : [v, v, v];
+  return v;
+}
+
+/** The menus' values of state `s` for model m (its fixed ones, else the state's, else the
+ * declared default). */
+function choicesOf(m, s) {
+  const out = {};
+  for (const [k, p] of Object.entries(m.params)) {
+    if (p.choices === null) continue;
+    const v = s[k];
+    out[p.name] = p.choices.includes(v) ? v : p.default;
+  }
+  return out;
+}
+
+/** The flat record of a slot state for the server (/api/shader): the model's own values,
+ * angles in radians, colours as three numbers. */
+export function serverRecord(s) {
+  const m = BY_KEY[s.model];
+  const out = { model: s.model, ...choicesOf(m, s) };
+  for (const [k, p] of Object.entries(m.params)) {
+    if (p.choices === null && applies(p, s)) out[k] = valueOf(p, k, s);
+  }
+  return out;
+}
+
+const SERVER = new Map();
+/** The server's GLSL of a model traced on the server (/api/shader), fetched once per
+ * parameter set (synchronously: a drawing needs it now; the server answers from memory). */
+function serverShader(record) {
+  const key = JSON.stringify(record);
+  let hit = SERVER.get(key);
+  if (!hit) {
+    const xhr = new XMLHttpRequest();
+    xhr.open("GET", `api/shader?p=${encodeURIComponent(key)}`, false);
+    xhr.send();
+    if (xhr.status !== 200) throw new Error(`the server has no shader for ${record.model}: ${xhr.responseText}`);
+    hit = JSON.parse(xhr.responseText);
+    if (SERVER.size > 64) SERVER.delete(SERVER.keys().next().value);
+    SERVER.set(key, hit);
+  }
+  return hit;
+}
+
 /**
- * The record the GLSL receives (brdf.glsl's RDParams). Accepts the UI state (sigmaDeg) or a
- * record with sigma in radians already (as the tests send it). Beckmann's α is given to the
- * GLSL as σ = α/√2 (brdf.glsl's Beckmann takes the per-component slope deviation).
- * An alias gives its base model's record: its own values converted (baseState).
+ * The record the GLSL receives (models.glsl's RDParams): the model number of its menus'
+ * values and the parameter-only values its prepass computes from the state (UI state with
+ * sigmaDeg, or a record with sigma in radians already, as the tests send it); for a model
+ * traced on the server, its GLSL function (`fn`, `source`), the values of its uniform array
+ * `${fn}_u` and the number -2.
  */
 export function gpuParams(s) {
   const m = BY_KEY[s.model];
   if (!m) throw new Error(`unknown model ${JSON.stringify(s.model)}`);
-  if (m.alias) return gpuParams(baseState(s));
-  const sigma = s.sigma !== undefined ? s.sigma : (s.sigmaDeg * Math.PI) / 180;
-  const distribution = s.distribution ?? m.fixed.distribution ?? "gaussian";
-  const beckmannId = m.fixed.distribution === "beckmann";
-  return {
-    model: m.id,
-    albedo: Float32Array.from(s.albedo ?? [0.8, 0.8, 0.8]),
-    sigma: beckmannId ? (s.alpha ?? PARAMS.alpha.default) / Math.SQRT2 : sigma,
-    roughness: s.roughness ?? 0,
-    eta: s.eta ?? 1.5,
-    weight: s.weight ?? 0,
-    limb: s.limb ?? 0.5,
-    distribution: beckmannId || distribution === "beckmann" ? 1 : 0,
-    // brdf.glsl RDParams: alpha, variant, k, b0, h, g, theta_bar, hg2, absorption
-    alpha: s.alpha ?? 0.3,
-    variant: (s.variant ?? "full") === "fast" ? 1 : 0,
-    k: s.k ?? 1.0,
-    b0: s.b0 ?? 0.0,
-    h: s.h ?? 0.1,
-    g: s.g ?? 0.0,
-    theta_bar: s.theta_bar !== undefined ? s.theta_bar : ((s.theta_barDeg ?? 0) * Math.PI) / 180,
-    hg2: s.hg2 ?? 0.0,
-    sums: m.key === "coated",  // its parameter-only sums come first (gl.js Evaluator.withSums)
-    // Coated: the layer's optical depth, one number or one per channel
-    absorption: Float32Array.from(Array.isArray(s.absorption) || ArrayBuffer.isView(s.absorption)
-      ? s.absorption : [s.absorption ?? 0, s.absorption ?? 0, s.absorption ?? 0]),
-    // Coated: its base (a registry id of coated.COAT_BASES) as that model's GLSL number
-    base: BY_KEY[s.base ?? PARAMS.base?.default]?.id ?? 2,
-    base_roughness: s.base_roughness ?? PARAMS.base_roughness?.default ?? 0.5,
-  };
+  if (m.shader.server) {
+    const sh = serverShader(serverRecord(s));
+    return { model: -2, h: new Float32Array(0), fn: sh.name, source: sh.source, values: Float32Array.from(sh.values) };
+  }
+  const choices = choicesOf(m, s);
+  const v = m.shader.variants.find((x) => Object.entries(x.choices).every(([k, c]) => choices[k] === c));
+  const p = {};
+  for (const [k, q] of Object.entries(m.params)) if (q.choices === null) p[q.name] = valueOf(q, k, s);
+  return { model: v.number, h: Float32Array.from(v.prepass(p)) };
 }
 
 /** Whether parameter `p` of a model applies with the slot state `s`: its declaration's
@@ -187,7 +223,7 @@ export function baseState(s) {
   const base = { model: m.alias.base, ...m.alias.fixed };
   for (const [name, tree] of Object.entries(m.alias.to_base)) {
     const v = evaluateTree(tree, own);
-    base[m.alias.glslKeys[name] ?? name] = typeof v === "number" ? v : Array.from(v);
+    base[flatKey(name)] = typeof v === "number" ? v : Array.from(v);
   }
   return base;
 }
