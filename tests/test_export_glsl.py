@@ -175,3 +175,10 @@ def test_cli_refuses_on_one_line_and_writes_nothing(tmp_path, capsys, args, says
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and says in err, err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_fit_export_writes_a_glsl_file_beside_the_others(tmp_path):
+    from roughdiffuse.commands._export_targets import export_paths, parse_targets
+
+    paths = export_paths(str(tmp_path / "m"), parse_targets("glsl,mitsuba"))
+    assert paths == {"glsl": tmp_path / "m_glsl.glsl", "mitsuba": tmp_path / "m_mitsuba.xml"}

@@ -116,13 +116,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--export",
         metavar="TARGET,...",
         help="after the fit, write the (best) fitted model as a material for blender, "
-        "materialx and/or mitsuba (see `roughdiffuse export`), converted where needed",
+        "materialx and/or mitsuba, or as a glsl function (see `roughdiffuse export`), "
+        "converted where needed",
     )
     p.add_argument(
         "--export-prefix",
         default="material",
         metavar="PREFIX",
-        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml (default: material)",
+        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl (default: material)",
     )
     _add_input_arguments(p)
     p.set_defaults(func=run)

@@ -61,7 +61,7 @@ def write(model: Model, path: Path, *, uniforms: bool = False, name: str = "rd_b
         declared = ", ".join(f"{kind} {p}" for p, kind in glsl_uniforms(model).items())
         notes = (f"uniforms to set: {declared or 'none'} (angles in radians)",)
     else:
-        notes = ("parameter values baked in (--uniforms: set them from your program)",)
+        notes = ("parameter values baked in (export --uniforms: set them from your program)",)
     values = _fields(model, model_id)
     if len(values) < sum(not p.categorical for p in registry.get(model_id).parameters):
         notes += (
