@@ -4,9 +4,9 @@ material, or as a GLSL function for the user's own shader."""
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from . import UsageError
+from ._checks import output_file
 from ._common import add_model_arguments, model_from_args
 from ._export_targets import export_errors
 
@@ -82,9 +82,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
-    out = Path(args.output)
-    if not out.parent.is_dir():
-        raise UsageError(f"--output: folder {str(out.parent)!r} does not exist")
+    # checked before any work; export replaces an existing file (its habit, no --force)
+    out = output_file(args.output, option="--output", overwrite=True)
     if args.source:
         try:
             model = load_result(args.source)
