@@ -115,9 +115,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--export",
         metavar="TARGET,...",
-        help="after the fit, write the (best) fitted model as a material for blender, "
-        "materialx and/or mitsuba, or as a glsl function (see `roughdiffuse export`), "
-        "converted where needed",
+        help="after the fit, write the (best) fitted model for blender, materialx, mitsuba "
+        "and/or glsl (see `roughdiffuse export`), converted where needed",
     )
     p.add_argument(
         "--export-prefix",
