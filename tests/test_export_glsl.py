@@ -197,3 +197,14 @@ def test_fit_export_writes_a_glsl_file_beside_the_others(tmp_path):
 
     paths = export_paths(str(tmp_path / "m"), parse_targets("glsl,mitsuba"))
     assert paths == {"glsl": tmp_path / "m_glsl.glsl", "mitsuba": tmp_path / "m_mitsuba.xml"}
+
+
+def test_a_coated_model_is_exported_baked_with_its_base_in_the_header(tmp_path):
+    """A Coated holds its base's parameters in the base: the summary lists its own, and the
+    file's header names the base with its values."""
+    model = registry.create("coated", base="eon", albedo=0.6, base_roughness=0.3, eta=1.4)
+    result = export(model, "glsl", tmp_path / "coated.glsl")
+    assert result.params["eta"] == pytest.approx(1.4) and "albedo" not in result.params
+    assert any("holds some parameters in its parts" in n for n in result.notes)
+    header = (tmp_path / "coated.glsl").read_text().split("\n", 6)[:6]
+    assert any("EON(albedo=0.6, roughness=0.3)" in line for line in header), header

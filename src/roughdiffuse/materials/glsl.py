@@ -62,8 +62,8 @@ def write(model: Model, path: Path, *, uniforms: bool = False, name: str = "rd_b
         notes = (f"uniforms to set: {declared or 'none'} (angles in radians)",)
     else:
         notes = ("parameter values baked in (export --uniforms: set them from your program)",)
-    values = _fields(model, model_id)
-    if len(values) < sum(not p.categorical for p in registry.get(model_id).parameters):
+    values, complete = _fields(model, model_id)
+    if not complete:
         notes += (
             f"{type(model).__name__} holds some parameters in its parts: all are in the "
             "file's header",
@@ -79,10 +79,11 @@ def write(model: Model, path: Path, *, uniforms: bool = False, name: str = "rd_b
     )
 
 
-def _fields(model: Model, model_id: str) -> dict:
-    """The model's parameter values for the summary: those it holds as attributes (a Coated
-    holds its base's parameters in its base, a Mix its parts')."""
+def _fields(model: Model, model_id: str) -> tuple[dict, bool]:
+    """The model's parameter values for the summary, and whether they are all there: a
+    model may hold some in its parts (a Coated its base's, a Mix its components')."""
     declared = [p for p in registry.get(model_id).parameters if not p.categorical]
     if all(hasattr(model, p.name) for p in declared):
-        return params_of(model, model_id)
-    return {p.name: float(getattr(model, p.name)) for p in declared if hasattr(model, p.name)}
+        return params_of(model, model_id), True
+    held = {p.name: float(getattr(model, p.name)) for p in declared if hasattr(model, p.name)}
+    return held, False
