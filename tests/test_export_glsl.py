@@ -134,7 +134,7 @@ def test_documented_material_renders_in_threejs_near_roughdiffuse(page, tmp_path
     view direction from three.js's own camera uniforms. Its normals are interpolated across
     the triangles of a 256 × 128 SphereGeometry, whose corners the rasterizer snaps to a
     sub-pixel grid, so they are off by up to about 1e-3: bound 1 % of the brightest pixel
-    (measured 0.53 %), where a wrong frame or view direction is off by tens of percent."""
+    (measured 0.53 %)."""
     model = registry.create("oren-nayar-full", albedo=[0.8, 0.5, 0.2], sigma=math.radians(30))
     glsl = export(model, "glsl", tmp_path / "brdf.glsl").paths[0].read_text()
     theirs, covered = threejs_sphere(
