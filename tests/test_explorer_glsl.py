@@ -80,7 +80,11 @@ def _cases():
             corners = _corners(entry, choices) if entry.id != "coated" or default else []
             start = {p.name: p.default if p.example is None else p.example
                      for p in entry.parameters}
-            points = [{**start, **pt, **choices} for pt in points + corners]
+            # three different channels: each channel reaches its own output
+            colour = {p.name: [0.9, 0.5, 0.05] for p in entry.parameters if p.channels}
+            points = [{**start, **pt, **choices}
+                      for pt in [*points[:1], {**(points or [{}])[0], **colour}, *points[1:],
+                                 *corners]]
             seen = []
             for pt in points:
                 record = {}

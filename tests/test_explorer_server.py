@@ -55,8 +55,8 @@ def test_serves_the_page_and_its_modules(server):
     assert body == (STATIC_DIR / "index.html").read_bytes()
     status, headers, body = get(server, "/js/main.js")
     assert status == 200 and headers["content-type"].startswith("text/javascript")
-    status, headers, body = get(server, "/glsl/brdf.glsl")
-    assert status == 200 and b"rd_brdf" in body
+    status, headers, body = get(server, "/glsl/models.glsl")  # printed from the models
+    assert status == 200 and b"vec3 rd_brdf(RDParams p" in body and b"#define RD_EON " in body
     status, headers, body = get(server, "/index.html", method="HEAD")
     assert status == 200 and body == b"" and int(headers["content-length"]) > 100
 

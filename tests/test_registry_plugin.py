@@ -75,7 +75,7 @@ def test_models_lists_the_plugin(plugin_path):
     out = _run(plugin_path, "-m", "roughdiffuse", "models", "--json")
     assert out.returncode == 0, out.stderr
     rec = {r["id"]: r for r in json.loads(out.stdout)}["minnaert-demo"]
-    assert rec["source"] == "minnaert-model" and rec["glsl"] is False
+    assert rec["source"] == "minnaert-model" and rec["glsl"] is True  # printed from its code
     assert [(p["name"], p["min"], p["max"], p["default"]) for p in rec["parameters"]] == [
         ("albedo", 0.0, 1.0, 1.0),
         ("k", 0.5, 1.5, 1.0),

@@ -91,7 +91,7 @@ def test_a_new_model_module_is_found_everywhere(package_copy):
     assert res["in_all"] and res["same_class"]
     assert res["source"] == "roughdiffuse" and res["last"] == "minnaert-demo"  # order 1000
     api = res["api"]
-    assert api["glsl"] is False and api["glsl_id"] is None  # no GLSL copy declared
+    assert api["glsl"] is True  # a closed form: the explorer prints its GLSL from its code
     assert [p["name"] for p in api["parameters"]] == ["albedo", "k"]
     assert res["matrix"], "the test matrix does not hold the new model"
     # exact, noise-free data: the fit recovers the parameters that made it
@@ -128,3 +128,55 @@ def test_the_package_serves_every_model_class_from_the_scan():
     for name in rd.__all__:  # every listed name resolves ("from roughdiffuse import *")
         getattr(rd, name)
     assert callable(rd.oren_nayar) and rd.fastpath.evaluate is not None
+
+
+EXPLORER_SCRIPT = """
+import json, math
+from explorer_browser import CHROMIUM, CHROMIUM_ARGS, open_page
+from playwright.sync_api import sync_playwright
+from roughdiffuse.explorer import make_server, serve_in_thread, url_of
+
+server = make_server("127.0.0.1", None)
+serve_in_thread(server)
+out = {}
+with sync_playwright() as p:
+    browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+    log = open_page(browser, url_of(server), 800, 600)
+    page = log.page
+    out["menu"] = page.eval_on_selector_all("#a-model option", "os => os.map(o => o.value)")
+    page.select_option("#a-model", "minnaert-demo")
+    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    out["sliders"] = [k for k in ("albedo-r", "k", "sigma")
+                      if page.evaluate(f"() => !document.getElementById('a-{k}-row').hidden")]
+    out["sphere"] = page.evaluate(
+        "() => { const c = document.getElementById('sphere'); const g = c.getContext('webgl2');"
+        " const px = new Uint8Array(4); g.readPixels(c.width >> 1, c.height >> 1, 1, 1, g.RGBA,"
+        " g.UNSIGNED_BYTE, px); return Array.from(px); }")
+    cos = [0.5, 0.8, 0.3, 0.9, 0.2, 0.1]
+    out["glsl"] = page.evaluate(
+        "(c) => window.rdExplorer.evaluate({model: 'minnaert-demo', albedo: [0.5, 0.4, 0.3],"
+        " k: 0.8}, c)", cos)
+    out["errors"] = log.errors
+    browser.close()
+server.shutdown()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow  # a Chromium and a server of the copy: about 15 s
+def test_the_explorer_draws_the_new_model(package_copy):
+    """The copy's explorer offers the new model in its menus, with its declared sliders, and
+    draws it in Chromium: its GLSL, printed from the module's code, gives Minnaert's closed
+    form f = ρ/π (μi μo)^(k − 1)."""
+    pytest.importorskip("playwright")
+    out = _run(package_copy, "-c", EXPLORER_SCRIPT)
+    assert out.returncode == 0, out.stderr[-3000:]
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    assert "minnaert-demo" in res["menu"] and not res["errors"], res
+    assert res["sliders"] == ["albedo-r", "k"]  # its own, not Oren–Nayar's σ
+    r, g, b, _ = res["sphere"]
+    assert r == g == b > 0  # the sphere's lit centre, grey (the declared albedo, 1)
+    glsl = [res["glsl"][:3], res["glsl"][3:]]
+    for (mu_i, mu_o, _), f in zip([(0.5, 0.8, 0.3), (0.9, 0.2, 0.1)], glsl, strict=True):
+        want = [a / math.pi * (mu_i * mu_o) ** -0.2 for a in (0.5, 0.4, 0.3)]
+        assert f == pytest.approx(want, rel=1e-5)

@@ -100,13 +100,9 @@ class Entry:
 
     @property
     def glsl(self) -> bool:
-        """Whether the explorer's GLSL holds a copy of the formula."""
-        return self.id in self.cls.glsl
-
-    @property
-    def glsl_id(self) -> int | None:
-        """The model number ``brdf.glsl`` dispatches on for this id (``None``: no GLSL)."""
-        return self.cls.glsl.get(self.id)
+        """Whether the explorer draws this model: a closed form, whose GLSL is printed from its
+        code (:mod:`roughdiffuse.engine.glsl`)."""
+        return bool(self.cls.closed_form)
 
     def test_points(self) -> list[dict[str, Any]]:
         """Parameter sets the interface-wide tests run: the declared ``example`` (else the
@@ -118,12 +114,6 @@ class Entry:
             if point not in points:
                 points.append(dict(point))
         return points
-
-    def glsl_test_points(self) -> list[dict[str, Any]]:
-        """Parameter sets the GLSL copy is checked at: the class's ``glsl_test_points`` for
-        this id, else :meth:`test_points`."""
-        declared = self.cls.glsl_test_points.get(self.id)
-        return [dict(p) for p in declared] if declared else self.test_points()
 
     @property
     def parameters(self) -> tuple[Param, ...]:
@@ -196,26 +186,27 @@ class Entry:
         )
 
     def alias(self) -> dict[str, Any] | None:
-        """For an :class:`~roughdiffuse.models.alias.Alias`, what the explorer needs to
-        evaluate it with its base model's GLSL (``None`` for any other model).
+        """For an :class:`~roughdiffuse.models.alias.Alias`, its base model and conversion
+        (``None`` for any other model): what the explorer shows and uses for the base
+        model's ground truth (the alias itself is traced like any model).
 
         ``base``: the registry id of the equal model (from :meth:`Alias.base_model`);
-        ``fixed``: the base's categorical values that id leaves open; ``to_base``: the
-        conversion recorded from ``to_base`` (:meth:`Alias.conversion`), one expression tree
-        per base parameter (``None`` with the reason in ``why`` when ``to_base`` cannot be
-        recorded), and ``text``, each tree as an expression to show.
+        ``fixed``: the base's categorical values that id leaves open; ``text``: each base
+        parameter as an expression of this model's; ``to_base``: the body of a JavaScript
+        function computing them (``None`` with the reason in ``why`` when ``to_base``
+        cannot be traced); both from :meth:`Alias.conversion`.
         """
         from .models.alias import Alias
 
         if not issubclass(self.cls, Alias):
             return None
         key = (self.id, self.cls)
-        if key not in _ALIAS_RECORDS:  # recorded and checked once: /api/models asks often
+        if key not in _ALIAS_RECORDS:  # traced once: /api/models asks often
             _ALIAS_RECORDS[key] = self._alias_record()
         return copy.deepcopy(_ALIAS_RECORDS[key])
 
     def _alias_record(self) -> dict[str, Any]:
-        from .models.conversion import NotRecordable, text
+        from .engine.trace import TraceError
 
         base = self.create().base_model()
         base_id = id_of(base)
@@ -224,11 +215,12 @@ class Entry:
             return {"base": None, "fixed": {}, "to_base": None, "text": None, "why": why}
         fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
         try:
-            trees, why = self.cls.conversion(), None
-        except NotRecordable as exc:
-            trees, why = None, str(exc)
-        shown = {k: text(v, 6) for k, v in trees.items()} if trees else None
-        return {"base": base_id, "fixed": fixed, "to_base": trees, "text": shown, "why": why}
+            traced, why = self.cls.conversion(), None
+        except TraceError as exc:
+            return {"base": base_id, "fixed": fixed, "to_base": None, "text": None,
+                    "why": str(exc)}
+        return {"base": base_id, "fixed": fixed, "to_base": traced["javascript"],
+                "text": traced["text"], "why": why}
 
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""
@@ -240,8 +232,6 @@ class Entry:
             "reference": self.reference,
             "source": self.source,
             "glsl": self.glsl,
-            "glsl_id": self.glsl_id,
-            "glsl_keys": dict(self.cls.glsl_keys) if self.glsl else {},
             "fixed": dict(self.fixed),
             "parameters": [p.to_json() for p in self.parameters],
             "alias": self.alias(),

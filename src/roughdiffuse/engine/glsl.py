@@ -79,9 +79,11 @@ from .trace import Graph, Sym, TraceError
 __all__ = [
     "Printed",
     "Traced",
+    "expression_text",
     "glsl_source",
     "glsl_uniforms",
     "javascript_prepass",
+    "javascript_values",
     "print_function",
     "trace_entry",
     "trace_model",
@@ -540,6 +542,52 @@ def javascript_prepass(traced: Traced, printed: Printed, prefix: str = "rd") -> 
     body = _statements(traced.graph, printed.hoisted, ctx, set())
     values = ", ".join(ctx.name(traced.graph, r) for r in printed.hoisted)
     return "\n".join([*ctx.arrays.values(), *body, f"return [{values}];"])
+
+
+def javascript_values(graph: Graph, outputs: Mapping[str, Any]) -> str:
+    """The body of a JavaScript function ``(p) => ({name: value, ...})`` computing
+    ``outputs`` (name -> traced value or number) from the graph's inputs ``p[name]``, in
+    float64 (an Alias's conversion, :meth:`~roughdiffuse.models.alias.Alias.conversion`)."""
+    refs = {k: graph.ref(v) for k, v in outputs.items()}
+    ctx = _Context("js", "rd", lambda key: f"p[{key!r}]", {}, _literal_par(graph, "js"), {}, {})
+    body = _statements(graph, refs.values(), ctx, set())
+    values = ", ".join(f"{k!r}: {ctx.name(graph, r)}" for k, r in refs.items())
+    return "\n".join([*ctx.arrays.values(), *body, f"return {{{values}}};"])
+
+
+_PRECEDENCE = {"add": 1, "sub": 1, "mul": 2, "div": 2, "neg": 3, "pow": 4}
+_TEXT_OPS = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**"}
+
+
+def expression_text(graph: Graph, value: Any, digits: int = 6) -> str:
+    """A traced value as one infix expression to show (``sigma_deg * 0.0174533``): inputs by
+    name, numbers to ``digits`` significant digits, functions as ``sqrt(x)``."""
+
+    def text(r: tuple[Any, ...]) -> tuple[str, int]:
+        kind, val = r
+        if kind == "in":
+            return str(val), 9
+        if kind in ("lit", "par"):
+            v = float(val if kind == "lit" else graph.params[val])
+            out = f"{v:.{digits}g}"
+            return (f"({out})", 9) if v < 0 else (out, 9)
+        if kind == "vec":
+            return "[…]", 9
+        op, args = graph.nodes[val][0], graph.nodes[val][1:]
+        parts = [text(a) for a in args]
+        if op in _TEXT_OPS:
+            prec = _PRECEDENCE[op]
+            (a, pa), (b, pb) = parts
+            a = a if pa >= prec and not (op == "pow" and pa == prec) else f"({a})"
+            right_tight = op in ("sub", "div", "pow")
+            b = b if pb > prec or (pb == prec and not right_tight) else f"({b})"
+            return f"{a} {_TEXT_OPS[op]} {b}", prec
+        if op == "neg":
+            a, pa = parts[0]
+            return (f"-{a}" if pa >= 3 else f"-({a})"), 3
+        return f"{op}({', '.join(p for p, _ in parts)})", 9
+
+    return text(graph.ref(value))[0]
 
 
 def uniform_values(traced: Traced, printed: Printed) -> list[float]:

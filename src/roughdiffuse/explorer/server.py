@@ -1,11 +1,15 @@
 """The explorer's local web server (standard library only).
 
-It serves the static page in ``static/`` and four small JSON/PNG endpoints under ``/api/``:
+It serves the static page in ``static/`` and small JSON/PNG endpoints under ``/api/``:
 
 * ``/api/info.json``: what this server can do (``vase``: the Python renderer is importable;
   ``groundtruth``: the V-cavity solver is importable).
 * ``/api/models``: every model of :mod:`roughdiffuse.registry`, the same JSON as
-  ``roughdiffuse models --json``; the page builds its menus and sliders from it.
+  ``roughdiffuse models --json`` plus each model's printed shader (``shader``) and the
+  page's keys of its parameters (``state_keys``); the page builds its menus and sliders from
+  it. ``/glsl/models.glsl`` is the models' GLSL, printed from their code
+  (:mod:`roughdiffuse.explorer.shaders`), and ``/api/shader?p=<JSON record>`` the GLSL and
+  uniform values of a model traced on the server for one parameter set (the coat).
 * ``/api/vase.png?model=…&albedo=…``: the vase preset, rendered by :mod:`roughdiffuse.render`.
 * ``/api/groundtruth.json?sigma=…&theta_i=…&albedo=…&bounces=1|all``: V-cavity radiance in
   the plane of incidence, one bounce or all, computed by :mod:`roughdiffuse.simulate` on

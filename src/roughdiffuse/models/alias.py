@@ -5,7 +5,10 @@ convention (pbrt-v3's σ in degrees, Mitsuba 0.6's α = √2 σ, Filament's perc
 Such a variant is an :class:`Alias`: it declares its own parameters (the other project's
 names, units and ranges), the model it equals (``base`` with the categorical values in
 ``base_fixed``) and the conversion (:meth:`Alias.to_base`, elementwise, so the fast path,
-JAX and Dr.Jit run it); the formula stays the base model's.
+JAX and Dr.Jit run it); the formula stays the base model's. The explorer traces an alias
+like any model (:mod:`roughdiffuse.engine.glsl`); :meth:`Alias.conversion` traces
+:meth:`~Alias.to_base` alone, to show it and to convert the page's values for the base model
+(its ground truth).
 """
 
 from __future__ import annotations
@@ -14,7 +17,6 @@ from typing import Any, ClassVar
 
 from .._array import Array
 from .base import Model
-from .conversion import Tree, recorded_conversion
 
 __all__ = ["Alias"]
 
@@ -37,29 +39,35 @@ class Alias(Model):
         raise NotImplementedError
 
     @classmethod
-    def conversion(cls) -> dict[str, Tree]:
-        """:meth:`to_base` recorded as one expression tree per base parameter
-        (:mod:`~roughdiffuse.models.conversion`), checked against the numeric
-        :meth:`to_base` over each parameter's range: what the explorer evaluates before the
-        base model's GLSL, so the conversion stays declared once.
+    def conversion(cls) -> dict[str, Any]:
+        """:meth:`to_base` traced on symbols (:mod:`roughdiffuse.engine.trace`):
+        ``{"text": {name: expression}, "javascript": body}``, each base parameter as an
+        expression to show, and the body of a JavaScript function ``(p) => ({...})`` that
+        computes them from this model's values (``p.sigma_deg``; a colour channel by channel).
 
         Raises
         ------
-        NotRecordable
-            If :meth:`to_base` is more than arithmetic on its parameters.
+        TraceError
+            If :meth:`to_base` does what a trace cannot follow (a Python branch on a value).
 
         Examples
         --------
         >>> from roughdiffuse.models.renderers import Pbrt3OrenNayar
-        >>> Pbrt3OrenNayar.conversion()["sigma"]
-        ['*', 'sigma_deg', 0.017453292519943295]
+        >>> Pbrt3OrenNayar.conversion()["text"]["sigma"]
+        'sigma_deg * 0.0174533'
         """
-        ranges = {}
-        for p in cls.params:
-            if p.name in cls.array_fields:
-                lo, hi = p.bounds or (p.min or 0.0, (p.min or 0.0) + 1.0)
-                ranges[p.name] = (lo, hi)
-        return recorded_conversion(cls.to_base, ranges)
+        import numpy as np
+
+        from ..engine.glsl import expression_text, javascript_values
+        from ..engine.trace import Graph
+
+        graph = Graph(np.dtype(np.float64))
+        names = [p.name for p in cls.params if p.name in cls.array_fields]
+        out = cls.to_base(**{n: graph.input(n) for n in names})
+        return {
+            "text": {k: expression_text(graph, v) for k, v in out.items()},
+            "javascript": javascript_values(graph, out),
+        }
 
     def base_model(self) -> Model:
         """The equal model of the base class (its parameters converted)."""

@@ -86,12 +86,6 @@ class Model:
         (docs/_ext/rd_pages.py).
     symbols : dict
         Parameter name -> its LaTeX symbol in ``formula`` (``{"albedo": r"\\rho"}``).
-    glsl : dict
-        Registry id -> the model number ``brdf.glsl`` dispatches on, for each id the explorer's
-        GLSL holds a copy of (``{}``: none; the explorer then leaves the model out).
-    glsl_keys : dict
-        Declared parameter name -> its field in the GLSL's ``RDParams`` record, where the two
-        differ (``{"limb_darkening": "limb"}``).
     order : int
         Where the model's ids come in the registry (``roughdiffuse models``): classes are
         sorted by ``order``, then module name, then definition order. Default 1000 (after
@@ -99,9 +93,6 @@ class Model:
     test_points : dict
         Registry id -> parameter sets (keyword arguments of ``registry.get(id).create``) that
         the interface-wide tests run besides each parameter's ``example``.
-    glsl_test_points : dict
-        Registry id -> parameter sets the GLSL copy is checked at (float32 edge cases);
-        default: the ``example`` point and ``test_points``.
     traceable : bool
         False for a model computed by simulation on concrete NumPy values (``SmithDiffuse``):
         it cannot be traced by ``jax.jit`` (the renderer, fits).
@@ -134,11 +125,8 @@ class Model:
     reference: ClassVar[str] = ""
     formula: ClassVar[str | dict[str, str]] = ""
     symbols: ClassVar[dict[str, str]] = {}
-    glsl: ClassVar[dict[str, int]] = {}
-    glsl_keys: ClassVar[dict[str, str]] = {}
     order: ClassVar[int] = 1000
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {}
     traceable: ClassVar[bool] = True
     closed_form: ClassVar[bool] = True
     mitsuba: ClassVar[bool] = True

@@ -109,12 +109,8 @@ class Burley(Model):
     reference: ClassVar[str] = (
         "B. Burley, Physically-Based Shading at Disney, SIGGRAPH 2012 course notes, Eq. 3"
     )
-    glsl: ClassVar[dict[str, int]] = {"burley": 9}
     order: ClassVar[int] = 80
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"burley": ({"roughness": 0.5},)}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "burley": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "roughness": r"r",
@@ -180,13 +176,9 @@ class BurleyRenormalized(Model):
         "S. Lagarde, C. de Rousiers, Moving Frostbite to Physically Based Rendering,"
         " SIGGRAPH 2014 course notes, Listing 1"
     )
-    glsl: ClassVar[dict[str, int]] = {"frostbite": 10}
     order: ClassVar[int] = 90
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "frostbite": ({"roughness": 0.7},)
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "frostbite": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
@@ -259,13 +251,9 @@ class Burley2015(Model):
         "B. Burley, Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering, "
         "SIGGRAPH 2015 course notes, Eq. 4"
     )
-    glsl: ClassVar[dict[str, int]] = {"burley-2015": 11}
     order: ClassVar[int] = 100
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "burley-2015": ({"roughness": 0.3},)
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "burley-2015": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.5, 1.0))
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",

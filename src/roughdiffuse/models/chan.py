@@ -82,12 +82,8 @@ class Chan(Model):
     reference: ClassVar[str] = (
         "D. Chan, Material Advances in Call of Duty: WWII, SIGGRAPH 2018 course notes, Sec. 5"
     )
-    glsl: ClassVar[dict[str, int]] = {"chan": 13}
     order: ClassVar[int] = 120
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"chan": ({"alpha": 0.4},)}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "chan": tuple({"albedo": [0.9, 0.5, 0.05], "alpha": a} for a in (0.0, 0.01, 0.3, 1.0))
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "alpha": r"\alpha",

@@ -433,27 +433,6 @@ class Coated(Model):
              "absorption": 0.1},
         )
     }
-    glsl: ClassVar[dict[str, int]] = {"coated": 17}
-    glsl_keys: ClassVar[dict[str, str]] = {}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "coated": (
-            {"albedo": 0.8, "sigma": 0.3, "eta": 1.5},
-            {"albedo": 0.6, "sigma": 0.0, "eta": 1.5, "roughness": 0.3, "distribution": "ggx",
-             "absorption": 0.2},
-            {"albedo": 0.9, "sigma": 0.5, "eta": 2.0, "roughness": 0.2,
-             "distribution": "beckmann"},
-            {"albedo": 0.5, "sigma": 0.2, "eta": 1.2, "roughness": 0.7, "distribution": "ggx"},
-            # each other base of the menu, as the page sends it (every slider, σ included)
-            {"base": "lambert", "albedo": 0.7, "eta": 1.5, "roughness": 0.3,
-             "distribution": "ggx"},
-            {"base": "oren-nayar", "albedo": 0.8, "sigma": 0.4, "eta": 1.5},
-            {"base": "fujii", "albedo": 0.6, "base_roughness": 0.8, "eta": 1.8,
-             "roughness": 0.4, "distribution": "beckmann", "absorption": 0.3},
-            {"base": "eon", "albedo": 0.9, "base_roughness": 0.5, "eta": 1.5},
-            {"base": "eon", "albedo": 0.5, "base_roughness": 1.0, "eta": 1.3,
-             "roughness": 0.2, "distribution": "ggx"},
-        )
-    }
 
     @classmethod
     def from_params(

@@ -91,13 +91,9 @@ class EON(Model):
         "J. Portsmouth, P. Kutz, S. Hill, EON: A practical energy-preserving rough diffuse BRDF, "
         "JCGT 2025"
     )
-    glsl: ClassVar[dict[str, int]] = {"eon": 4}
     order: ClassVar[int] = 30
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "eon": ({"roughness": 0.0}, {"roughness": 1.0})
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "eon": tuple({"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0))
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",

@@ -98,12 +98,8 @@ class Fujii(Model):
     labels: ClassVar[dict[str, str]] = {"fujii": "Fujii (FON)"}
     sampling: ClassVar[Strategy] = CLTC
     reference: ClassVar[str] = "Y. Fujii, A tiny improvement of Oren-Nayar reflectance model (2012)"
-    glsl: ClassVar[dict[str, int]] = {"fujii": 3}
     order: ClassVar[int] = 20
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"fujii": ({"roughness": 0.6},)}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "fujii": tuple({"albedo": [0.9, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0))
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "roughness": r"r",

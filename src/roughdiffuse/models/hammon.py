@@ -79,12 +79,8 @@ class Hammon(Model):
     reference: ClassVar[str] = (
         "E. Hammon Jr., PBR Diffuse Lighting for GGX+Smith Microsurfaces, GDC 2017"
     )
-    glsl: ClassVar[dict[str, int]] = {"hammon": 12}
     order: ClassVar[int] = 110
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"hammon": ({"alpha": 0.5},)}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "hammon": tuple({"albedo": [0.9, 0.5, 0.05], "alpha": a} for a in (0.0, 0.3, 1.0))
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "alpha": r"\alpha",

@@ -333,28 +333,12 @@ class Hapke(Model):
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke": {}}
     labels: ClassVar[dict[str, str]] = {"hapke": "Hapke (planetary)"}
     reference: ClassVar[str] = _REFERENCE
-    glsl: ClassVar[dict[str, int]] = {"hapke": 15}
     order: ClassVar[int] = 140
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "hapke": (
             {"b0": 0.8, "h": 0.1, "g": -0.3, "theta_bar": 0.35},
             {"b0": 0.0, "h": 0.0, "g": 0.2, "theta_bar": 0.0},
             {"b0": 2.5, "h": 0.05, "g": 0.4, "theta_bar": 0.3, "hg2": 0.7},
-        )
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "hapke": (
-            {"albedo": [0.9, 0.5, 0.05], "b0": 0.8, "h": 0.06, "g": -0.3, "theta_bar": 0.35},
-            {"albedo": [1.0, 0.3, 0.02], "b0": 0.0, "h": 0.0, "g": 0.4, "theta_bar": 0.0},
-            {"albedo": [0.9, 0.5, 0.05], "b0": 1.0, "h": 1.0, "g": 0.0, "theta_bar": math.pi / 3},
-            {
-                "albedo": [0.9, 0.5, 0.05],
-                "b0": 2.5,
-                "h": 0.05,
-                "g": 0.45,
-                "theta_bar": 0.4,
-                "hg2": 0.7,
-            },
         )
     }
     symbols: ClassVar[dict[str, str]] = {

@@ -39,11 +39,7 @@ class Lambert(Model):
     ids: ClassVar[dict[str, dict[str, Any]]] = {"lambert": {}}
     labels: ClassVar[dict[str, str]] = {"lambert": "Lambert"}
     reference: ClassVar[str] = "J. H. Lambert, Photometria (1760)"
-    glsl: ClassVar[dict[str, int]] = {"lambert": 0}
     order: ClassVar[int] = 0
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lambert": ({"albedo": [0.9, 0.5, 0.05]}, {"albedo": [0.0, 1.0, 0.3]})
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
     }

@@ -198,13 +198,9 @@ class LambertSphere(Model):
     reference: ClassVar[str] = (
         "E. d'Eon, An analytic BRDF for materials with spherical Lambertian scatterers, EGSR 2021"
     )
-    glsl: ClassVar[dict[str, int]] = {"lambert-sphere": 14}
     order: ClassVar[int] = 130
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lambert-sphere": ({"variant": "full"}, {"variant": "fast"})
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lambert-sphere": tuple({"albedo": [1.0, 0.5, 0.2], "variant": v} for v in ("full", "fast"))
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"k_d",

@@ -64,11 +64,7 @@ class LommelSeeliger(Model):
     reference: ClassVar[str] = (
         "B. Hapke, Theory of Reflectance and Emittance Spectroscopy, 2nd ed. (2012), Eq. 9.13"
     )
-    glsl: ClassVar[dict[str, int]] = {"lommel-seeliger": 7}
     order: ClassVar[int] = 60
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lommel-seeliger": ({"albedo": [0.9, 0.5, 0.05]},)
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"w",
     }
@@ -144,16 +140,9 @@ class LunarLambert(Model):
         "A. S. McEwen, Photometric functions for photoclinometry and other applications, "
         "Icarus 92 (1991)"
     )
-    glsl: ClassVar[dict[str, int]] = {"lunar-lambert": 8}
     order: ClassVar[int] = 70
-    glsl_keys: ClassVar[dict[str, str]] = {"limb_darkening": "limb"}
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "lunar-lambert": ({"limb_darkening": 0.6},)
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "lunar-lambert": tuple(
-            {"albedo": [0.9, 0.5, 0.05], "limb_darkening": v} for v in (0.0, 0.6, 1.0)
-        )
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",

@@ -73,12 +73,8 @@ class Minnaert(Model):
     reference: ClassVar[str] = (
         "M. Minnaert, The reciprocity principle in lunar photometry, ApJ 93 (1941) 403"
     )
-    glsl: ClassVar[dict[str, int]] = {"minnaert": 16}
     order: ClassVar[int] = 150
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {"minnaert": ({"k": 0.7},)}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "minnaert": tuple({"albedo": [0.9, 0.5, 0.05], "k": k} for k in (0.0, 0.5, 1.0, 1.7))
-    }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",
         "k": r"k",

@@ -79,18 +79,9 @@ class Mix(Model):
     ids: ClassVar[dict[str, dict[str, Any]]] = {"mix": {}}
     labels: ClassVar[dict[str, str]] = {"mix": "Mix: Oren–Nayar full + Torrance–Sparrow"}
     reference: ClassVar[str] = "weighted sum of models (Mitsuba 3 blendbsdf)"
-    glsl: ClassVar[dict[str, int]] = {"mix": 6}
     order: ClassVar[int] = 50
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "mix": ({"sigma": 0.3, "weight": 0.1, "eta": 1.5},)
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "mix": (
-            {"albedo": [0.9, 0.5, 0.05], "sigma": 0.3, "weight": 0.3, "eta": 1.5},
-            {"albedo": [0.2, 0.4, 0.6], "sigma": 0.8, "weight": 0.7, "eta": 2.0},
-            {"albedo": [0.9, 0.5, 0.05], "sigma": 0.1, "weight": 0.1, "eta": 1.3,
-             "distribution": "beckmann"},
-        )
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",

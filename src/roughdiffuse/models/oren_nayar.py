@@ -159,19 +159,10 @@ class OrenNayar(Model):
     reference: ClassVar[str] = (
         "M. Oren, S. K. Nayar, Generalization of Lambert's reflectance model, SIGGRAPH 1994"
     )
-    glsl: ClassVar[dict[str, int]] = {"oren-nayar": 1, "oren-nayar-full": 2}
     order: ClassVar[int] = 10
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "oren-nayar": ({"sigma": 0.0}, {"sigma": 0.4}),
         "oren-nayar-full": ({"sigma": 0.4}, {"sigma": math.pi / 2}),
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "oren-nayar": tuple(
-            {"albedo": [0.9, 0.5, 0.05], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)
-        ),
-        "oren-nayar-full": tuple(
-            {"albedo": [1.0, 0.6, 0.1], "sigma": s} for s in (0.0, 0.1, 0.3, 0.7, 1.2, math.pi / 2)
-        ),
     }
     symbols: ClassVar[dict[str, str]] = {
         "albedo": r"\rho",

@@ -57,13 +57,6 @@ def _unit(name: str, text: str, example: float = 0.5, hi: float = 1.0) -> Param:
     return Param(name, text, min=0.0, max=hi, default=0.0, example=example)
 
 
-def _glsl_points(ids: Any, name: str, values: tuple[float, ...]) -> dict[str, Any]:
-    """``glsl_test_points`` of an alias: the explorer evaluates its base model's GLSL after
-    the recorded conversion, checked at these values of ``name`` (coloured ρ)."""
-    points = tuple({"albedo": [1.0, 0.5, 0.05], name: v} for v in values)
-    return {i: points for i in ids}
-
-
 # ----------------------------------------------------------------------------- new formulas
 @register_pytree
 @dataclass(frozen=True)
@@ -125,12 +118,6 @@ class CyclesDiffuse(Model):
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "cycles-diffuse": ({"roughness": 0.0}, {"roughness": 1.0, "albedo": 0.5})
     }
-    glsl: ClassVar[dict[str, int]] = {"cycles-diffuse": 20, "cycles-principled": 20}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "cycles-diffuse": tuple(
-            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
-        )
-    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -187,12 +174,6 @@ class MaterialXEON(Model):
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "materialx-eon": ({"roughness": 0.0}, {"roughness": 1.0})
     }
-    glsl: ClassVar[dict[str, int]] = {"materialx-eon": 21}
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        "materialx-eon": tuple(
-            {"albedo": [1.0, 0.5, 0.05], "roughness": r} for r in (0.0, 0.01, 0.3, 1.0)
-        )
-    }
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
@@ -241,9 +222,6 @@ class MaterialXOrenNayar(Alias):
         "MaterialX, libraries/pbrlib/genglsl/lib/mx_microfacet_diffuse.glsl, mx_oren_nayar_diffuse"
     )
     order: ClassVar[int] = _ORDER + 20
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("materialx-oren-nayar",), "roughness", (0.0, 0.5, 1.0)
-    )
     base: ClassVar[type[Model]] = OrenNayar
     base_fixed: ClassVar[dict[str, Any]] = {"variant": "qualitative"}
 
@@ -281,9 +259,6 @@ class OpenPBRDiffuse(Alias):
         "OpenPBR Surface 1.1 specification, section 'Base: Diffuse' (base_diffuse_roughness, EON)"
     )
     order: ClassVar[int] = _ORDER + 30
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("openpbr-diffuse",), "roughness", (0.0, 0.3, 1.0)
-    )
     base: ClassVar[type[Model]] = EON
 
     @staticmethod
@@ -329,9 +304,6 @@ class Mitsuba06RoughDiffuse(Alias):
     }
     reference: ClassVar[str] = "Mitsuba 0.6, src/bsdfs/roughdiffuse.cpp, RoughDiffuse::eval"
     order: ClassVar[int] = _ORDER + 40
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ids, "alpha", (0.0, 0.5, ALPHA_MAX)
-    )
     base: ClassVar[type[Model]] = OrenNayar
 
     def base_model(self) -> Model:
@@ -377,9 +349,6 @@ class Pbrt3OrenNayar(Alias):
         "pbrt-v3, src/core/reflection.cpp, OrenNayar::f (and its constructor)"
     )
     order: ClassVar[int] = _ORDER + 50
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("pbrt3-oren-nayar",), "sigma_deg", (0.0, 20.0, 90.0)
-    )
     base: ClassVar[type[Model]] = OrenNayar
     base_fixed: ClassVar[dict[str, Any]] = {"variant": "qualitative"}
 
@@ -413,9 +382,6 @@ class UnrealBurley(Alias):
     labels: ClassVar[dict[str, str]] = {"unreal-burley": "Unreal Diffuse_Burley"}
     reference: ClassVar[str] = "Unreal Engine, Engine/Shaders/Private/BRDF.ush, Diffuse_Burley"
     order: ClassVar[int] = _ORDER + 60
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unreal-burley",), "roughness", (0.0, 0.5, 1.0)
-    )
     base: ClassVar[type[Model]] = Burley
 
     @staticmethod
@@ -448,9 +414,6 @@ class FilamentBurley(Alias):
     labels: ClassVar[dict[str, str]] = {"filament-burley": "Filament Fd_Burley"}
     reference: ClassVar[str] = "Filament, shaders/src/brdf.fs, Fd_Burley (roughness = perceptual²)"
     order: ClassVar[int] = _ORDER + 70
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("filament-burley",), "roughness", (0.0, 0.5, 1.0)
-    )
     base: ClassVar[type[Model]] = Burley
 
     @staticmethod
@@ -484,9 +447,6 @@ class UnrealChan(Alias):
     labels: ClassVar[dict[str, str]] = {"unreal-chan": "Unreal Diffuse_Chan"}
     reference: ClassVar[str] = "Unreal Engine 5, Engine/Shaders/Private/BRDF.ush, Diffuse_Chan"
     order: ClassVar[int] = _ORDER + 80
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unreal-chan",), "roughness", (0.0, 0.5, 1.0)
-    )
     base: ClassVar[type[Model]] = Chan
 
     @staticmethod
@@ -523,9 +483,6 @@ class UnityDiffuseGGX(Alias):
         "DiffuseGGXNoPI and DiffuseGGX"
     )
     order: ClassVar[int] = _ORDER + 90
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = _glsl_points(
-        ("unity-diffuse-ggx",), "roughness", (0.0, 0.3, 1.0)
-    )
     base: ClassVar[type[Model]] = Hammon
 
     @staticmethod

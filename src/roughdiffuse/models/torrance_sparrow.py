@@ -144,24 +144,10 @@ class TorranceSparrow(Model):
         "K. E. Torrance, E. M. Sparrow, Theory for off-specular reflection from roughened "
         "surfaces, JOSA 57 (1967)"
     )
-    glsl: ClassVar[dict[str, int]] = {"torrance-sparrow": 5, "torrance-sparrow-beckmann": 5}
     order: ClassVar[int] = 40
     test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
         "torrance-sparrow": ({"eta": 1.5, "sigma": 0.3}, {"eta": 0.7, "sigma": 0.2}),
         "torrance-sparrow-beckmann": ({"eta": 1.5, "alpha": _SQRT2 * 0.3},),
-    }
-    glsl_test_points: ClassVar[dict[str, tuple[dict[str, Any], ...]]] = {
-        # σ from 0.03 rad (float32 limit), η = 0.75 (no grid point on the critical angle)
-        "torrance-sparrow": tuple(
-            {"sigma": s, "eta": eta}
-            for s in (0.0, 0.03, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
-            for eta in (1.5, 0.75, 2.5)
-        ),
-        "torrance-sparrow-beckmann": tuple(
-            {"alpha": _SQRT2 * s, "eta": eta}
-            for s in (0.0, 0.03, 0.05, 0.2, 0.5, 1.2, math.pi / 2)
-            for eta in (1.5, 0.75, 2.5)
-        ),
     }
     symbols: ClassVar[dict[str, str]] = {
         "eta": r"\eta",

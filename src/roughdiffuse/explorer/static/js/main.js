@@ -97,7 +97,7 @@ function buildPanel(slot) {
   if (slot === "a" && LEFT_OUT.length) {
     const note = document.createElement("p");
     note.id = "models-left-out";
-    note.textContent = "Not in the menus (no GLSL copy of the formula): " +
+    note.textContent = "Not in the menus (computed by simulation or from a table, not a formula the GLSL is printed from): " +
       LEFT_OUT.map((m) => m.key).join(", ") + ". `roughdiffuse render --model ID` renders them.";
     root.append(note);
   }

@@ -81,25 +81,6 @@ export function setModels(records) {
   }
 }
 
-const BINARY = { "+": (a, b) => a + b, "-": (a, b) => a - b, "*": (a, b) => a * b, "/": (a, b) => a / b, "**": (a, b) => a ** b };
-
-/** The value of an expression tree of roughdiffuse.models.conversion (a parameter's name, a
- * number, or [op, operand, ...]) for the parameter values (numbers or arrays, elementwise). */
-export function evaluateTree(tree, values) {
-  if (typeof tree === "string") {
-    if (!(tree in values)) throw new Error(`the conversion reads an unknown parameter ${tree}`);
-    return values[tree];
-  }
-  if (typeof tree === "number") return tree;
-  const [op, ...args] = tree;
-  const xs = args.map((a) => evaluateTree(a, values));
-  const f = op === "neg" ? (a) => -a : BINARY[op];
-  if (!f) throw new Error(`the conversion has an unknown operation ${op}`);
-  const n = xs.find((x) => Array.isArray(x) || ArrayBuffer.isView(x))?.length;
-  if (n === undefined) return f(...xs);
-  return Array.from({ length: n }, (_, j) => f(...xs.map((x) => (typeof x === "number" ? x : x[j]))));
-}
-
 /** Fetch /api/models and fill the tables. */
 export async function loadModels(url = "api/models") {
   const r = await fetch(url);
@@ -208,8 +189,9 @@ export function applies(p, s) {
 }
 
 /** An alias's state (UI state or a record with radians) as its base model's record: the
- * alias's own parameter values (declared defaults for those missing) through the conversion
- * its Python to_base declares (recorded on the server, roughdiffuse.models.conversion). */
+ * alias's own parameter values (declared defaults for those missing) through its conversion,
+ * traced on the server from its Python to_base (roughdiffuse.models.alias, `to_base`: a
+ * function body; a colour channel by channel). */
 export function baseState(s) {
   const m = BY_KEY[s.model];
   const own = {};
@@ -220,10 +202,16 @@ export function baseState(s) {
     if (v === undefined) v = p.channels ? [p.default, p.default, p.default] : p.default;
     own[p.name] = v;
   }
+  // eslint-disable-next-line no-new-func
+  const convert = new Function("p", m.alias.to_base);
+  const arrays = Object.values(own).find((v) => Array.isArray(v) || ArrayBuffer.isView(v));
+  const channel = (c) => Object.fromEntries(Object.entries(own).map(([k, v]) => [k, typeof v === "number" ? v : v[c]]));
+  const out = arrays ? [0, 1, 2].map((c) => convert(channel(c))) : [convert(own)];
   const base = { model: m.alias.base, ...m.alias.fixed };
-  for (const [name, tree] of Object.entries(m.alias.to_base)) {
-    const v = evaluateTree(tree, own);
-    base[flatKey(name)] = typeof v === "number" ? v : Array.from(v);
+  const declared = BY_KEY[m.alias.base].params;
+  for (const name of Object.keys(out[0])) {
+    const vs = out.map((o) => o[name]);
+    base[flatKey(name)] = declared[flatKey(name)]?.channels ? (vs.length === 3 ? vs : [vs[0], vs[0], vs[0]]) : vs[0];
   }
   return base;
 }
