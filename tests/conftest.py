@@ -60,6 +60,7 @@ FILE_SECONDS = {
     "test_models_coated.py": 50, "test_explorer_data.py": 40, "test_stereo_cli.py": 40,
     "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
     "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,
+    "test_export_glsl.py": 90,
 }
 
 
