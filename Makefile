@@ -9,7 +9,7 @@ PIP    := $(PY) -m pip
 # libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
 export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
 
-.PHONY: figures test docs install install-test test-all install-docs install-blender system-deps lint bench clean
+.PHONY: figures test docs install install-test install-js test-all install-docs install-blender system-deps lint bench clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -45,6 +45,14 @@ $(BLENDER_VENV)/.installed:
 
 install-blender: $(BLENDER_VENV)/.installed
 
+# three.js (npm) for the test that renders `roughdiffuse export --to glsl` in a ShaderMaterial:
+# the versions of tests/js/package-lock.json, installed by `npm ci` into tests/js/node_modules
+tests/js/node_modules/.installed: tests/js/package-lock.json
+	npm ci --prefix tests/js --no-audit --no-fund --loglevel=error
+	touch $@
+
+install-js: tests/js/node_modules/.installed
+
 install: $(VENV)/.installed
 
 install-test: $(VENV)/.installed-test
@@ -64,7 +72,7 @@ WORKERS ?= $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null ||
 # `make test` leaves out the tests marked slow (pyproject.toml); `make test SLOW=1` (CI) and
 # `make test-all` run every one
 SLOW ?=
-test: install-test system-deps
+test: install-test system-deps install-js
 	$(PY) -m ruff check src tests $(wildcard bench examples)
 	$(PY) -m pytest -n $(WORKERS) --dist loadfile --no-loadscope-reorder $(if $(SLOW),,-m "not slow")
 
@@ -79,4 +87,4 @@ bench: install
 	$(PY) bench/run.py
 
 clean:
-	rm -rf $(VENV) $(BLENDER_VENV) figures .pytest_cache docs/_build docs/models docs/api docs/auto_gallery docs/jupyter_execute
+	rm -rf $(VENV) $(BLENDER_VENV) tests/js/node_modules figures .pytest_cache docs/_build docs/models docs/api docs/auto_gallery docs/jupyter_execute

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # System packages the test suite needs: Chromium (explorer tests, Playwright drives it) and
 # libLLVM >= 15 (Mitsuba 3's llvm_ad_rgb variant); glslang-tools (glslangValidator compiles
-# the GLSL MaterialX generates from exported .mtlx files). Installed with apt-get when missing and
+# the GLSL MaterialX generates from exported .mtlx files); npm (three.js for the test of the
+# exported GLSL, `npm ci` in tests/js). Installed with apt-get when missing and
 # running as root; otherwise named, with the command to run, and the script fails.
 set -euo pipefail
 need=()
 command -v chromium >/dev/null 2>&1 || need+=(chromium)
 ls /usr/lib/*/libLLVM.so.19* /usr/lib/*/libLLVM-19.so >/dev/null 2>&1 || need+=(libllvm19)
 command -v glslangValidator >/dev/null 2>&1 || need+=(glslang-tools)
+command -v npm >/dev/null 2>&1 || need+=(npm)
 [ ${#need[@]} -eq 0 ] && exit 0
 if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
   echo "installing system packages: ${need[*]}"

@@ -62,6 +62,7 @@ FILE_SECONDS = {
     "test_stereo.py": 35, "test_simulate_surface.py": 30, "test_sampling_strategies.py": 28,
     "test_doctests.py": 28, "test_simulate_layered.py": 25, "test_mitsuba_registry.py": 24,
     "test_c_baselines.py": 20,
+    "test_export_glsl.py": 90,
 }
 
 

@@ -97,6 +97,7 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
     "export": (
         AppliesOnly(("--principled", "--no-blend"), _to("blender"), "--to blender"),
         AppliesOnly(("--openpbr",), _to("materialx"), "--to materialx"),
+        AppliesOnly(("--uniforms", "--name"), _to("glsl"), "--to glsl"),
     ),
     "albedo": (
         Conflict("--variance", "--output", "--variance prints a table and writes no plot"),

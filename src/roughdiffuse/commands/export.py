@@ -1,12 +1,12 @@
 """``roughdiffuse export``: write a model or a fit result as a Mitsuba, MaterialX or Blender
-material."""
+material, or as a GLSL function for the user's own shader."""
 
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from . import UsageError
+from ._checks import output_file
 from ._common import add_model_arguments, model_from_args
 from ._export_targets import export_errors
 
@@ -15,6 +15,14 @@ examples:
   roughdiffuse export --model oren-nayar-full --param sigma=20 --to blender -o mat.py
   roughdiffuse export --model eon --roughness 0.5 --to materialx -o mat.mtlx --openpbr
   roughdiffuse export --model eon --roughness 0.5 --to mitsuba -o scene.xml
+  roughdiffuse export --model oren-nayar-full --param sigma=20 --to glsl -o brdf.glsl
+  roughdiffuse export --model hapke-2012 --to glsl --uniforms -o hapke.glsl
+
+GLSL (WebGL 2, three.js, Godot): `vec3 rd_brdf(vec3 wi, vec3 wo)`, the BRDF in 1/sr
+printed from the model's own code, wi and wo in the surface's frame (z the normal); paste it
+above your shader's main and shade with rd_brdf(wi, wo) * E0 * max(wi.z, 0.0). --uniforms
+declares the parameters as uniforms (named as in `roughdiffuse models`, angles in radians)
+instead of baking their values in.
 
 A fit result instead of a model: `roughdiffuse fit DATA --json > fit.json`, then
 `--from fit.json` (also a stereo run's `params.json`, or `{"model": ID, "params": {...}}`).
@@ -26,15 +34,19 @@ and the conversion error is printed and written in the file's comments.
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "export",
-        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material",
-        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx or a Blender .py "
-        "for a model (--model, --param) or a fit result (--from fit JSON or stereo params.json).",
+        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material, or "
+        "as a GLSL function",
+        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx, a Blender .py or "
+        "a GLSL ES 3.00 function for a model (--model, --param) or a fit result (--from fit "
+        "JSON or stereo params.json).",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_arguments(p)
     p.add_argument("--from", dest="source", metavar="FILE.json", help="a fit result instead")
-    p.add_argument("--to", required=True, metavar="TARGET", help="mitsuba, materialx or blender")
+    p.add_argument(
+        "--to", required=True, metavar="TARGET", help="mitsuba, materialx, blender or glsl"
+    )
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="the file to write")
     p.add_argument(
         "--openpbr",
@@ -50,6 +62,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="Blender: the .py only (by default a .blend is also written beside it where "
         "Blender's Python is found: make install-blender, or ROUGHDIFFUSE_BLENDER_PYTHON)",
     )
+    p.add_argument(
+        "--uniforms",
+        action="store_true",
+        help="GLSL: the parameters as uniforms set by your program (default: values baked in)",
+    )
+    p.add_argument(
+        "--name",
+        default="rd_brdf",
+        metavar="NAME",
+        help="GLSL: the function's name (default: rd_brdf)",
+    )
     p.set_defaults(func=run)
 
 
@@ -59,9 +82,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
-    out = Path(args.output)
-    if not out.parent.is_dir():
-        raise UsageError(f"--output: folder {str(out.parent)!r} does not exist")
+    # checked before any work; export replaces an existing file (its habit, no --force)
+    out = output_file(args.output, option="--output", overwrite=True)
     if args.source:
         try:
             model = load_result(args.source)
@@ -74,6 +96,13 @@ def run(args: argparse.Namespace) -> int:
             blend = False if args.no_blend else None
             result = write_blender(model, out, principled=args.principled, blend=blend)
         else:
-            result = export(model, args.to, out, openpbr=args.openpbr)
+            result = export(
+                model,
+                args.to,
+                out,
+                openpbr=args.openpbr,
+                uniforms=args.uniforms,
+                name=args.name,
+            )
     print(result.summary())
     return 0

@@ -10,7 +10,10 @@ Targets (:data:`TARGETS`):
   ``openpbr=True``, an ``open_pbr_surface`` with ``base_diffuse_roughness``);
 * ``blender``: a ``.py`` that builds the node tree (Diffuse BSDF) when run by Blender or
   ``bpy``, and beside it a ``.blend`` saved by Blender where Blender's Python is found
-  (:mod:`roughdiffuse.materials.blender_run`).
+  (:mod:`roughdiffuse.materials.blender_run`);
+* ``glsl``: a GLSL ES 3.00 function ``vec3 rd_brdf(vec3 wi, vec3 wo)`` for a WebGL 2,
+  three.js or Godot shader, printed from the model's own code (exact; parameter values baked
+  in, or uniforms with ``uniforms=True``; :mod:`roughdiffuse.materials.glsl`).
 
 Where the target cannot hold the model exactly, the parameters are converted
 (:func:`roughdiffuse.fit.between_models.convert`) and the conversion error is written into
@@ -38,9 +41,10 @@ TARGETS: dict[str, tuple[str, str]] = {
     "mitsuba": (".xml", ""),
     "materialx": (".mtlx", "materialx-eon"),
     "blender": (".py", "cycles-diffuse"),
+    "glsl": (".glsl", ""),
 }
 """Export targets: their file suffix and the registry model the renderer evaluates ('' for
-Mitsuba: the plugin of the model itself)."""
+Mitsuba and GLSL: the model itself)."""
 
 
 def _from_fit_json(data: dict[str, Any]) -> dict[str, Any]:
@@ -113,6 +117,8 @@ def export(
     *,
     openpbr: bool = False,
     blend: bool | None = None,
+    uniforms: bool = False,
+    name: str = "rd_brdf",
 ) -> Export:
     """Write ``model`` as a ``target`` material to ``path`` (files written whole or not at all).
 
@@ -120,7 +126,7 @@ def export(
     ----------
     model : Model
         The model (from the registry, a fit, or :func:`load_result`).
-    target : {"mitsuba", "materialx", "blender"}
+    target : {"mitsuba", "materialx", "blender", "glsl"}
     path : path
         The file to write (Mitsuba also writes the scene dict beside it, ``.py``).
     openpbr : bool
@@ -128,6 +134,11 @@ def export(
     blend : bool or None
         Blender: also the ``.blend`` beside the script (same name), saved by Blender's own
         Python: ``None`` where it is found, ``True`` always, ``False`` never.
+    uniforms : bool
+        GLSL: the model's numeric parameters as ``uniform`` declarations (named after the
+        parameters, angles in radians) instead of constants.
+    name : str
+        GLSL: the function's name, ``vec3 NAME(vec3 wi, vec3 wo)``.
 
     Raises
     ------
@@ -151,6 +162,10 @@ def export(
         from .materialx import write as write_mtlx
 
         return write_mtlx(model, path, openpbr=openpbr)
+    if target == "glsl":
+        from .glsl import write as write_glsl
+
+        return write_glsl(model, path, uniforms=uniforms, name=name)
     from .blender import write as write_blender
 
     return write_blender(model, path, blend=blend)
