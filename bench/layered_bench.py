@@ -1,10 +1,12 @@
 """Speed of the coat: ``python bench/layered_bench.py [--rows-log2 20] [--repeat 5]``.
 
 1. The layered walk (:func:`roughdiffuse.simulate.layered.brdf`): path segments (arrivals on
-   the base) per CPU second (``time.process_time``, every thread counted), compiled and NumPy,
-   for a Lambertian base under a smooth coat, an Oren–Nayar base under a rough GGX coat and
-   an EON base under a rough Beckmann coat; beside it, in the same run, the compiled Smith
-   walk's segments per CPU second as the reference, and the ratio to it
+   the base, and facet events of the multiple-scattering interface) per CPU second
+   (``time.process_time``, every thread counted), compiled (the default interface: multiple
+   scattering; and the single-scattering one) and NumPy (single-scattering interface, the
+   only one it has), for a Lambertian base under a smooth coat, an Oren–Nayar base under a
+   rough GGX coat and an EON base under a rough Beckmann coat; beside it, in the same run,
+   the compiled Smith walk's segments per CPU second as the reference, and the ratio to it
    (``--walk-only``: this part alone; ``--write``: its table replaces the marked one in
    bench/RESULTS.md).
 2. ``Coated`` over Lambert with a rough GGX and a rough Beckmann coat: the default call
@@ -117,10 +119,11 @@ WALK_CASES = (
 )
 
 
-def _walk_rate(engine: str, base, alpha: float, dist: str, samples: int) -> tuple[int, float]:
+def _walk_rate(engine: str, base, alpha: float, dist: str, samples: int,
+               interface: str = "multiple") -> tuple[int, float]:
     """(segments, CPU seconds) of one call of the layered walk on 4 geometries."""
     g = np.radians([0.0, 30.0, 60.0, 80.0])
-    kw = dict(roughness=alpha, distribution=dist, engine=engine)
+    kw = dict(roughness=alpha, distribution=dist, engine=engine, interface=interface)
     t0 = time.process_time()
     _, seg = layered.brdf(g, g[::-1], 1.0, base, samples=samples, return_segments=True, **kw)
     return seg, time.process_time() - t0
@@ -153,19 +156,27 @@ def walk_rates(samples: int, repeat: int = 3) -> list[str]:
         keep("smith", _smith_rate(samples))
         for label, base, alpha, dist in WALK_CASES:
             keep(label, _walk_rate("compiled", base, alpha, dist, samples))
+            if alpha > 0:
+                keep(label + " single", _walk_rate("compiled", base, alpha, dist, samples,
+                                                   "single"))
     seg, cpu = best["smith"]
     smith_rate = seg / cpu
     lines = [f"| Smith walk (compiled, reference), α = 0.5 | {seg:,} | {cpu:.2f} | "
              f"{smith_rate / 1e6:.2f} | 1 |"]
     for label, base, alpha, dist in WALK_CASES:
         seg, cpu = best[label]
-        lines.append(f"| layered walk (compiled), {label} | {seg:,} | {cpu:.2f} | "
+        kind = "multiple-scattering interface" if alpha > 0 else "smooth"
+        lines.append(f"| layered walk (compiled, {kind}), {label} | {seg:,} | {cpu:.2f} | "
                      f"{seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
+        if alpha > 0:
+            seg, cpu = best[label + " single"]
+            lines.append(f"| layered walk (compiled, single interface), {label} | {seg:,} | "
+                         f"{cpu:.2f} | {seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
         n = max(samples // 5, 2_000)
         layered.brdf(0.3, 0.3, 0.0, base, samples=200, roughness=alpha, distribution=dist,
-                     engine="numpy")
-        seg, cpu = _walk_rate("numpy", base, alpha, dist, n)
-        lines.append(f"| layered walk (numpy), {label} | {seg:,} | {cpu:.2f} | "
+                     engine="numpy", interface="single")
+        seg, cpu = _walk_rate("numpy", base, alpha, dist, n, "single")
+        lines.append(f"| layered walk (numpy, single interface), {label} | {seg:,} | {cpu:.2f} | "
                      f"{seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
     return lines
 
@@ -203,7 +214,8 @@ def walk_markdown(samples: int, repeat: int) -> str:
     return "\n".join([
         BEGIN,
         _run_line(command) + " Path segments (arrivals "
-        f"on the base) per CPU second on {threads} Numba thread(s), every thread counted "
+        "on the base, and each facet event of the multiple-scattering interface) per CPU second"
+        f" on {threads} Numba thread(s), every thread counted "
         "(`time.process_time`), 4 "
         f"geometries × {samples:,} paths; the compiled walks interleaved over {repeat} rounds, "
         "each its fastest round; the NumPy walk one round of a fifth of the paths; the last "

@@ -229,10 +229,28 @@ def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
     return xp.sum(f * w, axis=-1)
 
 
+_EB_NODES, _EB_WEIGHTS = gauss_legendre(8)
+
+
+def _mean_reflectance(xp: Any, eta: Array, alpha: Array, distribution: str,
+                      dtype: Any) -> Array:
+    """Ē = ∫ E(μ) 2μ dμ, E the coat's reflectance from above (:func:`interface_albedo`),
+    8 Gauss–Legendre nodes in μ on one trailing axis."""
+    mu_e = asarray(xp, _EB_NODES, dtype)
+    e = interface_albedo(xp, mu_e + 0.0 * _node_axis(xp, eta), _node_axis(xp, eta),
+                         _node_axis(xp, alpha), distribution)
+    return xp.sum(e * 2.0 * mu_e * asarray(xp, _EB_WEIGHTS, dtype), axis=-1)
+
+
 def _internal_sums(xp: Any, base: Model, eta: Array, tau: Array, alpha: Array,
                    distribution: str, dtype: Any, channels: bool = False):
     """K = ∫ R(μ) e^{−2τ/μ} 2μ dμ and ā K = ∫ a(μ) R(μ) e^{−2τ/μ} 2μ dμ, R the coat's
-    reflectance from inside (:func:`interface_albedo` with 1/η; F(μ, 1/η) when smooth),
+    reflectance from inside (:func:`interface_albedo` with 1/η; F(μ, 1/η) when smooth).
+    A rough interface loses no light (the multiple-scattering microsurface of Heitz,
+    Hanika, d'Eon and Dachsbacher 2016): T = 1 − R on both sides, and the reciprocity of a
+    dielectric interface, η² T̄_below = T̄_above, gives its K at τ = 0 exactly,
+    1 − (1 − Ē)/η² (:func:`_mean_reflectance`); the single-scattering R misses part of it,
+    which is added as a diffuse (constant) reflectance. The rules are
     split at the critical cosine μc = √(1 − 1/η²) (R = 1 below it when smooth; μc = 0 for
     η ≤ 1): 8 nodes on each side, on one trailing axis (in √(μ − μc) above μc, where
     F(μ, 1/η) − 1 has a square-root edge). With ``channels``, both are per channel (a
@@ -243,7 +261,13 @@ def _internal_sums(xp: Any, base: Model, eta: Array, tau: Array, alpha: Array,
     width = mu_c + (1.0 - 2.0 * mu_c) * upper  # μc below it, 1 − μc above
     mu = lo + width * asarray(xp, _KS_X, dtype)
     r = interface_albedo(xp, mu, 1.0 / _node_axis(xp, eta), _node_axis(xp, alpha), distribution)
-    term = width * asarray(xp, _KS_JAC, dtype) * r * 2.0 * mu
+    cosine = width * asarray(xp, _KS_JAC, dtype) * 2.0 * mu  # its sum is ∫ 2μ dμ = 1
+    # what the single-scattering R misses of the rough interface's own K = 1 − (1 − Ē)/η²,
+    # spread evenly over the cosine-weighted hemisphere; 0 for a smooth coat (K_ss exact)
+    missing = 1.0 - (1.0 - _mean_reflectance(xp, eta, alpha, distribution, dtype)) / (
+        eta * eta) - xp.sum(cosine * r, axis=-1)
+    missing = xp.where(alpha > 0, missing, 0.0 * missing)
+    term = cosine * (r + _node_axis(xp, missing))
     a = base_albedo(xp, base, mu, dtype)
     if channels:
         term, mu = term[..., None], mu[..., None]
@@ -571,8 +595,10 @@ class Coated(Model):
         inv_eta2 = 1.0 / (eta * eta)
         cos_in = clip(xp, ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0)
         dist = self.distribution
-        trans = interface_albedo(xp, mi, eta, alpha, dist, transmitted=True) * interface_albedo(
-            xp, mo, eta, alpha, dist, transmitted=True)
+        # the rough interface's own energy: what it does not reflect enters (T = 1 − E, as
+        # for a multiple-scattering microsurface, which loses nothing)
+        trans = (1.0 - interface_albedo(xp, mi, eta, alpha, dist)) * (
+            1.0 - interface_albedo(xp, mo, eta, alpha, dist))
         single = self.base._eval(xp, ri, ro, cos_in, dtype)
         chan = self.channels > 0
         k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype, chan)
