@@ -23,11 +23,20 @@ OpenPBR's coat, Autodesk Standard Surface and Mitsuba 3's ``plastic``/``roughpla
   after an internal reflection is diffuse.
 * f_coat: nothing for a smooth coat (its mirror reflection, F(μi, η), is a Dirac delta that
   no BRDF value holds); for a rough one (α > 0) the microfacet reflection of Walter,
-  Marschner, Li and Torrance 2007, eq. 20, F(ωi·h) D(h) G1(ωi) G1(ωo) / (4 μi μo), GGX or
-  Beckmann, separable Smith masking (Beckmann's Λ by Walter's rational fit, eq. 27). The
-  rough coat's transmittance is approximated by the smooth one's, 1 − F(μ, η), as in
-  Weidlich and Wilkie's layering: how far this is from the truth is measured against the
-  position-free walk (:mod:`roughdiffuse.simulate.layered`) on the accuracy page.
+  Marschner, Li and Torrance 2007, eq. 20, F(ωi·h) D(h) G2 / (4 μi μo), GGX or Beckmann,
+  with the height-correlated masking and shadowing G2 = 1/(1 + Λi + Λo) of the Smith
+  microsurface (Heitz 2014, eq. 99; Beckmann's Λ by Walter's rational fit, eq. 27): the
+  single scattering of the exact interface.
+* The rough coat's transmittances and internal reflectance are its own energy: a Smith
+  microsurface loses no light (Heitz, Hanika, d'Eon and Dachsbacher 2016), so what it does
+  not reflect enters, T(μ) = 1 − E(μ) in both directions, E its directional reflectance
+  (:func:`interface_albedo`), and the reciprocity of a dielectric interface,
+  η² T̄_below = T̄_above, gives its internal diffuse reflectance without absorption exactly,
+  K = 1 − (1 − Ē)/η² (:func:`_internal_sums`). E and f_coat are single scattering: the light
+  the interface reflects after two or more facet events (a few per cent of its reflection,
+  most of it near grazing) is left out of f_coat and counted as transmitted, so the white
+  furnace stays 1. How far this is from the truth is measured against the layered walk
+  with the exact interface (:mod:`roughdiffuse.simulate.layered`) on the accuracy page.
 * τ: the optical depth of the layer (thickness × absorption coefficient), Beer–Lambert along
   each crossing; one number, or one per colour channel (then K and ā K are per channel too).
 
@@ -119,13 +128,15 @@ def _ndf(xp: Any, cos_h: Array, alpha: Array, distribution: str) -> Array:
 
 def coat_reflection(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array,
                     alpha: Array, distribution: str) -> Array:
-    """The rough coat's own reflection F D G1 G1 / (4 μi μo) (Walter et al. 2007, eq. 20);
-    0 for α = 0."""
+    """The rough coat's own reflection F D G2 / (4 μi μo) (Walter et al. 2007, eq. 20, with
+    the height-correlated G2 = 1/(1 + Λi + Λo), Heitz 2014, eq. 99); 0 for α = 0."""
     len_h = safe_sqrt(xp, 2.0 * (1.0 + cos_io))
     cos_h = safe_div(xp, mu_i + mu_o, len_h)
     cos_d = 0.5 * len_h
-    g = 1.0 / ((1.0 + _smith_lambda(xp, mu_i, alpha, distribution))
-               * (1.0 + _smith_lambda(xp, mu_o, alpha, distribution)))
+    # height-correlated masking and shadowing, G2 = 1/(1 + Λi + Λo): the single scattering of
+    # the Smith microsurface (Heitz 2014, eq. 99; the first order of the walk's interface)
+    g = 1.0 / (1.0 + _smith_lambda(xp, mu_i, alpha, distribution)
+               + _smith_lambda(xp, mu_o, alpha, distribution))
     d = _ndf(xp, cos_h, alpha, distribution)
     # μ floored as in Λ, so that G1(μ)/μ keeps its finite limit 2/α at a grazing direction
     den = 4.0 * maximum(xp, mu_i, 1e-7) * maximum(xp, mu_o, 1e-7)
@@ -174,16 +185,20 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     transmittance T(μ)) for light from a direction of cosine μ on the side where the relative
     index is η (η < 1: from inside the coat, total internal reflection included).
 
-    Single-scattering microfacet interface, as in the walk (Walter et al. 2007, eq. 20 and
-    21, separable Smith masking): with facets m drawn from the visible normals of ω,
-    E = E_m[F(ω·m, η) G1(ω_r)] and T = E_m[(1 − F(ω·m, η)) G1(ω_t)], ω_r, ω_t the reflected
-    and refracted directions (a reflection below the horizon counts as lost). The visible
+    Single-scattering microfacet interface (Walter et al. 2007, eq. 20 and 21): with facets
+    m drawn from the visible normals of ω, E = E_m[F(ω·m, η) G2/G1(ω)] (the height-correlated
+    masking of :func:`coat_reflection`, G2/G1(ω) = (1 + Λ(ω))/(1 + Λ(ω) + Λ(ω_r))) and
+    T = E_m[(1 − F(ω·m, η)) G1(ω_t)] (separable), ω_r, ω_t the reflected and refracted
+    directions (a reflection below the horizon counts as lost). ``Coated`` takes E only
+    (its transmittance is 1 − E). The visible
     normals are reached from D cos θh dωh, 6 nodes in its fraction u (``_IF_TAN2``) and
     2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh), the 48 nodes on one trailing axis
     that ``xp.sum`` adds up. α = 0 gives F(μ, η) and 1 − F(μ, η) exactly (the smooth
     interface)."""
-    g_o = 1.0 / (1.0 + _smith_lambda(xp, mu, alpha, distribution))
+    lam_i = _smith_lambda(xp, mu, alpha, distribution)
+    g_o = 1.0 / (1.0 + lam_i)
     mu, eta, alpha = _node_axis(xp, mu), _node_axis(xp, eta), _node_axis(xp, alpha)
+    lam_i = _node_axis(xp, lam_i)
     dtype = getattr(mu, "dtype", None)
     sin = safe_sqrt(xp, 1.0 - mu * mu)
     mu_s = maximum(xp, mu, 1e-7)
@@ -201,7 +216,9 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
         ok = (k > 0) & (t_z < 0) & (dot > 0)
     else:
         mu_r = 2.0 * dot * cos_h - mu
-        val = f / (1.0 + _smith_lambda(xp, mu_r, alpha, distribution))
+        # G2 / G1(ω) = (1 + Λ(ω)) / (1 + Λ(ω) + Λ(ω_r)), height-correlated as
+        # coat_reflection
+        val = f * (1.0 + lam_i) / (1.0 + lam_i + _smith_lambda(xp, mu_r, alpha, distribution))
         ok = (mu_r > 0) & (dot > 0)
     val = val * dot / (mu_s * cos_h)
     term = xp.where(ok, val, xp.zeros_like(val)) * asarray(xp, _IF_W, dtype)
