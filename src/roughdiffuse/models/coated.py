@@ -452,10 +452,14 @@ class Coated(Model):
         {math}`f_b` of registry id ``base``: {doc}`lambert` ({math}`\rho`),
         {doc}`oren-nayar` or {doc}`oren-nayar-full` ({math}`\rho`, {math}`\sigma`),
         {doc}`fujii` or {doc}`eon` ({math}`\rho` and {math}`r`, ``base_roughness``),
-        evaluated at the refracted directions; {math}`T_\alpha` the coat's transmittance,
-        {math}`a` the base's directional albedo, {math}`K` the coat's internal diffuse
-        reflectance, {math}`\tau` the layer's optical depth. The exact truth is
-        {mod}`roughdiffuse.simulate.layered`.
+        evaluated at the refracted directions; {math}`T_\alpha = 1 - E_\alpha(\mu)` the
+        coat's transmittance, its own energy (what it does not reflect enters),
+        {math}`a` the base's directional albedo, {math}`K = 1 - (1 - \bar E_\alpha)/\eta^2`
+        the coat's internal diffuse reflectance (exact for a lossless interface, without
+        absorption), {math}`\tau` the layer's optical depth; {math}`f_{\text{coat}}` has
+        the height-correlated masking of the Smith microsurface. The truth is
+        {mod}`roughdiffuse.simulate.layered`, whose rough interface is the exact
+        multiple-scattering microsurface of Heitz, Hanika, d'Eon and Dachsbacher (2016).
         """
     traceable: ClassVar[bool] = True
     """Traced by jax.jit and compiled by the fast path: the node rules are arrays with a
