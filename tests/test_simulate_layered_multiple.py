@@ -62,7 +62,7 @@ def test_interface_reflection_next_events_integrate_to_the_walks_that_return() -
     mm, pp = np.meshgrid(mu, phi, indexing="ij")
     ww = np.outer(wmu, wphi) * 2.0 * math.pi  # dω = dμ dφ, φ in [0, π] counted twice
     f, se = layered.brdf(theta_i, np.arccos(mm).ravel(), (math.pi * pp).ravel(),
-                         rd.Lambert(0.0), eta=eta, roughness=alpha, samples=4_000,
+                         rd.Lambert(0.0), eta=eta, roughness=alpha, samples=2_000,
                          return_stderr=True)
     r_nee = float(np.sum(f * mm.ravel() * ww.ravel()))
     r_nee_se = float(np.sqrt(np.sum((se * mm.ravel() * ww.ravel()) ** 2)))

@@ -329,8 +329,8 @@ def interface_sums(mu: np.ndarray, above: bool, samples: int, eta: float, alpha:
     """(G, 3) int64 counts of :func:`_interface_blocks` for the cosines ``mu`` (G,)."""
     with _LOCK:
         if not _INTERFACE_KERNEL:
-            _INTERFACE_KERNEL.append(numba.njit(parallel=True, nogil=True, error_model="numpy",
-                                                fastmath=_FASTMATH)(_interface_blocks))
+            _INTERFACE_KERNEL.append(_compiled(_interface_blocks,
+                                               f"layered_interface_{_digest('')}"))
     kernel = _INTERFACE_KERNEL[0]
     mu = np.ascontiguousarray(mu, np.float64)
     sums = np.zeros((mu.size, 3), dtype=np.int64)
@@ -373,21 +373,26 @@ def _kernel(source: str) -> Any:
                       for name in ("base_f_o", "base_f_i", "base_f_i_as_o", "base_f_io",
                                    "base_sample")})
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
-        flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
-        from ..engine.cache import private_cache_dir
-
-        directory = private_cache_dir()
-        if directory is None:
-            kernel = numba.njit(**flags)(fn)
-        else:
-            old = numba.config.CACHE_DIR
-            numba.config.CACHE_DIR = str(directory / f"layered_walk_{digest}")
-            try:  # Numba reads the folder when the dispatcher is made
-                kernel = numba.njit(cache=True, **flags)(fn)
-            finally:
-                numba.config.CACHE_DIR = old
+        kernel = _compiled(fn, f"layered_walk_{digest}")
         _KERNELS[digest] = kernel
         return kernel
+
+
+def _compiled(fn: Any, folder: str) -> Any:
+    """``fn`` compiled (parallel) and cached on disk in the fast path's private cache folder
+    ``folder`` (in memory without one)."""
+    from ..engine.cache import private_cache_dir
+
+    flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
+    directory = private_cache_dir()
+    if directory is None:
+        return numba.njit(**flags)(fn)
+    old = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(directory / folder)
+    try:  # Numba reads the folder when the dispatcher is made
+        return numba.njit(cache=True, **flags)(fn)
+    finally:
+        numba.config.CACHE_DIR = old
 
 
 def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: int, eta: float,
