@@ -54,8 +54,10 @@ number of nodes.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -180,7 +182,7 @@ def _node_axis(xp: Any, x: Any) -> Any:
 
 
 def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str,
-                     transmitted: bool = False) -> Array:
+                     transmitted: bool = False, boosted: bool = False) -> Array:
     """The interface's directional reflectance E(μ) (or, with ``transmitted``, its
     transmittance T(μ)) for light from a direction of cosine μ on the side where the relative
     index is η (η < 1: from inside the coat, total internal reflection included).
@@ -189,14 +191,17 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     m drawn from the visible normals of ω, E = E_m[F(ω·m, η) G2/G1(ω)] (the height-correlated
     masking of :func:`coat_reflection`, G2/G1(ω) = (1 + Λ(ω))/(1 + Λ(ω) + Λ(ω_r))) and
     T = E_m[(1 − F(ω·m, η)) G1(ω_t)] (separable), ω_r, ω_t the reflected and refracted
-    directions (a reflection below the horizon counts as lost). ``Coated`` takes E only
-    (its transmittance is 1 − E). The visible
+    directions (a reflection below the horizon counts as lost). With ``boosted``, E of the
+    coat's reflection with its multiple scattering, the lobe times b(μ) b(μ_r)
+    (:func:`ms_boost`). ``Coated`` takes E only (its transmittance is 1 − E). The visible
     normals are reached from D cos θh dωh, 6 nodes in its fraction u (``_IF_TAN2``) and
     2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh), the 48 nodes on one trailing axis
     that ``xp.sum`` adds up. α = 0 gives F(μ, η) and 1 − F(μ, η) exactly (the smooth
     interface)."""
     lam_i = _smith_lambda(xp, mu, alpha, distribution)
     g_o = 1.0 / (1.0 + lam_i)
+    if boosted:
+        g_o = g_o * ms_boost(xp, mu, eta, alpha, distribution)
     mu, eta, alpha = _node_axis(xp, mu), _node_axis(xp, eta), _node_axis(xp, alpha)
     lam_i = _node_axis(xp, lam_i)
     dtype = getattr(mu, "dtype", None)
@@ -219,6 +224,8 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
         # G2 / G1(ω) = (1 + Λ(ω)) / (1 + Λ(ω) + Λ(ω_r)), height-correlated as
         # coat_reflection
         val = f * (1.0 + lam_i) / (1.0 + lam_i + _smith_lambda(xp, mu_r, alpha, distribution))
+        if boosted:
+            val = val * ms_boost(xp, mu_r, eta, alpha, distribution)
         ok = (mu_r > 0) & (dot > 0)
     val = val * dot / (mu_s * cos_h)
     term = xp.where(ok, val, xp.zeros_like(val)) * asarray(xp, _IF_W, dtype)
@@ -247,6 +254,48 @@ def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
 
 
 _EB_NODES, _EB_WEIGHTS = gauss_legendre(8)
+_TABLE = Path(__file__).resolve().parent.parent / "data" / "coat_interface.npz"
+_FIT_POWERS = tuple((i, j, k) for i in range(1, 4) for j in range(1, 4) for k in range(4))
+"""Monomials x^i α^j (1 − μ)^k of the fitted multiple-scattering reflection (x = 1 − 1/η:
+0 at η = 1, where nothing is reflected; α^j: 0 for a smooth coat)."""
+
+
+@functools.lru_cache(maxsize=2)
+def _ms_fit(distribution: str) -> tuple[float, ...]:
+    """The coefficients of :func:`ms_boost`: least squares (weight √μ E_ss, the reflectance
+    each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
+    reflectance from above (the multiple-scattering microsurface) minus the
+    single-scattering E_ss (:func:`interface_albedo`), over the table
+    ``data/coat_interface.npz`` (η in [1.05, 3], α in [0.025, 1], 12 μ; made by
+    ``scripts/coat_interface_tables.py``)."""
+    with np.load(_TABLE) as t:
+        r = np.asarray(t["reflectance"], np.float64)[COAT_DISTRIBUTIONS.index(distribution), 0]
+        e, a, m = np.meshgrid(t["etas"], t["alphas"], t["mu"], indexing="ij")
+    e, a, m = e.ravel(), a.ravel(), m.ravel()
+    ess = interface_albedo(np, m, e, a, distribution)
+    y = (r.ravel() - ess) / ess
+    x, u, w = 1.0 - 1.0 / e, 1.0 - m, np.sqrt(m) * ess
+    cols = np.stack([x**i * a**j * u**k for i, j, k in _FIT_POWERS], axis=-1)
+    coef = np.linalg.lstsq(cols * w[:, None], y * w, rcond=None)[0]
+    return tuple(float(c) for c in coef)
+
+
+def ms_boost(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str) -> Array:
+    """b(μ) = √(1 + c(μ)), c = ΔE/E_ss ≥ 0 the rough coat's reflection by more than one facet
+    event relative to its single scattering (light from above at cosine μ), a polynomial
+    fitted to the walk (:func:`_ms_fit`; arithmetic only; η clamped to [1, 3], α to
+    [0, 1]; c = 0 at η = 1 and α = 0). The coat's lobe times b(μi) b(μo) is reciprocal and,
+    where it is narrow, reflects E_ss (1 + c) = E_ss + ΔE."""
+    coef = _ms_fit(distribution)
+    x = clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0)
+    a = clip(xp, alpha, 0.0, 1.0)
+    u = 1.0 - clip(xp, mu, 0.0, 1.0)
+    xs, as_, us = [1.0, x, x * x, x * x * x], [1.0, a, a * a, a * a * a], [1.0, u, u * u,
+                                                                           u * u * u]
+    total = 0.0 * u
+    for c, (i, j, k) in zip(coef, _FIT_POWERS, strict=True):
+        total = total + c * (xs[i] * as_[j] * us[k])
+    return xp.sqrt(1.0 + maximum(xp, total, 0.0))
 
 
 def _mean_reflectance(xp: Any, eta: Array, alpha: Array, distribution: str,
@@ -254,8 +303,9 @@ def _mean_reflectance(xp: Any, eta: Array, alpha: Array, distribution: str,
     """Ē = ∫ E(μ) 2μ dμ, E the coat's reflectance from above (:func:`interface_albedo`),
     8 Gauss–Legendre nodes in μ on one trailing axis."""
     mu_e = asarray(xp, _EB_NODES, dtype)
-    e = interface_albedo(xp, mu_e + 0.0 * _node_axis(xp, eta), _node_axis(xp, eta),
-                         _node_axis(xp, alpha), distribution)
+    eta_n, alpha_n = _node_axis(xp, eta), _node_axis(xp, alpha)
+    mu_n = mu_e + 0.0 * eta_n
+    e = interface_albedo(xp, mu_n, eta_n, alpha_n, distribution, boosted=True)
     return xp.sum(e * 2.0 * mu_e * asarray(xp, _EB_WEIGHTS, dtype), axis=-1)
 
 
@@ -618,15 +668,18 @@ class Coated(Model):
         dist = self.distribution
         # the rough interface's own energy: what it does not reflect enters (T = 1 − E, as
         # for a multiple-scattering microsurface, which loses nothing)
-        trans = (1.0 - interface_albedo(xp, mi, eta, alpha, dist)) * (
-            1.0 - interface_albedo(xp, mo, eta, alpha, dist))
+        # E: the albedo of the coat's lobe with its multiple scattering (the lobe times
+        # b(μi) b(μo), ms_boost), integrated exactly as the lobe is: T = 1 − E conserves
+        trans = (1.0 - interface_albedo(xp, mi, eta, alpha, dist, boosted=True)) * (
+            1.0 - interface_albedo(xp, mo, eta, alpha, dist, boosted=True))
+        boost = ms_boost(xp, mi, eta, alpha, dist) * ms_boost(xp, mo, eta, alpha, dist)
         single = self.base._eval(xp, ri, ro, cos_in, dtype)
         chan = self.channels > 0
         k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype, chan)
         a_i = base_albedo(xp, self.base, ri, dtype)
         a_o = base_albedo(xp, self.base, ro, dtype)
         weight = trans * inv_eta2
-        spec = coat_reflection(xp, mi, mo, c, eta, alpha, self.distribution)
+        spec = coat_reflection(xp, mi, mo, c, eta, alpha, self.distribution) * boost
         if chan:
             weight, spec, above = weight[..., None], spec[..., None], above[..., None]
             ri, ro = ri[..., None], ro[..., None]
@@ -693,7 +746,7 @@ def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
     """∫ f_coat cos θi dωi over the half vector (Gauss–Legendre in θh to atan(10 α) and in
-    φh over [0, π], doubled), NumPy."""
+    φh over [0, π], doubled), NumPy; f_coat with its multiple scattering (:func:`ms_boost`)."""
     from ..frames import unit_components
 
     _, _, z = unit_components(np, np.asarray(wo, dtype=np.float64), "wo")
@@ -708,8 +761,11 @@ def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
     cos_oh = sin_o * np.sin(th) * np.cos(ph) + mu_o * np.cos(th)
     mu_i = 2.0 * cos_oh * np.cos(th) - mu_o
     cos_io = 2.0 * cos_oh * cos_oh - 1.0
-    f = coat_reflection(np, np.clip(mu_i, 0, 1), mu_o + 0 * mu_i, cos_io, float(model.eta),
-                        alpha, model.distribution)
+    eta = float(model.eta)
+    f = coat_reflection(np, np.clip(mu_i, 0, 1), mu_o + 0 * mu_i, cos_io, eta, alpha,
+                        model.distribution) * ms_boost(
+        np, np.clip(mu_i, 0, 1), eta, alpha, model.distribution) * ms_boost(
+        np, mu_o + 0 * mu_i, eta, alpha, model.distribution)
     jac = 4.0 * np.maximum(cos_oh, 0.0) * np.sin(th)
     weights = (theta_max * w)[:, None] * (2.0 * math.pi * w)[None, :]
     val = np.sum(f * np.maximum(mu_i, 0.0) * jac * weights * (mu_i > 0), axis=(-2, -1))
