@@ -6,10 +6,10 @@ from above and from below, by the layered walk's multiple-scattering interface.
 For GGX and Beckmann, α in :data:`ALPHAS`, η in :data:`ETAS` and μ = cos θ on 12
 Gauss–Legendre nodes in [0, 1]: the fraction R of the light arriving at θ that the
 interface (Heitz, Hanika, d'Eon and Dachsbacher 2016, :func:`roughdiffuse.simulate.layered.
-interface_albedo`) sends back to the side it came from, from above (the coat's directional
+interface_reflectance`) sends back to the side it came from, from above (the coat's directional
 albedo E_spec(μ); T = 1 − E_spec enters the layer) and from below (the internal reflectance).
 ``Coated`` (:mod:`roughdiffuse.models.coated`) fits a smooth correction to its own
-single-scattering quadrature on these values when it is imported. Seeded: the same file for
+single-scattering quadrature on these values on first use. Seeded: the same file for
 the same arguments. Written whole or not at all.
 """
 
@@ -44,7 +44,7 @@ def main() -> None:
     jobs = [(d, s, e, a) for d in range(2) for s in range(2) for e in range(len(ETAS))
             for a in range(len(ALPHAS))]
     for d, s, e, a in tqdm(jobs, desc="interface"):
-        r[d, s, e, a] = layered.interface_albedo(
+        r[d, s, e, a] = layered.interface_reflectance(
             theta, ETAS[e], ALPHAS[a], ("ggx", "beckmann")[d], side=("above", "below")[s],
             samples=args.samples, seed=1000 * d + 100 * s + 10 * e + a)
     buf = io.BytesIO()

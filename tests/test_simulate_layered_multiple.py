@@ -66,7 +66,7 @@ def test_interface_reflection_next_events_integrate_to_the_walks_that_return() -
                          return_stderr=True)
     r_nee = float(np.sum(f * mm.ravel() * ww.ravel()))
     r_nee_se = float(np.sqrt(np.sum((se * mm.ravel() * ww.ravel()) ** 2)))
-    r, r_se = layered.interface_albedo(theta_i, eta, alpha, samples=200_000,
+    r, r_se = layered.interface_reflectance(theta_i, eta, alpha, samples=200_000,
                                        return_stderr=True)
     assert abs(r_nee - r) < Z_MAX * math.hypot(r_nee_se, r_se) + 2e-3 * r, (r_nee, r)
 
@@ -79,8 +79,8 @@ def test_interface_transmittance_reciprocal_from_above_and_below() -> None:
     mu, w = gauss_legendre(12)
     t = np.arccos(mu)
     kw = dict(samples=30_000, return_stderr=True, distribution="beckmann")
-    ra, sa = layered.interface_albedo(t, eta, alpha, side="above", **kw)
-    rb, sb = layered.interface_albedo(t, eta, alpha, side="below", **kw)
+    ra, sa = layered.interface_reflectance(t, eta, alpha, side="above", **kw)
+    rb, sb = layered.interface_reflectance(t, eta, alpha, side="below", **kw)
     ta = float(np.sum((1 - ra) * 2 * mu * w))
     tb = float(np.sum((1 - rb) * 2 * mu * w)) * eta**2
     se = math.hypot(float(np.sqrt(np.sum((sa * 2 * mu * w) ** 2))),

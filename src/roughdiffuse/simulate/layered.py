@@ -87,8 +87,8 @@ __all__ = [
     "check_base",
     "directional_albedo",
     "fresnel_dielectric",
-    "interface_albedo",
     "interface_brdf",
+    "interface_reflectance",
 ]
 
 BETA_CUT = 1e-9
@@ -584,7 +584,7 @@ def _interface_albedo(wi, eta, alpha, dist, samples, seed):
     return out, err
 
 
-def interface_albedo(
+def interface_reflectance(
     theta,
     eta: float = 1.5,
     roughness: float = 0.3,
@@ -610,7 +610,7 @@ def interface_albedo(
     """
     eta, alpha = _check_interface(eta, roughness, distribution)
     if alpha == 0.0:
-        raise ParameterError("roughness must be > 0 for interface_albedo (a smooth "
+        raise ParameterError("roughness must be > 0 for interface_reflectance (a smooth "
                              "interface reflects F(μ, η): fresnel_dielectric)")
     if side not in ("above", "below"):
         raise ParameterError(f"side must be 'above' or 'below' (got {side!r})")
