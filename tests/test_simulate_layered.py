@@ -51,7 +51,8 @@ def test_black_base_is_mitsuba_roughdielectric_reflection() -> None:
     bsdf = mi.load_dict({"type": "roughdielectric", "distribution": "ggx", "alpha": 0.3,
                          "int_ior": 1.5, "ext_ior": 1.0})
     ref = mitsuba_brdf(mi, bsdf, ti, tr, dp)
-    f = layered.brdf(ti, tr, dp, rd.Lambert(0.0), eta=1.5, roughness=0.3, samples=100)
+    f = layered.brdf(ti, tr, dp, rd.Lambert(0.0), eta=1.5, roughness=0.3, samples=100,
+                     interface="single")
     np.testing.assert_allclose(f, ref, rtol=2e-4, atol=1e-6)  # Mitsuba computes in float32
 
 
@@ -110,6 +111,8 @@ def test_seeded() -> None:
         ({"absorption": -0.1}, "absorption"),
         ({"roughness": -0.1}, "roughness"),
         ({"distribution": "phong"}, "distribution"),
+        ({"interface": "double"}, "interface"),
+        ({"interface": "multiple", "roughness": 0.3, "engine": "numpy"}, "interface"),
         ({"base": rd.SmithDiffuse(0.5, 0.8)}, "base"),
         ({"base": "lambert"}, "base"),
     ],

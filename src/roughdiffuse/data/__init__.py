@@ -21,6 +21,11 @@ them; the truth is recorded in ``sphere.json`` and in each file's header):
     shipped: :func:`path` writes it on first use into :func:`cache_dir` (about 10 s) and
     returns that path afterwards.
 
+``coat_interface.npz`` (a model's table, not sample data, so not listed by :func:`names`)
+    The rough coat's reflectance from above and below by the layered walk's exact
+    interface, which :class:`~roughdiffuse.models.coated.Coated` fits its multiple
+    scattering to; made by ``scripts/coat_interface_tables.py``.
+
 Real measured BRDFs (the MERL database, "A data-driven reflectance model", Matusik, Pfister,
 Brand and McMillan, SIGGRAPH 2003) are not redistributed here: see the documentation's
 "Getting started" page for where they come from.

@@ -43,16 +43,22 @@ from ..engine.scalar import PRELUDE, scalar_sources
 from .layered_formulas import build as build_interface
 from .smith_walk_numba import BLOCK, FORMULAS, PRIMITIVES, visible_normal
 
-__all__ = ["run"]
+__all__ = ["interface_sums", "run"]
 
 _LOCK = threading.Lock()
 _CALL_LOCK = threading.Lock()
 _KERNELS: dict[str, Any] = {}
 _JIT = PRIMITIVES.jit
-_I = build_interface(PRIMITIVES)
+_I = build_interface(PRIMITIVES, FORMULAS.smith_lambda)
 _fresnel = _I.fresnel
 _refract_in = _I.refract_in
+_phase_out = _I.phase_out
 _smith_g1 = FORMULAS.smith_g1
+_smith_lambda = FORMULAS.smith_lambda
+_height_step = FORMULAS.height_step
+MS_MAX_EVENTS = 1_000_000
+"""Facet events one microsurface walk traces at most (a path still on the surface then is
+dropped: at η = 2.5, α = 1 a walk has a few events on average; none reaches this)."""
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
@@ -130,8 +136,59 @@ def _reflect_inside(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - 
     return rx, ry, min(rz, -1e-12), weight, c
 
 
+@_JIT
+def _ms_walk(wx, wy, wz, outside, eta, alpha, ggx, key, c, nee, ox, oy, oz,
+             lam_o):  # pragma: no cover - compiled by Numba
+    """The random walk on the dielectric microsurface of Heitz, Hanika, d'Eon and
+    Dachsbacher 2016 ("Multiple-scattering microfacet BSDFs with the Smith model", SIGGRAPH,
+    Sec. 5) of a ray travelling along ω = (wx, wy, wz) that arrives from the air side
+    (``outside``) or from the dielectric: (the direction it leaves along, whether it leaves on
+    the air side, whether it is lost (still on the surface after :data:`MS_MAX_EVENTS`
+    events), the next-event sum, the facet events, the next draw).
+
+    Heights are those of a uniform height distribution, carried as h = ln C1 on the side
+    the ray is on (the dielectric side sees the surface turned upside down, C1 ↦ 1 − C1;
+    the walk does not depend on the height distribution, Heitz et al. Sec. 3). At each facet
+    event the ray meets a facet drawn from the visible normals of −ω on its side (the
+    normal negated on the dielectric side), reflects with probability F(·, η) (η' = 1/η
+    from the dielectric) and refracts otherwise: every ray leaves with weight 1. With
+    ``nee`` each event adds p(−ω → ωo) G1(ωo, h) (:func:`~.layered_formulas` ``phase_out``,
+    G1(ωo, h) = C1^Λ(ωo) on the air side): the sum is an unbiased estimate of the
+    interface's f(ωi, ωo) cos θo for ωo = (ox, oy, oz) above it (Heitz et al.'s eval)."""
+    h = 0.0
+    total = 0.0
+    events = 0
+    while events < MS_MAX_EVENTS:
+        sz = wz if outside else -wz
+        escape, h = _height_step(h, _smith_lambda(ggx, sz, alpha), sz, uniform(key, c))
+        c += 1
+        if escape:
+            return wx, wy, wz, outside, False, total, events, c
+        events += 1
+        if outside:
+            nx, ny, nz, c = visible_normal(ggx, -wx, -wy, -wz, alpha, key, c)
+        else:
+            nx, ny, nz, c = visible_normal(ggx, wx, wy, wz, alpha, key, c)
+            nx, ny, nz = -nx, -ny, -nz
+        if nee:
+            h_air = h if outside else max(math.log1p(-math.exp(h)), -700.0)
+            g1 = math.exp(lam_o * h_air) if h_air < 0.0 else 1.0
+            total += _phase_out(ggx, outside, -wx, -wy, -wz, ox, oy, oz, eta, alpha) * g1
+        rel = eta if outside else 1.0 / eta
+        tx, ty, tz, trans = _refract_in(-wx, -wy, -wz, nx, ny, nz, rel)
+        if uniform(key, c) < trans:
+            wx, wy, wz = _unit(tx, ty, tz)
+            outside = not outside
+            h = max(math.log1p(-math.exp(h)), -700.0)  # the other side's ln C1
+        else:
+            d = 2.0 * (wx * nx + wy * ny + wz * nz)
+            wx, wy, wz = _unit(wx - d * nx, wy - d * ny, wz - d * nz)
+        c += 1
+    return wx, wy, wz, outside, True, total, events, c
+
+
 def _walk_blocks(
-    wi, wo, uniform_wo, samples, first, count, eta, alpha, ggx, tau, max_k, seed, cut,
+    wi, wo, uniform_wo, samples, first, count, eta, alpha, ggx, ms, tau, max_k, seed, cut,
     pf, ps, n_f, sum1, sum2, segments,
 ):  # pragma: no cover - compiled by Numba
     """Trace blocks ``first`` .. ``first + count − 1``; block b holds paths
@@ -164,15 +221,34 @@ def _walk_blocks(
                 r = math.sqrt(u0)
                 ox, oy, oz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(1.0 - u0, 1e-24))
                 wgt = _PI
-            dx, dy, dz, w_in, c = _enter(wi[g, 0], wi[g, 1], wi[g, 2], eta, alpha, ggx, key, c)
-            # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
-            tx, ty, tz, w_exit, c = _enter(ox, oy, oz, eta, alpha, ggx, key, c)
+            spec = 0.0
+            if ms:
+                dx, dy, dz, up, lost, nee, ev, c = _ms_walk(
+                    -wi[g, 0], -wi[g, 1], -wi[g, 2], True, eta, alpha, ggx, key, c,
+                    not uniform_wo, ox, oy, oz, _smith_lambda(ggx, oz, alpha))
+                nseg += ev
+                w_in = 0.0 if up or lost else 1.0
+                spec = (1.0 if up and not lost else 0.0) if uniform_wo else nee / oz
+                if w_in == 0.0:
+                    dx, dy, dz = 0.0, 0.0, -1.0
+                # the next events' exit: ω' (down, inside) of a walk from ωo, one per path
+                tx, ty, tz, up, lost, nee, ev, c = _ms_walk(
+                    -ox, -oy, -oz, True, eta, alpha, ggx, key, c, False, ox, oy, oz, 0.0)
+                nseg += ev
+                w_exit = 0.0 if up or lost else 1.0
+                if w_exit == 0.0:
+                    tx, ty, tz = 0.0, 0.0, -1.0
+            else:
+                dx, dy, dz, w_in, c = _enter(wi[g, 0], wi[g, 1], wi[g, 2], eta, alpha, ggx,
+                                             key, c)
+                # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
+                tx, ty, tz, w_exit, c = _enter(ox, oy, oz, eta, alpha, ggx, key, c)
             w_exit *= inv_eta2 * wgt
             h_exit = base_f_o(-tz, pf)  # the next events' f: its part at μo = −t_z
             live = False
             for ch in range(n_c):
                 beta[ch] = w_in * (math.exp(-tau[min(ch, n_t - 1)] / abs(dz)) if absorbs else 1.0)
-                tot[ch] = 0.0
+                tot[ch] = spec
                 live |= beta[ch] > cut
             for _ in range(max_k):
                 if not live:
@@ -196,7 +272,17 @@ def _walk_blocks(
                 else:  # a unit vector (the strategy's), up
                     ratio = sz / pdf
                     base_f_io(sz, uz, sx * ux + sy * uy + sz * uz, base_f_i(sz, pf), h_u, fb, pf)
-                dx, dy, dz, refl, c = _reflect_inside(sx, sy, sz, eta, alpha, ggx, key, c)
+                if not ms:
+                    dx, dy, dz, refl, c = _reflect_inside(sx, sy, sz, eta, alpha, ggx, key, c)
+                elif valid:
+                    dx, dy, dz, up, lost, nee, ev, c = _ms_walk(
+                        sx, sy, sz, False, eta, alpha, ggx, key, c, False, ox, oy, oz, 0.0)
+                    nseg += ev
+                    refl = 0.0 if up or lost else 1.0
+                    if refl == 0.0:
+                        dx, dy, dz = 0.0, 0.0, -1.0
+                else:
+                    dx, dy, dz, refl = 0.0, 0.0, -1.0, 0.0
                 live = False
                 for ch in range(n_c):
                     t = tau[min(ch, n_t - 1)]
@@ -207,6 +293,51 @@ def _walk_blocks(
                 sum1[j, ch] += tot[ch]
                 sum2[j, ch] += tot[ch] * tot[ch]
         segments[j] = nseg
+
+
+def _interface_blocks(mu, above, samples, eta, alpha, ggx, seed,
+                      sums):  # pragma: no cover - compiled by Numba
+    """For each cosine ``mu[g]``: ``samples`` walks on the microsurface (:func:`_ms_walk`) of
+    light arriving from above (``above``) or from the dielectric at θ = arccos μ; ``sums[g]``
+    gets (walks that leave on the side they came from, facet events, lost walks)."""
+    for g in prange(mu.size):
+        m = mu[g]
+        sn = math.sqrt(max(1.0 - m * m, 0.0))
+        wz = -m if above else m
+        back = 0
+        ev_all = 0
+        lost_all = 0
+        for s in range(samples):
+            key = path_key(seed, g * samples + s)
+            _x, _y, _z, up, lost, _t, ev, _c = _ms_walk(
+                sn, 0.0, wz, above, eta, alpha, ggx, key, 0, False, 0.0, 0.0, 1.0, 0.0)
+            ev_all += ev
+            if lost:
+                lost_all += 1
+            elif up == above:
+                back += 1
+        sums[g, 0] = back
+        sums[g, 1] = ev_all
+        sums[g, 2] = lost_all
+
+
+_INTERFACE_KERNEL: list[Any] = []
+
+
+def interface_sums(mu: np.ndarray, above: bool, samples: int, eta: float, alpha: float,
+                   ggx: bool, seed: int) -> np.ndarray:
+    """(G, 3) int64 counts of :func:`_interface_blocks` for the cosines ``mu`` (G,)."""
+    with _LOCK:
+        if not _INTERFACE_KERNEL:
+            _INTERFACE_KERNEL.append(_compiled(_interface_blocks,
+                                               f"layered_interface_{_digest('')}"))
+    kernel = _INTERFACE_KERNEL[0]
+    mu = np.ascontiguousarray(mu, np.float64)
+    sums = np.zeros((mu.size, 3), dtype=np.int64)
+    with _CALL_LOCK:
+        kernel(mu, bool(above), int(samples), float(eta), float(alpha), bool(ggx),
+               np.uint64(int(seed) % (1 << 64)), sums)
+    return sums
 
 
 def _digest(source: str) -> str:
@@ -242,28 +373,34 @@ def _kernel(source: str) -> Any:
                       for name in ("base_f_o", "base_f_i", "base_f_i_as_o", "base_f_io",
                                    "base_sample")})
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
-        flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
-        from ..engine.cache import private_cache_dir
-
-        directory = private_cache_dir()
-        if directory is None:
-            kernel = numba.njit(**flags)(fn)
-        else:
-            old = numba.config.CACHE_DIR
-            numba.config.CACHE_DIR = str(directory / f"layered_walk_{digest}")
-            try:  # Numba reads the folder when the dispatcher is made
-                kernel = numba.njit(cache=True, **flags)(fn)
-            finally:
-                numba.config.CACHE_DIR = old
+        kernel = _compiled(fn, f"layered_walk_{digest}")
         _KERNELS[digest] = kernel
         return kernel
 
 
+def _compiled(fn: Any, folder: str) -> Any:
+    """``fn`` compiled (parallel) and cached on disk in the fast path's private cache folder
+    ``folder`` (in memory without one)."""
+    from ..engine.cache import private_cache_dir
+
+    flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
+    directory = private_cache_dir()
+    if directory is None:
+        return numba.njit(**flags)(fn)
+    old = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(directory / folder)
+    try:  # Numba reads the folder when the dispatcher is made
+        return numba.njit(cache=True, **flags)(fn)
+    finally:
+        numba.config.CACHE_DIR = old
+
+
 def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: int, eta: float,
         alpha: float, ggx: bool, tau: np.ndarray, max_k: int, seed: int, cut: float,
-        channels: int) -> tuple[np.ndarray, np.ndarray, int]:
+        channels: int, ms: bool = False) -> tuple[np.ndarray, np.ndarray, int]:
     """Per-geometry sums of the path scores and of their squares (G, C), and the number of
-    path segments, for directions ``wi``, ``wo`` (G, 3) (``wo`` unused with ``uniform_wo``).
+    path segments, for directions ``wi``, ``wo`` (G, 3) (``wo`` unused with ``uniform_wo``);
+    ``ms``: a rough interface scatters multiply (:func:`_ms_walk`), its reflection included.
     Raises :class:`~roughdiffuse.engine.trace.TraceError` if the base cannot be traced."""
     traced = scalar_sources(base)
     kernel = _kernel(traced.source)
@@ -275,7 +412,8 @@ def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: in
     key = np.uint64(int(seed) % (1 << 64))  # the generator's key is 64 bits
     args = (np.ascontiguousarray(wi, np.float64), np.ascontiguousarray(wo, np.float64),
             bool(uniform_wo), int(samples), 0, n, float(eta), float(alpha), bool(ggx),
-            np.ascontiguousarray(tau, np.float64), int(max_k), key, float(cut),
+            bool(ms and alpha > 0.0), np.ascontiguousarray(tau, np.float64), int(max_k), key,
+            float(cut),
             traced.f_params, traced.sample_params, traced.channels, sum1, sum2, segments)
     with _CALL_LOCK:
         kernel(*args)

@@ -1,0 +1,57 @@
+"""rd.Coated under a rough coat: energy conservation and the exact layered walk.
+
+Independent references: the white furnace (a white Lambertian base, no absorption: the
+directional albedo of an energy-conserving coat is 1), and the layered walk with the
+multiple-scattering interface (roughdiffuse.simulate.layered, a Monte Carlo of the same
+layer with Heitz et al.'s exact rough interface, checked on its own in
+tests/test_simulate_layered_multiple.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import roughdiffuse as rd
+from roughdiffuse.simulate import layered
+
+
+@pytest.mark.parametrize(
+    ("distribution", "eta", "alpha"),
+    [("ggx", 1.5, 0.3), ("ggx", 2.5, 1.0), ("beckmann", 1.1, 0.6), ("beckmann", 1.5, 0.1)],
+)
+def test_rough_coat_conserves_energy(distribution: str, eta: float, alpha: float) -> None:
+    theta = np.radians([0.0, 30.0, 60.0, 75.0, 85.0])
+    wo = np.stack([np.sin(theta), 0 * theta, np.cos(theta)], -1)
+    a = rd.Coated(rd.Lambert(1.0), eta, alpha, distribution).directional_albedo(wo)
+    np.testing.assert_allclose(a, 1.0, atol=0.01)
+
+
+def test_rough_coat_follows_the_exact_walk() -> None:
+    """Lambert under a GGX coat α = 0.3: within 3 % (+ 4 standard errors) of the walk with
+    the multiple-scattering interface at every geometry; the single-scattering coat of
+    before (and Mitsuba's roughplastic) were 20–30 % below it."""
+    ti = np.radians([0.0, 20.0, 40.0, 60.0, 0.0, 40.0])
+    tr = np.radians([0.0, 40.0, 20.0, 60.0, 60.0, 75.0])
+    dp = np.radians([0.0, 90.0, 180.0, 0.0, 90.0, 180.0])
+    base = rd.Lambert(0.8)
+    truth, se = layered.brdf(ti, tr, dp, base, eta=1.5, roughness=0.3, samples=20_000,
+                             return_stderr=True)
+    wi = rd.spherical_to_vector(ti, 0.0)
+    wo = rd.spherical_to_vector(tr, dp)
+    f = np.asarray(rd.Coated(base, 1.5, 0.3).brdf(wi, wo))
+    assert np.all(np.abs(f - truth) < 0.03 * truth + 4 * se), (f / truth, se / truth)
+
+
+def test_rough_coat_reflection_follows_the_exact_interface() -> None:
+    """A black base: the coat's own reflection, its multiple scattering included, within 4 %
+    (+ 4 standard errors) of the walk's exact interface at and near the specular peak, where
+    the single-scattering lobe alone is 6–13 % below it."""
+    ti = np.radians([60.0, 75.0, 40.0, 30.0])
+    tr = np.radians([60.0, 75.0, 40.0, 50.0])
+    dp = np.radians([180.0, 180.0, 180.0, 180.0])
+    truth, se = layered.brdf(ti, tr, dp, rd.Lambert(0.0), eta=1.5, roughness=0.3,
+                             samples=20_000, return_stderr=True)
+    f = np.asarray(rd.Coated(rd.Lambert(0.0), 1.5, 0.3).brdf(rd.spherical_to_vector(ti, 0.0),
+                                                            rd.spherical_to_vector(tr, dp)))
+    assert np.all(np.abs(f - truth) < 0.04 * truth + 4 * se), (f / truth, se / truth)
