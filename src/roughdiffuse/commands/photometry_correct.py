@@ -17,16 +17,26 @@ examples:
   roughdiffuse photometry correct moon.npy --subsolar 0,30 --subobserver 0,0 \\
       --model hapke --param Wh=0.25 --param B0=1.2 --param Hh=0.06 --param Theta=20 -o moon.fits
 
+  roughdiffuse photometry correct image.cub --incidence i.cub --emission e.cub \
+      --phase g.cub --model hapke --param Wh=0.25 --chunk 2048 -o corrected.cub
+  roughdiffuse photometry correct big.tif ... --scheduler tcp://10.0.0.5:8786 -o out.tif
+
 Normalises I/F to ISIS's reference geometry: incidence = emission = phase = 0 (change with
 --reference G,I,E), with the opposition-surge amplitudes (B0) set to 0 there, as ISIS's
 ZeroB0Standard = TRUE. Methods (ISIS photomet's): albedo = I/F x P(ref)/P(g, i, e); mixed =
 the model's topographic shading kept near the limb and terminator, the albedo normalised in
 between (match geometry --match, default 45,45,0). Pixels with i or e beyond --max-incidence
-/ --max-emission (default 85) and NoData pixels (NaN, FITS BLANK, or --nodata VALUE) are
-NaN in the output. Backplanes come from files (--incidence/--emission/--phase, degrees, the
-image's size) or from a sphere/ellipsoid (--subsolar, --subobserver LAT,LON in degrees,
---radii A,B,C). Files: FITS (astropy, extra `planetary`), .npy, .exr. Parameters take
-roughdiffuse's names or ISIS's (L, K, Wh, B0, Hh, Hg1, Hg2, Theta, Bh, Ch); angles in degrees.
+/ --max-emission (default 90, as photomet; 85 leaves out grazing pixels) are NoData in the
+output, and NoData stays NoData: NaN, the file's NoData value (FITS BLANK, GDAL nodata),
+--nodata VALUE, and ISIS special pixels (Null, Lrs, Lis, His, Hrs; an output cube keeps each).
+Backplanes come from files (--incidence/--emission/--phase, degrees, the image's size and
+map projection) or from a sphere/ellipsoid (--subsolar, --subobserver LAT,LON in degrees,
+--radii A,B,C). Files, by name or --format: ISIS3 .cub, PDS4 .xml, GeoTIFF .tif (through
+GDAL), FITS, .npy, .exr; an output takes the input's map projection (an ISIS cube's
+Dimensions, Pixels and Mapping groups). The image is read, corrected and written in chunks
+of --chunk x --chunk pixels (never whole), on this machine's cores or a Dask cluster
+(--scheduler; the workers must see the files). Parameters take roughdiffuse's names or
+ISIS's (L, K, Wh, B0, Hh, Hg1, Hg2, Theta, Bh, Ch); angles in degrees.
 """
 
 
@@ -50,8 +60,16 @@ def _param(text: str) -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
+def _cost(chunk: int) -> str:
+    from ..planetary.chunked import BYTES_PER_PIXEL
+
+    return f"{2 * chunk * chunk * BYTES_PER_PIXEL / 2**20:.0f} MiB per core"
+
+
 def register_correct(inner: argparse._SubParsersAction) -> None:
+    from ..planetary.chunked import BYTES_PER_PIXEL, CHUNK
     from ..planetary.disk import PHOTOMETRIC_MODELS
+    from ..planetary.rasters import FORMATS
 
     c = inner.add_parser(
         "correct",
@@ -60,8 +78,30 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         epilog=CORRECT_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    c.add_argument("image", metavar="IMAGE", help="I/F image: .fits, .npy or .exr")
-    c.add_argument("-o", "--output", required=True, metavar="OUT", help=".fits, .npy or .exr")
+    c.add_argument(
+        "image", metavar="IMAGE", help="I/F image: .cub, .xml (PDS4), .tif, .fits, .npy, .exr"
+    )
+    c.add_argument("-o", "--output", required=True, metavar="OUT", help="the same formats")
+    c.add_argument(
+        "--format",
+        choices=tuple(FORMATS),
+        metavar="FORMAT",
+        help=f"the output's format (default: from its name): {', '.join(FORMATS)}",
+    )
+    c.add_argument("--band", default="1", metavar="N|NAME", help="the image's band: number or name")
+    c.add_argument(
+        "--chunk",
+        type=int,
+        default=CHUNK,
+        metavar="PIXELS",
+        help=f"chunk side (default {CHUNK}); memory about {BYTES_PER_PIXEL} bytes per pixel of "
+        f"a chunk, two chunks per core in flight (1024: {_cost(1024)})",
+    )
+    c.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a Dask scheduler (tcp://HOST:PORT) to run the chunks on; default this machine",
+    )
     c.add_argument(
         "--model",
         default="lunar-lambert",
@@ -94,8 +134,8 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         default=(45.0, 45.0, 0.0),
         metavar="G,I,E",
     )
-    c.add_argument("--max-incidence", type=float, default=85.0, metavar="DEG")
-    c.add_argument("--max-emission", type=float, default=85.0, metavar="DEG")
+    c.add_argument("--max-incidence", type=float, default=90.0, metavar="DEG")
+    c.add_argument("--max-emission", type=float, default=90.0, metavar="DEG")
     c.add_argument(
         "--nodata",
         type=float,
@@ -124,11 +164,15 @@ def _model(model_id: str, pairs: list[tuple[str, str]]) -> Any:
     return entry.create(**kwargs)
 
 
-def _backplanes(args: argparse.Namespace, shape: tuple[int, ...]) -> tuple[Any, Any, Any]:
-    import numpy as np
+def _plane(path: str, what: str, band: str = "1", nodata: float | None = None) -> Any:
+    from ..planetary.rasters import open_plane
 
-    from ..planetary.backplanes import ellipsoid_backplanes
-    from ..planetary.correct import read_plane
+    with reading(path, what):
+        return open_plane(path, band=int(band) if band.isdigit() else band, nodata=nodata)
+
+
+def _geometry(args: argparse.Namespace, image: Any) -> Any:
+    from ..planetary.chunked import EllipsoidGeometry, FileGeometry
 
     files = [args.incidence, args.emission, args.phase]
     if any(files):
@@ -138,44 +182,42 @@ def _backplanes(args: argparse.Namespace, shape: tuple[int, ...]) -> tuple[Any, 
             raise UsageError("give backplane files or --subsolar/--subobserver, not both")
         planes = []
         for name, path in zip(("incidence", "emission", "phase"), files, strict=True):
-            with reading(path, f"{name} backplane"):
-                plane = read_plane(path)
-            if plane.shape != shape:
+            plane = _plane(path, f"{name} backplane")
+            if plane.shape != image.shape:
                 raise UsageError(
                     f"--{name} {path!r} is {plane.shape[1]} x {plane.shape[0]} "
-                    f"pixels; the image is {shape[1]} x {shape[0]}"
+                    f"pixels; the image is {image.shape[1]} x {image.shape[0]}"
                 )
-            bad = np.isfinite(plane) & ((plane < 0) | (plane > 180))
-            if bad.any():
+            if plane.georef and image.georef and plane.georef != image.georef:
                 raise UsageError(
-                    f"--{name} {path!r}: angles must be in [0, 180] degrees "
-                    f"(got {plane[bad].flat[0]:g})"
+                    f"--{name} {path!r}: its map projection or pixel grid is not the image's"
                 )
-            planes.append(np.radians(plane))
-        return planes[0], planes[1], planes[2]
+            planes.append(plane)
+        return FileGeometry(*planes)
     if not (args.subsolar and args.subobserver):
         raise UsageError(
             "give backplanes (--incidence, --emission, --phase) or a shape "
             "(--subsolar and --subobserver)"
         )
-    bp = ellipsoid_backplanes(shape, args.subsolar, args.subobserver, args.radii)
-    return bp.incidence, bp.emission, bp.phase
+    return EllipsoidGeometry(image.shape, args.subsolar, args.subobserver, args.radii)
 
 
 def run_correct(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from ..planetary.correct import PLANE_SUFFIXES, normalize, read_plane, write_plane
+    from ..planetary.chunked import Correction, check_chunk, correct_file, same_file
     from ..planetary.disk import PHOTOMETRIC_MODELS
+    from ..planetary.rasters import format_of
     from ..progress import progress_enabled
+    from ._checks import available_memory
 
     if args.model not in PHOTOMETRIC_MODELS:
         raise UsageError(
             f"--model {args.model!r} has no radiance factor of (i, e, g) here; "
             f"choose one of: {', '.join(PHOTOMETRIC_MODELS)}"
         )
-    if not args.output.lower().endswith(PLANE_SUFFIXES):
-        raise UsageError(f"-o must end in {', '.join(PLANE_SUFFIXES)} (got {args.output!r})")
+    try:
+        out_fmt = format_of(args.output, args.format)
+    except ValueError as exc:
+        raise UsageError(f"-o: {exc}") from None
     for flag, value, hi in (
         ("--max-incidence", args.max_incidence, 90.0),
         ("--max-emission", args.max_emission, 90.0),
@@ -189,29 +231,41 @@ def run_correct(args: argparse.Namespace) -> int:
                 f"|I − E| <= G <= I + E (got {g:g},{i:g},{e:g})"
             )
     model = _model(args.model, args.param)
-    output_file(args.output, option="-o", overwrite=True)
     if not os.path.isfile(args.image):
         raise UsageError(f"image {args.image!r} does not exist")
-    with reading(args.image, "image"):
-        image = read_plane(args.image, nodata=args.nodata)
-    inc, ema, pha = _backplanes(args, image.shape)
-    out = normalize(
-        image,
-        inc,
-        ema,
-        pha,
+    image = _plane(args.image, "image", args.band, args.nodata)
+    geometry = _geometry(args, image)
+    inputs = [args.image, args.incidence, args.emission, args.phase]
+    for path in filter(None, inputs):
+        if same_file(path, args.output):
+            raise UsageError(f"-o {args.output!r} is one of the inputs; name another file")
+    workers = os.cpu_count() or 1
+    try:
+        check_chunk(args.chunk, workers, available_memory())
+    except ValueError as exc:
+        raise UsageError(f"--chunk: {exc}") from None
+    output_file(args.output, option="-o", overwrite=True)
+    correction = Correction(
         model,
         method=args.method,
         reference=tuple(math.radians(v) for v in args.reference),
         match=tuple(math.radians(v) for v in args.match),
         max_incidence=math.radians(args.max_incidence),
         max_emission=math.radians(args.max_emission),
-        progress=progress_enabled(),  # chunks of pixels, on a terminal
     )
-    write_plane(args.output, out)
-    n = int(np.isfinite(out).sum())
+    _, n = correct_file(
+        image,
+        geometry,
+        correction,
+        args.output,
+        out_fmt=out_fmt,
+        chunk=args.chunk,
+        scheduler=args.scheduler,
+        progress=progress_enabled(),
+    )
+    total = image.shape[0] * image.shape[1]
     print(
-        f"wrote {args.output}: {n} of {out.size} pixels normalised ({args.method}, "
+        f"wrote {args.output}: {n} of {total} pixels normalised ({args.method}, "
         f"{args.model}); the rest NoData"
     )
     return 0

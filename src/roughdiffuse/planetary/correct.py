@@ -18,8 +18,11 @@ Reference geometry, as ISIS's defaults: i_ref = e_ref = g_ref = 0; there the opp
 amplitudes (B0, B_S0, B_C0) are set to 0, as ISIS's ``ZeroB0Standard = TRUE`` (default) does,
 so the normalised value is the normal albedo without the surge. Mixed's match geometry
 defaults to i_m = g_m = 45°, e_m = 0 (ISIS's default 0 leaves the topographic derivative
-0 and the method undefined). Pixels with i or e beyond their limits (default 85°), and NaN
-(NoData) pixels, are NaN in the output.
+0 and the method undefined). Pixels with i or e beyond their limits (default 90°, as
+photomet's; 85° is the cautious choice near the limb and terminator), and NaN (NoData)
+pixels, are NaN in the output. A pixel whose phase is outside [|i − e|, i + e] is no geometry:
+refused (the check :func:`~roughdiffuse.frames.photometric_to_local` makes for
+``photometry fit`` too).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import ParameterError
+from ..frames import photometric_to_local
 
 __all__ = [
     "METHODS",
@@ -110,8 +114,8 @@ def normalize(
     reference: Sequence[float] = REFERENCE,
     match: Sequence[float] = MATCH,
     albedo: float = 1.0,
-    max_incidence: float = math.radians(85.0),
-    max_emission: float = math.radians(85.0),
+    max_incidence: float = math.radians(90.0),
+    max_emission: float = math.radians(90.0),
     thresh: float = THRESH,
     progress: bool | None = False,
 ) -> np.ndarray:
@@ -131,7 +135,9 @@ def normalize(
     albedo : float
         Mixed only: ISIS's ``Albedo`` (ρ̄ P_ref).
     max_incidence, max_emission : float
-        Pixels beyond are masked (radians).
+        Pixels beyond are masked (radians); default 90°, as ISIS's ``photomet``
+        (``MAXINCIDENCE``, ``MAXEMISSION``); 85° leaves out the grazing pixels whose
+        correction divides by a small I/F.
     thresh : float
         ISIS's ``Thresh``.
     progress : bool or None
@@ -155,6 +161,8 @@ def normalize(
     out = np.full(dn.shape, np.nan)
     if not ok.any():
         return out
+    # the one check of a geometry (photometry fit's too): g within [|i − e|, i + e]
+    photometric_to_local(i[ok], e[ok], g[ok])
     correct = _corrector(model, method, reference, match, albedo, thresh)
     out[ok] = _in_chunks(correct, dn[ok], g[ok], i[ok], e[ok], progress)
     return out
@@ -219,70 +227,23 @@ def _in_chunks(
 
 
 # ------------------------------------------------------------------------- files
-PLANE_SUFFIXES = (".fits", ".fit", ".fts", ".npy", ".exr")
-
-
-def _astropy_fits() -> Any:
-    try:
-        from astropy.io import fits
-    except ImportError:
-        raise ParameterError(
-            "FITS files need astropy: pip install 'roughdiffuse[planetary]' (or use .npy/.exr)"
-        ) from None
-    return fits
-
-
 def read_plane(path: str | os.PathLike[str], nodata: float | None = None) -> np.ndarray:
-    """One image plane (H, W) as float64: FITS (astropy; BLANK and NaN are NoData), .npy or
-    .exr (first channel). Values equal to ``nodata`` become NaN."""
-    p = Path(path)
-    ext = p.suffix.lower()
-    if ext in (".fits", ".fit", ".fts"):
-        fits = _astropy_fits()
-        with fits.open(p, memmap=False) as hdul:
-            hdu = next((h for h in hdul if getattr(h, "data", None) is not None), None)
-            if hdu is None:
-                raise ParameterError(f"{p.name}: no image in the FITS file")
-            data = np.asarray(hdu.data, dtype=np.float64)  # astropy applies BSCALE/BLANK
-    elif ext == ".npy":
-        data = np.asarray(np.load(p, allow_pickle=False), dtype=np.float64)
-    elif ext == ".exr":
-        from ..fit import read_image
+    """A whole image plane (H, W) as float64, NaN where it holds no data (any format of
+    :mod:`.rasters`; values equal to ``nodata`` are NoData too). For images that fit in
+    memory; :mod:`.chunked` reads large ones by window."""
+    from .rasters import open_plane
 
-        data = np.asarray(read_image(p)[0], dtype=np.float64)
-    else:
-        raise ParameterError(f"image file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
-    if data.ndim == 3 and ext != ".fits":
-        data = data[..., 0]
-    data = np.squeeze(data)
-    if data.ndim != 2:
-        raise ParameterError(f"{p.name}: expected one image plane (got shape {data.shape})")
-    if nodata is not None:
-        data = np.where(data == nodata, np.nan, data)
-    return data
+    return open_plane(path, nodata=nodata).read_all()
 
 
-def write_plane(
-    path: str | os.PathLike[str], image: np.ndarray, header: dict | None = None
-) -> Path:
-    """Write one plane atomically: FITS (float32, NaN for NoData; astropy), .npy or .exr."""
-    from ..io.atomic import atomic_write
-    from ..io.images import write_exr, write_npy
+def write_plane(path: str | os.PathLike[str], image: np.ndarray) -> Path:
+    """Write one plane (float32, NaN for NoData) atomically, in the format its name says."""
+    from .rasters import encode, format_of, write_blocks
 
-    p = Path(path)
-    ext = p.suffix.lower()
-    if ext in (".fits", ".fit", ".fts"):
-        fits = _astropy_fits()
-        hdu = fits.PrimaryHDU(np.asarray(image, dtype=np.float32))
-        for k, v in (header or {}).items():
-            hdu.header[k] = v
-
-        def write(tmp: Path) -> None:
-            hdu.writeto(tmp, output_verify="exception")
-
-        return atomic_write(p, write)
-    if ext == ".npy":
-        return write_npy(p, image)
-    if ext == ".exr":
-        return write_exr(p, image)
-    raise ParameterError(f"output file must end in {', '.join(PLANE_SUFFIXES)} (got {p.name!r})")
+    img = np.asarray(image, dtype=np.float64)
+    if img.ndim != 2:
+        raise ParameterError(f"image must have shape (H, W) (got {img.shape})")
+    fmt = format_of(path)
+    kind = np.where(np.isfinite(img), 0, 1).astype(np.uint8)
+    whole = (slice(0, img.shape[0]), slice(0, img.shape[1]), encode(img, kind, fmt))
+    return write_blocks(path, img.shape, [whole], fmt=fmt)
