@@ -211,9 +211,10 @@ class Plane:
         else:
             from ..fit import read_image
 
-            raw = np.asarray(read_image(self.path)[0])[rows, cols]
-            if raw.ndim == 3:
-                raw = raw[..., 0]
+            img, finite = read_image(self.path)  # NaN and infinity: not finite, read as 0
+            if img.ndim == 3:
+                img = img[..., 0]
+            raw = np.where(finite, img, np.nan)[rows, cols]
         raw = raw.astype(raw.dtype.newbyteorder("="))
         values, kind = classify(raw, self.isis, (self.nodata, self.file_nodata))
         if self.scale != 1.0 or self.offset != 0.0:
