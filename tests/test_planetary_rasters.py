@@ -351,3 +351,29 @@ def test_bad_input_one_line_nothing_written(tmp_path, capsys):
     assert sorted(os.listdir(tmp_path)) == sorted([*before, "shifted.tif", "bad.cub", "badg.tif"])
     # an unknown output format
     error_line(capsys, [*good[:-1], str(tmp_path / "out.png")], "-o", "unknown format")
+
+
+@pytest.mark.slow  # the fit's starting points: about 4 s
+def test_fit_samples_an_image(tmp_path, capsys):
+    """Lunar-Lambert is fitted from the pixels of a cube of its own I/F: ρ and L come back."""
+    shape = (80, 80)
+    bp = ellipsoid_backplanes(shape, (0.0, 35.0), (0.0, 0.0))
+    lit = bp.on_body & (bp.incidence < math.radians(85)) & (bp.emission < math.radians(85))
+    iof = np.full(shape, np.nan)
+    iof[lit] = radiance_factor(
+        rd.LunarLambert(0.12, 0.6), bp.incidence[lit], bp.emission[lit], bp.phase[lit]
+    )
+    write_gdal(tmp_path / "img.cub", iof.astype(np.float32), "ISIS3")
+    argv = ["photometry", "fit", str(tmp_path / "img.cub"), "--model", "lunar-lambert"]
+    argv += ["--subsolar", "0,35", "--subobserver", "0,0", "--samples", "400", "--chunk", "32"]
+    assert cli.main(argv) == 0
+    out = capsys.readouterr().out
+    n = int(out.split(" samples")[0].split()[-1])
+    assert 340 <= n <= 400, out  # each data pixel kept with probability 400/N
+    vals = {
+        line.split()[0]: float(line.split()[1])
+        for line in out.splitlines()
+        if line.strip().startswith(("albedo", "limb_darkening"))
+    }
+    assert vals["albedo"] == pytest.approx(0.12, rel=1e-4)
+    assert vals["limb_darkening"] == pytest.approx(0.6, rel=1e-3)

@@ -12,12 +12,17 @@ FIT_EXAMPLES = """\
 examples:
   roughdiffuse photometry fit flyby.csv --model hapke --fix hg2=0 --report fit.html
   roughdiffuse photometry fit ceres.csv --model lunar-lambert
+  roughdiffuse photometry fit image.cub --incidence i.cub --emission e.cub --phase g.cub \\
+      --model hapke --fix hg2=0 --samples 20000
 
 DATA is a CSV file with a header naming the columns: I/F (or iof, radf; or r, the
 bidirectional reflectance I/F/π), i, e and g (incidence, emission, phase, in DEGREES), and
 optionally band (each band is fitted separately). Angles stay within [0, 180]; rows with i
 or e beyond 90 are refused (unlit or unseen points). Angle parameters given with --fix are
-in degrees, as everywhere on the command line.
+in degrees, as everywhere on the command line. DATA may instead be an I/F image (ISIS3
+.cub, PDS4 .xml, GeoTIFF, FITS, .npy, .exr) with its backplanes (as `photometry correct`
+takes them): up to --samples of its lit, seen data pixels are drawn, the image read chunk by
+chunk (never whole).
 """
 
 
@@ -52,7 +57,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=FIT_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    f.add_argument("data", metavar="DATA.csv", help="I/F (or r), i, e, g [, band] per row")
+    f.add_argument(
+        "data",
+        metavar="DATA",
+        help="a CSV file of I/F (or r), i, e, g [, band] per row, or an I/F image",
+    )
     f.add_argument(
         "--model",
         default="hapke",
@@ -74,8 +83,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="noise model: a constant fraction of I/F, or constant (default: relative)",
     )
     f.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    f.add_argument(
+        "--samples",
+        type=int,
+        default=20000,
+        metavar="N",
+        help="an image: the pixels to fit, at most (default 20000)",
+    )
+    from .photometry_correct import add_geometry_arguments, register_correct
+
+    add_geometry_arguments(f)
     f.set_defaults(func=run_fit)
-    from .photometry_correct import register_correct
 
     register_correct(inner)
 
@@ -118,8 +136,11 @@ def run_fit(args: argparse.Namespace) -> int:
     if not os.path.isfile(args.data):
         raise UsageError(f"data file {args.data!r} does not exist")
     fixed = _fixed(args.model, args.fix)
-    with reading(args.data, "data file"):
-        bands = read_photometry_csv(args.data)
+    if args.data.lower().endswith(".csv"):
+        with reading(args.data, "data file"):
+            bands = read_photometry_csv(args.data)
+    else:
+        bands = {None: _image_samples(args)}
     fits = []
     for band, data in bands.items():
         label = f"band {band}: " if band is not None else ""
@@ -131,6 +152,26 @@ def run_fit(args: argparse.Namespace) -> int:
         write_disk_report(args.report, fits)
         print(f"wrote {args.report}")
     return 0
+
+
+def _image_samples(args: argparse.Namespace) -> object:
+    """Up to --samples pixels of the image DATA with their angles, read chunk by chunk."""
+    from ..planetary.chunked import check_chunk, sample_pixels
+    from ..progress import progress_enabled
+    from ._checks import available_memory
+    from .photometry_correct import _geometry, _plane
+
+    if args.samples < 2:
+        raise UsageError(f"--samples must be at least 2 (got {args.samples})")
+    image = _plane(args.data, "image", args.band, args.nodata)
+    geometry = _geometry(args, image)
+    try:
+        check_chunk(args.chunk, 1, available_memory())
+    except ValueError as exc:
+        raise UsageError(f"--chunk: {exc}") from None
+    return sample_pixels(
+        image, geometry, args.samples, chunk=args.chunk, progress=progress_enabled()
+    )
 
 
 def _deg_range(a: object) -> str:

@@ -16,8 +16,7 @@ examples:
       --phase g.fits --model lunar-lambert --param L=0.6 -o corrected.fits
   roughdiffuse photometry correct moon.npy --subsolar 0,30 --subobserver 0,0 \\
       --model hapke --param Wh=0.25 --param B0=1.2 --param Hh=0.06 --param Theta=20 -o moon.fits
-
-  roughdiffuse photometry correct image.cub --incidence i.cub --emission e.cub \
+  roughdiffuse photometry correct image.cub --incidence i.cub --emission e.cub \\
       --phase g.cub --model hapke --param Wh=0.25 --chunk 2048 -o corrected.cub
   roughdiffuse photometry correct big.tif ... --scheduler tcp://10.0.0.5:8786 -o out.tif
 
@@ -63,11 +62,38 @@ def _param(text: str) -> tuple[str, str]:
 def _cost(chunk: int) -> str:
     from ..planetary.chunked import BYTES_PER_PIXEL
 
-    return f"{2 * chunk * chunk * BYTES_PER_PIXEL / 2**20:.0f} MiB per core"
+    return f"{chunk * chunk * BYTES_PER_PIXEL / 2**20:.0f} MiB per core"
+
+
+def add_geometry_arguments(c: argparse.ArgumentParser) -> None:
+    """The options naming an image's band, its NoData, its backplanes and the chunk size
+    (``photometry correct``, and ``photometry fit`` of an image)."""
+    from ..planetary.chunked import BYTES_PER_PIXEL, CHUNK
+
+    c.add_argument("--band", default="1", metavar="N|NAME", help="the image's band: number or name")
+    c.add_argument(
+        "--nodata",
+        type=float,
+        default=None,
+        metavar="VALUE",
+        help="a pixel value meaning NoData (besides NaN)",
+    )
+    for name in ("incidence", "emission", "phase"):
+        c.add_argument(f"--{name}", metavar="FILE", help=f"{name} backplane (degrees)")
+    c.add_argument("--subsolar", type=_numbers(2, "LAT,LON in degrees"), metavar="LAT,LON")
+    c.add_argument("--subobserver", type=_numbers(2, "LAT,LON in degrees"), metavar="LAT,LON")
+    c.add_argument("--radii", type=_numbers(3, "A,B,C"), default=(1.0, 1.0, 1.0), metavar="A,B,C")
+    c.add_argument(
+        "--chunk",
+        type=int,
+        default=CHUNK,
+        metavar="PIXELS",
+        help=f"chunk side (default {CHUNK}); memory about {BYTES_PER_PIXEL} bytes per pixel of "
+        f"a chunk, one chunk per core at work ({CHUNK}: {_cost(CHUNK)}; 2048: {_cost(2048)})",
+    )
 
 
 def register_correct(inner: argparse._SubParsersAction) -> None:
-    from ..planetary.chunked import BYTES_PER_PIXEL, CHUNK
     from ..planetary.disk import PHOTOMETRIC_MODELS
     from ..planetary.rasters import FORMATS
 
@@ -87,15 +113,6 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         choices=tuple(FORMATS),
         metavar="FORMAT",
         help=f"the output's format (default: from its name): {', '.join(FORMATS)}",
-    )
-    c.add_argument("--band", default="1", metavar="N|NAME", help="the image's band: number or name")
-    c.add_argument(
-        "--chunk",
-        type=int,
-        default=CHUNK,
-        metavar="PIXELS",
-        help=f"chunk side (default {CHUNK}); memory about {BYTES_PER_PIXEL} bytes per pixel of "
-        f"a chunk, two chunks per core in flight (1024: {_cost(1024)})",
     )
     c.add_argument(
         "--scheduler",
@@ -117,11 +134,7 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         help="a model parameter (repeatable; ISIS names accepted)",
     )
     c.add_argument("--method", choices=("albedo", "mixed"), default="albedo")
-    for name in ("incidence", "emission", "phase"):
-        c.add_argument(f"--{name}", metavar="FILE", help=f"{name} backplane (degrees)")
-    c.add_argument("--subsolar", type=_numbers(2, "LAT,LON in degrees"), metavar="LAT,LON")
-    c.add_argument("--subobserver", type=_numbers(2, "LAT,LON in degrees"), metavar="LAT,LON")
-    c.add_argument("--radii", type=_numbers(3, "A,B,C"), default=(1.0, 1.0, 1.0), metavar="A,B,C")
+    add_geometry_arguments(c)
     c.add_argument(
         "--reference",
         type=_numbers(3, "PHASE,INCIDENCE,EMISSION in degrees"),
@@ -136,13 +149,6 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
     )
     c.add_argument("--max-incidence", type=float, default=90.0, metavar="DEG")
     c.add_argument("--max-emission", type=float, default=90.0, metavar="DEG")
-    c.add_argument(
-        "--nodata",
-        type=float,
-        default=None,
-        metavar="VALUE",
-        help="a pixel value meaning NoData (besides NaN)",
-    )
     c.set_defaults(func=run_correct)
 
 

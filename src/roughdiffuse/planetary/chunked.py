@@ -3,8 +3,9 @@
 The image and its backplanes are never read whole: each chunk (a window of lines × samples)
 is read from the files (:class:`~roughdiffuse.planetary.rasters.Plane`), corrected by
 :func:`~roughdiffuse.planetary.correct.normalize` and written to its window of the output,
-which is written whole or not at all. Peak memory is a few chunks (about
-:data:`BYTES_PER_PIXEL` bytes per pixel of a chunk, per chunk in flight), not the image.
+which is written whole or not at all. Peak memory is a chunk per worker thread (about
+:data:`BYTES_PER_PIXEL` bytes per pixel of a chunk) and the float32 results of two chunks per
+thread, not the image.
 
 The chunks run on Dask's threaded scheduler on this machine, or on a Dask cluster
 (``scheduler``: a :class:`dask.distributed.Client` or its address). Each chunk's pixels are
@@ -35,17 +36,19 @@ __all__ = [
     "FileGeometry",
     "correct_file",
     "corrected_array",
+    "sample_pixels",
 ]
 
-CHUNK = 1024
-"""Default chunk side, pixels (a chunk of 1024 × 1024 pixels)."""
+CHUNK = 512
+"""Default chunk side, pixels (a chunk of 512 × 512 pixels: about 100 MiB at work)."""
 MIN_CHUNK, MAX_CHUNK = 16, 16384
 FLOAT32_ANGLE = 4.0 * float(np.finfo(np.float32).eps) * math.pi
 """Rounding of an angle stored in float32 degrees, radians (four units in the last place of
 180°)."""
-BYTES_PER_PIXEL = 600
-"""Memory one pixel of a chunk in flight costs at its peak (the image, three backplanes and
-the model's intermediate arrays in float64; measured for Hapke in bench/planetary_bench.py)."""
+BYTES_PER_PIXEL = 400
+"""Memory one pixel of a chunk at work costs at its peak: the image, three backplanes and the
+model's intermediate arrays in float64 (the peak of Python's allocations, tracemalloc, for
+Hapke and Hapke 2012 with the mixed method: 394–400 bytes; the albedo method 290–335)."""
 
 
 @dataclass(frozen=True)
@@ -183,18 +186,18 @@ def corrected_array(
 
 
 def check_chunk(chunk: int, workers: int, available: int | None) -> None:
-    """Refuse a chunk side outside [MIN_CHUNK, MAX_CHUNK], or one whose chunks in flight
-    (two per worker) would not fit in ``available`` bytes."""
+    """Refuse a chunk side outside [MIN_CHUNK, MAX_CHUNK], or one whose chunks at work (one
+    per worker thread) would not fit in ``available`` bytes."""
     if not MIN_CHUNK <= chunk <= MAX_CHUNK:
         raise ParameterError(
             f"chunk must be in [{MIN_CHUNK}, {MAX_CHUNK}] pixels (got {chunk}): smaller chunks "
             "cost more in overhead than in work, larger ones more memory than a machine has"
         )
-    need = 2 * workers * chunk * chunk * BYTES_PER_PIXEL
+    need = workers * chunk * chunk * BYTES_PER_PIXEL
     if available is not None and need > available:
         raise ParameterError(
-            f"chunk {chunk} needs about {need / 2**30:.1f} GiB ({2 * workers} chunks of "
-            f"{chunk}² pixels × {BYTES_PER_PIXEL} bytes in flight); {available / 2**30:.1f} GiB "
+            f"chunk {chunk} needs about {need / 2**30:.1f} GiB ({workers} chunks of "
+            f"{chunk}² pixels × {BYTES_PER_PIXEL} bytes at work); {available / 2**30:.1f} GiB "
             "is available: give a smaller chunk"
         )
 
@@ -222,8 +225,9 @@ def computed_blocks(
     scheduler: Any = None,
     progress: bool | None = None,
 ) -> Iterator[tuple[slice, slice, np.ndarray]]:
-    """Compute ``array``'s chunks, a few at a time (two per worker), and yield each
-    (rows, cols, pixels) in row-major order; a progress bar counts the chunks."""
+    """Compute ``array``'s chunks, two per worker thread at a time (one at work on each, the
+    results of the batch held until written), and yield each (rows, cols, pixels) in
+    row-major order; a progress bar counts the chunks, the time spent and the time left."""
     import dask
 
     from ..progress import progress as bar_of
@@ -310,3 +314,57 @@ def inputs_of(image: Plane, geometry: Any) -> Sequence[str]:
     if isinstance(geometry, FileGeometry):
         files += [geometry.incidence.path, geometry.emission.path, geometry.phase.path]
     return files
+
+
+def sample_pixels(
+    image: Plane,
+    geometry: Any,
+    samples: int,
+    *,
+    chunk: int = CHUNK,
+    max_incidence: float = math.radians(90.0),
+    max_emission: float = math.radians(90.0),
+    seed: int = 0,
+    progress: bool | None = None,
+) -> Any:
+    """Disk-resolved photometry from an image of any size: up to ``samples`` of its pixels
+    (I/F and their (i, e, g)), read chunk by chunk, as a :class:`.disk.DiskData`.
+
+    A first pass counts the image's data pixels N; then each one lit and seen within the
+    limits is kept with probability ``samples``/N, from a generator seeded by ``seed`` and
+    the chunk's position (so the sample does not depend on the order the chunks are read
+    in); if more than ``samples`` are kept, an evenly spaced subset of them is. Peak memory:
+    a chunk and the sample.
+    """
+    from ..progress import progress as bar_of
+    from .disk import DiskData
+
+    if samples < 2:
+        raise ParameterError(f"samples must be at least 2 (got {samples})")
+    windows = blocks_of(image.shape, (chunk, chunk))
+    parts: list[np.ndarray] = []
+    with bar_of(
+        2 * len(windows), "photometry fit: sampling", unit="chunk", enabled=progress
+    ) as bar:
+        n_data = 0
+        for rows, cols in windows:  # first pass: the image's data pixels, to set the rate
+            n_data += int(np.isfinite(image.read(rows, cols)[0]).sum())
+            bar.update(1)
+        rate = min(1.0, samples / max(n_data, 1))
+        for rows, cols in windows:
+            values, _ = image.read(rows, cols)
+            i, e, g = geometry.read(rows, cols)
+            ok = np.isfinite(values) & np.isfinite(i) & np.isfinite(e) & np.isfinite(g)
+            ok &= (i <= max_incidence) & (e <= max_emission) & (i < math.pi / 2)
+            rng = np.random.default_rng([seed, rows.start, cols.start])
+            ok &= rng.random(ok.shape) < rate
+            parts.append(np.stack([values[ok], i[ok], e[ok], g[ok]]))
+            bar.update(1)
+    data = np.concatenate(parts, axis=1) if parts else np.empty((4, 0))
+    if data.shape[1] > samples:
+        data = data[:, np.linspace(0, data.shape[1] - 1, samples).astype(np.intp)]
+    if data.shape[1] < 2:
+        raise ParameterError(
+            f"{os.path.basename(image.path)}: fewer than 2 lit, seen data pixels to fit"
+        )
+    return DiskData(*data, source=os.path.basename(image.path))
