@@ -24,7 +24,9 @@ Normalises I/F to ISIS's reference geometry: incidence = emission = phase = 0 (c
 --reference G,I,E), with the opposition-surge amplitudes (B0) set to 0 there, as ISIS's
 ZeroB0Standard = TRUE. Methods (ISIS photomet's): albedo = I/F x P(ref)/P(g, i, e); mixed =
 the model's topographic shading kept near the limb and terminator, the albedo normalised in
-between (match geometry --match, default 45,45,0). Pixels with i or e beyond --max-incidence
+between (match geometry --match, default 45,45,0); topo = the topographic shading
+normalised (ISIS's reference: --reference INCREF,INCREF,0); shade = a shaded relief from the
+model alone, --albedo x P(g, i, e)/P(ref). Pixels with i or e beyond --max-incidence
 / --max-emission (default 90, as photomet; 85 leaves out grazing pixels) are NoData in the
 output, and NoData stays NoData: NaN, the file's NoData value (FITS BLANK, GDAL nodata),
 --nodata VALUE, and ISIS special pixels (Null, Lrs, Lis, His, Hrs; an output cube keeps each).
@@ -94,12 +96,13 @@ def add_geometry_arguments(c: argparse.ArgumentParser) -> None:
 
 
 def register_correct(inner: argparse._SubParsersAction) -> None:
+    from ..planetary.correct import METHODS
     from ..planetary.disk import PHOTOMETRIC_MODELS
     from ..planetary.rasters import FORMATS
 
     c = inner.add_parser(
         "correct",
-        help="normalise an I/F image to a reference geometry (ISIS photomet's albedo, mixed)",
+        help="normalise an I/F image to a reference geometry (ISIS photomet's methods)",
         description="Photometric normalisation of an I/F image, as ISIS's photomet.",
         epilog=CORRECT_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -133,7 +136,14 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         metavar="NAME=VALUE",
         help="a model parameter (repeatable; ISIS names accepted)",
     )
-    c.add_argument("--method", choices=("albedo", "mixed"), default="albedo")
+    c.add_argument("--method", choices=METHODS, default="albedo")
+    c.add_argument(
+        "--albedo",
+        type=float,
+        default=1.0,
+        metavar="A",
+        help="mixed, topo, shade: ISIS's Albedo, the output's brightness scale (default 1)",
+    )
     add_geometry_arguments(c)
     c.add_argument(
         "--reference",
@@ -254,6 +264,7 @@ def run_correct(args: argparse.Namespace) -> int:
     correction = Correction(
         model,
         method=args.method,
+        albedo=args.albedo,
         reference=tuple(math.radians(v) for v in args.reference),
         match=tuple(math.radians(v) for v in args.match),
         max_incidence=math.radians(args.max_incidence),

@@ -1,8 +1,9 @@
 """Photometric normalisation of I/F images to a reference geometry, as ISIS's ``photomet``.
 
-Two methods, transcribed from USGS ISIS3 (``isis/src/base/objs/Albedo/Albedo.cpp`` and
-``Mixed/Mixed.cpp``, ``NormModelAlgorithm``), with P(g, i, e) the model's I/F for unit albedo
-parameters as given and P_ref its value at the reference geometry (g_ref, i_ref, e_ref):
+Four methods, transcribed from USGS ISIS3 (``isis/src/base/objs/Albedo/Albedo.cpp``,
+``Mixed/Mixed.cpp``, ``Topo/Topo.cpp`` and ``Shade/Shade.cpp``, ``NormModelAlgorithm``), with
+P(g, i, e) the model's I/F for unit albedo parameters as given and P_ref its value at the
+reference geometry (g_ref, i_ref, e_ref):
 
 * ``"albedo"``: I/F × P_ref/P — the I/F the surface would have at the reference geometry;
   pixels where P_ref > 30 P (ISIS's ``Thresh``) are masked.
@@ -13,6 +14,12 @@ parameters as given and P_ref its value at the reference geometry (g_ref, i_ref,
   the change of P with a 0.04° tilt of the surface, by central differences in two directions),
   P_m and P′_m at the match geometry (g_m, i_m, e_m) and ρ̄ = albedo/P_ref (ISIS ``Albedo``,
   default 1); masked where a > 30 a_ref.
+* ``"topo"``: the topographic shading normalised, for a DEM-free relief image
+  (ISIS's Topo): A = ρ̄ [I/F × P P′_ref/P′ + P_ref − P P′_ref/P′], ρ̄ = albedo/P(0, 0, 0)
+  (surge removed); masked where P P′_ref > 30 P′. ISIS's Topo takes the reference
+  (g, i, e) = (i_ref, i_ref, 0).
+* ``"shade"``: a shaded-relief image from the model alone, the I/F ignored (ISIS's Shade):
+  A = albedo × P/P_ref, P_ref with the surge removed; ISIS's reference is (i_ref, i_ref, 0).
 
 Reference geometry, as ISIS's defaults: i_ref = e_ref = g_ref = 0; there the opposition-surge
 amplitudes (B0, B_S0, B_C0) are set to 0, as ISIS's ``ZeroB0Standard = TRUE`` (default) does,
@@ -48,7 +55,7 @@ __all__ = [
     "write_plane",
 ]
 
-METHODS = ("albedo", "mixed")
+METHODS = ("albedo", "mixed", "topo", "shade")
 REFERENCE = (0.0, 0.0, 0.0)
 """ISIS's default reference geometry (phase, incidence, emission), radians."""
 MATCH = (math.radians(45.0), math.radians(45.0), 0.0)
@@ -129,11 +136,11 @@ def normalize(
         Backplanes, radians (NaN: off the body).
     model : Model
         The photometric model (a registry model; :data:`.disk.PHOTOMETRIC_MODELS`).
-    method : {"albedo", "mixed"}
+    method : {"albedo", "mixed", "topo", "shade"}
     reference, match : (phase, incidence, emission)
         Radians.
     albedo : float
-        Mixed only: ISIS's ``Albedo`` (ρ̄ P_ref).
+        Mixed, topo and shade: ISIS's ``Albedo`` (the normalised image's brightness scale).
     max_incidence, max_emission : float
         Pixels beyond are masked (radians); default 90°, as ISIS's ``photomet``
         (``MAXINCIDENCE``, ``MAXEMISSION``); 85° leaves out the grazing pixels whose
@@ -192,6 +199,29 @@ def _corrector(
         return albedo_method
     if p_ref == 0.0:
         raise ParameterError("the model's I/F at the reference geometry is 0")
+    if method == "shade":
+        rho = albedo / p_ref
+
+        def shade_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
+            return rho * _psurf(model, g, i, e)
+
+        return shade_method
+    if method == "topo":
+        psurf0 = float(_psurf(ref, 0.0, 0.0, 0.0))
+        if psurf0 == 0.0:
+            raise ParameterError("the model's I/F at i = e = g = 0 is 0")
+        rhobar0 = albedo / psurf0
+        pp_ref0 = float(phototopder(ref, *reference))
+
+        def topo_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
+            psurf = _psurf(model, g, i, e)
+            pprime = phototopder(model, g, i, e)
+            ratio = psurf * pp_ref0 / pprime
+            res = dn * rhobar0 * ratio + rhobar0 * p_ref - rhobar0 * ratio
+            res[psurf * pp_ref0 > pprime * thresh] = np.nan
+            return res
+
+        return topo_method
     rhobar = albedo / p_ref
     p_match = float(_psurf(ref, *match))
     pp_ref = float(phototopder(ref, *reference))
