@@ -14,7 +14,8 @@ Two measurements; the section "Planetary images" of ``bench/RESULTS.md`` is rewr
   by ``pvl``) equal the input's; the run on a local Dask cluster of two workers (one thread
   each, in this process) writes the same pixels, bit for bit, as the threaded run.
 * **Scale.** A ``--scale`` LINES×SAMPLES float32 image and its three backplanes, tiled
-  GeoTIFF written window by window, are corrected with Hapke by the command line in a child
+  GeoTIFF written window by window (every pixel on the body: a zoom into a sphere), are
+  corrected with Hapke by the command line in a child
   process: wall time, CPU time, and the child's peak resident memory
   (``resource.getrusage(RUSAGE_CHILDREN).ru_maxrss``). Targets for 20000×50000 on 2 cores:
   at most 20 minutes and 2 GB. A crop of at most 4096 × 4096 of the output is checked against
@@ -54,9 +55,16 @@ SUN, VIEW = (5.0, -40.0), (0.0, 0.0)
 MOON_CRS = "+proj=eqc +lat_ts=0 +lat_0=0 +lon_0=0 +x_0=0 +y_0=0 +R=1737400 +units=m +no_defs"
 
 
-def scene_window(shape, rows, cols):
+def filling_margin(shape) -> float:
+    """The margin (negative: a zoom) that puts the whole image on the body (corners at 0.95
+    of its radius): a scene without empty pixels for the scale run."""
+    m = min(shape)
+    return 0.95 / math.hypot(shape[0] / m, shape[1] / m) - 1.0
+
+
+def scene_window(shape, rows, cols, margin=0.05):
     """I/F and (i, e, g) in degrees of a window of the synthetic scene, float32."""
-    bp = ellipsoid_backplanes(shape, SUN, VIEW, window=(rows, cols))
+    bp = ellipsoid_backplanes(shape, SUN, VIEW, margin=margin, window=(rows, cols))
     lit = bp.on_body & (bp.incidence < math.pi / 2)
     iof = np.full(bp.incidence.shape, np.nan)
     pattern = 1.0 + 0.1 * np.sin(3.0 * bp.longitude[lit]) * np.cos(bp.latitude[lit])
@@ -66,14 +74,15 @@ def scene_window(shape, rows, cols):
     return [p.astype(np.float32) for p in planes]
 
 
-def write_scene(folder: Path, shape, fmt: str, chunk: int) -> list[Path]:
+def write_scene(folder: Path, shape, fmt: str, chunk: int, margin=0.05) -> list[Path]:
     """The scene's four planes (img, i, e, g) in ``fmt``, written window by window."""
     ext = {"isis3": "cub", "gtiff": "tif", "fits": "fits"}[fmt]
     paths = [folder / f"{n}.{ext}" for n in ("img", "i", "e", "g")]
     if fmt == "fits":
         for k, path in enumerate(paths):
             blocks = (
-                (r, c, scene_window(shape, r, c)[k]) for r, c in blocks_of(shape, (chunk, chunk))
+                (r, c, scene_window(shape, r, c, margin)[k])
+                for r, c in blocks_of(shape, (chunk, chunk))
             )
             write_blocks(path, shape, blocks)
         return paths
@@ -99,7 +108,7 @@ def write_scene(folder: Path, shape, fmt: str, chunk: int) -> list[Path]:
         try:
             for r, c in blocks_of(shape, (chunk, chunk)):
                 win = Window(c.start, r.start, c.stop - c.start, r.stop - r.start)
-                for dst, plane in zip(dsts, scene_window(shape, r, c), strict=True):
+                for dst, plane in zip(dsts, scene_window(shape, r, c, margin), strict=True):
                     if fmt == "isis3":
                         plane = np.where(np.isnan(plane), np.float32(dst.nodata), plane)
                     dst.write(plane, 1, window=win)
@@ -195,7 +204,7 @@ def correctness(folder: Path, size: int, chunk: int) -> list[str]:
 def scale(folder: Path, lines: int, samples: int, chunk: int) -> list[str]:
     shape = (lines, samples)
     t = time.perf_counter()
-    paths = write_scene(folder, shape, "gtiff", chunk)
+    paths = write_scene(folder, shape, "gtiff", chunk, filling_margin(shape))
     t_write = time.perf_counter() - t
     out = folder / "out.tif"
     argv = [sys.executable, "-m", "roughdiffuse", "photometry", "correct", str(paths[0])]
