@@ -9,7 +9,8 @@ the body is far away, else from X to its position):
 
     cos i = n·s,  cos e = n·o,  cos g = s·o
 
-(the local incidence and emission angles; the phase angle does not depend on the slope).
+(each angle computed as atan2(|a × b|, a·b), accurate to the last digits near 0°; the local
+incidence and emission angles; the phase angle does not depend on the slope).
 The slope is the angle between n and the reference "up" u (the plane's z axis, or the
 sphere's radial direction), and the azimuth is the direction, clockwise from north, that the
 slope faces: atan2(n·east, n·north), in [0°, 360°).
@@ -157,7 +158,9 @@ def local_angles(
     o = _toward(np.asarray(observer), observer_distance, p)
 
     def angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return np.arccos(np.clip(np.einsum("...k,...k", a, b), -1.0, 1.0))
+        # atan2(|a × b|, a·b): accurate near 0 and π, where arccos loses half the digits
+        cross = np.linalg.norm(np.cross(a, b), axis=-1)
+        return np.arctan2(cross, np.einsum("...k,...k", a, b))
 
     # azimuth: n against local north (north less its part along up) and east = north × up
     spin = np.broadcast_to(np.asarray(north, dtype=np.float64), u.shape)
