@@ -119,3 +119,117 @@ def test_too_small_dem_refused():
     with pytest.raises(ValueError, match="at least 3 samples"):
         points, up, north = plane_points(np.zeros((2, 5)), TRANSFORM)
         local_angles(points, up, north, SUN, OBSERVER)
+
+
+# ------------------------------------------------------------------------- files, the command
+rasterio = pytest.importorskip("rasterio")
+MOON_CRS = "+proj=eqc +lat_ts=0 +lat_0=0 +lon_0=0 +x_0=0 +y_0=0 +R=1737400 +units=m +no_defs"
+
+
+def write_tif(path, data, transform, crs=MOON_CRS):
+    from rasterio.transform import Affine
+
+    with rasterio.open(
+        path,
+        "w",
+        driver="GTiff",
+        width=data.shape[1],
+        height=data.shape[0],
+        count=1,
+        dtype="float32",
+        crs=crs,
+        transform=Affine(*transform),
+    ) as d:
+        d.write(data.astype(np.float32), 1)
+    return path
+
+
+def hill_dem(tmp_path):
+    """A 100 × 120 DEM, 2 m pixels: an inclined plane with a Gaussian hill."""
+    transform = (2.0, 0.0, 1000.0, 0.0, -2.0, 5000.0)
+    rr, cc = np.mgrid[0:100, 0:120]
+    z = 0.1 * cc - 0.05 * rr + 8.0 * np.exp(-((rr - 50) ** 2 + (cc - 60) ** 2) / 200.0)
+    return write_tif(tmp_path / "dem.tif", z, transform), z, transform
+
+
+def test_dem_geometry_windows_of_a_covering_dem(tmp_path):
+    from roughdiffuse.planetary.dem import dem_geometry
+    from roughdiffuse.planetary.rasters import open_plane
+
+    dem_path, z, transform = hill_dem(tmp_path)
+    # the image: 60 × 80 pixels from line 10, sample 20 of the DEM's grid
+    img_t = (2.0, 0.0, 1000.0 + 20 * 2.0, 0.0, -2.0, 5000.0 - 10 * 2.0)
+    image = write_tif(tmp_path / "img.tif", np.full((60, 80), 0.1), img_t)
+    geo = dem_geometry(
+        open_plane(dem_path),
+        open_plane(image),
+        sun=SUN,
+        observer=OBSERVER,
+        observer_distance=DIST,
+    )
+    assert geo.offset == (10, 20)
+    points, up, north = plane_points(z.astype(np.float32), transform)
+    whole = local_angles(points, up, north, SUN, OBSERVER, observer_distance=DIST)
+    for rows, cols in ((slice(0, 60), slice(0, 80)), (slice(13, 40), slice(50, 80))):
+        got = geo.angles(rows, cols)
+        want = (slice(rows.start + 10, rows.stop + 10), slice(cols.start + 20, cols.stop + 20))
+        for name in ("incidence", "emission", "phase", "slope", "azimuth"):
+            np.testing.assert_array_equal(getattr(got, name), getattr(whole, name)[want])
+
+
+def test_correct_with_dem_flattens_lambert_shading(tmp_path, capsys):
+    """I/F = ρ cos i_local over the hill; the albedo method with Lambert gives back ρ."""
+    from roughdiffuse import cli
+
+    dem_path, z, transform = hill_dem(tmp_path)
+    points, up, north = plane_points(z.astype(np.float32), transform)
+    a = local_angles(points, up, north, SUN, OBSERVER)
+    iof = 0.3 * np.cos(a.incidence)
+    write_tif(tmp_path / "img.tif", iof, transform)
+    argv = ["photometry", "correct", str(tmp_path / "img.tif"), "--dem", str(dem_path)]
+    argv += ["--sun-vector", "0.3,-0.4,0.866", "--observer-vector=-0.1,0.2,1"]
+    argv += ["--model", "lambert", "--chunk", "32", "-o", str(tmp_path / "out.tif")]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    with rasterio.open(tmp_path / "out.tif") as d:
+        out = d.read(1)
+    np.testing.assert_allclose(out, 0.3, rtol=2e-6)  # float32 files
+    # a DEM that does not cover the image: one line, exit 2, nothing written
+    write_tif(tmp_path / "small.tif", z[:50, :60], transform)
+    argv[4] = str(tmp_path / "small.tif")
+    argv[-1] = str(tmp_path / "none.tif")
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "small.tif does not cover the image" in err[0]
+    assert not (tmp_path / "none.tif").exists()
+
+
+def test_flat_dem_on_the_moon_through_its_map_projection(tmp_path):
+    """Zero heights in a lunar equirectangular DEM: the local angles are the sphere's."""
+    from roughdiffuse.planetary.dem import dem_geometry
+    from roughdiffuse.planetary.rasters import open_plane
+
+    radius = 1737400.0
+    step = 200.0  # metres
+    transform = (step, 0.0, 1.0e5, 0.0, -step, 3.0e5)
+    dem = write_tif(tmp_path / "dem.tif", np.zeros((50, 60)), transform)
+    sun, obs = unit_from_lat_lon(5.0, 30.0), unit_from_lat_lon(2.0, 1.0)
+    geo = dem_geometry(
+        open_plane(dem),
+        open_plane(dem),
+        sun=sun,
+        observer=obs,
+        frame="body",
+        radius=radius,
+        observer_distance=radius + 4.0e5,
+    )
+    got = geo.angles(slice(0, 50), slice(0, 60))
+    # the samples' latitude and longitude, inverted by hand: eqc with R, lat_ts = 0
+    rr, cc = np.mgrid[0:50, 0:60] + 0.5
+    lon = np.degrees((1.0e5 + step * cc) / radius)
+    lat = np.degrees((3.0e5 - step * rr) / radius)
+    u = unit_from_lat_lon(lat, lon)
+    o = (radius + 4.0e5) * obs - radius * u
+    inner = (slice(2, -2), slice(2, -2))
+    np.testing.assert_allclose(got.incidence[inner], angle(u, sun)[inner], atol=1e-9)
+    np.testing.assert_allclose(got.emission[inner], angle(u, o)[inner], atol=1e-9)
+    np.testing.assert_allclose(got.slope[inner], 0.0, atol=1e-9)

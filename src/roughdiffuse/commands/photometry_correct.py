@@ -86,6 +86,28 @@ def add_geometry_arguments(c: argparse.ArgumentParser) -> None:
     c.add_argument("--subobserver", type=_numbers(2, "LAT,LON in degrees"), metavar="LAT,LON")
     c.add_argument("--radii", type=_numbers(3, "A,B,C"), default=(1.0, 1.0, 1.0), metavar="A,B,C")
     c.add_argument(
+        "--dem",
+        metavar="FILE",
+        help="angles from a DEM (GeoTIFF, .cub; heights in metres) on the image's pixel grid, "
+        "with --sun-vector/--observer-vector (map east, north, up) or --subsolar/--subobserver "
+        "and --radius (a sphere)",
+    )
+    c.add_argument("--sun-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
+    c.add_argument("--observer-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
+    c.add_argument(
+        "--sun-distance", type=float, metavar="M", help="from the map origin or body centre"
+    )
+    c.add_argument(
+        "--observer-distance", type=float, metavar="M", help="default: far away (parallel rays)"
+    )
+    c.add_argument("--radius", type=float, default=0.0, metavar="M", help="the sphere's radius")
+    c.add_argument(
+        "--dem-holds",
+        choices=("height", "radius"),
+        default="height",
+        help="the DEM's values: heights above the sphere, or radii (ISIS DEMs)",
+    )
+    c.add_argument(
         "--chunk",
         type=int,
         default=CHUNK,
@@ -191,6 +213,10 @@ def _geometry(args: argparse.Namespace, image: Any) -> Any:
     from ..planetary.chunked import EllipsoidGeometry, FileGeometry
 
     files = [args.incidence, args.emission, args.phase]
+    if args.dem:
+        if any(files):
+            raise UsageError("give backplane files or --dem, not both")
+        return _dem_geometry(args, image)
     if any(files):
         if not all(files):
             raise UsageError("give all three of --incidence, --emission and --phase")
@@ -216,6 +242,42 @@ def _geometry(args: argparse.Namespace, image: Any) -> Any:
             "(--subsolar and --subobserver)"
         )
     return EllipsoidGeometry(image.shape, args.subsolar, args.subobserver, args.radii)
+
+
+def _dem_geometry(args: argparse.Namespace, image: Any) -> Any:
+    from ..planetary.dem import dem_geometry, unit_from_lat_lon
+
+    dem = _plane(args.dem, "DEM")
+    if args.sun_vector and args.observer_vector:
+        frame, sun, observer = "plane", args.sun_vector, args.observer_vector
+    elif args.subsolar and args.subobserver:
+        frame = "body"
+        sun, observer = (tuple(unit_from_lat_lon(*p)) for p in (args.subsolar, args.subobserver))
+    else:
+        raise UsageError(
+            "--dem needs --sun-vector and --observer-vector (map east, north, up), or "
+            "--subsolar, --subobserver and --radius"
+        )
+    for flag, v in (
+        ("--sun-distance", args.sun_distance),
+        ("--observer-distance", args.observer_distance),
+    ):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise UsageError(f"{flag} must be a positive number of metres (got {v:g})")
+    try:
+        return dem_geometry(
+            dem,
+            image,
+            sun=sun,
+            observer=observer,
+            frame=frame,
+            sun_distance=args.sun_distance,
+            observer_distance=args.observer_distance,
+            radius=args.radius,
+            holds_radius=args.dem_holds == "radius",
+        )
+    except ValueError as exc:
+        raise UsageError(f"--dem: {exc}") from None
 
 
 def run_correct(args: argparse.Namespace) -> int:
@@ -251,7 +313,7 @@ def run_correct(args: argparse.Namespace) -> int:
         raise UsageError(f"image {args.image!r} does not exist")
     image = _plane(args.image, "image", args.band, args.nodata)
     geometry = _geometry(args, image)
-    inputs = [args.image, args.incidence, args.emission, args.phase]
+    inputs = [args.image, args.incidence, args.emission, args.phase, args.dem]
     for path in filter(None, inputs):
         if same_file(path, args.output):
             raise UsageError(f"-o {args.output!r} is one of the inputs; name another file")

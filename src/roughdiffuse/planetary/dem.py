@@ -28,6 +28,7 @@ Two ways to place the samples:
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -36,7 +37,15 @@ import numpy as np
 
 from .._validate import ParameterError
 
-__all__ = ["LocalAngles", "body_points", "local_angles", "plane_points", "unit_from_lat_lon"]
+__all__ = [
+    "DemGeometry",
+    "LocalAngles",
+    "body_points",
+    "dem_geometry",
+    "local_angles",
+    "plane_points",
+    "unit_from_lat_lon",
+]
 
 
 @dataclass(frozen=True)
@@ -170,3 +179,173 @@ def local_angles(
     east = np.cross(nor, u)
     az = np.arctan2(np.einsum("...k,...k", n, east), np.einsum("...k,...k", n, nor))
     return LocalAngles(angle(n, s), angle(n, o), angle(s, o), angle(n, u), np.mod(az, 2 * math.pi))
+
+
+HALO = 2
+"""Samples of margin a window of the DEM is read with: the five-point stencil's reach."""
+
+
+@dataclass(frozen=True)
+class DemGeometry:
+    """The backplanes of an image from a DEM on its pixel grid (picklable, read by window).
+
+    Attributes
+    ----------
+    dem : Plane
+        The DEM (heights in metres, or radii with ``holds_radius``).
+    offset : (line, sample)
+        The image's first pixel in the DEM's grid (the DEM covers the image).
+    shape : (lines, samples)
+        The image's size.
+    frame : {"plane", "body"}
+        :func:`plane_points` (vectors in the map's east, north, up) or :func:`body_points`.
+    sun, observer : 3-vectors
+        Directions (plane: east, north, up; body: body-fixed, from the sub-points).
+    sun_distance, observer_distance : float or None
+        From the map's origin (plane) or the body's centre (body), metres; None: far away.
+    radius : float
+        The sphere's radius, metres (body frame).
+    holds_radius : bool
+        The DEM holds radii (ISIS's DEMs), not heights above the sphere.
+    """
+
+    dem: Any
+    offset: tuple[int, int]
+    shape: tuple[int, int]
+    transform: tuple[float, ...]
+    crs: str
+    frame: str
+    sun: tuple[float, float, float]
+    observer: tuple[float, float, float]
+    sun_distance: float | None = None
+    observer_distance: float | None = None
+    radius: float = 0.0
+    holds_radius: bool = False
+
+    def angles(self, rows: slice, cols: slice) -> LocalAngles:
+        """All five angles of an image window (radians)."""
+        r0, c0 = self.offset
+        dh, dw = self.dem.shape
+        top, left = max(r0 + rows.start - HALO, 0), max(c0 + cols.start - HALO, 0)
+        bottom, right = min(r0 + rows.stop + HALO, dh), min(c0 + cols.stop + HALO, dw)
+        wr, wc = slice(top, bottom), slice(left, right)
+        z = self.dem.read(wr, wc)[0]
+        if self.holds_radius:
+            z = z - self.radius
+        if self.frame == "plane":
+            points, up, north = plane_points(z, self.transform, wr, wc)
+        else:
+            lat, lon = self._lat_lon(wr, wc)
+            points, up, north = body_points(z, lat, lon, self.radius)
+        got = local_angles(
+            points,
+            up,
+            north,
+            self.sun,
+            self.observer,
+            sun_distance=self.sun_distance,
+            observer_distance=self.observer_distance,
+        )
+        inner = (
+            slice(r0 + rows.start - top, r0 + rows.stop - top),
+            slice(c0 + cols.start - left, c0 + cols.stop - left),
+        )
+        return LocalAngles(*(getattr(got, k)[inner] for k in LocalAngles.__dataclass_fields__))
+
+    def read(self, rows: slice, cols: slice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        a = self.angles(rows, cols)
+        return a.incidence, a.emission, a.phase
+
+    def _lat_lon(self, rows: slice, cols: slice) -> tuple[np.ndarray, np.ndarray]:
+        """Planetocentric latitude and longitude (degrees) of the DEM samples of a window,
+        from the map projection by PROJ (rasterio.warp)."""
+        from rasterio.crs import CRS
+        from rasterio.warp import transform
+
+        x, y, _ = np.moveaxis(
+            plane_points(
+                np.zeros((rows.stop - rows.start, cols.stop - cols.start)),
+                self.transform,
+                rows,
+                cols,
+            )[0],
+            -1,
+            0,
+        )
+        geo = CRS.from_proj4(f"+proj=longlat +R={self.radius!r} +no_defs")
+        lon, lat = transform(CRS.from_user_input(self.crs), geo, x.ravel(), y.ravel())
+        return np.reshape(lat, x.shape), np.reshape(lon, x.shape)
+
+
+def dem_geometry(
+    dem: Any,
+    image: Any,
+    *,
+    sun: Sequence[float],
+    observer: Sequence[float],
+    frame: str = "plane",
+    sun_distance: float | None = None,
+    observer_distance: float | None = None,
+    radius: float = 0.0,
+    holds_radius: bool = False,
+) -> DemGeometry:
+    """The :class:`DemGeometry` of ``image`` (a Plane) from ``dem`` (a Plane), checked.
+
+    The DEM must be on the image's pixel grid: the same size without a map projection; with
+    one, the same projection and pixel size, the image's pixels a whole-pixel window of the
+    DEM's. The body frame needs a map projection and ``radius``.
+
+    Raises
+    ------
+    ValueError
+        Naming the DEM: not covering the image, another grid or projection, no projection.
+    """
+    import rasterio
+
+    name = os.path.basename(dem.path)
+    if frame not in ("plane", "body"):
+        raise ParameterError(f"frame must be 'plane' or 'body' (got {frame!r})")
+    with rasterio.open(dem.path) as ds:
+        dt, dcrs = ds.transform, ds.crs
+    if dt.is_identity:
+        raise ParameterError(f"{name}: a DEM needs a geotransform (its pixel size in metres)")
+    offset = (0, 0)
+    if image.georef and dem.georef:
+        with rasterio.open(image.path) as ds:
+            it, icrs = ds.transform, ds.crs
+        if icrs != dcrs:
+            raise ParameterError(f"{name}: its map projection is not the image's")
+        if not np.allclose(tuple(it)[:2] + tuple(it)[3:5], tuple(dt)[:2] + tuple(dt)[3:5]):
+            raise ParameterError(f"{name}: its pixel size is not the image's; resample it first")
+        # the image's corner in the DEM's pixels: solve x = a col + b row + c, y = d col + e row + f
+        col, row = np.linalg.solve([[dt.a, dt.b], [dt.d, dt.e]], [it.c - dt.c, it.f - dt.f])
+        if abs(col - round(col)) > 1e-6 or abs(row - round(row)) > 1e-6:
+            raise ParameterError(f"{name}: its pixels are not aligned with the image's")
+        offset = (int(round(row)), int(round(col)))
+    elif dem.shape != image.shape:
+        raise ParameterError(
+            f"{name} is {dem.shape[1]} x {dem.shape[0]} pixels, the image "
+            f"{image.shape[1]} x {image.shape[0]}; without map projections they must match"
+        )
+    r0, c0 = offset
+    if r0 < 0 or c0 < 0 or r0 + image.shape[0] > dem.shape[0] or c0 + image.shape[1] > dem.shape[1]:
+        raise ParameterError(f"{name} does not cover the image")
+    if frame == "body":
+        if dcrs is None:
+            raise ParameterError(f"{name}: a DEM on a body needs a map projection")
+        if not (math.isfinite(radius) and radius > 0):
+            raise ParameterError(f"radius must be a positive number of metres (got {radius})")
+    return DemGeometry(
+        dem,
+        offset,
+        image.shape,
+        tuple(float(v) for v in tuple(dt)[:6]),
+        dcrs.to_wkt() if dcrs is not None else "",
+        frame,
+        tuple(float(v) for v in sun),
+        tuple(float(v) for v in observer),
+        sun_distance,
+        observer_distance,
+        float(radius),
+        holds_radius,
+    )
