@@ -188,7 +188,7 @@ def test_correct_with_dem_flattens_lambert_shading(tmp_path, capsys):
     write_tif(tmp_path / "img.tif", iof, transform)
     argv = ["photometry", "correct", str(tmp_path / "img.tif"), "--dem", str(dem_path)]
     argv += ["--sun-vector", "0.3,-0.4,0.866", "--observer-vector=-0.1,0.2,1"]
-    argv += ["--model", "lambert", "--chunk", "32", "-o", str(tmp_path / "out.tif")]
+    argv += ["--model", "lambert", "--chunk", "64", "-o", str(tmp_path / "out.tif")]
     assert cli.main(argv) == 0, capsys.readouterr().err
     with rasterio.open(tmp_path / "out.tif") as d:
         out = d.read(1)
