@@ -176,3 +176,29 @@ def test_topo_and_shade_against_isis_truth(method, incref, truth):
         reference=(ref, ref, 0.0),
     )
     assert [f"{v:.6g}" for v in got] == truth
+
+
+def test_parameter_map_of_the_albedo_corrects_exactly():
+    """With w given per pixel (a map of the truth) the albedo method is exact: each pixel's
+    Hapke I/F at i = e = g = 0 without the surge, where one w gave 0.6 %."""
+    bp, iof, truth = moon((0.0, 30.0))
+    w = np.full(iof.shape, np.nan)
+    lit = bp.on_body & (bp.incidence < math.pi / 2)
+    w[lit] = albedo_map(bp.latitude[lit], bp.longitude[lit])
+    got = normalize(
+        iof, bp.incidence, bp.emission, bp.phase, rd.Hapke(0.25, **HAPKE), params={"albedo": w}
+    )
+    keep = lit & (bp.incidence < math.radians(85)) & (bp.emission < math.radians(85))
+    assert keep.sum() > 2500
+    np.testing.assert_allclose(got[keep], truth[keep], rtol=1e-12)
+    # a map of one value is the scalar model, and a map's NaN is NoData
+    b0 = np.full(iof.shape, HAPKE["b0"])
+    b0[40, 40] = np.nan
+    model = rd.Hapke(0.25, **HAPKE)
+    one = normalize(iof, bp.incidence, bp.emission, bp.phase, model, method="mixed")
+    mapped = normalize(
+        iof, bp.incidence, bp.emission, bp.phase, model, method="mixed", params={"b0": b0}
+    )
+    assert np.isnan(mapped[40, 40]) and np.isfinite(one[40, 40])
+    mapped[40, 40] = one[40, 40]
+    np.testing.assert_allclose(mapped, one, rtol=1e-13, equal_nan=True)

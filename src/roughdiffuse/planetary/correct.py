@@ -37,7 +37,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +50,7 @@ __all__ = [
     "METHODS",
     "REFERENCE",
     "normalize",
+    "PixelModel",
     "phototopder",
     "read_plane",
     "write_plane",
@@ -77,8 +78,46 @@ def _psurf(model: Any, phase: Any, inc: Any, ema: Any) -> np.ndarray:
     return np.asarray(radiance_factor(model, i, e, g))
 
 
+@dataclasses.dataclass(frozen=True)
+class PixelModel:
+    """A model whose parameters ``params`` are per-pixel arrays (a parameter map's values for
+    the pixels evaluated), the others its own: evaluated through its ``kernel``, which takes
+    parameters as arrays, with the horizon test and clipping of ``Model.brdf_cosines``."""
+
+    model: Any
+    params: Mapping[str, np.ndarray]
+
+    def take(self, index: Any) -> PixelModel:
+        return PixelModel(self.model, {k: v[index] for k, v in self.params.items()})
+
+    def brdf_cosines(self, mu_i: Any, mu_o: Any, cos_io: Any) -> np.ndarray:
+        p = dict(self.model.parameter_arrays(np, np.float64))
+        p.update(self.params)
+        above = (np.asarray(mu_i) >= 0) & (np.asarray(mu_o) >= 0)
+        f = self.model.kernel(
+            np, np.clip(mu_i, 0.0, 1.0), np.clip(mu_o, 0.0, 1.0), np.clip(cos_io, -1.0, 1.0), **p
+        )
+        return np.where(above, f, 0.0)
+
+
+class _PerSlice:
+    """A function of a slice of pixels returning the normalisation for them."""
+
+    def __init__(self, make: Any) -> None:
+        self.make = make
+
+    def __call__(self, part: slice) -> Any:
+        return self.make(part)
+
+
 def reference_model(model: Any) -> Any:
-    """``model`` with its opposition-surge amplitudes at 0 (ISIS's standard conditions)."""
+    """``model`` with its opposition-surge amplitudes at 0 (ISIS's standard conditions); for
+    a :class:`PixelModel`, in its maps too."""
+    if isinstance(model, PixelModel):
+        maps = {
+            k: (np.zeros_like(v) if k in SURGE_AMPLITUDES else v) for k, v in model.params.items()
+        }
+        return PixelModel(reference_model(model.model), maps)
     names = {f.name for f in dataclasses.fields(model)}
     zero = {k: 0.0 for k in SURGE_AMPLITUDES if k in names}
     return dataclasses.replace(model, **zero) if zero else model
@@ -125,6 +164,7 @@ def normalize(
     max_emission: float = math.radians(90.0),
     thresh: float = THRESH,
     progress: bool | None = False,
+    params: Mapping[str, Any] | None = None,
 ) -> np.ndarray:
     """Normalise an I/F image to the reference geometry (see the module).
 
@@ -150,6 +190,9 @@ def normalize(
     progress : bool or None
         A progress bar on standard error counting chunks of :data:`CHUNK` pixels (an image
         of more than one); None: only when standard error is a terminal. Default False.
+    params : mapping of str to array (H, W), optional
+        Parameter maps: per-pixel values of some of the model's parameters (in the model's
+        units: radians for angles), replacing the model's own values; a NaN is NoData.
 
     Returns
     -------
@@ -165,12 +208,23 @@ def normalize(
     )
     ok = np.isfinite(dn) & np.isfinite(i) & np.isfinite(e) & np.isfinite(g)
     ok &= (i <= max_incidence) & (e <= max_emission)
+    params = {
+        k: np.broadcast_to(np.asarray(v, np.float64), dn.shape) for k, v in (params or {}).items()
+    }
+    for v in params.values():
+        ok &= np.isfinite(v)  # a parameter map's NoData: the pixel's too
     out = np.full(dn.shape, np.nan)
     if not ok.any():
         return out
     # the one check of a geometry (photometry fit's too): g within [|i − e|, i + e]
     photometric_to_local(i[ok], e[ok], g[ok])
-    correct = _corrector(model, method, reference, match, albedo, thresh)
+    if params:
+        pixels = PixelModel(model, {k: np.asarray(v, np.float64)[ok] for k, v in params.items()})
+        correct: Any = _PerSlice(
+            lambda part: _corrector(pixels.take(part), method, reference, match, albedo, thresh)
+        )
+    else:
+        correct = _corrector(model, method, reference, match, albedo, thresh)
     out[ok] = _in_chunks(correct, dn[ok], g[ok], i[ok], e[ok], progress)
     return out
 
@@ -186,18 +240,18 @@ def _corrector(
     """The normalisation of ``method`` as a function of (I/F, g, i, e) arrays of pixels, its
     constants (the reference and match geometries' values) computed once."""
     ref = reference_model(model)
-    p_ref = float(_psurf(ref, *reference))
+    p_ref = _constant(_psurf(ref, *reference))
     if method == "albedo":
 
         def albedo_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
             psurf = _psurf(model, g, i, e)
             good = p_ref <= psurf * thresh
             res = np.full(psurf.shape, np.nan)
-            res[good] = dn[good] * p_ref / psurf[good]
+            res[good] = dn[good] * np.broadcast_to(p_ref, psurf.shape)[good] / psurf[good]
             return res
 
         return albedo_method
-    if p_ref == 0.0:
+    if np.any(p_ref == 0.0):
         raise ParameterError("the model's I/F at the reference geometry is 0")
     if method == "shade":
         rho = albedo / p_ref
@@ -207,11 +261,11 @@ def _corrector(
 
         return shade_method
     if method == "topo":
-        psurf0 = float(_psurf(ref, 0.0, 0.0, 0.0))
-        if psurf0 == 0.0:
+        psurf0 = _constant(_psurf(ref, 0.0, 0.0, 0.0))
+        if np.any(psurf0 == 0.0):
             raise ParameterError("the model's I/F at i = e = g = 0 is 0")
         rhobar0 = albedo / psurf0
-        pp_ref0 = float(phototopder(ref, *reference))
+        pp_ref0 = _constant(phototopder(ref, *reference))
 
         def topo_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
             psurf = _psurf(model, g, i, e)
@@ -223,10 +277,10 @@ def _corrector(
 
         return topo_method
     rhobar = albedo / p_ref
-    p_match = float(_psurf(ref, *match))
-    pp_ref = float(phototopder(ref, *reference))
-    pp_match = max(1e-30, float(phototopder(ref, *match)))
-    anum = math.sqrt(p_ref**2 + (p_match * pp_ref / pp_match) ** 2)
+    p_match = _constant(_psurf(ref, *match))
+    pp_ref = _constant(phototopder(ref, *reference))
+    pp_match = np.maximum(1e-30, _constant(phototopder(ref, *match)))
+    anum = np.sqrt(p_ref**2 + (p_match * pp_ref / pp_match) ** 2)
 
     def mixed_method(dn: Any, g: Any, i: Any, e: Any) -> np.ndarray:
         psurf = _psurf(model, g, i, e)
@@ -239,10 +293,19 @@ def _corrector(
     return mixed_method
 
 
+def _constant(value: Any) -> Any:
+    """A value at a fixed geometry: a float for a model, an array of one per pixel for a
+    :class:`PixelModel`."""
+    arr = np.asarray(value, dtype=np.float64)
+    return float(arr) if arr.ndim == 0 else arr
+
+
 def _in_chunks(
     correct: Any, dn: np.ndarray, g: np.ndarray, i: np.ndarray, e: np.ndarray, progress: bool | None
 ) -> np.ndarray:
-    """``correct`` applied to :data:`CHUNK` pixels at a time, with a progress bar."""
+    """``correct`` applied to :data:`CHUNK` pixels at a time, with a progress bar; ``correct``
+    is the normalisation, or a function of a slice of pixels that returns it (a
+    :class:`PixelModel`'s, whose parameters are sliced too)."""
     from ..progress import progress as bar_of
 
     starts = range(0, dn.size, CHUNK)
@@ -251,7 +314,8 @@ def _in_chunks(
     with bar_of(len(starts), "photometry correct", unit="chunk", enabled=enabled) as bar:
         for s0 in starts:
             part = slice(s0, s0 + CHUNK)
-            res[part] = correct(dn[part], g[part], i[part], e[part])
+            fn = correct(part) if isinstance(correct, _PerSlice) else correct
+            res[part] = fn(dn[part], g[part], i[part], e[part])
             bar.update(1)
     return res
 
