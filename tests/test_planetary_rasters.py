@@ -377,3 +377,52 @@ def test_fit_samples_an_image(tmp_path, capsys):
     }
     assert vals["albedo"] == pytest.approx(0.12, rel=1e-4)
     assert vals["limb_darkening"] == pytest.approx(0.6, rel=1e-3)
+
+
+def test_parameter_map_cube(tmp_path, capsys):
+    """A cube of w and θ̄ (degrees) per pixel, bands named by --bands: the corrected image is
+    the in-memory path with those maps; a band no parameter of the model is refused."""
+    iof, deg = scene()
+    w = np.full(SHAPE, 0.25, np.float32)
+    w[:, 45:] = 0.3
+    theta = np.full(SHAPE, 20.0, np.float32)
+    theta[30:, :] = 25.0
+    with rasterio.open(
+        tmp_path / "maps.cub",
+        "w",
+        driver="ISIS3",
+        width=SHAPE[1],
+        height=SHAPE[0],
+        count=2,
+        dtype="float32",
+    ) as d:
+        d.write(np.stack([w, theta]))
+    for name, d in zip("ieg", deg, strict=True):
+        np.save(tmp_path / f"{name}.npy", d)
+    np.save(tmp_path / "img.npy", iof)
+    argv = ["photometry", "correct", str(tmp_path / "img.npy"), "--model", "hapke"]
+    argv += [f"--{n}={tmp_path / (n[0] + '.npy')}" for n in ("incidence", "emission")]
+    argv += [f"--phase={tmp_path / 'g.npy'}", "--param", "B0=1.2", "--param", "Hh=0.06"]
+    argv += ["--param-map", str(tmp_path / "maps.cub"), "--chunk", "64"]
+    assert cli.main([*argv, "--bands", "Wh,Theta", "-o", str(tmp_path / "o.npy")]) == 0
+    i, e, g = (np.radians(d.astype(np.float64)) for d in deg)
+    g = np.clip(g, np.abs(i - e), i + e)
+    ref = normalize(
+        iof.astype(np.float64),
+        i,
+        e,
+        g,
+        HAPKE,
+        params={"albedo": w.astype(np.float64), "theta_bar": np.radians(theta.astype(np.float64))},
+    ).astype(np.float32)
+    np.testing.assert_array_equal(np.load(tmp_path / "o.npy"), ref)
+    assert not np.array_equal(ref, in_memory(iof, deg), equal_nan=True)  # the maps matter
+    error_line(
+        capsys,
+        [*argv, "--bands", "Wh,K", "-o", str(tmp_path / "x.npy")],
+        "maps.cub",
+        "band 2 ('K') is no parameter of hapke",
+    )
+    error_line(capsys, [*argv, "-o", str(tmp_path / "x.npy")], "maps.cub", "--bands")
+    error_line(capsys, [*argv, "--bands", "Wh", "-o", str(tmp_path / "x.npy")], "has 2")
+    assert not (tmp_path / "x.npy").exists()

@@ -179,6 +179,17 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         default=(45.0, 45.0, 0.0),
         metavar="G,I,E",
     )
+    c.add_argument(
+        "--param-map",
+        metavar="FILE",
+        help="a cube (GDAL) with one band per model parameter, on the image's grid, the bands "
+        "named (band descriptions or an ISIS BandBin Name) or named by --bands; angles in degrees",
+    )
+    c.add_argument(
+        "--bands",
+        metavar="NAME,NAME,...",
+        help="the parameter each band of --param-map holds, in order (ISIS names accepted)",
+    )
     c.add_argument("--max-incidence", type=float, default=90.0, metavar="DEG")
     c.add_argument("--max-emission", type=float, default=90.0, metavar="DEG")
     c.set_defaults(func=run_correct)
@@ -280,6 +291,46 @@ def _dem_geometry(args: argparse.Namespace, image: Any) -> Any:
         raise UsageError(f"--dem: {exc}") from None
 
 
+def _parameter_maps(args: argparse.Namespace, image: Any) -> Any:
+    """The --param-map's bands as parameter maps of --model, each band matched by name."""
+    from .. import registry
+    from ..planetary.chunked import ParameterMaps
+    from ..planetary.isis import parameter_name
+
+    first = _plane(args.param_map, "parameter map")
+    name = os.path.basename(args.param_map)
+    count = len(first.band_names) or 1
+    if args.bands:
+        names = [b.strip() for b in args.bands.split(",") if b.strip()]
+        if len(names) != count:
+            raise UsageError(f"--bands names {len(names)} bands; {name} has {count}")
+    else:
+        names = list(first.band_names)
+        if not all(names):
+            raise UsageError(
+                f"{name}: its bands have no names; name them with --bands (e.g. --bands Wh,B0)"
+            )
+    declared = {p.name: p for p in registry.get(args.model).parameters}
+    planes = []
+    for k, band in enumerate(names, start=1):
+        ours = parameter_name(args.model, band)
+        if ours not in declared:
+            raise UsageError(
+                f"{name}: band {k} ({band!r}) is no parameter of {args.model} "
+                f"(it has: {', '.join(declared)})"
+            )
+        plane = _plane(args.param_map, "parameter map", str(k)) if k > 1 else first
+        if plane.shape != image.shape:
+            raise UsageError(
+                f"--param-map {name!r} is {plane.shape[1]} x {plane.shape[0]} pixels; the "
+                f"image is {image.shape[1]} x {image.shape[0]}"
+            )
+        if plane.georef and image.georef and plane.georef != image.georef:
+            raise UsageError(f"--param-map {name!r}: its map projection or grid is not the image's")
+        planes.append((ours, plane, declared[ours].unit == "radians"))
+    return ParameterMaps(tuple(planes))
+
+
 def run_correct(args: argparse.Namespace) -> int:
     from ..planetary.chunked import Correction, check_chunk, correct_file, same_file
     from ..planetary.disk import PHOTOMETRIC_MODELS
@@ -313,7 +364,7 @@ def run_correct(args: argparse.Namespace) -> int:
         raise UsageError(f"image {args.image!r} does not exist")
     image = _plane(args.image, "image", args.band, args.nodata)
     geometry = _geometry(args, image)
-    inputs = [args.image, args.incidence, args.emission, args.phase, args.dem]
+    inputs = [args.image, args.incidence, args.emission, args.phase, args.dem, args.param_map]
     for path in filter(None, inputs):
         if same_file(path, args.output):
             raise UsageError(f"-o {args.output!r} is one of the inputs; name another file")
@@ -331,6 +382,7 @@ def run_correct(args: argparse.Namespace) -> int:
         match=tuple(math.radians(v) for v in args.match),
         max_incidence=math.radians(args.max_incidence),
         max_emission=math.radians(args.max_emission),
+        maps=_parameter_maps(args, image) if args.param_map else None,
     )
     _, n = correct_file(
         image,

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,6 +34,7 @@ __all__ = [
     "Correction",
     "EllipsoidGeometry",
     "FileGeometry",
+    "ParameterMaps",
     "correct_file",
     "corrected_array",
     "sample_pixels",
@@ -104,6 +105,27 @@ class EllipsoidGeometry:
 
 
 @dataclass(frozen=True)
+class ParameterMaps:
+    """Parameter maps: one plane (a band of a cube) per model parameter, on the image's grid.
+
+    Attributes
+    ----------
+    planes : tuple of (parameter, Plane, in degrees)
+        The parameter's name, its band, and whether the band holds degrees (an angle
+        parameter; the model takes radians).
+    """
+
+    planes: tuple[tuple[str, Plane, bool], ...]
+
+    def read(self, rows: slice, cols: slice) -> dict[str, np.ndarray]:
+        out = {}
+        for name, plane, degrees in self.planes:
+            values = plane.read(rows, cols)[0]
+            out[name] = np.radians(values) if degrees else values
+        return out
+
+
+@dataclass(frozen=True)
 class Correction:
     """The settings of :func:`~roughdiffuse.planetary.correct.normalize` (radians)."""
 
@@ -115,8 +137,9 @@ class Correction:
     max_incidence: float = math.radians(90.0)
     max_emission: float = math.radians(90.0)
     thresh: float = THRESH
+    maps: ParameterMaps | None = None
 
-    def __call__(self, iof: Any, i: Any, e: Any, g: Any) -> np.ndarray:
+    def __call__(self, iof: Any, i: Any, e: Any, g: Any, params: Any = None) -> np.ndarray:
         return normalize(
             iof,
             i,
@@ -130,6 +153,7 @@ class Correction:
             max_incidence=self.max_incidence,
             max_emission=self.max_emission,
             thresh=self.thresh,
+            params=params,
         )
 
 
@@ -154,8 +178,10 @@ class _Windows:
         rows, cols = (slice(*k.indices(n)[:2]) for k, n in zip(key, self.image.shape, strict=True))
         values, kind = self.image.read(rows, cols)
         i, e, g = self.geometry.read(rows, cols)
+        maps = self.correction.maps
+        params = maps.read(rows, cols) if maps is not None else None
         try:
-            out = self.correction(values, i, e, g)
+            out = self.correction(values, i, e, g, params)
         except ParameterError as exc:
             raise ParameterError(
                 f"backplanes, lines {rows.start + 1}–{rows.stop}, samples {cols.start + 1}–"
@@ -307,13 +333,6 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
         return os.path.samefile(a, b)
     except OSError:
         return os.path.abspath(a) == os.path.abspath(b)
-
-
-def inputs_of(image: Plane, geometry: Any) -> Sequence[str]:
-    files = [image.path]
-    if isinstance(geometry, FileGeometry):
-        files += [geometry.incidence.path, geometry.emission.path, geometry.phase.path]
-    return files
 
 
 def sample_pixels(
