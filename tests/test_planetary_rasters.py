@@ -426,3 +426,20 @@ def test_parameter_map_cube(tmp_path, capsys):
     error_line(capsys, [*argv, "-o", str(tmp_path / "x.npy")], "maps.cub", "--bands")
     error_line(capsys, [*argv, "--bands", "Wh", "-o", str(tmp_path / "x.npy")], "has 2")
     assert not (tmp_path / "x.npy").exists()
+
+
+def test_options_that_do_not_apply_are_refused(tmp_path, capsys):
+    iof, _ = scene()
+    np.save(tmp_path / "img.npy", iof)
+    base = ["photometry", "correct", str(tmp_path / "img.npy"), "-o", str(tmp_path / "o.npy")]
+    sphere = ["--subsolar", "5,-40", "--subobserver", "0,0"]
+    error_line(capsys, [*base, *sphere, "--bands", "Wh"], "--bands", "--param-map")
+    error_line(capsys, [*base, *sphere, "--albedo", "0.2"], "--albedo", "--method")
+    error_line(capsys, [*base, *sphere, "--sun-vector", "0,0,1"], "--sun-vector", "--dem")
+    error_line(capsys, [*base, *sphere, "--method", "topo", "--match", "30,30,0"], "--match")
+    csv = tmp_path / "d.csv"
+    csv.write_text("I/F,i,e,g\n0.1,30,20,40\n0.1,40,20,50\n")
+    error_line(
+        capsys, ["photometry", "fit", str(csv), "--samples", "50"], "--samples", "image DATA"
+    )
+    assert not (tmp_path / "o.npy").exists()

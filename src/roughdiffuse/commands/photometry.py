@@ -135,8 +135,17 @@ def run_fit(args: argparse.Namespace) -> int:
         output_file(args.report, option="--report", overwrite=True)
     if not os.path.isfile(args.data):
         raise UsageError(f"data file {args.data!r} does not exist")
+    from .photometry_correct import check_geometry_options, refuse_unused
+
+    image_flags = (
+        *("--incidence", "--emission", "--phase", "--subsolar", "--subobserver", "--radii"),
+        *("--dem", "--band", "--nodata", "--samples", "--chunk"),
+    )
+    is_csv = args.data.lower().endswith(".csv")
+    refuse_unused(args, image_flags, not is_csv, "an image DATA (not a .csv file)")
+    check_geometry_options(args)
     fixed = _fixed(args.model, args.fix)
-    if args.data.lower().endswith(".csv"):
+    if is_csv:
         with reading(args.data, "data file"):
             bands = read_photometry_csv(args.data)
     else:

@@ -213,6 +213,49 @@ def _model(model_id: str, pairs: list[tuple[str, str]]) -> Any:
     return entry.create(**kwargs)
 
 
+_DEFAULTS = {
+    "radii": (1.0, 1.0, 1.0),
+    "radius": 0.0,
+    "dem_holds": "height",
+    "albedo": 1.0,
+    "match": (45.0, 45.0, 0.0),
+    "band": "1",
+    "samples": 20000,
+}
+
+
+def refuse_unused(
+    args: argparse.Namespace, flags: tuple[str, ...], applies: bool, what: str
+) -> None:
+    """Nothing the user typed is silently ignored: ``flags`` set away from their defaults
+    when they do not apply (``applies`` false) are refused, naming the flag and ``what``
+    they need."""
+    if applies:
+        return
+    from ..planetary.chunked import CHUNK
+
+    for flag in flags:
+        dest = flag.lstrip("-").replace("-", "_")
+        value = getattr(args, dest, None)
+        default = _DEFAULTS.get(dest, CHUNK if dest == "chunk" else None)
+        if value is not None and value is not False and value != default:
+            raise UsageError(f"{flag} applies only to {what}")
+
+
+def check_geometry_options(args: argparse.Namespace) -> None:
+    """The backplane options that apply only with others (correct, and fit of an image)."""
+    refuse_unused(
+        args,
+        ("--sun-vector", "--observer-vector", "--sun-distance", "--observer-distance",
+         "--radius", "--dem-holds"),
+        bool(args.dem),
+        "angles from a DEM (--dem)",
+    )  # fmt: skip
+    refuse_unused(
+        args, ("--radii",), bool(args.subsolar) and not args.dem, "an ellipsoid's backplanes"
+    )
+
+
 def _plane(path: str, what: str, band: str = "1", nodata: float | None = None) -> Any:
     from ..planetary.rasters import open_plane
 
@@ -359,6 +402,10 @@ def run_correct(args: argparse.Namespace) -> int:
                 f"{flag} must be a geometry G,I,E with I, E in [0, 90), "
                 f"|I − E| <= G <= I + E (got {g:g},{i:g},{e:g})"
             )
+    check_geometry_options(args)
+    refuse_unused(args, ("--bands",), bool(args.param_map), "--param-map")
+    refuse_unused(args, ("--albedo",), args.method != "albedo", "--method mixed, topo or shade")
+    refuse_unused(args, ("--match",), args.method == "mixed", "--method mixed")
     model = _model(args.model, args.param)
     if not os.path.isfile(args.image):
         raise UsageError(f"image {args.image!r} does not exist")
