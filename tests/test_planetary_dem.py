@@ -233,3 +233,24 @@ def test_flat_dem_on_the_moon_through_its_map_projection(tmp_path):
     np.testing.assert_allclose(got.incidence[inner], angle(u, sun)[inner], atol=1e-9)
     np.testing.assert_allclose(got.emission[inner], angle(u, o)[inner], atol=1e-9)
     np.testing.assert_allclose(got.slope[inner], 0.0, atol=1e-9)
+
+
+def test_angles_command_writes_five_planes(tmp_path, capsys):
+    from roughdiffuse import cli
+
+    dem_path, z, transform = hill_dem(tmp_path)
+    out = tmp_path / "ang.tif"
+    argv = ["photometry", "angles", str(dem_path), "--sun-vector", "0.3,-0.4,0.866"]
+    argv += ["--observer-vector=-0.1,0.2,1", "--observer-distance", str(DIST)]
+    assert cli.main([*argv, "--chunk", "48", "-o", str(out)]) == 0, capsys.readouterr().err
+    points, up, north = plane_points(z.astype(np.float32), transform)
+    want = local_angles(points, up, north, SUN, OBSERVER, observer_distance=DIST)
+    for name in ("incidence", "emission", "phase", "slope", "azimuth"):
+        with rasterio.open(tmp_path / f"ang-{name}.tif") as d:
+            got = d.read(1)
+            assert d.transform == rasterio.open(dem_path).transform
+        np.testing.assert_array_equal(got, np.degrees(getattr(want, name)).astype(np.float32))
+    # geometry missing: one line, exit 2, none of the five written
+    assert cli.main(["photometry", "angles", str(dem_path), "-o", str(tmp_path / "x.tif")]) == 2
+    assert "--sun-vector" in capsys.readouterr().err
+    assert not list(tmp_path.glob("x-*"))

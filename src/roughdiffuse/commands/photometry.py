@@ -43,7 +43,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "I/F and the incidence, emission and phase angles (i, e, g).",
         epilog="examples:\n"
         "  roughdiffuse photometry fit --help       # fit disk-resolved I/F (CSV of i, e, g)\n"
-        "  roughdiffuse photometry correct --help   # normalise an image to a standard geometry\n",
+        "  roughdiffuse photometry correct --help   # normalise an image to a standard geometry\n"
+        "  roughdiffuse photometry angles --help    # local angles, slope and azimuth from a DEM\n",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     inner = p.add_subparsers(dest="action", metavar="ACTION", parser_class=type(p))
@@ -94,8 +95,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     add_geometry_arguments(f)
     f.set_defaults(func=run_fit)
+    from .photometry_angles import register_angles
 
     register_correct(inner)
+    register_angles(inner)
 
 
 def _fixed(model: str, pairs: list[tuple[str, str]]) -> dict[str, object]:
