@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import re
 import resource
 import subprocess
 import sys
@@ -41,12 +40,12 @@ from pathlib import Path
 import numpy as np
 
 import roughdiffuse as rd
-from roughdiffuse.io.atomic import write_text
 from roughdiffuse.models.photometry import radiance_factor
 from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
 from roughdiffuse.planetary.chunked import Correction, FileGeometry, correct_file
 from roughdiffuse.planetary.correct import normalize
 from roughdiffuse.planetary.rasters import blocks_of, open_plane, write_blocks
+from stereo_bench import replace_section  # the RESULTS.md section writer (bench/)
 
 HERE = Path(__file__).resolve().parent
 HAPKE = {"b0": 1.2, "h": 0.06, "theta_bar": math.radians(20.0)}
@@ -278,15 +277,7 @@ def main() -> None:
     print(text)
     if args.no_write:
         return
-    path = HERE / "RESULTS.md"
-    old = path.read_text(encoding="utf-8")
-    pattern = re.compile(r"## Planetary images\n.*?(?=\n## |\Z)", re.S)
-    new = (
-        pattern.sub(text.rstrip("\n") + "\n", old)
-        if pattern.search(old)
-        else old.rstrip("\n") + "\n\n" + text
-    )
-    write_text(path, new)
+    replace_section(HERE / "RESULTS.md", "## Planetary images", text)
 
 
 if __name__ == "__main__":

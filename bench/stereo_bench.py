@@ -129,11 +129,16 @@ def main() -> None:
     print(text)
     if args.no_write:
         return
-    path = HERE / "RESULTS.md"
+    replace_section(HERE / "RESULTS.md", "## Photometric stereo", text)
+
+
+def replace_section(path: Path, heading: str, text: str) -> None:
+    """Replace the section under ``heading`` (to the next ``## `` heading) of ``path`` by
+    ``text``, or add it at the end; written whole or not at all."""
     old = path.read_text(encoding="utf-8") if path.exists() else "# Benchmarks\n\n"
-    pattern = re.compile(r"## Photometric stereo\n.*?(?=\n## |\Z)", re.S)
+    pattern = re.compile(re.escape(heading) + r"\n.*?(?=\n## |\Z)", re.S)
     new = (
-        pattern.sub(text.rstrip("\n") + "\n", old)
+        pattern.sub(lambda _: text.rstrip("\n") + "\n", old)
         if pattern.search(old)
         else old.rstrip("\n") + "\n\n" + text
     )

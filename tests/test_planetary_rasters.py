@@ -28,6 +28,7 @@ from roughdiffuse.planetary.chunked import (
 )
 from roughdiffuse.planetary.correct import normalize, read_plane, write_plane
 from roughdiffuse.planetary.rasters import HIS, HRS, LIS, LRS, NULL, VALID, open_plane
+from test_photometry_cli import error_line  # one line on stderr, exit status 2
 
 rasterio = pytest.importorskip("rasterio")
 pytest.importorskip("astropy")
@@ -282,17 +283,6 @@ def test_dask_cluster_output_identical(tmp_path):
 
 
 # ------------------------------------------------------------------------- bad input
-def error_line(capsys, argv, *words):
-    status = cli.main(argv)
-    out, err = capsys.readouterr()
-    assert status == 2, (out, err)
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
-
-
 def test_bad_input_one_line_nothing_written(tmp_path, capsys):
     iof, deg = scene()
     write_gdal(tmp_path / "img.tif", iof, "GTiff")

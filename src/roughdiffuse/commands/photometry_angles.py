@@ -28,6 +28,7 @@ NAMES = ("incidence", "emission", "phase", "slope", "azimuth")
 
 def register_angles(inner: argparse._SubParsersAction) -> None:
     from .photometry_correct import _numbers as numbers_type
+    from .photometry_correct import add_dem_arguments
 
     a = inner.add_parser(
         "angles",
@@ -38,14 +39,9 @@ def register_angles(inner: argparse._SubParsersAction) -> None:
     )
     a.add_argument("dem", metavar="DEM", help="heights in metres: .tif, .cub, .xml (PDS4)")
     a.add_argument("-o", "--output", required=True, metavar="OUT", help="e.g. angles.tif")
-    a.add_argument("--sun-vector", type=numbers_type(3, "E,N,U"), metavar="E,N,U")
-    a.add_argument("--observer-vector", type=numbers_type(3, "E,N,U"), metavar="E,N,U")
     a.add_argument("--subsolar", type=numbers_type(2, "LAT,LON in degrees"), metavar="LAT,LON")
     a.add_argument("--subobserver", type=numbers_type(2, "LAT,LON in degrees"), metavar="LAT,LON")
-    a.add_argument("--sun-distance", type=float, metavar="M")
-    a.add_argument("--observer-distance", type=float, metavar="M")
-    a.add_argument("--radius", type=float, default=0.0, metavar="M")
-    a.add_argument("--dem-holds", choices=("height", "radius"), default="height")
+    add_dem_arguments(a)
     a.add_argument("--chunk", type=int, default=512, metavar="PIXELS")
     a.set_defaults(func=run_angles)
 

@@ -67,6 +67,26 @@ def _cost(chunk: int) -> str:
     return f"{chunk * chunk * BYTES_PER_PIXEL / 2**20:.0f} MiB per core"
 
 
+def add_dem_arguments(c: argparse.ArgumentParser) -> None:
+    """The geometry of angles from a DEM besides --subsolar/--subobserver (correct, fit of an
+    image, angles)."""
+    c.add_argument("--sun-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
+    c.add_argument("--observer-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
+    c.add_argument(
+        "--sun-distance", type=float, metavar="M", help="from the map origin or body centre"
+    )
+    c.add_argument(
+        "--observer-distance", type=float, metavar="M", help="default: far away (parallel rays)"
+    )
+    c.add_argument("--radius", type=float, default=0.0, metavar="M", help="the sphere's radius")
+    c.add_argument(
+        "--dem-holds",
+        choices=("height", "radius"),
+        default="height",
+        help="the DEM's values: heights above the sphere, or radii (ISIS DEMs)",
+    )
+
+
 def add_geometry_arguments(c: argparse.ArgumentParser) -> None:
     """The options naming an image's band, its NoData, its backplanes and the chunk size
     (``photometry correct``, and ``photometry fit`` of an image)."""
@@ -92,21 +112,7 @@ def add_geometry_arguments(c: argparse.ArgumentParser) -> None:
         "with --sun-vector/--observer-vector (map east, north, up) or --subsolar/--subobserver "
         "and --radius (a sphere)",
     )
-    c.add_argument("--sun-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
-    c.add_argument("--observer-vector", type=_numbers(3, "E,N,U"), metavar="E,N,U")
-    c.add_argument(
-        "--sun-distance", type=float, metavar="M", help="from the map origin or body centre"
-    )
-    c.add_argument(
-        "--observer-distance", type=float, metavar="M", help="default: far away (parallel rays)"
-    )
-    c.add_argument("--radius", type=float, default=0.0, metavar="M", help="the sphere's radius")
-    c.add_argument(
-        "--dem-holds",
-        choices=("height", "radius"),
-        default="height",
-        help="the DEM's values: heights above the sphere, or radii (ISIS DEMs)",
-    )
+    add_dem_arguments(c)
     c.add_argument(
         "--chunk",
         type=int,
