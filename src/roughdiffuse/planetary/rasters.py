@@ -34,6 +34,7 @@ Every file is written whole or not at all (:func:`roughdiffuse.io.atomic.atomic_
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import os
 import re
@@ -174,6 +175,18 @@ class Plane:
         1-based band of a GDAL file (FITS, .npy and .exr: the first plane).
     nodata : float or None
         A value meaning NoData besides the file's own.
+    file_nodata : float or None
+        The file's own NoData value (GDAL's nodata, FITS BLANK), compared with raw pixels.
+    scale, offset : float
+        Raw pixels to values: value = raw × scale + offset (GDAL's scale and offset, an ISIS
+        cube's Multiplier and Base; FITS BSCALE and BZERO).
+    band_names : tuple of str
+        Every band's name (GDAL files).
+    block : (lines, samples)
+        The file's block size (GDAL files).
+    georef : str
+        The map projection and pixel grid ("" without): two planes on one grid have equal
+        texts.
     """
 
     path: str
@@ -209,12 +222,7 @@ class Plane:
             arr = np.load(self.path, mmap_mode="r", allow_pickle=False)
             raw = np.array(arr[(rows, cols) + (0,) * (arr.ndim - 2)])
         else:
-            from ..fit import read_image
-
-            img, finite = read_image(self.path)  # NaN and infinity: not finite, read as 0
-            if img.ndim == 3:
-                img = img[..., 0]
-            raw = np.where(finite, img, np.nan)[rows, cols]
+            raw = _exr_plane(self.path, os.stat(self.path).st_mtime_ns)[rows, cols]
         raw = raw.astype(raw.dtype.newbyteorder("="))
         values, kind = classify(raw, self.isis, (self.nodata, self.file_nodata))
         if self.scale != 1.0 or self.offset != 0.0:
@@ -224,6 +232,20 @@ class Plane:
     def read_all(self) -> np.ndarray:
         """The whole plane (values, NaN where not data): for small images and tests."""
         return self.read(slice(0, self.shape[0]), slice(0, self.shape[1]))[0]
+
+
+@functools.lru_cache(maxsize=2)
+def _exr_plane(path: str, mtime_ns: int) -> np.ndarray:
+    """An OpenEXR file's first channel, NaN where not finite, read once per process and file
+    version (OpenEXR is read whole: a format for images that fit in memory)."""
+    from ..fit import read_image
+
+    img, finite = read_image(path)  # NaN and infinity: not finite, read as 0
+    if img.ndim == 3:
+        img = img[..., 0]
+    out = np.where(finite, img, np.nan)
+    out.setflags(write=False)
+    return out
 
 
 def _fits_hdu(hdul: Any, path: str) -> Any:
