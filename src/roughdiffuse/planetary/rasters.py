@@ -333,9 +333,7 @@ def open_plane(
         if arr.ndim == 3 and arr.shape[2] == 1 or arr.ndim == 2:
             return Plane(path, fmt, (int(arr.shape[0]), int(arr.shape[1])), 1, nodata)
         raise ParameterError(f"{name}: expected one image plane (got shape {arr.shape})")
-    from ..fit import read_image
-
-    img = np.asarray(read_image(path)[0])
+    img = _exr_plane(path, os.stat(path).st_mtime_ns)
     return Plane(path, fmt, (int(img.shape[0]), int(img.shape[1])), 1, nodata)
 
 
