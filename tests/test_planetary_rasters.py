@@ -335,6 +335,7 @@ def test_bad_input_one_line_nothing_written(tmp_path, capsys):
     error_line(
         capsys,
         [*base, *planes, f"--phase={tmp_path / 'badg.tif'}", "-o", str(out)],
+        "backplanes i.tif, e.tif, badg.tif",
         "phase must be in",
     )
     assert not out.exists()

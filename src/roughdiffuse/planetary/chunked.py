@@ -60,6 +60,10 @@ class FileGeometry:
     emission: Plane
     phase: Plane
 
+    def describe(self) -> str:
+        names = (os.path.basename(p.path) for p in (self.incidence, self.emission, self.phase))
+        return "backplanes " + ", ".join(names)
+
     def read(self, rows: slice, cols: slice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(i, e, g) of the window in radians, NaN where not data."""
         out = []
@@ -94,6 +98,9 @@ class EllipsoidGeometry:
     subsolar: tuple[float, float]
     subobserver: tuple[float, float]
     radii: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    def describe(self) -> str:
+        return "the ellipsoid's backplanes"
 
     def read(self, rows: slice, cols: slice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         from .backplanes import ellipsoid_backplanes
@@ -184,8 +191,8 @@ class _Windows:
             out = self.correction(values, i, e, g, params)
         except ParameterError as exc:
             raise ParameterError(
-                f"backplanes, lines {rows.start + 1}–{rows.stop}, samples {cols.start + 1}–"
-                f"{cols.stop}: {exc}"
+                f"{self.geometry.describe()}, lines {rows.start + 1}–{rows.stop}, samples "
+                f"{cols.start + 1}–{cols.stop}: {exc}"
             ) from None
         # a pixel the correction masks (beyond the limits, the threshold, no geometry) is Null
         kind = np.where((kind == VALID) & ~np.isfinite(out), NULL, kind).astype(np.uint8)

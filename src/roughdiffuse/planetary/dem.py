@@ -252,6 +252,9 @@ class DemGeometry:
         )
         return LocalAngles(*(getattr(got, k)[inner] for k in LocalAngles.__dataclass_fields__))
 
+    def describe(self) -> str:
+        return f"angles from the DEM {os.path.basename(self.dem.path)}"
+
     def read(self, rows: slice, cols: slice) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a = self.angles(rows, cols)
         return a.incidence, a.emission, a.phase
