@@ -434,3 +434,21 @@ def test_options_that_do_not_apply_are_refused(tmp_path, capsys):
         capsys, ["photometry", "fit", str(csv), "--samples", "50"], "--samples", "image DATA"
     )
     assert not (tmp_path / "o.npy").exists()
+
+
+def test_cloud_optimised_geotiff_output(tmp_path):
+    iof, _ = scene((600, 700))
+    write_gdal(tmp_path / "img.tif", iof, "GTiff")
+    args = (
+        open_plane(tmp_path / "img.tif"),
+        EllipsoidGeometry((600, 700), (5.0, -40.0), (0.0, 0.0)),
+        Correction(HAPKE),
+    )
+    correct_file(*args, tmp_path / "plain.tif", chunk=256)
+    correct_file(*args, tmp_path / "cog.tif", out_fmt="cog", chunk=256)
+    with rasterio.open(tmp_path / "cog.tif") as c, rasterio.open(tmp_path / "plain.tif") as p:
+        assert c.tags(ns="IMAGE_STRUCTURE").get("LAYOUT") == "COG"
+        assert c.overviews(1)  # overviews for viewers
+        assert c.crs == p.crs and c.transform == p.transform
+        np.testing.assert_array_equal(c.read(1), p.read(1))
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["cog.tif", "img.tif", "plain.tif"]

@@ -7,7 +7,8 @@ format      file name            through
 ==========  ===================  =============================================================
 ``isis3``   ``.cub``             GDAL's ISIS3 driver (rasterio): BSQ and tiled cubes
 ``pds4``    ``.xml``             GDAL's PDS4 driver (the label; the data in ``.img`` beside it)
-``gtiff``   ``.tif``, ``.tiff``  GDAL's GTiff driver: GeoTIFF and cloud-optimised GeoTIFF
+``gtiff``   ``.tif``, ``.tiff``  GDAL's GTiff driver: GeoTIFF, cloud-optimised ones too
+``cog``     (``--format cog``)   GDAL's COG driver: written tiled, then copied with overviews
 ``fits``    ``.fits`` ...        astropy (sections on read; a memory-mapped data unit on write)
 ``npy``     ``.npy``             NumPy (memory-mapped both ways)
 ``exr``     ``.exr``             OpenEXR (read and written whole: a format for small images)
@@ -67,12 +68,13 @@ FORMATS: dict[str, tuple[str, ...]] = {
     "isis3": (".cub",),
     "pds4": (".xml",),
     "gtiff": (".tif", ".tiff"),
+    "cog": (),  # by name only (--format cog): a GeoTIFF whose name says nothing more
     "fits": (".fits", ".fit", ".fts"),
     "npy": (".npy",),
     "exr": (".exr",),
 }
 """Format name -> the file name endings that choose it."""
-_GDAL = {"isis3": "ISIS3", "pds4": "PDS4", "gtiff": "GTiff"}
+_GDAL = {"isis3": "ISIS3", "pds4": "PDS4", "gtiff": "GTiff", "cog": "GTiff"}
 _GDAL_ENV = {"GDAL_PAM_ENABLED": "NO", "GDAL_CACHEMAX": 64}  # no .aux.xml; a bounded cache
 
 VALID, NULL, LRS, LIS, HIS, HRS = range(6)
@@ -521,7 +523,7 @@ def _write_gdal(
                 profile["crs"] = src.crs
             if not src.transform.is_identity:
                 profile["transform"] = src.transform
-    if fmt == "gtiff":
+    if fmt in ("gtiff", "cog"):
         profile.update(tiled=True, blockxsize=512, blockysize=512, nodata=float("nan"))
         profile.update(BIGTIFF="IF_SAFER")
     elif fmt == "isis3":
@@ -536,12 +538,23 @@ def _write_gdal(
             img = tmp.with_suffix(".img")
             image_tmp.append(img)
             opts["IMAGE_FILENAME"] = str(img)
-        with _gdal(), rasterio.open(tmp, "w", **opts) as dst:
+        # a cloud-optimised GeoTIFF cannot be written by windows: a tiled GeoTIFF first, then
+        # GDAL's COG driver copies it (with overviews) into the target's temporary file
+        first = tmp.with_name(tmp.name + ".tiled.tif") if fmt == "cog" else tmp
+        if fmt == "cog":
+            image_tmp.append(first)
+        with _gdal(), rasterio.open(first, "w", **opts) as dst:
             if description:
                 dst.set_band_description(1, description)
             for rows, cols, pixels in blocks:
                 win = Window(cols.start, rows.start, cols.stop - cols.start, rows.stop - rows.start)
                 dst.write(pixels, 1, window=win)
+        if fmt == "cog":
+            from rasterio.shutil import copy
+
+            with _gdal():
+                copy(first, tmp, driver="COG", BIGTIFF="IF_SAFER", OVERVIEWS="AUTO")
+            first.unlink()
         if fmt == "pds4":
             _pds4_finish(tmp, img, target)
 
