@@ -370,6 +370,23 @@ def test_fit_samples_an_image(tmp_path, capsys):
     assert vals["limb_darkening"] == pytest.approx(0.6, rel=1e-3)
 
 
+def with_band_bin(path, *names):
+    """Put a BandBin group naming the bands into an ISIS cube's attached label (written by
+    GDAL: the label is padded to its 65536 bytes, so it has room), or take it out."""
+    data = bytearray(path.read_bytes())
+    label = data[:65536].decode("latin-1")
+    start = label.find("  Group = BandBin\n")
+    if start >= 0:
+        end = label.index("  End_Group\n", start) + len("  End_Group\n")
+        label = label[:start] + label[end:]
+    if any(names):
+        group = f"  Group = BandBin\n    Name = ({', '.join(names)})\n  End_Group\n"
+        at = label.index("  End_Object\n") + len("  End_Object\n")  # after the Core object
+        label = label[:at] + group + label[at:]
+    data[:65536] = label.encode("latin-1").ljust(65536, b"\0")[:65536]
+    path.write_bytes(bytes(data))
+
+
 def test_parameter_map_cube(tmp_path, capsys):
     """A cube of w and θ̄ (degrees) per pixel, bands named by --bands: the corrected image is
     the in-memory path with those maps; a band no parameter of the model is refused."""
@@ -408,6 +425,11 @@ def test_parameter_map_cube(tmp_path, capsys):
     ).astype(np.float32)
     np.testing.assert_array_equal(np.load(tmp_path / "o.npy"), ref)
     assert not np.array_equal(ref, in_memory(iof, deg), equal_nan=True)  # the maps matter
+    # the same with the bands named in the cube's label (an ISIS BandBin group)
+    with_band_bin(tmp_path / "maps.cub", "Wh", "Theta")
+    assert cli.main([*argv, "-o", str(tmp_path / "o2.npy")]) == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "o2.npy"), ref)
+    with_band_bin(tmp_path / "maps.cub", "", "")  # back to unnamed bands
     error_line(
         capsys,
         [*argv, "--bands", "Wh,K", "-o", str(tmp_path / "x.npy")],
