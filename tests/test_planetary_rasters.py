@@ -474,3 +474,14 @@ def test_cloud_optimised_geotiff_output(tmp_path):
         assert c.crs == p.crs and c.transform == p.transform
         np.testing.assert_array_equal(c.read(1), p.read(1))
     assert sorted(q.name for q in tmp_path.iterdir()) == ["cog.tif", "img.tif", "plain.tif"]
+
+
+def test_tiled_cube_read_by_window(tmp_path):
+    """A tiled ISIS cube (GDAL's ISIS3 driver, TILED=YES) reads the same as a BSQ one."""
+    data = np.arange(100 * 130, dtype=np.float32).reshape(100, 130) / 1000.0
+    write_gdal(tmp_path / "t.cub", data, "ISIS3", TILED="YES", BLOCKXSIZE=32, BLOCKYSIZE=32)
+    plane = open_plane(tmp_path / "t.cub")
+    assert plane.block == (32, 32)
+    values, kind = plane.read(slice(17, 83), slice(40, 129))
+    np.testing.assert_array_equal(values, data[17:83, 40:129])
+    assert (kind == VALID).all()
