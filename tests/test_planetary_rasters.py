@@ -178,6 +178,24 @@ def test_cube_label_groups_carried(tmp_path):
         assert a["IsisCube"]["Core"][group] == b["IsisCube"]["Core"][group]
     assert a["IsisCube"]["Mapping"] == b["IsisCube"]["Mapping"]
     assert b["IsisCube"]["Mapping"]["ProjectionName"] == "Equirectangular"
+    with rasterio.open(out) as d:
+        first = d.read(1)
+    # the rest of the label too: an Instrument group comes through
+    body = "    SpacecraftName = MARS_RECONNAISSANCE_ORBITER\n    InstrumentId = HIRISE\n"
+    set_label_group(tmp_path / "img.cub", "Instrument", body)
+    correct_file(
+        open_plane(tmp_path / "img.cub"),
+        EllipsoidGeometry(SHAPE, (5.0, -40.0), (0.0, 0.0)),
+        Correction(HAPKE),
+        out,
+        chunk=40,
+    )
+    b = pvl.load(str(out))
+    assert b["IsisCube"]["Instrument"]["InstrumentId"] == "HIRISE"
+    assert a["IsisCube"]["Mapping"] == b["IsisCube"]["Mapping"]
+    with rasterio.open(out) as d:
+        got = d.read(1)
+    np.testing.assert_array_equal(got, first)  # the corrected pixels, not the input's
     # a GeoTIFF output takes the map projection and pixel grid too
     correct_file(
         open_plane(tmp_path / "img.cub"),
@@ -370,21 +388,27 @@ def test_fit_samples_an_image(tmp_path, capsys):
     assert vals["limb_darkening"] == pytest.approx(0.6, rel=1e-3)
 
 
-def with_band_bin(path, *names):
-    """Put a BandBin group naming the bands into an ISIS cube's attached label (written by
-    GDAL: the label is padded to its 65536 bytes, so it has room), or take it out."""
+def set_label_group(path, group, body=""):
+    """Put a group (``body``: its keyword lines) into an ISIS cube's attached label after
+    the Core object, replacing one of that name, or take it out (no body). The cube is
+    GDAL's: its label is padded to 65536 bytes, so there is room."""
     data = bytearray(path.read_bytes())
     label = data[:65536].decode("latin-1")
-    start = label.find("  Group = BandBin\n")
+    start = label.find(f"  Group = {group}\n")
     if start >= 0:
         end = label.index("  End_Group\n", start) + len("  End_Group\n")
         label = label[:start] + label[end:]
-    if any(names):
-        group = f"  Group = BandBin\n    Name = ({', '.join(names)})\n  End_Group\n"
-        at = label.index("  End_Object\n") + len("  End_Object\n")  # after the Core object
-        label = label[:at] + group + label[at:]
+    if body:
+        at = label.index("  End_Object\n") + len("  End_Object\n")
+        label = label[:at] + f"  Group = {group}\n{body}  End_Group\n" + label[at:]
     data[:65536] = label.encode("latin-1").ljust(65536, b"\0")[:65536]
     path.write_bytes(bytes(data))
+
+
+def with_band_bin(path, *names):
+    """Name a cube's bands in a BandBin group (no names: take it out)."""
+    body = f"    Name = ({', '.join(names)})\n" if any(names) else ""
+    set_label_group(path, "BandBin", body)
 
 
 def test_parameter_map_cube(tmp_path, capsys):

@@ -24,10 +24,13 @@ each pixel's class (:data:`VALID`, :data:`NULL`, :data:`LRS`, :data:`LIS`, :data
 :data:`HRS`) beside its value (NaN unless valid), so that a writer keeps the class: an ISIS
 cube written gets the same special pixel back, any other format NaN.
 
-Labels. A GDAL output takes the input's map projection and geotransform (and band
-description); for an ISIS cube GDAL writes from them the Dimensions, Pixels (Real, float32)
-and Mapping groups, which are then those of a float32 input cube. A FITS output takes the
-input FITS header's cards (not the structural ones).
+Labels. A cube written from a cube of one band of 4-byte reals is a copy of it (GDAL's
+ISIS3 driver keeps the whole label: Dimensions, Pixels, Mapping, Instrument, BandBin, ...)
+whose pixels are then replaced window by window: the image is written twice, the label
+kept whole. Otherwise a GDAL output takes the input's map projection and geotransform (and
+the band description), from which GDAL writes an ISIS cube's Dimensions, Pixels (Real) and
+Mapping groups. A FITS output takes the input FITS header's cards (not the structural
+ones).
 
 Every file is written whole or not at all (:func:`roughdiffuse.io.atomic.atomic_write`).
 """
@@ -531,8 +534,21 @@ def _write_gdal(
     else:
         profile["nodata"] = float("nan")
     image_tmp: list[Path] = []
+    whole_label = fmt == "isis3" and _single_real_cube(like)
 
     def write(tmp: Path) -> None:
+        if whole_label:  # the input cube's whole label: a copy of it, its pixels then replaced
+            from rasterio.shutil import copy
+
+            with _gdal():
+                copy(like.path, tmp, driver="ISIS3")
+            with _gdal(), rasterio.open(tmp, "r+") as dst:
+                for rows, cols, pixels in blocks:
+                    win = Window(
+                        cols.start, rows.start, cols.stop - cols.start, rows.stop - rows.start
+                    )
+                    dst.write(pixels, 1, window=win)
+            return
         opts = dict(profile)
         if fmt == "pds4":
             img = tmp.with_suffix(".img")
@@ -564,6 +580,16 @@ def _write_gdal(
         for img in image_tmp:
             if img.exists():
                 img.unlink()
+
+
+def _single_real_cube(like: Plane | None) -> bool:
+    """Whether ``like`` is an ISIS cube of one band of 4-byte reals: an output cube is then
+    a copy of it (GDAL's ISIS3 driver keeps the source's whole label: Instrument, BandBin,
+    Kernels, ... besides Dimensions, Pixels and Mapping) with its pixels replaced."""
+    if like is None or like.fmt != "isis3":
+        return False
+    with _gdal(), _rasterio().open(like.path) as src:
+        return src.count == 1 and src.dtypes[0] == "float32"
 
 
 def _pds4_finish(label_tmp: Path, image_tmp: Path, target: Path) -> None:
