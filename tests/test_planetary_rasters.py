@@ -55,23 +55,25 @@ def scene(shape=SHAPE):
     return iof.astype(np.float32), deg
 
 
-def write_gdal(path, data, driver, georef=True, **extra):
+def write_gdal(path, data, driver, georef=True, corner=(-4500.0, 3500.0), **extra):
+    """A plane (H, W) or bands (B, H, W) written by GDAL, on a lunar equirectangular grid of
+    100 m pixels whose upper-left corner is ``corner`` (or without a map projection)."""
     from rasterio.transform import from_origin
 
-    h, w = data.shape
-    kw = {"crs": MOON_CRS, "transform": from_origin(-4500.0, 3500.0, 100.0, 100.0)}
+    bands = data[None] if data.ndim == 2 else data
+    kw = {"crs": MOON_CRS, "transform": from_origin(*corner, 100.0, 100.0)}
     with rasterio.open(
         path,
         "w",
         driver=driver,
-        width=w,
-        height=h,
-        count=1,
-        dtype=data.dtype.name,
+        width=bands.shape[2],
+        height=bands.shape[1],
+        count=bands.shape[0],
+        dtype=bands.dtype.name,
         **(kw if georef else {}),
         **extra,
     ) as d:
-        d.write(data, 1)
+        d.write(bands)
     return path
 
 
@@ -166,13 +168,12 @@ def test_cube_label_groups_carried(tmp_path):
     iof, deg = scene()
     write_gdal(tmp_path / "img.cub", np.nan_to_num(iof, nan=0.0), "ISIS3")
     out = tmp_path / "out.cub"
-    correct_file(
-        open_plane(tmp_path / "img.cub"),
-        EllipsoidGeometry(SHAPE, (5.0, -40.0), (0.0, 0.0)),
-        Correction(HAPKE),
-        out,
-        chunk=40,
-    )
+
+    def correct() -> None:
+        geometry = EllipsoidGeometry(SHAPE, (5.0, -40.0), (0.0, 0.0))
+        correct_file(open_plane(tmp_path / "img.cub"), geometry, Correction(HAPKE), out, chunk=40)
+
+    correct()
     a, b = pvl.load(str(tmp_path / "img.cub")), pvl.load(str(out))
     for group in ("Dimensions", "Pixels"):
         assert a["IsisCube"]["Core"][group] == b["IsisCube"]["Core"][group]
@@ -183,13 +184,7 @@ def test_cube_label_groups_carried(tmp_path):
     # the rest of the label too: an Instrument group comes through
     body = "    SpacecraftName = MARS_RECONNAISSANCE_ORBITER\n    InstrumentId = HIRISE\n"
     set_label_group(tmp_path / "img.cub", "Instrument", body)
-    correct_file(
-        open_plane(tmp_path / "img.cub"),
-        EllipsoidGeometry(SHAPE, (5.0, -40.0), (0.0, 0.0)),
-        Correction(HAPKE),
-        out,
-        chunk=40,
-    )
+    correct()
     b = pvl.load(str(out))
     assert b["IsisCube"]["Instrument"]["InstrumentId"] == "HIRISE"
     assert a["IsisCube"]["Mapping"] == b["IsisCube"]["Mapping"]
@@ -318,20 +313,7 @@ def test_bad_input_one_line_nothing_written(tmp_path, capsys):
         "one of the inputs",
     )
     # a backplane on another pixel grid
-    from rasterio.transform import from_origin
-
-    with rasterio.open(
-        tmp_path / "shifted.tif",
-        "w",
-        driver="GTiff",
-        width=SHAPE[1],
-        height=SHAPE[0],
-        count=1,
-        dtype="float32",
-        crs=MOON_CRS,
-        transform=from_origin(0.0, 0.0, 100.0, 100.0),
-    ) as d:
-        d.write(deg[2], 1)
+    write_gdal(tmp_path / "shifted.tif", deg[2], "GTiff", corner=(0.0, 0.0))
     error_line(
         capsys,
         [*base, *planes, f"--phase={tmp_path / 'shifted.tif'}", "-o", str(out)],
@@ -419,16 +401,7 @@ def test_parameter_map_cube(tmp_path, capsys):
     w[:, 45:] = 0.3
     theta = np.full(SHAPE, 20.0, np.float32)
     theta[30:, :] = 25.0
-    with rasterio.open(
-        tmp_path / "maps.cub",
-        "w",
-        driver="ISIS3",
-        width=SHAPE[1],
-        height=SHAPE[0],
-        count=2,
-        dtype="float32",
-    ) as d:
-        d.write(np.stack([w, theta]))
+    write_gdal(tmp_path / "maps.cub", np.stack([w, theta]), "ISIS3", georef=False)
     for name, d in zip("ieg", deg, strict=True):
         np.save(tmp_path / f"{name}.npy", d)
     np.save(tmp_path / "img.npy", iof)
