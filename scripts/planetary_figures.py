@@ -1,5 +1,6 @@
 """Make the pictures of docs/planetary.md (the full moon, a disk-resolved fit, two corrected
-images and their mosaic) into docs/images/. Run: python scripts/planetary_figures.py"""
+images and their mosaic, angles from a DEM) into docs/images/. Run:
+python scripts/planetary_figures.py"""
 
 from __future__ import annotations
 
@@ -129,7 +130,138 @@ def mosaic() -> None:
     fig.savefig(OUT / "planetary-mosaic.png", dpi=80)
 
 
+def dem_terrain(n: int = 240) -> tuple[np.ndarray, tuple[float, ...]]:
+    """Heights (m) of a 1 m-pixel terrain: a slope, a crater with a raised rim, a hill."""
+    rr, cc = np.mgrid[0:n, 0:n].astype(np.float64)
+    z = 0.08 * cc
+    r = np.hypot(rr - 0.45 * n, cc - 0.38 * n) / (0.18 * n)
+    z += np.where(r < 1.0, 14.0 * (r**2 - 1.0), 0.0) + 6.0 * np.exp(-(((r - 1.0) / 0.25) ** 2))
+    z += 18.0 * np.exp(-((rr - 0.72 * n) ** 2 + (cc - 0.75 * n) ** 2) / (0.08 * n) ** 2)
+    return z, (1.0, 0.0, 0.0, 0.0, -1.0, float(n))
+
+
+def dem_correction() -> None:
+    """Local angles from a DEM and an image corrected with them, through the files."""
+    import tempfile
+
+    import rasterio
+    from rasterio.transform import Affine
+
+    from roughdiffuse.planetary.chunked import Correction, correct_file
+    from roughdiffuse.planetary.dem import dem_geometry, local_angles, plane_points
+    from roughdiffuse.planetary.rasters import open_plane
+
+    z, transform = dem_terrain()
+    sun = (math.sin(math.radians(60)), 0.0, math.cos(math.radians(60)))  # i = 60° from the east
+    view = (0.0, 0.0, 1.0)
+    points, up, north = plane_points(z.astype(np.float32), transform)
+    a = local_angles(points, up, north, sun, view)
+    rr, cc = np.mgrid[0 : z.shape[0], 0 : z.shape[1]]
+    albedo = 0.12 * (1.0 + 0.25 * (np.sin(cc / 9.0) * np.sin(rr / 13.0) > 0.3))
+    lit = a.incidence < math.pi / 2
+    model = rd.LunarLambert(1.0, 0.6)
+    iof = np.full(z.shape, np.nan)
+    iof[lit] = albedo[lit] * radiance_factor(model, a.incidence[lit], a.emission[lit], a.phase[lit])
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        prof = {"driver": "GTiff", "width": z.shape[1], "height": z.shape[0], "count": 1}
+        prof.update(dtype="float32", transform=Affine(*transform))
+        for name, data in (("dem", z), ("img", iof)):
+            with rasterio.open(folder / f"{name}.tif", "w", **prof) as d:
+                d.write(data.astype(np.float32), 1)
+        image = open_plane(folder / "img.tif")
+        geo = dem_geometry(open_plane(folder / "dem.tif"), image, sun=sun, observer=view)
+        correct_file(image, geo, Correction(model), folder / "out.tif", chunk=64)
+        corrected = open_plane(folder / "out.tif").read_all()
+    flat = normalize(
+        iof,
+        np.full(z.shape, math.radians(60)),
+        np.zeros(z.shape),
+        np.full(z.shape, math.radians(60)),
+        model,
+    )  # the DEM ignored
+    fig, axes = subplots(2, 4, figsize=(14, 7.4), layout="constrained")
+    deg = np.degrees
+    panels = [
+        (z, "DEM height (m)", "terrain", None),
+        (deg(a.incidence), "local incidence i (°)", "viridis", None),
+        (deg(a.slope), "slope (°)", "magma", None),
+        (deg(a.azimuth), "azimuth the slope faces (° from north)", "twilight", (0, 360)),
+        (albedo, "albedo (the truth)", GREY, (0, 0.17)),
+        (iof, "I/F: Lunar-Lambert, sun from the east at 60°", GREY, None),
+        (flat, "corrected without the DEM (flat: i = 60°)", GREY, (0, 0.17)),
+        (corrected, "corrected with the DEM (--dem)", GREY, (0, 0.17)),
+    ]
+    for ax, (img, title, cmap, lims) in zip(axes.ravel(), panels, strict=True):
+        vmin, vmax = lims if lims else (np.nanmin(img), np.nanmax(img))
+        im = ax.imshow(img, cmap=cmap, vmin=vmin, vmax=vmax)
+        ax.set_title(title, fontsize=9)
+        ax.set_axis_off()
+        fig.colorbar(im, ax=ax, shrink=0.7)
+    fig.suptitle(
+        "Angles from a DEM (1 m pixels) and an image normalised with them: the albedo "
+        "pattern comes back, the relief goes"
+    )
+    fig.savefig(OUT / "planetary-dem.png", dpi=80)
+
+
+def cube_on_a_cluster(n: int = 512, chunk: int = 128) -> None:
+    """A moon written as ISIS cubes, corrected in chunks on a local Dask cluster of two
+    workers, against the in-memory path."""
+    import tempfile
+
+    import distributed
+
+    from roughdiffuse.planetary.chunked import Correction, FileGeometry, correct_file
+    from roughdiffuse.planetary.correct import write_plane
+    from roughdiffuse.planetary.rasters import open_plane
+
+    bp = ellipsoid_backplanes((n, n), (5.0, -50.0), (0.0, 0.0))
+    raw = hapke_image(bp)
+    model = rd.Hapke(0.25, **HAPKE)
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        write_plane(folder / "img.cub", raw)
+        for name, a in (("i", bp.incidence), ("e", bp.emission), ("g", bp.phase)):
+            write_plane(folder / f"{name}.cub", np.degrees(a))
+        planes = [open_plane(folder / f"{k}.cub") for k in ("img", "i", "e", "g")]
+        with (
+            distributed.LocalCluster(
+                n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+            ) as cluster,
+            distributed.Client(cluster) as client,
+        ):
+            correct_file(planes[0], FileGeometry(*planes[1:]), Correction(model),
+                         folder / "out.cub", chunk=chunk, scheduler=client)  # fmt: skip
+        out = open_plane(folder / "out.cub").read_all()
+        img, i, e, g = (p.read_all() for p in planes)
+    i, e, g = (np.radians(a) for a in (i, e, g))
+    g = np.clip(g, np.abs(i - e), i + e)
+    ref = normalize(img, i, e, g, model).astype(np.float32)
+    diff = np.where(np.isfinite(ref), np.abs(out.astype(np.float32) - ref), np.nan)
+    fig, axes = subplots(1, 3, figsize=(13, 4.8), layout="constrained")
+    top = np.nanpercentile(out, 99.5)
+    panels = [
+        (raw, "I/F, an ISIS cube (phase 50°)", GREY, 0, np.nanpercentile(raw, 99.5)),
+        (out, f"corrected on 2 Dask workers, {chunk}² chunks", GREY, 0, top),
+        (diff, f"|cluster − in-memory| (max {np.nanmax(diff):g})", "viridis", 0, 1e-7),
+    ]
+    for k, (ax, (data, title, cmap, lo, hi)) in enumerate(zip(axes, panels, strict=True)):
+        im = ax.imshow(data, cmap=cmap, vmin=lo, vmax=hi)
+        if k == 1:
+            for x in range(chunk, n, chunk):
+                ax.axvline(x - 0.5, color="tab:red", lw=0.5, ls=":")
+                ax.axhline(x - 0.5, color="tab:red", lw=0.5, ls=":")
+        ax.set_title(title, fontsize=9)
+        ax.set_axis_off()
+        fig.colorbar(im, ax=ax, shrink=0.75)
+    fig.suptitle("A cube corrected chunk by chunk on a local cluster: the same pixels as in memory")
+    fig.savefig(OUT / "planetary-cluster.png", dpi=80)
+
+
 if __name__ == "__main__":
     full_moon()
     mosaic()
     disk_fit()
+    dem_correction()
+    cube_on_a_cluster()

@@ -141,3 +141,64 @@ def test_phototopder_of_lambert_is_sin_i():
     np.testing.assert_allclose(
         phototopder(rd.Lambert(1.0), g, i, e), np.sin(i) * math.pi / 180, rtol=1e-6
     )
+
+
+# ISIS's unit tests of its Topo and Shade normalisations (USGS ISIS3,
+# isis/src/base/objs/Topo/Topo.truth and unitTest.cpp, Shade/Shade.truth and unitTest.cpp):
+# Lambert photometric model, Albedo = 0.0690507 (Topo: Incref = 30, its reference geometry
+# (g, i, e) = (Incref, Incref, 0)); (phase, incidence, emission) in degrees, dn, and the
+# normalisation value as printed (6 significant digits).
+ISIS_GEOMETRIES = [
+    (86.7226722, 51.7002388, 38.9414439, 0.0800618902),
+    (86.7207248, 51.7031305, 38.9372914, 0.0797334611),
+    (86.7187773, 51.7060221, 38.9331391, 0.0794225037),
+]
+
+
+@pytest.mark.parametrize(
+    ("method", "incref", "truth"),
+    [
+        ("topo", 30.0, ["0.0347164", "0.0347101", "0.0347042"]),
+        ("shade", 0.0, ["0.042796", "0.0427932", "0.0427905"]),
+    ],
+)
+def test_topo_and_shade_against_isis_truth(method, incref, truth):
+    g, i, e, dn = (np.array(col) for col in zip(*ISIS_GEOMETRIES, strict=True))
+    ref = math.radians(incref)
+    got = normalize(
+        dn,
+        np.radians(i),
+        np.radians(e),
+        np.radians(g),
+        rd.Lambert(1.0),
+        method=method,
+        albedo=0.0690507,
+        reference=(ref, ref, 0.0),
+    )
+    assert [f"{v:.6g}" for v in got] == truth
+
+
+def test_parameter_map_of_the_albedo_corrects_exactly():
+    """With w given per pixel (a map of the truth) the albedo method is exact: each pixel's
+    Hapke I/F at i = e = g = 0 without the surge, where one w gave 0.6 %."""
+    bp, iof, truth = moon((0.0, 30.0))
+    w = np.full(iof.shape, np.nan)
+    lit = bp.on_body & (bp.incidence < math.pi / 2)
+    w[lit] = albedo_map(bp.latitude[lit], bp.longitude[lit])
+    got = normalize(
+        iof, bp.incidence, bp.emission, bp.phase, rd.Hapke(0.25, **HAPKE), params={"albedo": w}
+    )
+    keep = lit & (bp.incidence < math.radians(85)) & (bp.emission < math.radians(85))
+    assert keep.sum() > 2500
+    np.testing.assert_allclose(got[keep], truth[keep], rtol=1e-12)
+    # a map of one value is the scalar model, and a map's NaN is NoData
+    b0 = np.full(iof.shape, HAPKE["b0"])
+    b0[40, 40] = np.nan
+    model = rd.Hapke(0.25, **HAPKE)
+    one = normalize(iof, bp.incidence, bp.emission, bp.phase, model, method="mixed")
+    mapped = normalize(
+        iof, bp.incidence, bp.emission, bp.phase, model, method="mixed", params={"b0": b0}
+    )
+    assert np.isnan(mapped[40, 40]) and np.isfinite(one[40, 40])
+    mapped[40, 40] = one[40, 40]
+    np.testing.assert_allclose(mapped, one, rtol=1e-13, equal_nan=True)

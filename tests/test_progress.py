@@ -99,8 +99,9 @@ def test_long_render_counts_its_bands_on_a_terminal(monkeypatch, tmp_path) -> No
 
 
 def test_photometry_correct_counts_chunks_on_a_terminal(monkeypatch, tmp_path) -> None:  # noqa: ANN001
-    """`photometry correct` on an image of several chunks: a bar on a terminal, and the
-    result of Lunar-Lambert (linear in its albedo) normalised to i = e = g = 0 is ρ."""
+    """`photometry correct` on an image of several chunks (--chunk 16: 2 × 2 windows of a
+    24 × 24 image): a bar on a terminal, and the result of Lunar-Lambert (linear in its
+    albedo) normalised to i = e = g = 0 is ρ."""
     import math
 
     import numpy as np
@@ -108,7 +109,6 @@ def test_photometry_correct_counts_chunks_on_a_terminal(monkeypatch, tmp_path) -
     import roughdiffuse as rd
     from roughdiffuse.cli import main
     from roughdiffuse.models.photometry import radiance_factor
-    from roughdiffuse.planetary import correct
     from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
 
     bp = ellipsoid_backplanes((24, 24), (0.0, 30.0), (0.0, 0.0))
@@ -117,15 +117,12 @@ def test_photometry_correct_counts_chunks_on_a_terminal(monkeypatch, tmp_path) -
     model = rd.LunarLambert(0.12, 0.6)
     iof[lit] = radiance_factor(model, bp.incidence[lit], bp.emission[lit], bp.phase[lit])
     np.save(tmp_path / "iof.npy", iof)
-    monkeypatch.setattr(correct, "CHUNK", 100)
-    n = int((lit & (bp.incidence <= math.radians(85)) & (bp.emission <= math.radians(85))).sum())
-    chunks = -(-n // 100)
-    assert chunks > 1
+    chunks = 4
     tty = FakeTTY()
     monkeypatch.setattr(sys, "stderr", tty)
     argv = ["photometry", "correct", str(tmp_path / "iof.npy"), "--subsolar", "0,30",
             "--subobserver", "0,0", "--model", "lunar-lambert", "--param", "L=0.6",
-            "-o", str(tmp_path / "out.npy")]  # fmt: skip
+            "--chunk", "16", "-o", str(tmp_path / "out.npy")]  # fmt: skip
     assert main(argv) == 0
     last = tty.getvalue().strip().split("\r")[-1]
     assert "photometry correct" in last and f"{chunks}/{chunks}" in last and "100%" in last

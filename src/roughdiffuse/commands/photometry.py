@@ -12,12 +12,17 @@ FIT_EXAMPLES = """\
 examples:
   roughdiffuse photometry fit flyby.csv --model hapke --fix hg2=0 --report fit.html
   roughdiffuse photometry fit ceres.csv --model lunar-lambert
+  roughdiffuse photometry fit image.cub --incidence i.cub --emission e.cub --phase g.cub \\
+      --model hapke --fix hg2=0 --samples 20000
 
 DATA is a CSV file with a header naming the columns: I/F (or iof, radf; or r, the
 bidirectional reflectance I/F/π), i, e and g (incidence, emission, phase, in DEGREES), and
 optionally band (each band is fitted separately). Angles stay within [0, 180]; rows with i
 or e beyond 90 are refused (unlit or unseen points). Angle parameters given with --fix are
-in degrees, as everywhere on the command line.
+in degrees, as everywhere on the command line. DATA may instead be an I/F image (ISIS3
+.cub, PDS4 .xml, GeoTIFF, FITS, .npy, .exr) with its backplanes (as `photometry correct`
+takes them): up to --samples of its lit, seen data pixels are drawn, the image read chunk by
+chunk (never whole).
 """
 
 
@@ -38,7 +43,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "I/F and the incidence, emission and phase angles (i, e, g).",
         epilog="examples:\n"
         "  roughdiffuse photometry fit --help       # fit disk-resolved I/F (CSV of i, e, g)\n"
-        "  roughdiffuse photometry correct --help   # normalise an image to a standard geometry\n",
+        "  roughdiffuse photometry correct --help   # normalise an image to a standard geometry\n"
+        "  roughdiffuse photometry angles --help    # local angles, slope and azimuth from a DEM\n",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     inner = p.add_subparsers(dest="action", metavar="ACTION", parser_class=type(p))
@@ -52,7 +58,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog=FIT_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    f.add_argument("data", metavar="DATA.csv", help="I/F (or r), i, e, g [, band] per row")
+    f.add_argument(
+        "data",
+        metavar="DATA",
+        help="a CSV file of I/F (or r), i, e, g [, band] per row, or an I/F image",
+    )
     f.add_argument(
         "--model",
         default="hapke",
@@ -74,10 +84,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="noise model: a constant fraction of I/F, or constant (default: relative)",
     )
     f.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    f.add_argument(
+        "--samples",
+        type=int,
+        default=20000,
+        metavar="N",
+        help="an image: the pixels to fit, at most (default 20000)",
+    )
+    from .photometry_correct import add_geometry_arguments, register_correct
+
+    add_geometry_arguments(f)
     f.set_defaults(func=run_fit)
-    from .photometry_correct import register_correct
+    from .photometry_angles import register_angles
 
     register_correct(inner)
+    register_angles(inner)
 
 
 def _fixed(model: str, pairs: list[tuple[str, str]]) -> dict[str, object]:
@@ -117,9 +138,21 @@ def run_fit(args: argparse.Namespace) -> int:
         output_file(args.report, option="--report", overwrite=True)
     if not os.path.isfile(args.data):
         raise UsageError(f"data file {args.data!r} does not exist")
+    from .photometry_correct import check_geometry_options, refuse_unused
+
+    image_flags = (
+        *("--incidence", "--emission", "--phase", "--subsolar", "--subobserver", "--radii"),
+        *("--dem", "--band", "--nodata", "--samples", "--chunk"),
+    )
+    is_csv = args.data.lower().endswith(".csv")
+    refuse_unused(args, image_flags, not is_csv, "an image DATA (not a .csv file)")
+    check_geometry_options(args)
     fixed = _fixed(args.model, args.fix)
-    with reading(args.data, "data file"):
-        bands = read_photometry_csv(args.data)
+    if is_csv:
+        with reading(args.data, "data file"):
+            bands = read_photometry_csv(args.data)
+    else:
+        bands = {None: _image_samples(args)}
     fits = []
     for band, data in bands.items():
         label = f"band {band}: " if band is not None else ""
@@ -131,6 +164,26 @@ def run_fit(args: argparse.Namespace) -> int:
         write_disk_report(args.report, fits)
         print(f"wrote {args.report}")
     return 0
+
+
+def _image_samples(args: argparse.Namespace) -> object:
+    """Up to --samples pixels of the image DATA with their angles, read chunk by chunk."""
+    from ..planetary.chunked import check_chunk, sample_pixels
+    from ..progress import progress_enabled
+    from ._checks import available_memory
+    from .photometry_correct import _geometry, _plane
+
+    if args.samples < 2:
+        raise UsageError(f"--samples must be at least 2 (got {args.samples})")
+    image = _plane(args.data, "image", args.band, args.nodata)
+    geometry = _geometry(args, image)
+    try:
+        check_chunk(args.chunk, 1, available_memory())
+    except ValueError as exc:
+        raise UsageError(f"--chunk: {exc}") from None
+    return sample_pixels(
+        image, geometry, args.samples, chunk=args.chunk, progress=progress_enabled()
+    )
 
 
 def _deg_range(a: object) -> str:

@@ -53,6 +53,7 @@ def ellipsoid_backplanes(
     subobserver: tuple[float, float],
     radii: tuple[float, float, float] = (1.0, 1.0, 1.0),
     margin: float = 0.05,
+    window: tuple[slice, slice] | None = None,
 ) -> Backplanes:
     """Backplanes of an ellipsoid seen orthographically (see the module).
 
@@ -66,6 +67,9 @@ def ellipsoid_backplanes(
         Semi-axes (any unit; only ratios matter); (1, 1, 1) is a sphere.
     margin : float
         Empty border, as a fraction of the half-width, around the body's largest radius.
+    window : (rows, cols) slices, optional
+        Only these lines and samples of the image (the same values as the whole image's
+        there): a chunk of a large image.
 
     Examples
     --------
@@ -88,8 +92,9 @@ def ellipsoid_backplanes(
     x_img = np.cross(y_img, o)  # east to the right
     half = float(r.max()) * (1.0 + margin)
     scale = 2.0 * half / min(h, w)
-    cols = (np.arange(w) - (w - 1) / 2.0) * scale
-    rows = ((h - 1) / 2.0 - np.arange(h)) * scale
+    rsel, csel = window if window is not None else (slice(0, h), slice(0, w))
+    cols = (np.arange(w)[csel] - (w - 1) / 2.0) * scale
+    rows = ((h - 1) / 2.0 - np.arange(h)[rsel]) * scale
     u, v = np.meshgrid(cols, rows)
     p0 = u[..., None] * x_img + v[..., None] * y_img + 4.0 * half * o
     dp0, do = p0 / r, o / r
