@@ -48,7 +48,11 @@ def _open_browser(url: str) -> None:
     ):
         print("no display here: open the URL in a browser yourself", flush=True)
         return
-    if not webbrowser.open(url):
+    from ..programs import trusted_environ
+
+    with trusted_environ():  # webbrowser looks its programs up on PATH: not in this folder
+        opened = webbrowser.open(url)
+    if not opened:
         print("could not start a browser: open the URL yourself", flush=True)
 
 
