@@ -4,9 +4,9 @@ material."""
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from . import UsageError
+from ._checks import output_file
 from ._common import add_model_arguments, model_from_args
 from ._export_targets import export_errors
 
@@ -35,7 +35,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     p.add_argument("--from", dest="source", metavar="FILE.json", help="a fit result instead")
     p.add_argument("--to", required=True, metavar="TARGET", help="mitsuba, materialx or blender")
-    p.add_argument("-o", "--output", required=True, metavar="FILE", help="the file to write")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="FILE",
+        help="the file to write: mitsuba FILE.xml and FILE.py beside it (and FILE_builtin.xml "
+        "for lambert and burley-2015), materialx FILE.mtlx, blender FILE.py and FILE.blend "
+        "beside it (unless --no-blend or no Blender is found); none is replaced without --force",
+    )
+    p.add_argument("--force", action="store_true", help="replace files that exist")
     p.add_argument(
         "--openpbr",
         action="store_true",
@@ -54,14 +63,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..materials import TARGETS, export, load_result
+    from ..materials import TARGETS, export, load_result, planned_files
     from ..materials.blender import write as write_blender
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
-    out = Path(args.output)
-    if not out.parent.is_dir():
-        raise UsageError(f"--output: folder {str(out.parent)!r} does not exist")
+    out = output_file(args.output, (TARGETS[args.to][0],), force=args.force)
     if args.source:
         try:
             model = load_result(args.source)
@@ -69,9 +76,11 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--from: {exc}") from None
     else:
         model = model_from_args(args)
+    blend = False if args.no_blend else None
     with export_errors(out, "--to", args.to, "--output"):
+        for path in planned_files(model, args.to, out, blend=blend)[1:]:
+            output_file(path, force=args.force)  # each file it writes, kept unless --force
         if args.to == "blender":
-            blend = False if args.no_blend else None
             result = write_blender(model, out, principled=args.principled, blend=blend)
         else:
             result = export(model, args.to, out, openpbr=args.openpbr)

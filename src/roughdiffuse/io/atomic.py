@@ -16,6 +16,8 @@ The rules every file written by roughdiffuse follows:
   handler still ends the process). A process killed outright (SIGKILL) cannot clean up; its
   temporary files are named ``.NAME.rdtmp-PID-XXXXXXXX.SUFFIX`` and the next write of the
   same file removes those whose process is gone (:func:`remove_stale_temporaries`).
+- **Only regular files.** An existing target that is not a regular file (``/dev/null``, a
+  FIFO, a socket) is refused, never renamed over (:func:`check_output_path`).
 - **Bad paths are found first.** A folder given as the output file, a missing or
   non-folder parent, or a parent that cannot be written is a ``ValueError`` naming the path
   (:func:`check_output_path`), raised before any work is done when a command calls it
@@ -144,15 +146,21 @@ def check_output_path(path: PathLike, what: str = "output file") -> Path:
     Raises
     ------
     ValueError
-        If ``path`` is an existing folder, if its parent folder does not exist or is not a
-        folder, or if that folder cannot be written. The message names the path and
-        ``what`` (e.g. ``"--table"``).
+        If ``path`` is empty, an existing folder or another file that is not a regular one
+        (a device such as ``/dev/null``, a FIFO, a socket: never replaced), if its parent
+        folder does not exist or is not a folder, or if that folder cannot be written. The
+        message names the path and ``what`` (e.g. ``"--table"``).
     """
     p = Path(path)
-    if not str(path) or p.name in ("", ".", ".."):
-        raise ParameterError(f"{what} {str(path)!r} is not a file name")
+    if not os.fspath(path) or p.name in ("", ".", ".."):
+        raise ParameterError(f"{what} {os.fspath(path)!r} is not a file name")
     if p.is_dir():
         raise ParameterError(f"{what} {str(p)!r} is a folder; give the name of a file")
+    if p.exists() and not p.is_file():  # renaming over it would replace a device or FIFO
+        raise ParameterError(
+            f"{what} {str(p)!r} is not a regular file (a device, FIFO or socket); "
+            "give the name of a file"
+        )
     folder = p.parent
     if not folder.exists():
         raise ParameterError(f"{what} {str(p)!r}: folder {str(folder)!r} does not exist")

@@ -56,6 +56,16 @@ if obj is not None and obj.type == "MESH":
 '''
 
 
+def files_for(path: Path, blend: bool | None = None) -> tuple[Path, ...]:
+    """The files :func:`write` writes: the script ``path`` and, where ``blend`` says so
+    (``None``: where a Blender interpreter is found), the ``.blend`` beside it."""
+    from .blender_run import blender_command
+
+    if blend is None:
+        blend = blender_command() is not None
+    return (path, path.with_suffix(".blend")) if blend else (path,)
+
+
 def write(model: Model, path: Path, principled: bool = False, blend: bool | None = None) -> Export:
     """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed), and
     the ``.blend`` file beside it (same name, suffix ``.blend``) made by running the script in

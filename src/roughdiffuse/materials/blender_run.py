@@ -29,7 +29,7 @@ from .._validate import ParameterError
 from ..io.atomic import atomic_write
 from ..programs import TimeoutExpired, find_program, run
 
-__all__ = ["ENV", "BlenderError", "blender_command", "run_scene", "write_blend"]
+__all__ = ["ENV", "BlenderError", "blender_command", "check_blend", "run_scene", "write_blend"]
 
 ENV = "ROUGHDIFFUSE_BLENDER_PYTHON"
 """The environment variable naming Blender's Python (or a ``blender`` executable)."""
@@ -108,6 +108,30 @@ def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0
         raise BlenderError(f"Blender ({command[0]}) failed with status {done.returncode}:\n{tail}")
 
 
+BLEND_MAGIC = (b"BLENDER", b"\x28\xb5\x2f\xfd", b"\x1f\x8b")
+"""How a ``.blend`` file starts: its header ``BLENDER``, or compressed (``compress=True``,
+which the export uses) the Zstandard magic number (Blender 3.0 and later) or gzip's."""
+
+
+def check_blend(path: Path) -> None:
+    """Check that Blender wrote a ``.blend`` file at ``path`` (:data:`BLEND_MAGIC`; not an
+    empty file).
+
+    Raises
+    ------
+    BlenderError
+        Naming what was found instead.
+    """
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(len(BLEND_MAGIC[0]))
+    except OSError as exc:
+        raise BlenderError(f"Blender wrote no .blend file ({exc.strerror or exc})") from None
+    if not head.startswith(BLEND_MAGIC):
+        found = "an empty file" if not head else f"a file starting {head!r}"
+        raise BlenderError(f"Blender exited normally but wrote {found}, not a .blend file")
+
+
 def write_blend(material: Path, path: Path) -> Path:
     """Save the material of the exported script ``material``, on a unit sphere under a sun
     seen by an orthographic camera (the scene of the Blender check), as the ``.blend`` file
@@ -116,11 +140,13 @@ def write_blend(material: Path, path: Path) -> Path:
     Raises
     ------
     BlenderError
-        If no Blender interpreter is found or Blender fails.
+        If no Blender interpreter is found, Blender fails, or what it wrote is not a
+        ``.blend`` file (:func:`check_blend`): then nothing is written at ``path``.
     """
 
     def save(tmp: Path) -> None:
         job = {"kind": "blend", "shape": "sphere", "light": [-0.5, 0.5, 0.70710678]}
         run_scene(material, [{**job, "size": 256, "samples": 64, "output": str(tmp.resolve())}])
+        check_blend(tmp)  # a child that exits 0 may still have written nothing
 
     return atomic_write(path, save)

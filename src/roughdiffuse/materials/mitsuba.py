@@ -144,12 +144,22 @@ def scene_xml(bsdf: dict[str, Any], comments: list[str], size: int = SIZE, spp: 
 """
 
 
+def files_for(model: Model | None, path: Path) -> tuple[Path, ...]:
+    """The files :func:`write` writes: the XML scene ``path``, the dict beside it (suffix
+    ``.py``) and, for a model Mitsuba has built in, ``STEM_builtin.xml`` (for ``model``
+    ``None``, not yet known, every file it may write)."""
+    files = [path, path.with_suffix(".py")]
+    if model is None or (registry.id_of(model) or "") in _BUILTIN:
+        files.append(path.with_name(path.stem + "_builtin.xml"))
+    return tuple(files)
+
+
 def write(model: Model, path: Path) -> Export:
     """Write the XML scene to ``path`` and the dict to ``path`` with suffix ``.py``."""
     bsdf = bsdf_dict(model)
     comments = error_lines(None)
-    files = {path: scene_xml(bsdf, comments)}
-    py = path.with_suffix(".py")
+    xml, py, *builtin = files_for(model, path)
+    files = {xml: scene_xml(bsdf, comments)}
     files[py] = (
         "# Mitsuba 3 scene written by roughdiffuse export (exact: roughdiffuse's plugin)\n"
         "import mitsuba as mi\n\n"
@@ -158,9 +168,7 @@ def write(model: Model, path: Path) -> Export:
         "mi.set_variant('scalar_rgb')\nregister()\n"
         f"SCENE = {scene_dict(bsdf)!r}\nscene = load_dict(mi, SCENE)\n"
     )
-    model_id = bsdf["type"]
-    mid = registry.id_of(model) or model_id
-    if mid in _BUILTIN:
-        builtin = path.with_name(path.stem + "_builtin.xml")
-        files[builtin] = scene_xml(bsdf_dict(model, builtin=True), comments)
+    mid = registry.id_of(model) or bsdf["type"]
+    if builtin:
+        files[builtin[0]] = scene_xml(bsdf_dict(model, builtin=True), comments)
     return Export("mitsuba", write_files(files), mid, params_of(model, mid), None)
