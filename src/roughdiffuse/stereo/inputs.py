@@ -206,7 +206,7 @@ def read_mask(path: str | os.PathLike[str]) -> np.ndarray:
     if name.lower().endswith(".npy"):
         from ..io.reading import load_npy
 
-        m = load_npy(name, "mask file")
+        m = load_npy(name, "mask file", bool_ok=True)
     else:
         from PIL import Image, UnidentifiedImageError
 
