@@ -30,6 +30,7 @@ from ._validate import ParameterError
 from ._version import version
 from .commands import COMMANDS, UsageError
 from .commands._conflicts import check_options
+from .io.reading import clip_echo
 
 EPILOG = """\
 examples:
@@ -47,7 +48,7 @@ Angles on the command line are in degrees; the Python API takes radians.
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, status 2, no usage dump
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, clip_echo(f"{self.prog}: error: {message}") + "\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -101,12 +102,12 @@ def report_error(exc: BaseException, prog: str, debug: bool) -> int:
     if debug:
         traceback.print_exception(exc, file=sys.stderr)
     if message is not None:
-        print(f"{prog}: error: {message}", file=sys.stderr)
+        print(clip_echo(f"{prog}: error: {message}"), file=sys.stderr)
         return 2
     hint = "" if debug else "; rerun with --debug for the traceback"
     print(
         f"{prog}: internal error (a bug in roughdiffuse {version()}, please report it): "
-        f"{type(exc).__name__}: {exc}{_where(exc)}{hint}",
+        + clip_echo(f"{type(exc).__name__}: {exc}{_where(exc)}{hint}"),
         file=sys.stderr,
     )
     return 1
@@ -123,7 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
     except ValueError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+        print(clip_echo(f"{prog}: error: {exc}"), file=sys.stderr)
         return 2
     try:
         check_options(parser, args, argv)  # conflicting or inapplicable flags: exit 2

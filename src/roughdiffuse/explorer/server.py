@@ -67,7 +67,7 @@ from urllib.parse import parse_qs, unquote, urlsplit
 from .._validate import ParameterError
 from .._version import version
 from ..io.jsonfile import dumps
-from ..io.reading import loads_json
+from ..io.reading import clip_echo, loads_json
 from . import backend, datasets
 
 __all__ = [
@@ -166,6 +166,8 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self.wfile.write(body)
 
     def _json(self, status: int, obj: Any, head: bool = False) -> None:
+        if status >= 400 and isinstance(obj, dict) and isinstance(obj.get("error"), str):
+            obj = {**obj, "error": clip_echo(obj["error"])}  # never echo a flood back
         self._send(status, dumps(obj).encode(), "application/json", head)
 
     def _not_found(self, head: bool = False) -> None:

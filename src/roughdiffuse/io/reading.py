@@ -19,7 +19,8 @@ files, DiLiGenT lists) and every body the explorer receives is read through this
   4-D array, a one-row image, a cube whose band axis cannot be told) is refused with its
   shape as given and how to give it;
 - **short quotes**: a message quotes at most :data:`QUOTE_CHARS` characters of what it was
-  given (:func:`short`), so a 100,000-character argument is not echoed back.
+  given (:func:`short`), so a 100,000-character argument is not echoed back; and every
+  message printed by the command line or sent by the explorer passes :func:`clip_echo`.
 
 A refusal is a ``ValueError`` naming the file and the limit (the CLI prints it on one line
 and exits 2; the explorer answers 400 or 413).
@@ -35,6 +36,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import stat
 from typing import Any
 
@@ -49,6 +51,7 @@ __all__ = [
     "MAX_LIST_BYTES",
     "QUOTE_CHARS",
     "check_real",
+    "clip_echo",
     "check_regular",
     "image_array",
     "load_npy",
@@ -89,6 +92,33 @@ def short(text: object, n: int = QUOTE_CHARS) -> str:
     if len(s) <= n:
         return repr(s)
     return f"{s[:n]!r}"[:-1] + f"…' ({len(s)} characters)"
+
+
+LONG_WORD = 240
+"""A run of characters without a space longer than this is clipped in a message
+(:func:`clip_echo`): longer than any real path or value, shorter than a flood."""
+
+
+def clip_echo(message: str, limit: int = LONG_WORD) -> str:
+    """``message`` with every run of non-space characters longer than ``limit`` cut to its
+    first :data:`QUOTE_CHARS` and last 20 characters and its length: the one quoting rule of
+    everything echoed back (argparse's errors, ``--param`` names and values, the explorer's
+    4xx bodies), applied where each is printed or sent, so a 100,000-character argument is
+    never echoed whole.
+
+    >>> clip_echo("bad name " + "x" * 1000 + "=1")[:20]
+    'bad name xxxxxxxxxxx'
+    >>> len(clip_echo("bad name " + "x" * 1000 + "=1")) < 120
+    True
+    """
+    if len(message) <= limit:
+        return message
+
+    def cut(m: re.Match[str]) -> str:
+        word = m.group(0)
+        return f"{word[:QUOTE_CHARS]}…{word[-20:]} ({len(word)} characters)"
+
+    return re.sub(rf"\S{{{limit + 1},}}", cut, message)
 
 
 def check_regular(path: str | os.PathLike[str], what: str = "file") -> int:
