@@ -72,3 +72,44 @@ def test_explorer_400_does_not_echo_a_long_query(server):
     assert reply.status == 400
     error = json.loads(body)["error"]
     assert "sigma" in error and len(body) < 1000
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["plot", "plane", "--shape", "vase"], "--shape"),
+        (["plot", "polar", "--spp", "4"], "--spp"),
+        (["plot", "plane", "--light-theta", "10"], "--light-theta"),
+        (["plot", "cross-section", "--theta-i", "30"], "--theta-i"),
+    ],
+)
+def test_plot_refuses_flags_its_mode_does_not_use(argv, flag, capsys, tmp_path):
+    out = tmp_path / "p.png"
+    assert run([*argv, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert flag in err and "applies only" in err and not out.exists()
+
+
+def test_bench_refuses_a_results_name_taken_by_a_folder_before_any_benchmark(tmp_path, capsys):
+    (tmp_path / "results.json").mkdir()
+    assert run(["bench", "--output-dir", str(tmp_path)]) == 2
+    captured = capsys.readouterr()
+    assert "results.json" in captured.err and captured.out == ""  # nothing was run
+
+
+def test_a_tiny_light_direction_is_a_direction_and_a_zero_one_is_named():
+    from roughdiffuse.stereo.inputs import _unit_directions
+
+    d = _unit_directions([[1e-170, 1e-170, 0.0], [0.0, 0.0, 1.0], [0.0, 5e-324, 0.0]])
+    assert d[0] == pytest.approx([2**-0.5, 2**-0.5, 0.0]) and d[2] == pytest.approx([0, 1, 0])
+    with pytest.raises(ValueError, match="direction 2 is the zero vector"):
+        _unit_directions([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="direction 1 is not finite"):
+        _unit_directions([[float("nan"), 0.0, 1.0]])
+
+
+@pytest.mark.parametrize("port", ["70000", "-1"])
+def test_a_bad_port_is_reported_under_port(port, capsys):
+    assert run(["explore", "--port", port, "--no-browser"]) == 2
+    err = capsys.readouterr().err
+    assert "--port" in err and "--host" not in err

@@ -919,8 +919,15 @@ def main(
 
 def check_output_dir(folder: Path) -> None:
     """Refuse an --output-dir that cannot take RESULTS.md and results.json, before any
-    benchmark runs: a file, a path under a file, or a folder that cannot be written."""
+    benchmark runs: a file, a path under a file, a folder that cannot be written, or one
+    where either file's name is taken by something not a regular file (a folder, a FIFO:
+    :func:`roughdiffuse.io.atomic.check_output_path`, the writer's own check)."""
+    from ..io.atomic import check_output_path
+
     folder = Path(folder)
+    if folder.is_dir():
+        for name in ("RESULTS.md", "results.json"):
+            check_output_path(folder / name, "--output-dir: the file")
     for parent in (folder, *folder.parents):
         if parent.exists():
             if not parent.is_dir():
