@@ -152,3 +152,18 @@ def test_fit_export_keeps_existing_files_before_fitting(tmp_path, capsys, no_ble
             "--export-prefix", str(tmp_path / "m")]  # fmt: skip
     assert run(argv) == 2
     assert str(kept) in capsys.readouterr().err and kept.read_text() == "mine\n"
+
+
+def test_a_table_with_a_254_character_name_is_written(tmp_path, capsys):
+    """Its lock and folder of chunks get shortened names (io.atomic.beside), as the
+    temporary files do."""
+    from roughdiffuse.io.atomic import beside
+    from roughdiffuse.simulate.table import load_table
+
+    path = tmp_path / ("t" * 250 + ".npz")
+    argv = ["simulate", "--table", str(path), "--step", "45", "--delta-phi-step", "180",
+            "--sigma", "10", "--bounces", "1", "--no-progress"]  # fmt: skip
+    assert run(argv) == 0, capsys.readouterr().err
+    assert load_table(path).values.shape[0] == 3
+    lock = beside(path, ".lock")
+    assert len(lock.name.encode()) <= 255 and lock != beside(tmp_path / ("t" * 251), ".lock")
