@@ -113,3 +113,58 @@ def test_a_bad_port_is_reported_under_port(port, capsys):
     assert run(["explore", "--port", port, "--no-browser"]) == 2
     err = capsys.readouterr().err
     assert "--port" in err and "--host" not in err
+
+
+# ----------------------------------------------------------------- bounded requests
+
+
+def test_headers_trickled_byte_by_byte_are_cut_off_at_the_header_deadline(monkeypatch):
+    import socket
+    import time
+
+    from roughdiffuse.explorer import server as srv_module
+
+    monkeypatch.setattr(srv_module, "HEADER_SECONDS", 1.0)
+    srv = make_server("127.0.0.1", None)
+    serve_in_thread(srv)
+    try:
+        sock = socket.create_connection(srv.server_address[:2], timeout=30)
+        sock.sendall(b"GET /api/info.json HTTP/1.1\r\n")
+        cut = False
+        for _ in range(60):  # one byte every 0.2 s: never silent for IDLE_TIMEOUT (15 s)
+            try:
+                sock.sendall(b"X")
+                time.sleep(0.2)
+                sock.setblocking(False)
+                try:
+                    if sock.recv(1024) == b"":
+                        cut = True
+                        break
+                except BlockingIOError:
+                    pass
+                finally:
+                    sock.setblocking(True)
+            except OSError:
+                cut = True
+                break
+        sock.close()
+        assert cut  # closed long before the 12 s of trickling ended
+    finally:
+        srv.shutdown()
+        srv.server_close()
+
+
+def test_a_layered_truth_beyond_the_cost_budget_is_a_400_before_any_walk(monkeypatch):
+    from roughdiffuse.explorer import layered_truth as lt
+
+    def no_walk(key):
+        raise AssertionError("the walk ran")
+
+    monkeypatch.setattr(lt, "_plane_of_incidence", no_walk)
+    with pytest.raises(ValueError, match="lower η or the albedo"):
+        lt.layered_truth({"model": "coated", "eta": "1000", "albedo": "1", "theta_i": "30"})
+    assert lt.arrivals(1.5, 0.0) == 1.0  # a black base: the one arrival of each path
+    # a closed form: the mean of a geometric count with continuation p is 1 / (1 - p)
+    eta, rho = 2.0, 0.5
+    e = (1 - (1 / 3) ** 2) / 4
+    assert lt.arrivals(eta, rho) == pytest.approx(1 / (1 - rho * (1 - e)))

@@ -46,18 +46,24 @@ It answers only requests addressed to it: the ``Host`` header must name the addr
 printed (or ``localhost``, or a loopback address) with its port, else 421; an ``Origin``
 header, when sent, must be ``http://`` and such a host, else 403. So neither another web page
 nor a DNS-rebinding name can make the user's browser talk to it. A connection idle for
-:data:`IDLE_TIMEOUT` seconds is closed, at most :data:`MAX_THREADS` requests are served at
-once (more get 503), and a client that goes away is one quiet line, not a traceback.
+:data:`IDLE_TIMEOUT` seconds is closed, so is one whose request line and headers take more
+than :data:`HEADER_SECONDS` in all (one byte every few seconds), at most :data:`MAX_THREADS`
+requests are served at once (more get 503), every 4xx body is clipped
+(:func:`~roughdiffuse.io.reading.clip_echo`), the layered truth refuses a coat beyond its cost
+budget before any walk (:func:`~roughdiffuse.explorer.layered_truth.check_cost`), and a
+client that goes away is one quiet line, not a traceback.
 """
 
 from __future__ import annotations
 
+import io
 import ipaddress
 import mimetypes
 import posixpath
 import socket
 import sys
 import threading
+import time
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -72,6 +78,7 @@ from . import backend, datasets
 
 __all__ = [
     "IDLE_TIMEOUT",
+    "HEADER_SECONDS",
     "MAX_THREADS",
     "UPLOADS_AT_ONCE",
     "UPLOAD_SECONDS",
@@ -88,6 +95,10 @@ IDLE_TIMEOUT = 15.0
 
 MAX_THREADS = 32
 """Requests served at once; a connection beyond them gets 503 and is closed."""
+
+HEADER_SECONDS = 30.0
+"""Seconds a client may take to send a request line and its headers, in all: a client that
+sends one byte every few seconds (never silent for :data:`IDLE_TIMEOUT`) is cut off."""
 
 UPLOADS_AT_ONCE = 2
 """Upload bodies read at once (each up to 36 MB in memory); more get 503."""
@@ -150,6 +161,26 @@ class ExplorerHandler(BaseHTTPRequestHandler):
     server_version = f"roughdiffuse-explorer/{version()}"
     quiet = True
     timeout = IDLE_TIMEOUT  # socket timeout: a half-open connection does not hold a thread
+
+    _header_deadline: float | None = None
+
+    def setup(self) -> None:
+        super().setup()
+        self.rfile = io.BufferedReader(_HeaderDeadline(self))
+
+    def handle_one_request(self) -> None:
+        # the request line and the headers must arrive within HEADER_SECONDS in all
+        self._header_deadline = time.monotonic() + HEADER_SECONDS
+        try:
+            super().handle_one_request()
+        finally:
+            self._header_deadline = None
+
+    def parse_request(self) -> bool:
+        ok = super().parse_request()  # reads the headers
+        self._header_deadline = None  # a body has its own deadline (UPLOAD_SECONDS)
+        self.connection.settimeout(self.timeout)
+        return ok
 
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - stdlib signature
         if not self.quiet:
@@ -435,6 +466,28 @@ def _is_ip(host: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+class _HeaderDeadline(io.RawIOBase):
+    """The handler's connection as a raw stream whose reads stop at the handler's header
+    deadline (each read waits at most the time left), so headers trickled in byte by byte
+    cannot hold a thread for ever."""
+
+    def __init__(self, handler: ExplorerHandler) -> None:
+        self.handler = handler
+        self.sock = handler.connection
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer: Any) -> int:
+        deadline = self.handler._header_deadline
+        if deadline is not None:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError(f"request headers not complete within {HEADER_SECONDS:g} s")
+            self.sock.settimeout(min(self.handler.timeout or IDLE_TIMEOUT, left))
+        return self.sock.recv_into(buffer)
 
 
 class ExplorerServer(ThreadingHTTPServer):
