@@ -168,3 +168,21 @@ def test_a_layered_truth_beyond_the_cost_budget_is_a_400_before_any_walk(monkeyp
     eta, rho = 2.0, 0.5
     e = (1 - (1 / 3) ** 2) / 4
     assert lt.arrivals(eta, rho) == pytest.approx(1 / (1 - rho * (1 - e)))
+
+
+def test_an_unwritable_data_dir_is_one_line_naming_it(tmp_path, monkeypatch, capsys):
+    import errno
+    from pathlib import Path
+
+    from roughdiffuse import data
+
+    def refuse(self, *args, **kwargs):
+        raise PermissionError(errno.EACCES, "Permission denied", str(self))
+
+    monkeypatch.setenv("ROUGHDIFFUSE_DATA_DIR", str(tmp_path / "cache"))
+    monkeypatch.setattr(Path, "mkdir", refuse)  # as a read-only folder does (root is exempt)
+    generated = next(n for n in data.names() if not (data._HERE / n).is_file())
+    assert run(["data", "--path", generated]) == 2
+    err = capsys.readouterr().err
+    assert "ROUGHDIFFUSE_DATA_DIR" in err and "Permission denied" in err
+    assert len(err.strip().splitlines()) == 1
