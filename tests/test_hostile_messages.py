@@ -186,3 +186,15 @@ def test_an_unwritable_data_dir_is_one_line_naming_it(tmp_path, monkeypatch, cap
     err = capsys.readouterr().err
     assert "ROUGHDIFFUSE_DATA_DIR" in err and "Permission denied" in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_a_table_being_computed_by_another_run_is_a_one_line_refusal(tmp_path, capsys):
+    from roughdiffuse.simulate.table import _TableLock
+
+    path = tmp_path / "t.npz"
+    with _TableLock(path):  # another run holds the lock
+        argv = ["simulate", "--table", str(path), "--step", "45", "--delta-phi-step", "180",
+                "--sigma", "10", "--bounces", "1", "--no-progress"]  # fmt: skip
+        assert run(argv) == 2
+    err = capsys.readouterr().err
+    assert "being computed by another run" in err and "internal error" not in err

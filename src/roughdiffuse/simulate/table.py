@@ -194,8 +194,9 @@ def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
     return a
 
 
-class TableBusyError(ValueError):
-    """Another run holds the lock of the table (a ``ValueError``: the CLI prints one line)."""
+class TableBusyError(ParameterError):
+    """Another run holds the lock of the table (a :class:`ParameterError`, a ``ValueError``:
+    the command line prints it as one line, exit 2, as every refusal)."""
 
 
 def compute_table(
