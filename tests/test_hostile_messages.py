@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import http.client
 import json
+import math
 
+import numpy as np
 import pytest
 
 from roughdiffuse.cli import main
@@ -198,3 +200,69 @@ def test_a_table_being_computed_by_another_run_is_a_one_line_refusal(tmp_path, c
         assert run(argv) == 2
     err = capsys.readouterr().err
     assert "being computed by another run" in err and "internal error" not in err
+
+
+_COAT = {"model": "coated", "eta": "1.5", "albedo": "0.8", "theta_i": "30", "sigma": "0.2"}
+
+
+def _fake_walk(monkeypatch, calls):
+    from roughdiffuse.explorer import layered_truth as lt
+    from roughdiffuse.explorer.backend import THETA_R_DEG
+    from roughdiffuse.simulate import layered
+
+    def brdf(*args, seed, **kwargs):
+        calls.append(seed)
+        n = len(THETA_R_DEG)
+        return np.full(n, float(seed)), np.full(n, 0.1 * seed)
+
+    monkeypatch.setattr(layered, "brdf", brdf)
+    monkeypatch.setattr(lt, "_CACHE", {})
+    return lt
+
+
+def test_the_layered_walk_stops_when_the_client_has_left(monkeypatch):
+    calls = []
+    lt = _fake_walk(monkeypatch, calls)
+    with pytest.raises(ConnectionError, match="went away"):
+        lt.layered_truth(_COAT, still_wanted=lambda: False)
+    assert calls == []  # no part of the walk ran
+    answers = iter([True, True, False])
+    with pytest.raises(lt.Stopped):
+        lt.layered_truth(_COAT, still_wanted=lambda: next(answers))
+    assert calls == [1, 2]  # stopped between parts
+
+
+def test_the_layered_walk_stops_at_its_deadline(monkeypatch):
+    calls = []
+    lt = _fake_walk(monkeypatch, calls)
+    monkeypatch.setattr(lt, "DEADLINE_SECONDS", -1.0)
+    with pytest.raises(ValueError, match="took more than"):
+        lt.layered_truth(_COAT)
+    assert calls == []
+
+
+def test_the_parts_of_the_walk_combine_to_its_mean_and_standard_error(monkeypatch):
+    calls = []
+    lt = _fake_walk(monkeypatch, calls)
+    out = lt.layered_truth(_COAT)
+    k = lt.CHUNKS
+    seeds = np.arange(1, k + 1)
+    assert calls == list(seeds)
+    assert out["brdf"][0] == pytest.approx(seeds.mean())  # equal parts: the mean of means
+    # independent parts: the variance of the mean is the sum of the variances over K²
+    assert out["stderr"][0] == pytest.approx(math.sqrt(np.sum((0.1 * seeds) ** 2)) / k)
+
+
+def test_client_connected_reads_a_closed_connection_as_gone():
+    import socket
+    import types
+
+    from roughdiffuse.explorer.server import ExplorerHandler
+
+    ours, theirs = socket.socketpair()
+    handler = types.SimpleNamespace(connection=ours, timeout=5.0)
+    assert ExplorerHandler._client_connected(handler) is True
+    theirs.close()
+    assert ExplorerHandler._client_connected(handler) is False
+    assert ours.gettimeout() == 5.0
+    ours.close()

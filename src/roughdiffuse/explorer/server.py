@@ -182,6 +182,19 @@ class ExplorerHandler(BaseHTTPRequestHandler):
         self.connection.settimeout(self.timeout)
         return ok
 
+    def _client_connected(self) -> bool:
+        """Whether the client is still there (a closed connection reads as end of file), for
+        long work to stop when it has left."""
+        try:
+            self.connection.setblocking(False)
+            return self.connection.recv(1, socket.MSG_PEEK) != b""
+        except BlockingIOError:  # nothing to read: still connected, waiting
+            return True
+        except OSError:
+            return False
+        finally:
+            self.connection.settimeout(self.timeout)
+
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - stdlib signature
         if not self.quiet:
             super().log_message(format, *args)
@@ -421,7 +434,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             elif path == "/api/layeredtruth.json":
                 from .layered_truth import layered_truth
 
-                self._json(HTTPStatus.OK, layered_truth(q), head)
+                self._json(HTTPStatus.OK, layered_truth(q, self._client_connected), head)
             elif path == "/api/data/slice":
                 try:
                     ds = datasets.STORE.get(q.get("id", ""))
