@@ -1,7 +1,8 @@
 # roughdiffuse: the two commands of the README.
 #   make figures   set up .venv, install the package, write the lecture's figures to figures/
 #   make test      the same set-up plus test extras and system packages, then the test suite
-#   make docs      the documentation site into docs/_build/html (warnings are errors)
+#   make docs      the same set-up plus docs extras and system packages, then the documentation
+#                  site into docs/_build/html (warnings are errors)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -79,8 +80,10 @@ test: install-test system-deps install-js
 test-all:
 	$(MAKE) test SLOW=1
 
-# Sphinx runs the gallery and the notebooks; nothing is downloaded (see docs/conf.py)
-docs: install-docs
+# Sphinx runs the gallery and the notebooks; nothing is downloaded (see docs/conf.py). The
+# system packages are those of the tests: the Mitsuba example needs libLLVM 19 (with an older
+# one it renders with scalar_rgb, roughdiffuse.integrations.drjit_llvm)
+docs: install-docs system-deps
 	$(PY) -m sphinx -b html -W --keep-going docs docs/_build/html
 
 bench: install

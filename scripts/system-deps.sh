@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# System packages the test suite needs: Chromium (explorer tests, Playwright drives it) and
-# libLLVM >= 15 (Mitsuba 3's llvm_ad_rgb variant); glslang-tools (glslangValidator compiles
+# System packages the test suite and the docs need (make test, make docs): Chromium (explorer
+# tests, Playwright drives it) and libLLVM 19 (Mitsuba 3's llvm_ad_rgb variant: libLLVM 15
+# aborts it, roughdiffuse.integrations.drjit_llvm); glslang-tools (glslangValidator compiles
 # the GLSL MaterialX generates from exported .mtlx files); npm (three.js for the test of the
 # exported GLSL, `npm ci` in tests/js). Installed with apt-get when missing and
 # running as root; otherwise named, with the command to run, and the script fails.
@@ -16,7 +17,7 @@ if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
   apt-get update -q >/dev/null
   DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${need[@]}" >/dev/null
 else
-  echo "roughdiffuse tests need these system packages: ${need[*]}" >&2
+  echo "roughdiffuse tests and docs need these system packages: ${need[*]}" >&2
   echo "install them as root:  apt-get install -y ${need[*]}" >&2
   exit 1
 fi

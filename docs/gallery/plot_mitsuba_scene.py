@@ -23,13 +23,15 @@ if importlib.util.find_spec("mitsuba") is None:
 else:
     import mitsuba as mi
 
-    # the llvm variants are vectorised (they need libLLVM; DRJIT_LIBLLVM_PATH names it),
-    # scalar_rgb runs everywhere
-    try:
-        mi.set_variant("llvm_ad_rgb")
-    except Exception:  # noqa: BLE001 - no libLLVM: the slower scalar variant
-        mi.set_variant("scalar_rgb")
     from roughdiffuse.integrations import mitsuba as rdmi
+    from roughdiffuse.integrations.drjit_llvm import llvm_problem
+
+    # the llvm variants are vectorised, but need a recent libLLVM (DRJIT_LIBLLVM_PATH names
+    # it; an old one would abort this process); scalar_rgb runs everywhere
+    problem = llvm_problem()
+    mi.set_variant("scalar_rgb" if problem else "llvm_ad_rgb")
+    if problem:
+        print(f"scalar_rgb: {problem}")
 
     rdmi.register()
     spheres = {

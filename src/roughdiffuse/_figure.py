@@ -21,7 +21,37 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-__all__ = ["colormap", "figure", "pyplot_figure", "pyplot_subplots", "release", "subplots"]
+__all__ = [
+    "colormap",
+    "displayable",
+    "figure",
+    "literal",
+    "pyplot_figure",
+    "pyplot_subplots",
+    "release",
+    "subplots",
+]
+
+
+def displayable(text: object) -> str:
+    r"""``text`` as a string any writer can encode: the undecodable bytes of a file name
+    (Python's surrogate escapes) become U+FFFD.
+
+    >>> displayable("flyby-\udce9.csv") == "flyby-\ufffd.csv"
+    True
+    """
+    return str(text).encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+def literal(text: object) -> str:
+    r"""``text`` as matplotlib shows it literally: :func:`displayable`, and every ``$``
+    escaped, so a name such as ``$R_{band}$`` is not parsed as mathtext (a malformed one
+    would fail when the figure is drawn).
+
+    >>> print(literal("band $x^2"))
+    band \$x^2
+    """
+    return displayable(text).replace("$", r"\$")
 
 
 def figure(**kwargs: Any) -> Any:

@@ -33,6 +33,7 @@ from ._validate import ParameterError
 from ._version import version
 from .commands import COMMANDS, UsageError
 from .commands._conflicts import check_options
+from .io.reading import clip_echo
 
 EPILOG = """\
 examples:
@@ -50,7 +51,7 @@ Angles on the command line are in degrees; the Python API takes radians.
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, status 2, no usage dump
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, clip_echo(f"{self.prog}: error: {message}") + "\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -104,12 +105,12 @@ def report_error(exc: BaseException, prog: str, debug: bool) -> int:
     if debug:
         traceback.print_exception(exc, file=sys.stderr)
     if message is not None:
-        print(f"{prog}: error: {message}", file=sys.stderr)
+        print(clip_echo(f"{prog}: error: {message}"), file=sys.stderr)
         return 2
     hint = "" if debug else "; rerun with --debug for the traceback"
     print(
         f"{prog}: internal error (a bug in roughdiffuse {version()}, please report it): "
-        f"{type(exc).__name__}: {exc}{_where(exc)}{hint}",
+        + clip_echo(f"{type(exc).__name__}: {exc}{_where(exc)}{hint}"),
         file=sys.stderr,
     )
     return 1
@@ -145,7 +146,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         debug = bool(args.debug) or env_flag("ROUGHDIFFUSE_DEBUG")
         env_flag("ROUGHDIFFUSE_FASTPATH", default=True)  # read by the models: refused here first
     except ValueError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+        print(clip_echo(f"{prog}: error: {exc}"), file=sys.stderr)
         return 2
     try:
         check_options(parser, args, argv)  # conflicting or inapplicable flags: exit 2

@@ -32,7 +32,6 @@ import math
 import os
 import re
 import resource
-import subprocess
 import sys
 import tempfile
 import time
@@ -47,6 +46,7 @@ from roughdiffuse.planetary.backplanes import ellipsoid_backplanes
 from roughdiffuse.planetary.chunked import Correction, FileGeometry, correct_file
 from roughdiffuse.planetary.correct import normalize
 from roughdiffuse.planetary.rasters import blocks_of, open_plane, write_blocks
+from roughdiffuse.programs import run as run_program
 
 HAPKE = {"b0": 1.2, "h": 0.06, "theta_bar": math.radians(20.0)}
 PARAMS = ["Wh=0.25", "B0=1.2", "Hh=0.06", "Theta=20"]
@@ -213,7 +213,7 @@ def scale(folder: Path, lines: int, samples: int, chunk: int) -> list[str]:
         argv += ["--param", p]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
-    proc = subprocess.run(argv, capture_output=True, text=True, check=False)
+    proc = run_program(argv, capture_output=True, text=True)
     wall = time.perf_counter() - t
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode:

@@ -50,8 +50,6 @@ import math
 import os
 import platform
 import shlex
-import shutil
-import subprocess
 import sys
 import tempfile
 from collections.abc import Callable
@@ -61,15 +59,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validate import ParameterError
+from ..programs import PYTHON, find_program
+from ..programs import run as run_program
 from .options import parser
 from .timing import interleaved, rate_summary, rel_error, summary, write_atomic
 
 HERE = Path(__file__).resolve().parent
 C_SOURCE = HERE / "c" / "kernels.c"
 """The C reference, package data (``roughdiffuse/bench/c/kernels.c``)."""
-PYTHON = [sys.executable, "-P"]
-"""How subprocesses start Python: ``-P`` keeps the current directory off ``sys.path``, so a
-``numpy.py`` or ``roughdiffuse/`` there is not imported."""
 CFLAGS = ["-O3", "-march=native", "-fopenmp", "-ffast-math", "-shared", "-fPIC"]
 
 TARGET_C = 0.5
@@ -178,19 +175,19 @@ def _point_for(entry: Any, values: dict[str, Any]) -> dict[str, Any]:
 def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     """Compile roughdiffuse/bench/c/kernels.c into ``workdir``; return (library or None, a
     line saying what happened)."""
-    gcc = shutil.which("gcc")
+    gcc = find_program("gcc")
     if gcc is None:
         return None, "gcc not found: no C reference in this run"
     lib = workdir / "kernels.so"
     cmd = [gcc, *CFLAGS, "-o", str(lib), str(C_SOURCE), "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    proc = run_program(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
     # Idle OpenMP threads spin (libgomp's default), and spinning after each C call took a
     # core from the variant timed next (bench/RESULTS.md). Passive waiting cost C itself
     # nothing measurable.
     os.environ.setdefault("OMP_WAIT_POLICY", "passive")
-    version = subprocess.run([gcc, "--version"], capture_output=True, text=True).stdout
+    version = run_program([gcc, "--version"], capture_output=True, text=True).stdout
     line = version.splitlines()[0] if version else "gcc"
     cmd_text = " ".join(["gcc", *CFLAGS, "-o", "kernels.so", "roughdiffuse/bench/c/kernels.c"])
     policy = os.environ["OMP_WAIT_POLICY"]
@@ -508,7 +505,7 @@ def bench_simulate(repeat: int, cavities: int, geometries: int, cases: str) -> d
         "geometries": geometries,
         "environment": SOLVER_ENV,
     }
-    out = subprocess.run(cmd, env={**os.environ, **SOLVER_ENV}, capture_output=True, text=True)
+    out = run_program(cmd, env=SOLVER_ENV, capture_output=True, text=True)
     if out.returncode != 0:
         res["error"] = (out.stderr.strip().splitlines() or ["failed"])[-1]
         return res
@@ -541,11 +538,9 @@ def first_call() -> dict[str, Any]:
     a second call with a new σ (the same kernel)."""
     res: dict[str, Any] = {}
     with tempfile.TemporaryDirectory() as tmp:
-        env = {**os.environ, "ROUGHDIFFUSE_CACHE_DIR": tmp}
+        env = {"ROUGHDIFFUSE_CACHE_DIR": tmp}
         for label in ("cold_cache", "warm_cache"):
-            out = subprocess.run(
-                [*PYTHON, "-c", _FIRST_CALL], env=env, capture_output=True, text=True
-            )
+            out = run_program([*PYTHON, "-c", _FIRST_CALL], env=env, capture_output=True, text=True)
             if out.returncode != 0:
                 res[label] = {"error": out.stderr.strip().splitlines()[-1:]}
             else:
@@ -583,7 +578,7 @@ print(json.dumps({{"rows": rows, "inputs_bytes": inputs, "output_bytes": out.nby
 def memory(log_rows: int) -> dict[str, Any]:
     """Peak memory of one fast-path evaluation of 2^log_rows rows, in a fresh process."""
     code = _MEMORY.format(log_rows=log_rows)
-    out = subprocess.run([*PYTHON, "-c", code], capture_output=True, text=True)
+    out = run_program([*PYTHON, "-c", code], capture_output=True, text=True)
     if out.returncode != 0:
         return {"error": out.stderr.strip().splitlines()[-1:]}
     res = json.loads(out.stdout.strip().splitlines()[-1])
@@ -623,7 +618,7 @@ def startup(repeat: int) -> dict[str, Any]:
     for run_ in range(repeat + 1):
         for label, args in STARTUP.items():
             t0 = time.perf_counter()
-            proc = subprocess.run([*PYTHON, *args], capture_output=True, text=True)
+            proc = run_program([*PYTHON, *args], capture_output=True, text=True)
             elapsed = time.perf_counter() - t0
             if proc.returncode != 0:
                 return {"error": f"{label}: {(proc.stderr.strip().splitlines() or ['?'])[-1]}"}
@@ -931,8 +926,15 @@ def main(
 
 def check_output_dir(folder: Path) -> None:
     """Refuse an --output-dir that cannot take RESULTS.md and results.json, before any
-    benchmark runs: a file, a path under a file, or a folder that cannot be written."""
+    benchmark runs: a file, a path under a file, a folder that cannot be written, or one
+    where either file's name is taken by something not a regular file (a folder, a FIFO:
+    :func:`roughdiffuse.io.atomic.check_output_path`, the writer's own check)."""
+    from ..io.atomic import check_output_path
+
     folder = Path(folder)
+    if folder.is_dir():
+        for name in ("RESULTS.md", "results.json"):
+            check_output_path(folder / name, "--output-dir: the file")
     for parent in (folder, *folder.parents):
         if parent.exists():
             if not parent.is_dir():

@@ -217,13 +217,17 @@ def _baseline(revision: str) -> Any:
     """
     import importlib
     import io
-    import subprocess
     import tarfile
     import tempfile
 
     root = Path(__file__).resolve().parent.parent
-    data = subprocess.run(
-        ["git", "-C", str(root), "archive", revision, "src/roughdiffuse"],
+    from ..programs import find_program, run
+
+    git = find_program("git")
+    if git is None:
+        raise ParameterError("--versus needs git (none on PATH)")
+    data = run(
+        [git, "-C", str(root), "archive", revision, "src/roughdiffuse"],
         check=True,
         capture_output=True,
     ).stdout

@@ -115,6 +115,8 @@ def output_file(
     UsageError
         Naming the option and the path.
     """
+    if not os.fspath(path):
+        raise UsageError(f"{option}: empty file name; give the name of a file")
     out = Path(path)
     if suffixes is not None and out.suffix.lower() not in suffixes:
         raise UsageError(f"{option}: file must end in {', '.join(suffixes)} (got {str(path)!r})")
@@ -122,10 +124,10 @@ def output_file(
     _existing_folder(folder, option)
     if out.is_dir():
         raise UsageError(f"{option}: {str(path)!r} is a folder, not a file")
+    if out.exists() and not out.is_file():  # a device, FIFO or socket: never replaced
+        raise UsageError(f"{option}: {str(path)!r} is not a regular file (a device, FIFO, socket)")
     if out.exists() and not (force or overwrite):
         raise UsageError(f"{str(path)} exists; use --force to overwrite it")
-    if out.exists() and not out.is_file():
-        raise UsageError(f"{option}: {str(path)!r} is not a regular file")
     _probe(folder, option)
     from ..io.atomic import allow_replacing, keep_existing
 

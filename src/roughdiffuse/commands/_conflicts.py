@@ -64,7 +64,16 @@ def _to(target: str) -> Callable[[argparse.Namespace], bool]:
     return lambda args: getattr(args, "to", None) == target
 
 
+def _kind(*kinds: str) -> Callable[[argparse.Namespace], bool]:
+    return lambda args: getattr(args, "kind", None) in kinds
+
+
 _IMAGE = (".npy", ".exr", ".png")
+_SCENE_FLAGS = (
+    "--shape", "--size", "--spp", "--no-shadows", "--light", "--light-theta", "--light-phi",
+    "--irradiance", "--view-theta", "--view-phi",
+)  # fmt: skip
+"""The flags of a rendered scene (render.add_scene_arguments)."""
 _SCENE = (
     Conflict("--light", "--light-theta", "--light replaces --light-theta/--light-phi"),
     Conflict("--light", "--light-phi", "--light replaces --light-theta/--light-phi"),
@@ -80,7 +89,15 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
             "a .png output (-o FILE.png)",
         ),
     ),
-    "plot": _SCENE,
+    "plot": (
+        *_SCENE,
+        AppliesOnly(
+            _SCENE_FLAGS,
+            _kind("cross-section", "roughness-series"),
+            "plot cross-section or roughness-series (a rendered scene)",
+        ),
+        AppliesOnly(("--theta-i",), _kind("plane", "polar"), "plot plane or polar"),
+    ),
     "fit": (
         Conflict("--compare", "--model", "--compare fits every model"),
         AppliesOnly(

@@ -46,17 +46,25 @@ def parse_targets(text: str, option: str = "--export") -> list[str]:
     return list(dict.fromkeys(targets))
 
 
-def export_paths(prefix: str, targets: list[str], option: str = "--export-prefix") -> dict:
-    """The file of each target: ``PREFIX_TARGET`` with the target's suffix; the folder is
-    checked before any work (a ``UsageError`` if it is missing)."""
-    from ..materials import TARGETS
+def export_paths(
+    prefix: str, targets: list[str], option: str = "--export-prefix", *, force: bool = False
+) -> dict:
+    """The file of each target: ``PREFIX_TARGET`` with the target's suffix. Checked before
+    any work: the folder (a ``UsageError`` if it is missing), and every file each target may
+    write (:func:`roughdiffuse.materials.planned_files`), none replaced unless ``force``."""
+    from ..materials import TARGETS, planned_files
+    from ._checks import output_file
 
     base = Path(prefix)
     if base.name in ("", ".", ".."):
         raise UsageError(f"{option}: give a file name prefix (got {prefix!r})")
     if not base.parent.is_dir():
         raise UsageError(f"{option}: folder {str(base.parent)!r} does not exist")
-    return {t: base.with_name(f"{base.name}_{t}{TARGETS[t][0]}") for t in targets}
+    paths = {t: base.with_name(f"{base.name}_{t}{TARGETS[t][0]}") for t in targets}
+    for target, path in paths.items():
+        for file in planned_files(None, target, path):
+            output_file(file, force=force, option=f"--export {target}")
+    return paths
 
 
 def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> None:

@@ -48,7 +48,11 @@ def _open_browser(url: str) -> None:
     ):
         print("no display here: open the URL in a browser yourself", flush=True)
         return
-    if not webbrowser.open(url):
+    from ..programs import trusted_environ
+
+    with trusted_environ():  # webbrowser looks its programs up on PATH: not in this folder
+        opened = webbrowser.open(url)
+    if not opened:
         print("could not start a browser: open the URL yourself", flush=True)
 
 
@@ -56,6 +60,8 @@ def run(args: argparse.Namespace) -> int:
     from ..explorer.server import make_server, url_of
     from . import UsageError
 
+    if args.port is not None and not 0 <= args.port <= 65535:  # the port's own flag
+        raise UsageError(f"--port must be in [0, 65535] (got {args.port})")
     try:
         server = make_server(args.host, args.port, expose_to_network=args.expose_to_network)
     except ValueError as exc:

@@ -47,7 +47,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--to", required=True, metavar="TARGET", help="mitsuba, materialx, blender or glsl"
     )
-    p.add_argument("-o", "--output", required=True, metavar="FILE", help="the file to write")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="FILE",
+        help="the file to write: mitsuba FILE.xml and FILE.py beside it (and FILE_builtin.xml "
+        "for lambert and burley-2015), materialx FILE.mtlx, blender FILE.py and FILE.blend "
+        "beside it (unless --no-blend or no Blender is found), glsl FILE.glsl; none is replaced "
+        "without --force",
+    )
+    p.add_argument("--force", action="store_true", help="replace files that exist")
     p.add_argument(
         "--openpbr",
         action="store_true",
@@ -77,13 +87,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..materials import TARGETS, export, load_result
+    from ..materials import TARGETS, export, load_result, planned_files
     from ..materials.blender import write as write_blender
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
-    # checked before any work; export replaces an existing file (its habit, no --force)
-    out = output_file(args.output, option="--output", overwrite=True)
+    out = output_file(args.output, (TARGETS[args.to][0],), force=args.force)
     if args.source:
         try:
             model = load_result(args.source)
@@ -91,9 +100,11 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--from: {exc}") from None
     else:
         model = model_from_args(args)
+    blend = False if args.no_blend else None
     with export_errors(out, "--to", args.to, "--output"):
+        for path in planned_files(model, args.to, out, blend=blend)[1:]:
+            output_file(path, force=args.force)  # each file it writes, kept unless --force
         if args.to == "blender":
-            blend = False if args.no_blend else None
             result = write_blender(model, out, principled=args.principled, blend=blend)
         else:
             result = export(

@@ -111,7 +111,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(default 0.03, i.e. 3%%)",
     )
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
-    p.add_argument("--force", action="store_true", help="overwrite an existing --report file")
+    p.add_argument(
+        "--force", action="store_true", help="replace an existing --report file or --export files"
+    )
     p.add_argument(
         "--export",
         metavar="TARGET,...",
@@ -363,7 +365,7 @@ def _export_plan(args: argparse.Namespace) -> dict | None:
         return None
     from ._export_targets import export_paths, parse_targets
 
-    return export_paths(args.export_prefix, parse_targets(args.export))
+    return export_paths(args.export_prefix, parse_targets(args.export), force=args.force)
 
 
 def _export(model: object, exports: dict, json_out: bool) -> None:

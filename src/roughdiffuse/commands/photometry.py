@@ -120,6 +120,7 @@ def _fixed(model: str, pairs: list[tuple[str, str]]) -> dict[str, object]:
 
 
 def run_fit(args: argparse.Namespace) -> int:
+    from ..fit.sanity import fit_problem
     from ..planetary.disk import (
         PHOTOMETRIC_MODELS,
         fit_disk,
@@ -158,6 +159,11 @@ def run_fit(args: argparse.Namespace) -> int:
         label = f"band {band}: " if band is not None else ""
         print(f"{label}{data.size} samples, phase {_deg_range(data.phase)}")
         result = fit_disk(args.model, data, fixed=fixed, noise=args.noise)
+        problem = fit_problem(  # the fit sanity rule of fit and stereo: never "RMS inf"
+            result.result.rms_relative, result.result.warnings, f"{label}the {args.model} fit"
+        )
+        if problem is not None:
+            raise UsageError(problem)
         print(result.table())
         fits.append(result)
     if args.report:

@@ -98,13 +98,21 @@ def path(name: str) -> Path:
     Raises
     ------
     ValueError
-        If ``name`` is not a sample file, naming the accepted ones.
+        If ``name`` is not a sample file, naming the accepted ones, or if a generated one
+        cannot be written into the cache folder (naming it and ``ROUGHDIFFUSE_DATA_DIR``).
     """
     if name in _SHIPPED:
         return _HERE / name
     if name in _GENERATED:
         target = cache_dir() / name
         if not target.is_file():
-            _make_merl(target)
+            try:
+                _make_merl(target)
+            except OSError as exc:  # an unwritable cache: one line naming it, not a traceback
+                raise ParameterError(
+                    f"cannot write the sample file {name} into {str(target.parent)!r} "
+                    f"({exc.strerror or exc}); set ROUGHDIFFUSE_DATA_DIR to a folder you can "
+                    "write"
+                ) from None
         return target
     raise ParameterError(f"name must be one of {', '.join(names())} (got {name!r})")

@@ -50,12 +50,17 @@ It answers only requests addressed to it: the ``Host`` header must name the addr
 printed (or ``localhost``, or a loopback address) with its port, else 421; an ``Origin``
 header, when sent, must be ``http://`` and such a host, else 403. So neither another web page
 nor a DNS-rebinding name can make the user's browser talk to it. A connection idle for
-:data:`IDLE_TIMEOUT` seconds is closed, at most :data:`MAX_THREADS` requests are served at
-once (more get 503), and a client that goes away is one quiet line, not a traceback.
+:data:`IDLE_TIMEOUT` seconds is closed, so is one whose request line and headers take more
+than :data:`HEADER_SECONDS` in all (one byte every few seconds), at most :data:`MAX_THREADS`
+requests are served at once (more get 503), every 4xx body is clipped
+(:func:`~roughdiffuse.io.reading.clip_echo`), the layered truth refuses a coat beyond its cost
+budget before any walk (:func:`~roughdiffuse.explorer.layered_truth.check_cost`), and a
+client that goes away is one quiet line, not a traceback.
 """
 
 from __future__ import annotations
 
+import io
 import ipaddress
 import json
 import mimetypes
@@ -63,6 +68,7 @@ import posixpath
 import socket
 import sys
 import threading
+import time
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -72,11 +78,12 @@ from urllib.parse import parse_qs, unquote, urlsplit
 from .._validate import ParameterError
 from .._version import version
 from ..io.jsonfile import dumps
-from ..io.reading import loads_json
+from ..io.reading import clip_echo, loads_json
 from . import backend, datasets
 
 __all__ = [
     "IDLE_TIMEOUT",
+    "HEADER_SECONDS",
     "MAX_THREADS",
     "UPLOADS_AT_ONCE",
     "UPLOAD_SECONDS",
@@ -93,6 +100,10 @@ IDLE_TIMEOUT = 15.0
 
 MAX_THREADS = 32
 """Requests served at once; a connection beyond them gets 503 and is closed."""
+
+HEADER_SECONDS = 30.0
+"""Seconds a client may take to send a request line and its headers, in all: a client that
+sends one byte every few seconds (never silent for :data:`IDLE_TIMEOUT`) is cut off."""
 
 UPLOADS_AT_ONCE = 2
 """Upload bodies read at once (each up to 36 MB in memory); more get 503."""
@@ -156,6 +167,39 @@ class ExplorerHandler(BaseHTTPRequestHandler):
     quiet = True
     timeout = IDLE_TIMEOUT  # socket timeout: a half-open connection does not hold a thread
 
+    _header_deadline: float | None = None
+
+    def setup(self) -> None:
+        super().setup()
+        self.rfile = io.BufferedReader(_HeaderDeadline(self))
+
+    def handle_one_request(self) -> None:
+        # the request line and the headers must arrive within HEADER_SECONDS in all
+        self._header_deadline = time.monotonic() + HEADER_SECONDS
+        try:
+            super().handle_one_request()
+        finally:
+            self._header_deadline = None
+
+    def parse_request(self) -> bool:
+        ok = super().parse_request()  # reads the headers
+        self._header_deadline = None  # a body has its own deadline (UPLOAD_SECONDS)
+        self.connection.settimeout(self.timeout)
+        return ok
+
+    def _client_connected(self) -> bool:
+        """Whether the client is still there (a closed connection reads as end of file), for
+        long work to stop when it has left."""
+        try:
+            self.connection.setblocking(False)
+            return self.connection.recv(1, socket.MSG_PEEK) != b""
+        except BlockingIOError:  # nothing to read: still connected, waiting
+            return True
+        except OSError:
+            return False
+        finally:
+            self.connection.settimeout(self.timeout)
+
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - stdlib signature
         if not self.quiet:
             super().log_message(format, *args)
@@ -171,6 +215,8 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             self.wfile.write(body)
 
     def _json(self, status: int, obj: Any, head: bool = False) -> None:
+        if status >= 400 and isinstance(obj, dict) and isinstance(obj.get("error"), str):
+            obj = {**obj, "error": clip_echo(obj["error"])}  # never echo a flood back
         self._send(status, dumps(obj).encode(), "application/json", head)
 
     def _not_found(self, head: bool = False) -> None:
@@ -400,7 +446,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             elif path == "/api/layeredtruth.json":
                 from .layered_truth import layered_truth
 
-                self._json(HTTPStatus.OK, layered_truth(q), head)
+                self._json(HTTPStatus.OK, layered_truth(q, self._client_connected), head)
             elif path == "/api/data/slice":
                 try:
                     ds = datasets.STORE.get(q.get("id", ""))
@@ -473,6 +519,28 @@ def _is_ip(host: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+class _HeaderDeadline(io.RawIOBase):
+    """The handler's connection as a raw stream whose reads stop at the handler's header
+    deadline (each read waits at most the time left), so headers trickled in byte by byte
+    cannot hold a thread for ever."""
+
+    def __init__(self, handler: ExplorerHandler) -> None:
+        self.handler = handler
+        self.sock = handler.connection
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer: Any) -> int:
+        deadline = self.handler._header_deadline
+        if deadline is not None:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError(f"request headers not complete within {HEADER_SECONDS:g} s")
+            self.sock.settimeout(min(self.handler.timeout or IDLE_TIMEOUT, left))
+        return self.sock.recv_into(buffer)
 
 
 class ExplorerServer(ThreadingHTTPServer):

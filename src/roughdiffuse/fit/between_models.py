@@ -229,7 +229,7 @@ def convert(
 
     _check_albedo_range(entry, source, a_src, mu, wmu, fixed, colour)
     params_list = [p for p in colour for _ in range(reps)] + shape
-    lo = np.array([p.min if p.min is not None else -1e6 for p in params_list], dtype=float)
+    lo = np.array([_lower_bound(p) for p in params_list], dtype=float)
     hi = np.array([p.max if p.max is not None else 1e6 for p in params_list], dtype=float)
     best = min(
         (
@@ -252,6 +252,16 @@ def convert(
         *_differences(f_src, f_t, a_src, a_t, mi, weight, wmu),
         fixed=fixed,
     )
+
+
+def _lower_bound(p: Any) -> float:
+    """The least value the solver may try for ``p``: its declared minimum, or just above it
+    when the minimum is excluded (η > 0; least squares may stop on a bound)."""
+    if p.min is None:
+        return -1e6
+    if getattr(p, "min_open", False):
+        return float(np.nextafter(p.min, np.inf)) if p.min != 0 else 1e-9
+    return float(p.min)
 
 
 def _starts(params: list[Any], lo: np.ndarray, hi: np.ndarray) -> list[np.ndarray]:
@@ -312,7 +322,7 @@ def _check_albedo_range(
     grid = np.linspace(0.0, 1.0, 11)
     for t in grid if shape else [0.0]:
         values = {
-            p.name: p.min + t * (min(p.max, 1e3) - p.min)
+            p.name: _lower_bound(p) + t * (min(p.max, 1e3) - _lower_bound(p))
             for p in shape
             if p.min is not None and p.max is not None
         }

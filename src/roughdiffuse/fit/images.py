@@ -24,7 +24,7 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.images import read_png, srgb_to_linear
-from ..io.reading import MAX_IMAGE_BYTES, check_regular, load_npy, short
+from ..io.reading import MAX_IMAGE_BYTES, check_regular, image_array, load_npy, short
 from .measurements import Measurements
 
 __all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]
@@ -116,10 +116,7 @@ def read_image(
         return _png_linear(path, exposure, encoding)
     else:
         raise ParameterError(f"image file must end in .npy, .exr or .png (got {name!r})")
-    if img.ndim == 3 and img.shape[2] == 1:
-        img = img[..., 0]
-    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] != 3):
-        raise ParameterError(f"{name}: image must have shape (H, W) or (H, W, 3) (got {img.shape})")
+    img = image_array(img, f"image {short(name)}")  # the one shape rule (bands first too)
     finite = np.isfinite(img) if img.ndim == 2 else np.all(np.isfinite(img), axis=-1)
     img = np.where(np.isfinite(img), img, 0.0)
     if np.any(img < 0):
@@ -133,7 +130,8 @@ def read_normals(path: str | os.PathLike[str]) -> np.ndarray:
     if not path.lower().endswith(".npy"):
         raise ParameterError(f"normal map must be a .npy file of shape (H, W, 3) (got {path!r})")
     n = np.asarray(load_npy(path, "normal map"), dtype=np.float64)
-    if n.ndim != 3 or n.shape[2] != 3:
+    n = image_array(n, f"normal map {short(os.path.basename(path))}", channels=(3,))
+    if n.ndim != 3:
         raise ParameterError(f"normal map must have shape (H, W, 3) (got {n.shape})")
     length = np.linalg.norm(n, axis=-1)
     bad = (length > 0) & (np.abs(length - 1) > 1e-3)

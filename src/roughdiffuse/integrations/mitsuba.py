@@ -49,8 +49,9 @@ a new BSDF to change them. A model's static numbers (fields not in its ``array_f
 floats, not listed by ``mi.traverse``; ``roughdiffuse_v_cavity`` computes its table then
 (the first load of a (σ, ρ) takes a few seconds, :func:`roughdiffuse.models.vcavity.vcavity_table`).
 
-The ``llvm`` variants need libLLVM 15 or newer (Debian: ``apt-get install libllvm19``, then
-``export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``).
+The ``llvm`` variants need libLLVM 19 (Debian: ``apt-get install libllvm19``, then
+``export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``); with an older one
+:func:`register` refuses them (:mod:`.drjit_llvm`) rather than let LLVM abort the process.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ from .. import registry
 from .._validate import ParameterError
 from ..models import Model
 from ..models.declaration import Param
+from .drjit_llvm import require_llvm
 
 __all__ = ["plugin_name", "plugins", "register"]
 
@@ -327,12 +329,19 @@ def register() -> list[str]:
     -------
     list of str
         The registered plugin names.
+
+    Raises
+    ------
+    ValueError
+        If no variant is set, or it is an ``llvm`` one and Dr.Jit loads a libLLVM too old to
+        run it (:func:`~roughdiffuse.integrations.drjit_llvm.require_llvm`).
     """
     import drjit as dr
     import mitsuba as mi
 
     if mi.variant() is None:
         raise ParameterError("set a Mitsuba variant first (mi.set_variant('scalar_rgb'), ...)")
+    require_llvm(mi.variant())  # an old libLLVM would abort the process at the first kernel
     names = []
     for name, entry in plugins().items():
         plugin = _make_plugin_class(mi, dr, entry)

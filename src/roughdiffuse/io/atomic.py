@@ -16,6 +16,8 @@ The rules every file written by roughdiffuse follows:
   handler still ends the process). A process killed outright (SIGKILL) cannot clean up; its
   temporary files are named ``.NAME.rdtmp-PID-XXXXXXXX.SUFFIX`` and the next write of the
   same file removes those whose process is gone (:func:`remove_stale_temporaries`).
+- **Only regular files.** An existing target that is not a regular file (``/dev/null``, a
+  FIFO, a socket) is refused, never renamed over (:func:`check_output_path`).
 - **Bad paths are found first.** A folder given as the output file, a missing or
   non-folder parent, or a parent that cannot be written is a ``ValueError`` naming the path
   (:func:`check_output_path`), raised before any work is done when a command calls it
@@ -24,7 +26,8 @@ The rules every file written by roughdiffuse follows:
   permission), and a library's own exception when the disk is full, is a :class:`WriteError`
   (an ``OSError``) naming the target, never an internal error.
 - **Temporary names fit.** The temporary name is shortened so that it is never longer than
-  the file system allows for a name (``NAME_MAX``, 255 bytes) when the target's name is legal.
+  the file system allows for a name (``NAME_MAX``, 255 bytes) when the target's name is legal;
+  so are the names of a target's companions (a lock, a folder of chunks: :func:`beside`).
 - **Existing files are kept when asked.** :func:`keep_existing` marks a target that must not
   replace an existing file (a command without ``--force``): it is then created exclusively
   (``link``), so of two concurrent writers only one writes it; the other gets a
@@ -69,6 +72,7 @@ __all__ = [
     "allow_replacing",
     "atomic_open",
     "atomic_write",
+    "beside",
     "check_output_path",
     "deferred",
     "keep_existing",
@@ -144,15 +148,21 @@ def check_output_path(path: PathLike, what: str = "output file") -> Path:
     Raises
     ------
     ValueError
-        If ``path`` is an existing folder, if its parent folder does not exist or is not a
-        folder, or if that folder cannot be written. The message names the path and
-        ``what`` (e.g. ``"--table"``).
+        If ``path`` is empty, an existing folder or another file that is not a regular one
+        (a device such as ``/dev/null``, a FIFO, a socket: never replaced), if its parent
+        folder does not exist or is not a folder, or if that folder cannot be written. The
+        message names the path and ``what`` (e.g. ``"--table"``).
     """
     p = Path(path)
-    if not str(path) or p.name in ("", ".", ".."):
-        raise ParameterError(f"{what} {str(path)!r} is not a file name")
+    if not os.fspath(path) or p.name in ("", ".", ".."):
+        raise ParameterError(f"{what} {os.fspath(path)!r} is not a file name")
     if p.is_dir():
         raise ParameterError(f"{what} {str(p)!r} is a folder; give the name of a file")
+    if p.exists() and not p.is_file():  # renaming over it would replace a device or FIFO
+        raise ParameterError(
+            f"{what} {str(p)!r} is not a regular file (a device, FIFO or socket); "
+            "give the name of a file"
+        )
     folder = p.parent
     if not folder.exists():
         raise ParameterError(f"{what} {str(p)!r}: folder {str(folder)!r} does not exist")
@@ -187,6 +197,28 @@ def _temporary_parts(path: Path) -> tuple[str, str]:
     suffix = _fit_bytes(suffix, min(len(os.fsencode(suffix)), max(room - 1, 0)))
     stem = _fit_bytes(stem, room - len(os.fsencode(suffix)))
     return f".{stem}{_TAG}", suffix
+
+
+def beside(path: PathLike, tag: str) -> Path:
+    """The companion file or folder ``NAME`` + ``tag`` of ``path`` (a lock, a folder of
+    chunks), its name shortened to fit ``NAME_MAX`` as the temporary names are: when too long,
+    the name is cut and a hash of the whole name keeps it unique.
+
+    >>> beside("/tmp/t.npz", ".lock").name
+    't.npz.lock'
+    >>> len(os.fsencode(beside("/tmp/" + "a" * 254, ".lock").name)) <= 255
+    True
+    """
+    p = Path(path)
+    name = p.name + tag
+    limit = _name_max(p.parent)
+    if len(os.fsencode(name)) <= limit:
+        return p.with_name(name)
+    import hashlib
+
+    digest = hashlib.sha1(os.fsencode(p.name)).hexdigest()[:12]
+    room = limit - len(os.fsencode(tag)) - len(digest) - 1
+    return p.with_name(f"{_fit_bytes(p.name, room)}-{digest}{tag}")
 
 
 def _temporary_name(path: Path) -> Path:

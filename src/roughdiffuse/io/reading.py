@@ -11,8 +11,16 @@ files, DiLiGenT lists) and every body the explorer receives is read through this
   is parsed (:func:`loads_json`; Python's parser would recurse until RecursionError), a CSV
   line longer than :data:`MAX_CSV_LINE` characters is refused
   (:func:`roughdiffuse.fit.csv_from_text`);
+- **real numbers only** (:func:`check_real`): complex, structured, boolean (except where a
+  mask is read), date and time, text and object arrays are refused by name;
+- **one shape rule for every image** (:func:`image_array`), whatever the file type: (H, W),
+  (H, W, C) channels last, or (C, H, W) bands first (the FITS order, and a ``.npy`` cube)
+  where the channel axis is unambiguous; an image at least 2 × 2 pixels. Anything else (a
+  4-D array, a one-row image, a cube whose band axis cannot be told) is refused with its
+  shape as given and how to give it;
 - **short quotes**: a message quotes at most :data:`QUOTE_CHARS` characters of what it was
-  given (:func:`short`), so a 100,000-character argument is not echoed back.
+  given (:func:`short`), so a 100,000-character argument is not echoed back; and every
+  message printed by the command line or sent by the explorer passes :func:`clip_echo`.
 
 A refusal is a ``ValueError`` naming the file and the limit (the CLI prints it on one line
 and exits 2; the explorer answers 400 or 413).
@@ -28,6 +36,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import stat
 from typing import Any
 
@@ -41,7 +50,10 @@ __all__ = [
     "MAX_IMAGE_BYTES",
     "MAX_LIST_BYTES",
     "QUOTE_CHARS",
+    "check_real",
+    "clip_echo",
     "check_regular",
+    "image_array",
     "load_npy",
     "loads_json",
     "read_bytes",
@@ -80,6 +92,33 @@ def short(text: object, n: int = QUOTE_CHARS) -> str:
     if len(s) <= n:
         return repr(s)
     return f"{s[:n]!r}"[:-1] + f"…' ({len(s)} characters)"
+
+
+LONG_WORD = 240
+"""A run of characters without a space longer than this is clipped in a message
+(:func:`clip_echo`): longer than any real path or value, shorter than a flood."""
+
+
+def clip_echo(message: str, limit: int = LONG_WORD) -> str:
+    """``message`` with every run of non-space characters longer than ``limit`` cut to its
+    first :data:`QUOTE_CHARS` and last 20 characters and its length: the one quoting rule of
+    everything echoed back (argparse's errors, ``--param`` names and values, the explorer's
+    4xx bodies), applied where each is printed or sent, so a 100,000-character argument is
+    never echoed whole.
+
+    >>> clip_echo("bad name " + "x" * 1000 + "=1")[:20]
+    'bad name xxxxxxxxxxx'
+    >>> len(clip_echo("bad name " + "x" * 1000 + "=1")) < 120
+    True
+    """
+    if len(message) <= limit:
+        return message
+
+    def cut(m: re.Match[str]) -> str:
+        word = m.group(0)
+        return f"{word[:QUOTE_CHARS]}…{word[-20:]} ({len(word)} characters)"
+
+    return re.sub(rf"\S{{{limit + 1},}}", cut, message)
 
 
 def check_regular(path: str | os.PathLike[str], what: str = "file") -> int:
@@ -185,16 +224,99 @@ def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
     return loads_json(text, f"{what} {short(os.path.basename(name))}")
 
 
-def load_npy(path: str | os.PathLike[str], what: str = "array file") -> Any:
+_KINDS = {
+    "c": "complex numbers (the imaginary part would be dropped)",
+    "b": "booleans",
+    "V": "a structured array (named fields)",
+    "M": "dates",
+    "m": "time spans",
+    "O": "Python objects",
+    "U": "text",
+    "S": "bytes",
+}
+
+
+def check_real(arr: Any, what: str, *, bool_ok: bool = False) -> Any:
+    """``arr`` if it holds real numbers (integers or floats; booleans where ``bool_ok``, as
+    for a mask), else a ``ValueError`` naming ``what`` and what it holds.
+
+    >>> import numpy as np
+    >>> check_real(np.zeros(2, dtype=[("a", "f8")]), "image x.npy")
+    Traceback (most recent call last):
+    roughdiffuse._validate.ParameterError: image x.npy holds a structured array (named ...
+    """
+    kind = arr.dtype.kind
+    if kind in "iuf" or (bool_ok and kind == "b"):
+        return arr
+    held = _KINDS.get(kind, f"{arr.dtype} values")
+    raise ParameterError(f"{what} holds {held}; give real numbers")
+
+
+def _shape_text(shape: tuple[int, ...]) -> str:
+    return "(" + ", ".join(str(n) for n in shape) + ")"
+
+
+def image_array(arr: Any, what: str, *, channels: tuple[int, ...] = (1, 3)) -> Any:
+    """The one shape rule of every image reader: ``arr`` as (H, W) or (H, W, C), C one of
+    ``channels``.
+
+    Accepted: (H, W); (H, W, C) channels last; (C, H, W) bands first (FITS cubes, a ``.npy``
+    cube), moved to channels last, where only the first axis has a channel count of
+    ``channels``. A channel axis of 1 is dropped. Refused, with the shape as given and how to
+    give it: fewer than 2 or more than 3 axes, an image under 2 × 2 pixels (one row or one
+    column), a 3-D array whose channel axis cannot be told (both end axes, or neither, have
+    an accepted count).
+
+    >>> import numpy as np
+    >>> image_array(np.zeros((3, 5, 4)), "image").shape
+    (5, 4, 3)
+    >>> image_array(np.zeros((1, 8)), "image")
+    Traceback (most recent call last):
+    roughdiffuse._validate.ParameterError: image has shape (1, 8): one row; an image needs ...
+    """
+    shape = tuple(int(n) for n in arr.shape)
+    given = _shape_text(shape)
+    counts = ", ".join(str(c) for c in channels)
+    how = f"give (H, W) or (H, W, C) with C in {{{counts}}}"
+    if arr.ndim == 3:
+        last, first = shape[2] in channels, shape[0] in channels
+        if first and not last:
+            arr = arr.transpose(1, 2, 0)  # bands first (FITS order) -> channels last
+        elif first and last:
+            raise ParameterError(
+                f"{what} has shape {given}: bands first or channels last cannot be told; "
+                f"{how} (numpy.moveaxis(a, 0, -1) moves bands last)"
+            )
+        elif not last:
+            raise ParameterError(f"{what} has shape {given}: no axis of {counts} channels; {how}")
+        if arr.shape[2] == 1:
+            arr = arr[..., 0]
+    elif arr.ndim != 2:
+        raise ParameterError(f"{what} has shape {given}: {arr.ndim} axes; {how}")
+    h, w = arr.shape[:2]
+    if h < 2 or w < 2:
+        which = "one row" if h < 2 else "one column"
+        raise ParameterError(
+            f"{what} has shape {given}: {which}; an image needs at least 2 rows and 2 columns"
+        )
+    return arr
+
+
+def load_npy(
+    path: str | os.PathLike[str], what: str = "array file", *, bool_ok: bool = False
+) -> Any:
     """A real-valued NumPy array from the regular ``.npy`` file ``path`` (at most
     :data:`MAX_IMAGE_BYTES`; no pickles).
+
+    The values must be real numbers (:func:`check_real`): booleans only with ``bool_ok``
+    (a mask). The shape is not checked here: an image reader applies :func:`image_array`.
 
     Raises
     ------
     ValueError
         For a file that is not a regular file, too large, not ``.npy``, pickled, or that
-        holds complex, text or object values (a complex image's imaginary part would be
-        dropped).
+        holds complex, structured, boolean, date, text or object values (a complex image's
+        imaginary part would be dropped).
     """
     import numpy as np
 
@@ -209,7 +331,4 @@ def load_npy(path: str | os.PathLike[str], what: str = "array file") -> Any:
         raise ParameterError(f"{what} {base}: not a readable .npy file ({exc})") from None
     if not isinstance(arr, np.ndarray):
         raise ParameterError(f"{what} {base}: an .npz archive, not one .npy array")
-    if arr.dtype.kind not in "biuf":
-        kind = "complex numbers" if arr.dtype.kind == "c" else f"{arr.dtype} values"
-        raise ParameterError(f"{what} {base} holds {kind}; give real numbers")
-    return arr
+    return check_real(arr, f"{what} {base}", bool_ok=bool_ok)

@@ -34,7 +34,15 @@ from .._validate import ParameterError
 from ..models.base import Model
 from .common import Export, material_for, model_record
 
-__all__ = ["TARGETS", "Export", "export", "load_result", "material_for", "model_record"]
+__all__ = [
+    "TARGETS",
+    "Export",
+    "export",
+    "load_result",
+    "material_for",
+    "model_record",
+    "planned_files",
+]
 
 TARGETS: dict[str, tuple[str, str]] = {
     # target -> (file suffix, the registry id of what the renderer computes)
@@ -149,10 +157,7 @@ def export(
     BlenderError
         If Blender's process fails while writing the ``.blend``.
     """
-    if target not in TARGETS:
-        raise ParameterError(
-            f"unknown export target {target!r}; choose one of: {', '.join(TARGETS)}"
-        )
+    _check_target(target)
     path = Path(path)
     if target == "mitsuba":
         from .mitsuba import write
@@ -169,3 +174,43 @@ def export(
     from .blender import write as write_blender
 
     return write_blender(model, path, blend=blend)
+
+
+def _check_target(target: str) -> None:
+    if target not in TARGETS:
+        raise ParameterError(
+            f"unknown export target {target!r}; choose one of: {', '.join(TARGETS)}"
+        )
+
+
+def planned_files(
+    model: Model | None, target: str, path: str | Path, *, blend: bool | None = None
+) -> tuple[Path, ...]:
+    """Every file :func:`export` will write for these arguments, ``path`` first: Mitsuba's
+    ``.xml``, its ``.py`` and (Lambert, Burley 2015) its ``_builtin.xml``; MaterialX's
+    ``.mtlx``; Blender's ``.py`` and (``blend``, see :func:`export`) its ``.blend``. A command
+    checks each of them before any work (and keeps each existing one unless ``--force``).
+    ``model`` ``None`` (not known yet: before a fit) gives every file the target may write.
+
+    Raises
+    ------
+    ValueError
+        For an unknown target, or a ``path`` whose suffix is not the target's (``.xml``,
+        ``.mtlx``, ``.py``): two of the files would have the same name.
+    """
+    _check_target(target)
+    path = Path(path)
+    suffix = TARGETS[target][0]
+    if path.suffix.lower() != suffix:
+        raise ParameterError(
+            f"the {target} target writes a {suffix} file (got {str(path)!r})"
+        )
+    if target == "mitsuba":
+        from .mitsuba import files_for
+
+        return files_for(model, path)
+    if target == "blender":
+        from .blender import files_for as blender_files
+
+        return blender_files(path, blend)
+    return (path,)

@@ -13,7 +13,7 @@ from typing import Any
 
 from .._validate import ParameterError
 from ..models.base import Model
-from .common import Export, error_lines, material_for, write_files
+from .common import Export, error_lines, material_for, python_comment_lines, rgb_of, write_files
 
 __all__ = ["script", "write"]
 
@@ -21,11 +21,10 @@ __all__ = ["script", "write"]
 def script(params: dict[str, Any], comments: list[str], principled: bool = False) -> str:
     """Python for Blender (``bpy``): a material ``roughdiffuse`` with these parameters,
     assigned to the active object if there is one."""
-    albedo = params.get("albedo", 1.0)
-    rgb = albedo if isinstance(albedo, list) else [albedo] * 3
-    colour = "(" + ", ".join(f"{float(x):.9g}" for x in rgb) + ", 1.0)"
+    rgb = rgb_of(params.get("albedo", 1.0))
+    colour = "(" + ", ".join(f"{x:.9g}" for x in rgb) + ", 1.0)"
     rough = f"{float(params['roughness']):.9g}"
-    notes = "\n".join(f"# {c}" for c in comments)
+    notes = "\n".join(line for c in comments for line in python_comment_lines(c))
     if principled:
         node = f"""bsdf = nodes.new("ShaderNodeBsdfPrincipled")
 bsdf.inputs["Base Color"].default_value = {colour}
@@ -56,6 +55,16 @@ if obj is not None and obj.type == "MESH":
 '''
 
 
+def files_for(path: Path, blend: bool | None = None) -> tuple[Path, ...]:
+    """The files :func:`write` writes: the script ``path`` and, where ``blend`` says so
+    (``None``: where a Blender interpreter is found), the ``.blend`` beside it."""
+    from .blender_run import blender_command
+
+    if blend is None:
+        blend = blender_command() is not None
+    return (path, path.with_suffix(".blend")) if blend else (path,)
+
+
 def write(model: Model, path: Path, principled: bool = False, blend: bool | None = None) -> Export:
     """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed), and
     the ``.blend`` file beside it (same name, suffix ``.blend``) made by running the script in
@@ -80,6 +89,10 @@ def write(model: Model, path: Path, principled: bool = False, blend: bool | None
     params, conversion = material_for(model, target)
     comments = [f"Cycles computes this as roughdiffuse's {target!r}."] + error_lines(conversion)
     text = script(params, comments, principled)
+    try:  # the script Blender will run is Python: check it parses before writing it
+        compile(text, str(path), "exec")
+    except SyntaxError as exc:
+        raise ParameterError(f"the Blender script does not parse: {exc.msg}") from None
     paths = write_files({path: text})
     notes: tuple[str, ...] = ()
     if blend is None:

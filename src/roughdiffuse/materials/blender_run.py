@@ -7,24 +7,29 @@ runs it as a subprocess on :mod:`roughdiffuse.materials.blender_scene`. Where it
 
 1. the environment variable ``ROUGHDIFFUSE_BLENDER_PYTHON``: a Python with ``bpy``, or a
    ``blender`` executable (run as ``blender --background --python ...``);
-2. ``.venv-blender/bin/python`` in the current folder, or in the source checkout roughdiffuse
-   is imported from.
+2. the environment ``make install-blender`` creates beside the installed package:
+   ``.venv-blender/bin/python`` in the source checkout roughdiffuse is imported from, or
+   beside the virtual environment it is installed in (``.venv`` and ``.venv-blender`` side
+   by side).
+
+Never from the current folder: a ``.venv-blender`` there is not run (no code runs from an
+untrusted place, :mod:`roughdiffuse.programs`).
 """
 
 from __future__ import annotations
 
 import json
 import os
-import shutil
-import subprocess
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
 
 from .._validate import ParameterError
 from ..io.atomic import atomic_write
+from ..programs import TimeoutExpired, find_program, run
 
-__all__ = ["ENV", "BlenderError", "blender_command", "run_scene", "write_blend"]
+__all__ = ["ENV", "BlenderError", "blender_command", "check_blend", "run_scene", "write_blend"]
 
 ENV = "ROUGHDIFFUSE_BLENDER_PYTHON"
 """The environment variable naming Blender's Python (or a ``blender`` executable)."""
@@ -37,9 +42,16 @@ class BlenderError(RuntimeError):
     """Blender's process failed (its last lines of output are in the message)."""
 
 
-def _checkout_root() -> Path | None:
-    root = Path(__file__).resolve().parents[3]
-    return root if (root / "pyproject.toml").is_file() else None
+def _beside_package() -> list[Path]:
+    """The folders where ``make install-blender`` leaves ``.venv-blender`` for this package:
+    the source checkout it is imported from, and the folder holding its virtual environment."""
+    roots = []
+    checkout = Path(__file__).resolve().parents[3]
+    if (checkout / "pyproject.toml").is_file():
+        roots.append(checkout)
+    if sys.prefix != sys.base_prefix:  # installed in a virtual environment
+        roots.append(Path(sys.prefix).resolve().parent)
+    return roots
 
 
 def blender_command() -> list[str] | None:
@@ -52,14 +64,13 @@ def blender_command() -> list[str] | None:
     """
     named = os.environ.get(ENV, "").strip()
     if named:
-        exe = shutil.which(named) or (named if os.access(named, os.X_OK) else None)
+        exe = find_program(named)
         if exe is None:
             raise ParameterError(f"{ENV}={named!r} is not an executable file")
         if Path(exe).name.startswith("blender"):
             return [exe, "--background", "--factory-startup", "--python-exit-code", "1", "--python"]
         return [exe]
-    roots = [Path.cwd()] + [r for r in (_checkout_root(),) if r is not None]
-    for root in roots:
+    for root in _beside_package():
         candidate = root / _VENV
         if candidate.is_file() and os.access(candidate, os.X_OK):
             return [str(candidate)]
@@ -84,18 +95,41 @@ def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0
             json.dumps({"material": str(Path(material).resolve()), "jobs": jobs}), "utf-8"
         )
         args = [*command, str(SCENE)] + (["--"] if len(command) > 1 else []) + [str(request)]
-        # Blender's Python has its own packages (NumPy 1.26): none of this process's paths
-        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         try:
-            done = subprocess.run(  # noqa: S603 - our own script, arguments as a list
-                args, capture_output=True, text=True, timeout=timeout, cwd=tmp, check=False,
-                env=env,
+            # Blender's Python has its own packages (NumPy 1.26): none of this process's paths
+            done = run(
+                args, capture_output=True, text=True, timeout=timeout, cwd=tmp,
+                drop_env=("PYTHONPATH", "PYTHONHOME"),
             )  # fmt: skip
-        except (OSError, subprocess.TimeoutExpired) as exc:
+        except (OSError, TimeoutExpired) as exc:
             raise BlenderError(f"Blender ({command[0]}) did not run: {exc}") from None
     if done.returncode != 0:
         tail = "\n".join((done.stdout + done.stderr).strip().splitlines()[-12:])
         raise BlenderError(f"Blender ({command[0]}) failed with status {done.returncode}:\n{tail}")
+
+
+BLEND_MAGIC = (b"BLENDER", b"\x28\xb5\x2f\xfd", b"\x1f\x8b")
+"""How a ``.blend`` file starts: its header ``BLENDER``, or compressed (``compress=True``,
+which the export uses) the Zstandard magic number (Blender 3.0 and later) or gzip's."""
+
+
+def check_blend(path: Path) -> None:
+    """Check that Blender wrote a ``.blend`` file at ``path`` (:data:`BLEND_MAGIC`; not an
+    empty file).
+
+    Raises
+    ------
+    BlenderError
+        Naming what was found instead.
+    """
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(len(BLEND_MAGIC[0]))
+    except OSError as exc:
+        raise BlenderError(f"Blender wrote no .blend file ({exc.strerror or exc})") from None
+    if not head.startswith(BLEND_MAGIC):
+        found = "an empty file" if not head else f"a file starting {head!r}"
+        raise BlenderError(f"Blender exited normally but wrote {found}, not a .blend file")
 
 
 def write_blend(material: Path, path: Path) -> Path:
@@ -106,11 +140,13 @@ def write_blend(material: Path, path: Path) -> Path:
     Raises
     ------
     BlenderError
-        If no Blender interpreter is found or Blender fails.
+        If no Blender interpreter is found, Blender fails, or what it wrote is not a
+        ``.blend`` file (:func:`check_blend`): then nothing is written at ``path``.
     """
 
     def save(tmp: Path) -> None:
         job = {"kind": "blend", "shape": "sphere", "light": [-0.5, 0.5, 0.70710678]}
         run_scene(material, [{**job, "size": 256, "samples": 64, "output": str(tmp.resolve())}])
+        check_blend(tmp)  # a child that exits 0 may still have written nothing
 
     return atomic_write(path, save)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -62,13 +63,49 @@ def error_lines(conversion: Conversion | None) -> list[str]:
     ]
 
 
+_MISSING = object()
+
+
+def xml_comment_text(text: str) -> str:
+    """``text`` safe inside an XML comment (Mitsuba's scenes, MaterialX documents): XML
+    forbids ``--`` there and a final ``-``, so a ``-`` before another gets a space.
+
+    >>> xml_comment_text("a ---> b -")
+    'a - - -> b'
+    """
+    return re.sub(r"-(?=-)", "- ", text).rstrip("- ")
+
+
+def rgb_of(albedo: Any) -> list[float]:
+    """An albedo as the three values of an RGB colour: one value (grey) or three channels;
+    any other number of channels is a ``ValueError`` (a colour of 4 values would write a
+    file its renderer cannot load)."""
+    values = [float(x) for x in np.ravel(albedo)]
+    if len(values) == 1:
+        return values * 3
+    if len(values) != 3:
+        raise ParameterError(f"albedo has {len(values)} channels; an RGB colour takes 1 or 3")
+    return values
+
+
+def python_comment_lines(text: str) -> list[str]:
+    """``text`` as Python comment lines: every line it holds (any line break Python or a
+    reader might see) gets its own ``# ``, so no part of it becomes code."""
+    return ["# " + line for line in (text.splitlines() or [""])]
+
+
 def params_of(model: Model, model_id: str) -> dict[str, Any]:
     entry = registry.get(model_id)
     out: dict[str, Any] = {}
     for p in entry.parameters:
         if p.categorical:
             continue
-        value = getattr(model, p.name)
+        value = getattr(model, p.name, _MISSING)
+        if value is _MISSING:  # built by from_params (Coated, Mix): not kept as it was given
+            raise ParameterError(
+                f"{model_id}: its {p.name} cannot be read back from the model; this export "
+                "cannot hold it"
+            )
         if value is None:
             continue
         arr = [float(x) for x in np.ravel(value)]

@@ -14,8 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from .. import registry
+from .._validate import ParameterError
 from ..models.base import Model
-from .common import Export, error_lines, material_for, write_files
+from .common import Export, error_lines, material_for, rgb_of, write_files, xml_comment_text
 
 __all__ = ["document", "write"]
 
@@ -29,15 +30,14 @@ def _is_qualitative_oren_nayar(model: Model) -> bool:
 
 
 def _colour(albedo: Any) -> str:
-    values = albedo if isinstance(albedo, list) else [albedo] * 3
-    return ", ".join(f"{float(x):.9g}" for x in values)
+    return ", ".join(f"{x:.9g}" for x in rgb_of(albedo))
 
 
 def document(
     params: dict[str, Any], compensated: bool, comments: list[str], openpbr: bool = False
 ) -> str:
     """The ``.mtlx`` text of a material with these ``materialx-*`` parameters."""
-    notes = "\n".join(f"  {c.replace('--', '-')}" for c in comments)
+    notes = "\n".join(f"  {xml_comment_text(line)}" for c in comments for line in c.splitlines())
     colour, rough = _colour(params.get("albedo", 1.0)), f"{float(params['roughness']):.9g}"
     if openpbr:
         shader = f"""  <open_pbr_surface name="surface" type="surfaceshader">
@@ -78,4 +78,29 @@ def write(model: Model, path: Path, openpbr: bool = False) -> Export:
     params, conversion = material_for(model, target)
     comments = [f"MaterialX evaluates this as roughdiffuse's {target!r}."] + error_lines(conversion)
     text = document(params, target == "materialx-eon", comments, openpbr)
-    return Export("materialx", write_files({path: text}), target, params, conversion)
+    note = check_document(text)
+    notes = (note,) if note else ()
+    return Export("materialx", write_files({path: text}), target, params, conversion, notes)
+
+
+def check_document(text: str) -> str | None:
+    """Validate the ``.mtlx`` text with MaterialX (its standard data libraries attached),
+    before it is written: an invalid document is a ``ValueError`` with MaterialX's message.
+    Returns a note when it could not be checked (MaterialX not installed), else ``None``."""
+    try:
+        import MaterialX as mx
+    except ImportError:
+        return "not validated here: MaterialX is not installed (pip install materialx)"
+    doc = mx.createDocument()
+    try:
+        mx.readFromXmlString(doc, text)
+    except Exception as exc:  # noqa: BLE001 - MaterialX's parser refusal, in one line
+        raise ParameterError(f"the MaterialX document does not parse: {exc}") from None
+    lib = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), lib)
+    doc.setDataLibrary(lib)
+    valid, message = doc.validate()
+    if not valid:
+        first = (message.strip().splitlines() or ["invalid"])[0]
+        raise ParameterError(f"the MaterialX document is not valid: {first}")
+    return None

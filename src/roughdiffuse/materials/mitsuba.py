@@ -13,12 +13,13 @@ from __future__ import annotations
 import math
 from pathlib import Path
 from typing import Any
+from xml.sax.saxutils import quoteattr
 
 from .. import registry
 from .._validate import ParameterError
 from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
-from .common import Export, error_lines, params_of, write_files
+from .common import Export, error_lines, params_of, rgb_of, write_files, xml_comment_text
 
 __all__ = ["LIGHT", "MARGIN", "SIZE", "bsdf_dict", "scene_dict", "scene_xml", "write"]
 
@@ -37,9 +38,15 @@ def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
         raise ParameterError(
             f"{type(model).__name__} is not a registry model; Mitsuba cannot hold it"
         )
+    entry = registry.get(model_id)
+    if not builtin and not entry.cls.mitsuba:
+        raise ParameterError(
+            f"{model_id} has no Mitsuba plugin (a Monte Carlo simulation); export a closed-form "
+            "model (roughdiffuse convert)"
+        )
     params = params_of(model, model_id)
     albedo = params.get("albedo", 1.0)
-    colour = {"type": "rgb", "value": albedo if isinstance(albedo, list) else [albedo] * 3}
+    colour = {"type": "rgb", "value": rgb_of(albedo)}
     if builtin:
         kind = _BUILTIN.get(model_id)
         if kind == "diffuse":
@@ -53,9 +60,32 @@ def bsdf_dict(model: Model, builtin: bool = False) -> dict[str, Any]:
             }
         raise ParameterError(f"Mitsuba has no built-in BSDF equal to {model_id!r}")
     out: dict[str, Any] = {"type": plugin_name(model_id)}
+    declared = {p.name: p for p in entry.parameters}
     for name, value in params.items():
-        out[name] = colour if isinstance(value, list) or name == "albedo" else value
+        if declared[name].channels:  # a colour texture
+            out[name] = {"type": "rgb", "value": rgb_of(value)}
+        elif isinstance(value, list):  # the plugin takes a float
+            raise ParameterError(f"{name} has {len(value)} values; Mitsuba's {name} takes one")
+        else:
+            out[name] = value
+    out.update(_categorical(model, entry))
     return out
+
+
+def _categorical(model: Model, entry: registry.Entry) -> dict[str, str]:
+    """The model's categorical values (``bounces``, ``measure``, ``variant``...), as the
+    plugin's strings: every one, so the scene is the model and not the plugin's defaults."""
+    choices: dict[str, str] = {}
+    for p in entry.parameters:
+        if not p.categorical:
+            continue
+        value = getattr(model, p.name, entry.fixed.get(p.name))
+        if value is None:
+            raise ParameterError(
+                f"{entry.id}: its {p.name} cannot be read from the model; Mitsuba cannot hold it"
+            )
+        choices[p.name] = str(value)
+    return choices
 
 
 def _direction(theta_deg: float, phi_deg: float) -> list[float]:
@@ -103,7 +133,7 @@ def _xml_value(name: str, value: Any) -> str:
         v = ", ".join(f"{x:.17g}" for x in value["value"])
         return f'<rgb name="{name}" value="{v}"/>'
     if isinstance(value, str):
-        return f'<string name="{name}" value="{value}"/>'
+        return f'<string name="{name}" value={quoteattr(value)}/>'
     return f'<float name="{name}" value="{float(value):.17g}"/>'
 
 
@@ -114,7 +144,7 @@ def scene_xml(bsdf: dict[str, Any], comments: list[str], size: int = SIZE, spp: 
     matrix = " ".join(f"{x:g}" for row in m for x in row)
     d = ", ".join(f"{x:.17g}" for x in scene["light"]["direction"])
     inner = "\n".join(f"        {_xml_value(k, v)}" for k, v in bsdf.items() if k != "type")
-    notes = "\n".join(f"     {c}" for c in comments)
+    notes = "\n".join(f"     {xml_comment_text(line)}" for c in comments for line in c.splitlines())
     return f"""<?xml version="1.0" encoding="utf-8"?>
 <!-- written by roughdiffuse export
 {notes}
@@ -144,12 +174,22 @@ def scene_xml(bsdf: dict[str, Any], comments: list[str], size: int = SIZE, spp: 
 """
 
 
+def files_for(model: Model | None, path: Path) -> tuple[Path, ...]:
+    """The files :func:`write` writes: the XML scene ``path``, the dict beside it (suffix
+    ``.py``) and, for a model Mitsuba has built in, ``STEM_builtin.xml`` (for ``model``
+    ``None``, not yet known, every file it may write)."""
+    files = [path, path.with_suffix(".py")]
+    if model is None or (registry.id_of(model) or "") in _BUILTIN:
+        files.append(path.with_name(path.stem + "_builtin.xml"))
+    return tuple(files)
+
+
 def write(model: Model, path: Path) -> Export:
     """Write the XML scene to ``path`` and the dict to ``path`` with suffix ``.py``."""
     bsdf = bsdf_dict(model)
     comments = error_lines(None)
-    files = {path: scene_xml(bsdf, comments)}
-    py = path.with_suffix(".py")
+    xml, py, *builtin = files_for(model, path)
+    files = {xml: scene_xml(bsdf, comments)}
     files[py] = (
         "# Mitsuba 3 scene written by roughdiffuse export (exact: roughdiffuse's plugin)\n"
         "import mitsuba as mi\n\n"
@@ -158,9 +198,38 @@ def write(model: Model, path: Path) -> Export:
         "mi.set_variant('scalar_rgb')\nregister()\n"
         f"SCENE = {scene_dict(bsdf)!r}\nscene = load_dict(mi, SCENE)\n"
     )
-    model_id = bsdf["type"]
-    mid = registry.id_of(model) or model_id
-    if mid in _BUILTIN:
-        builtin = path.with_name(path.stem + "_builtin.xml")
-        files[builtin] = scene_xml(bsdf_dict(model, builtin=True), comments)
-    return Export("mitsuba", write_files(files), mid, params_of(model, mid), None)
+    mid = registry.id_of(model) or bsdf["type"]
+    if builtin:
+        files[builtin[0]] = scene_xml(bsdf_dict(model, builtin=True), comments)
+    note = check_scenes([text for f, text in files.items() if f.suffix == ".xml"])
+    notes = (note,) if note else ()
+    params = {**params_of(model, mid), **_categorical(model, registry.get(mid))}
+    return Export("mitsuba", write_files(files), mid, params, None, notes)
+
+
+def check_scenes(xml_texts: list[str]) -> str | None:
+    """Load each XML scene in Mitsuba (``scalar_rgb``, the plugins registered), before any
+    file is written: a scene that does not load is a ``ValueError``. Returns a note when it
+    could not be checked (Mitsuba not installed), else ``None``."""
+    try:
+        import mitsuba as mi
+    except ImportError:
+        return "not loaded in Mitsuba here: Mitsuba is not installed (pip install mitsuba)"
+    from ..integrations.mitsuba import register
+
+    previous = mi.variant()
+    mi.set_variant("scalar_rgb")
+    try:
+        register()
+        for text in xml_texts:
+            try:
+                mi.load_string(text)
+            except Exception as exc:  # noqa: BLE001 - Mitsuba's own refusal, in one line
+                lines = [ln.strip() for ln in str(exc).splitlines() if ln.strip()]
+                raise ParameterError(
+                    f"the Mitsuba scene does not load: {lines[-1] if lines else type(exc).__name__}"
+                ) from None
+    finally:
+        if previous is not None:
+            mi.set_variant(previous)
+    return None

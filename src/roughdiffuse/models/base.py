@@ -35,6 +35,7 @@ from .._lazy import when_imported
 from .._validate import ParameterError
 from ..engine.dispatch import compiled
 from ..frames import local_cosines, unit_components, world_cosines
+from .constraints import Constraint, check_constraints
 from .declaration import Param, declared_params, param
 from .sampling import COSINE, BSDFSample, Strategy
 
@@ -128,6 +129,7 @@ class Model:
 
     params: ClassVar[tuple[Param, ...]] = ()
     factory_params: ClassVar[tuple[Param, ...]] = ()
+    constraints: ClassVar[tuple[Constraint, ...]] = ()  # models.constraints: rules together
     ids: ClassVar[dict[str, dict[str, Any]]] = {}
     labels: ClassVar[dict[str, str]] = {}
     lobe: ClassVar[str] = "diffuse"
@@ -213,6 +215,7 @@ class Model:
                     )
                 continue
             object.__setattr__(self, p.name, p.check(value))
+        check_constraints(self)  # combinations valid one by one but not together
 
     def sampling_strategy(self) -> Strategy:
         """The importance-sampling strategy of this instance (the class's ``sampling``)."""

@@ -39,6 +39,7 @@ from .._array import Array, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
 from ..deprecation import renamed_parameter
 from .base import Model
+from .constraints import LEGENDRE_PHASE_NON_NEGATIVE, Constraint
 from .declaration import albedo_param, param
 from .photometry import brdf_from_radiance_factor
 
@@ -444,6 +445,7 @@ class HapkeLegendre(Model):
         As :class:`Hapke` (ISIS ``HapkeHen``, Hapke 2012 Eq. 12.55 with the 1984 roughness
         S) with ISIS ``HapkeLeg``'s Legendre phase function; f = (I/F)/(π μi).
         """
+    constraints: ClassVar[tuple[Constraint, ...]] = (LEGENDRE_PHASE_NON_NEGATIVE,)
     ids: ClassVar[dict[str, dict[str, Any]]] = {"hapke-legendre": {}}
     labels: ClassVar[dict[str, str]] = {"hapke-legendre": "Hapke, Legendre phase (planetary)"}
     reference: ClassVar[str] = _REFERENCE

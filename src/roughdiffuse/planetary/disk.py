@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .._figure import displayable, literal
 from .._validate import ParameterError
 from .conventions import photometric_to_local
 
@@ -296,6 +297,11 @@ def read_photometry_csv(path: str | os.PathLike[str]) -> dict[str | None, DiskDa
             v, i, e, g = (float(row[cols[c]]) for c in (value_col, "i", "e", "g"))
         except (ValueError, IndexError):
             raise ParameterError(f"{path}, line {n}: expected numbers in every column") from None
+        if not (math.isfinite(v) and v > 0.0):  # relative residuals divide by it
+            raise ParameterError(
+                f"{path}, line {n}: {value_col} must be a positive finite number (got {v:g}); "
+                "drop unlit or missing pixels"
+            )
         for name, a in (("i", i), ("e", e), ("g", g)):
             if not 0.0 <= a <= 180.0:
                 raise ParameterError(
@@ -346,7 +352,8 @@ def plot_disk_fit(fit: DiskFit) -> Any:
         ax.axhline(0.0, c="tab:red", lw=1)
         ax.set_xlabel(f"{name} (°)")
         ax.set_ylabel("(data − model)/model (%)")
-    fig.suptitle(f"{d.source}{' [' + d.band + ']' if d.band else ''}: {fit.result.model_name}")
+    title = f"{d.source}{' [' + d.band + ']' if d.band else ''}: {fit.result.model_name}"
+    fig.suptitle(literal(title))  # a band or file name is text, never mathtext
     return fig
 
 
@@ -366,7 +373,7 @@ def write_disk_report(path: str | os.PathLike[str], fits: Sequence[DiskFit]) -> 
         plot_disk_fit(f).savefig(buf, format="png", dpi=100)
         png = base64.b64encode(buf.getvalue()).decode("ascii")
         title = f.data.band or f.data.source
-        parts.append(f"<h2>{html.escape(str(title))}: {f.data.size} samples</h2>")
+        parts.append(f"<h2>{html.escape(displayable(title))}: {f.data.size} samples</h2>")
         parts.append("<pre>" + html.escape(f.table()) + "</pre>")
         parts.append(f"<img alt='I/F against phase, residuals' src='data:image/png;base64,{png}'>")
     parts.append("</body></html>")

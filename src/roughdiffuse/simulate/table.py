@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .._validate import ParameterError
-from ..io.atomic import atomic_open, check_output_path, write_text
+from ..io.atomic import atomic_open, beside, check_output_path, write_text
 from .cavity import Bounces, check_bounces
 from .surface import Settings, brdf
 
@@ -194,8 +194,9 @@ def _grid(name: str, values: Any, lo: float, hi: float | None) -> np.ndarray:
     return a
 
 
-class TableBusyError(ValueError):
-    """Another run holds the lock of the table (a ``ValueError``: the CLI prints one line)."""
+class TableBusyError(ParameterError):
+    """Another run holds the lock of the table (a :class:`ParameterError`, a ``ValueError``:
+    the command line prints it as one line, exit 2, as every refusal)."""
 
 
 def compute_table(
@@ -269,7 +270,7 @@ def compute_table(
         scheduler, backend,
     )
     path = check_output_path(path, "table")
-    chunk_dir = path.with_name(path.name + ".chunks")
+    chunk_dir = beside(path, ".chunks")
     if chunk_dir.exists() and not chunk_dir.is_dir():
         raise ParameterError(f"table {str(path)!r}: {str(chunk_dir)!r} is not a folder")
     identity = {
@@ -609,7 +610,8 @@ class _TableLock:
     """
 
     def __init__(self, path: Path) -> None:
-        self.path = path.with_name(path.name + ".lock")
+        self.table = path
+        self.path = beside(path, ".lock")
         self.fd: int | None = None
 
     def __enter__(self) -> _TableLock:
@@ -625,7 +627,7 @@ class _TableLock:
                 holder = os.read(fd, 200).decode("utf-8", "replace").strip() or "unknown"
                 os.close(fd)
                 raise TableBusyError(
-                    f"table {str(self.path)[: -len('.lock')]!r} is being computed by another "
+                    f"table {str(self.table)!r} is being computed by another "
                     f"run (process {holder}, lock file {self.path}); wait for it to finish"
                 ) from None
             # The holder before us may have removed the file after we opened it: lock the

@@ -145,10 +145,18 @@ def _unit_directions(directions: Any) -> np.ndarray:
     d = np.asarray(directions, dtype=np.float64)
     if d.ndim != 2 or d.shape[1] != 3:
         raise ParameterError(f"light directions must have shape (K, 3) (got {d.shape})")
-    length = np.linalg.norm(d, axis=1)
-    if not np.all(np.isfinite(d)) or np.any(length == 0):
-        raise ParameterError("light directions must be finite, non-zero vectors")
-    return d / length[:, None]
+    bad = ~np.all(np.isfinite(d), axis=1)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise ParameterError(f"light direction {k + 1} is not finite (got {d[k].tolist()})")
+    # scaled by its largest component first: a tiny direction (1e-170, 1e-170, 0) is a
+    # direction, though the sum of its squares underflows to 0
+    scale = np.max(np.abs(d), axis=1)
+    if np.any(scale == 0):
+        k = int(np.argmax(scale == 0))
+        raise ParameterError(f"light direction {k + 1} is the zero vector; give its direction")
+    d = d / scale[:, None]
+    return d / np.linalg.norm(d, axis=1)[:, None]
 
 
 def _intensities(intensities: Any, k: int, c: int) -> np.ndarray:
@@ -206,7 +214,7 @@ def read_mask(path: str | os.PathLike[str]) -> np.ndarray:
     if name.lower().endswith(".npy"):
         from ..io.reading import load_npy
 
-        m = load_npy(name, "mask file")
+        m = load_npy(name, "mask file", bool_ok=True)
     else:
         from PIL import Image, UnidentifiedImageError
 

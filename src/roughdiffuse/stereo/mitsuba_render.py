@@ -148,8 +148,10 @@ def render_mitsuba(
     """
     import mitsuba as mi
 
+    from ..integrations.drjit_llvm import require_llvm
     from ..integrations.mitsuba import register
 
+    require_llvm(variant)  # before any kernel: an old libLLVM aborts the process there
     previous = mi.variant()
     mi.set_variant(variant)
     try:

@@ -1,0 +1,169 @@
+"""A writer writes only what it was told to, to a regular file: no device or FIFO replaced,
+every file it writes named and kept without --force, a child's output checked."""
+
+from __future__ import annotations
+
+import os
+import socket
+import stat
+import sys
+
+import pytest
+
+from roughdiffuse.cli import main
+from roughdiffuse.io import write_text
+from roughdiffuse.materials import blender_run
+
+
+def run(argv: list[str]) -> int:
+    try:
+        return main(argv)
+    except SystemExit as exc:
+        return int(exc.code)
+
+
+@pytest.fixture
+def no_blender(monkeypatch):
+    monkeypatch.delenv(blender_run.ENV, raising=False)
+    monkeypatch.setattr(blender_run, "_beside_package", lambda: [])
+
+
+def _fifo(tmp_path, name):
+    path = tmp_path / name
+    os.mkfifo(path)
+    return path
+
+
+def _socket(tmp_path, name):
+    path = tmp_path / name
+    sock = socket.socket(socket.AF_UNIX)
+    sock.bind(str(path))
+    sock.close()
+    return path
+
+
+@pytest.mark.parametrize("make", [_fifo, _socket])
+@pytest.mark.parametrize("force", [[], ["--force"]])
+def test_export_never_replaces_a_fifo_or_socket(tmp_path, capsys, make, force):
+    special = make(tmp_path, "out.xml")
+    code = run(["export", "--model", "eon", "--to", "mitsuba", "-o", str(special), *force])
+    err = capsys.readouterr().err
+    assert code == 2 and "not a regular file" in err and len(err.strip().splitlines()) == 1
+    assert not stat.S_ISREG(os.lstat(special).st_mode)
+    assert not (tmp_path / "out.py").exists()
+
+
+@pytest.mark.parametrize("make", [_fifo, _socket])
+def test_the_atomic_writer_refuses_a_special_file_for_every_caller(tmp_path, make):
+    special = make(tmp_path, "t.txt")
+    with pytest.raises(ValueError, match="not a regular file"):
+        write_text(special, "x")
+    assert not stat.S_ISREG(os.lstat(special).st_mode)
+
+
+def test_mitsuba_export_keeps_the_py_beside_the_xml(tmp_path, capsys):
+    xml, py = tmp_path / "x.xml", tmp_path / "x.py"
+    py.write_text("mine\n")
+    assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", str(xml)]) == 2
+    err = capsys.readouterr().err
+    assert str(py) in err and "--force" in err
+    assert py.read_text() == "mine\n" and not xml.exists()
+    assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", str(xml), "--force"]) == 0
+    out = capsys.readouterr().out
+    assert str(xml) in out and str(py) in out  # the summary names every file written
+    assert py.read_text() != "mine\n"
+
+
+def test_mitsuba_builtin_scene_is_named_and_kept(tmp_path, capsys):
+    builtin = tmp_path / "x_builtin.xml"
+    builtin.write_text("mine\n")
+    argv = ["export", "--model", "lambert", "--to", "mitsuba", "-o", str(tmp_path / "x.xml")]
+    assert run(argv) == 2
+    assert str(builtin) in capsys.readouterr().err and builtin.read_text() == "mine\n"
+
+
+def test_an_existing_output_is_kept_without_force(tmp_path, capsys, no_blender):
+    out = tmp_path / "m.mtlx"
+    out.write_text("mine\n")
+    assert run(["export", "--model", "eon", "--to", "materialx", "-o", str(out)]) == 2
+    assert out.read_text() == "mine\n"
+
+
+def test_blender_export_keeps_an_existing_blend_before_blender_runs(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv(blender_run.ENV, sys.executable)  # "found": the .blend will be written
+    blend = tmp_path / "m.blend"
+    blend.write_bytes(b"BLENDER-mine")
+    assert run(["export", "--model", "eon", "--to", "blender", "-o", str(tmp_path / "m.py")]) == 2
+    assert str(blend) in capsys.readouterr().err
+    assert blend.read_bytes() == b"BLENDER-mine" and not (tmp_path / "m.py").exists()
+
+
+def test_a_child_that_exits_0_and_writes_nothing_leaves_no_blend(tmp_path, capsys, monkeypatch):
+    fake = tmp_path / "fake-blender-python"
+    fake.write_text("#!/bin/sh\nexit 0\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv(blender_run.ENV, str(fake))
+    code = run(["export", "--model", "eon", "--to", "blender", "-o", str(tmp_path / "m.py")])
+    err = capsys.readouterr().err
+    assert code == 2 and "not a .blend" in err
+    assert not (tmp_path / "m.blend").exists()
+
+
+def test_check_blend_accepts_the_three_headers_and_refuses_others(tmp_path):
+    f = tmp_path / "a.blend"
+    for head in (b"BLENDER-v304", b"\x28\xb5\x2f\xfd....", b"\x1f\x8b\x08...."):
+        f.write_bytes(head)
+        blender_run.check_blend(f)
+    for bad in (b"", b"<html>"):
+        f.write_bytes(bad)
+        with pytest.raises(blender_run.BlenderError, match="not a .blend"):
+            blender_run.check_blend(f)
+
+
+def test_empty_output_name_is_named_as_empty(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", ""]) == 2
+    err = capsys.readouterr().err
+    assert "empty file name" in err and "'.'" not in err
+    with pytest.raises(ValueError, match="''"):
+        write_text("", "x")
+
+
+def test_output_suffix_is_the_targets(tmp_path, capsys):
+    """-o X.py with --to mitsuba would write the XML and its .py to one name."""
+    assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", str(tmp_path / "x.py")]) == 2
+    assert ".xml" in capsys.readouterr().err and not (tmp_path / "x.py").exists()
+
+
+def test_export_help_names_every_file(capsys):
+    with pytest.raises(SystemExit):
+        main(["export", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    for name in ("FILE.py", "FILE_builtin.xml", "FILE.mtlx", "FILE.blend", "--force"):
+        assert name in out
+
+
+def test_fit_export_keeps_existing_files_before_fitting(tmp_path, capsys, no_blender):
+    data = tmp_path / "d.csv"
+    data.write_text("theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n10,20,0,0.2\n30,0,0,0.2\n")
+    kept = tmp_path / "m_mitsuba.py"
+    kept.write_text("mine\n")
+    argv = ["fit", str(data), "--model", "lambert", "--export", "mitsuba",
+            "--export-prefix", str(tmp_path / "m")]  # fmt: skip
+    assert run(argv) == 2
+    assert str(kept) in capsys.readouterr().err and kept.read_text() == "mine\n"
+
+
+def test_a_table_with_a_254_character_name_is_written(tmp_path, capsys):
+    """Its lock and folder of chunks get shortened names (io.atomic.beside), as the
+    temporary files do."""
+    from roughdiffuse.io.atomic import beside
+    from roughdiffuse.simulate.table import load_table
+
+    path = tmp_path / ("t" * 250 + ".npz")
+    argv = ["simulate", "--table", str(path), "--step", "45", "--delta-phi-step", "180",
+            "--sigma", "10", "--bounces", "1", "--no-progress"]  # fmt: skip
+    assert run(argv) == 0, capsys.readouterr().err
+    assert load_table(path).values.shape[0] == 3
+    lock = beside(path, ".lock")
+    assert len(lock.name.encode()) <= 255 and lock != beside(tmp_path / ("t" * 251), ".lock")
