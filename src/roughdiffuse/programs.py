@@ -83,6 +83,22 @@ def run(
     return subprocess.run(list(args), env=child, check=kwargs.pop("check", False), **kwargs)  # noqa: S603 - a list, absolute program
 
 
+def start(
+    args: Sequence[str],
+    *,
+    env: Mapping[str, str] | None = None,
+    **kwargs: Any,
+) -> subprocess.Popen:
+    """:class:`subprocess.Popen` of ``args`` under the rules of :func:`run` (absolute
+    program, the child's environment from :func:`child_environ`), for a caller that watches
+    the child while it runs."""
+    if not args or not os.path.isabs(args[0]):
+        raise ValueError(
+            f"a program is started by its absolute path, not {str(args[0] if args else '')!r}"
+        )
+    return subprocess.Popen(list(args), env=child_environ(env), **kwargs)  # noqa: S603 - a list, absolute program
+
+
 @contextlib.contextmanager
 def trusted_environ() -> Iterator[None]:
     """Within the block, this process's ``PATH`` is :func:`trusted_path` (for a library that

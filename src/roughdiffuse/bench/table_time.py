@@ -17,11 +17,12 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
 import sys
 import time
 
 import psutil
+
+from ..programs import find_program
 
 
 def main(argv: list[str]) -> int:
@@ -29,9 +30,13 @@ def main(argv: list[str]) -> int:
         print(__doc__)
         return 2
     cmd = argv[argv.index("--") + 1 :]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
     start = time.perf_counter()
-    proc = subprocess.Popen(cmd, env=env)
+    program = cmd[0] if os.path.isabs(cmd[0]) else find_program(cmd[0])
+    if program is None:
+        print(f"table_time: {cmd[0]!r} not found on PATH")
+        return 2
+    proc = start([program, *cmd[1:]], env=env)
     root = psutil.Process(proc.pid)
     cpu: dict[int, tuple[str, float]] = {}
     while proc.poll() is None:
