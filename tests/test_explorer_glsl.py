@@ -38,6 +38,7 @@ import pytest
 
 from example_models import points_of
 from explorer_browser import open_page
+from roughdiffuse._validate import ParameterError
 from roughdiffuse.explorer import model_from_params
 from roughdiffuse.explorer.params import explorer_entries, flat_key
 
@@ -64,6 +65,17 @@ def _corners(entry, choices):
         for v in (lo, hi):
             out.append({**start, p.name: float(v)})
     return out
+
+
+def _accepted(entry, point) -> bool:
+    """Whether the model takes this parameter set: a corner valid parameter by parameter may
+    break a rule of the combination (a Legendre phase function that goes negative)."""
+    try:
+        entry.create(**{k: v for k, v in point.items()
+                        if k in {p.name for p in entry.applicable(point)}})
+    except ParameterError:
+        return False
+    return True
 
 
 def _cases():
@@ -95,7 +107,7 @@ def _cases():
                     if entry.param(name).channels and np.ndim(value) == 0:
                         value = [value] * 3
                     record[flat_key(entry, name)] = value
-                if record in seen:
+                if record in seen or not _accepted(entry, pt):
                     continue
                 seen.append(record)
                 lobe = {"torrance-sparrow": "sigma", "torrance-sparrow-beckmann": "alpha",

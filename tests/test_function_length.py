@@ -26,6 +26,11 @@ TABLE_LIKE = {
         "a table of small formulas closed over one set of primitives (NumPy ufuncs or Numba "
         "scalars), each a few lines; the closure is what lets one source serve both walks"
     ),
+    "src/roughdiffuse/simulate/layered_walk_numba.py:_walk_blocks": (
+        "one compiled path loop whose per-path state (direction, weight, side, depth, the "
+        "multiple-scattering interface's walk) lives in its locals; a split passes that state "
+        "through calls on every event. To be split when the walk is next changed"
+    ),
 }
 """Functions allowed over the limit: ``path:name`` -> why."""
 

@@ -117,7 +117,7 @@ def test_blender_script_with_a_newline_in_a_comment_is_still_only_comments(tmp_p
 
 
 def test_the_solver_never_tries_an_excluded_minimum():
-    from roughdiffuse.conversion import _lower_bound
+    from roughdiffuse.fit.between_models import _lower_bound
 
     eta = next(p for p in registry.get("mix").parameters if p.name == "eta")
     assert eta.min_open and _lower_bound(eta) > eta.min

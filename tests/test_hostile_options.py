@@ -72,6 +72,8 @@ MINIMAL = {
     "figures": [],
     "export": ["--model", "eon", "--to", "mitsuba", "-o", "x.xml"],
 }
+OTHER_MODE = {"plot": ["cross-section", "-o", "x.png"]}
+"""A mode of the command where an AppliesOnly rule of its minimal mode does not hold."""
 """A command line of each command on which no conditional flag applies."""
 
 
@@ -94,6 +96,11 @@ def test_every_declared_pair_is_refused(command, rule, monkeypatch):
         assert flag in sub._option_string_actions, f"{command} has no {flag}"
     argv = [command, *MINIMAL[command]]
     args = parser.parse_args(argv)
+    if isinstance(rule, _conflicts.AppliesOnly) and rule.when(args):
+        # the minimal command is a mode where the flags apply: take one where they do not
+        argv = [command, *OTHER_MODE[command]]
+        args = parser.parse_args(argv)
+        assert not rule.when(args), f"no mode of {command} where {flags} do not apply"
     for flag in flags:
         typed = frozenset(
             {sub._option_string_actions[flag].dest}

@@ -178,18 +178,27 @@ def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     gcc = find_program("gcc")
     if gcc is None:
         return None, "gcc not found: no C reference in this run"
-    lib = workdir / "kernels.so"
-    cmd = [gcc, *CFLAGS, "-o", str(lib), str(C_SOURCE), "-lm"]
-    proc = run_program(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
+    lib, obj = workdir / "kernels.so", workdir / "kernels.o"
+    # compiled with -ffast-math, linked without it: gcc < 13 links crtfastmath.o into a
+    # shared library built with -ffast-math, whose constructor turns on flush-to-zero for the
+    # whole process that loads it (every later NumPy and Python computation in it)
+    link_flags = [f for f in CFLAGS if f != "-ffast-math"]
+    for cmd in (
+        [gcc, *CFLAGS, "-c", "-o", str(obj), str(C_SOURCE)],
+        [gcc, *link_flags, "-o", str(lib), str(obj), "-lm"],
+    ):
+        proc = run_program(cmd, capture_output=True, text=True)
+        if proc.returncode != 0:
+            return None, f"gcc failed: {proc.stderr.strip().splitlines()[-1:]}"
     # Idle OpenMP threads spin (libgomp's default), and spinning after each C call took a
     # core from the variant timed next (bench/RESULTS.md). Passive waiting cost C itself
     # nothing measurable.
     os.environ.setdefault("OMP_WAIT_POLICY", "passive")
     version = run_program([gcc, "--version"], capture_output=True, text=True).stdout
     line = version.splitlines()[0] if version else "gcc"
-    cmd_text = " ".join(["gcc", *CFLAGS, "-o", "kernels.so", "roughdiffuse/bench/c/kernels.c"])
+    cmd_text = " ".join(["gcc", *CFLAGS, "-c", "roughdiffuse/bench/c/kernels.c"]) + "; " + " ".join(
+        ["gcc", *link_flags, "-o", "kernels.so", "kernels.o"]
+    )
     policy = os.environ["OMP_WAIT_POLICY"]
     return ctypes.CDLL(str(lib)), f"{line}; `{cmd_text}`; OMP_WAIT_POLICY={policy}"
 

@@ -92,11 +92,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="noise model: proportional to the value, or constant (default: relative, as "
         "roughdiffuse.fit.fit and the explorer; absolute when a value is <= 0)",
     )
-    p.add_argument(
-        "--json",
-        action="store_true",
-        help="print the fit (or, with --compare, the ranking) as JSON instead of tables",
-    )
+    p.add_argument("--json", action="store_true", help="print the fit (or ranking) as JSON")
     p.add_argument(
         "--loss",
         default="linear",

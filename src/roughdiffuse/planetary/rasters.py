@@ -499,19 +499,10 @@ def _write_fits(tmp: Path, shape: tuple[int, int], blocks: Iterable[Block], like
     del arr
 
 
-def _write_gdal(
-    target: Path,
-    fmt: str,
-    shape: tuple[int, int],
-    blocks: Iterable[Block],
-    like: Plane | None,
-    description: str,
-) -> Path:
-    from ..io.atomic import atomic_write
-
+def _gdal_profile(fmt: str, shape: tuple[int, int], like: Plane | None) -> dict[str, Any]:
+    """The rasterio profile of a one-band float32 output of ``fmt``: the grid and map
+    projection of ``like`` (a GDAL input), tiles for GeoTIFF, the format's NoData."""
     rasterio = _rasterio()
-    from rasterio.windows import Window
-
     h, w = shape
     profile: dict[str, Any] = {
         "driver": _GDAL[fmt],
@@ -533,6 +524,23 @@ def _write_gdal(
         profile["nodata"] = float(SPECIAL_REAL[0])
     else:
         profile["nodata"] = float("nan")
+    return profile
+
+
+def _write_gdal(
+    target: Path,
+    fmt: str,
+    shape: tuple[int, int],
+    blocks: Iterable[Block],
+    like: Plane | None,
+    description: str,
+) -> Path:
+    from ..io.atomic import atomic_write
+
+    rasterio = _rasterio()
+    from rasterio.windows import Window
+
+    profile = _gdal_profile(fmt, shape, like)
     image_tmp: list[Path] = []
     whole_label = fmt == "isis3" and _single_real_cube(like)
 
