@@ -78,7 +78,9 @@ def lib(tmp_path_factory):
     cpu = cpuinfo.read_text() if cpuinfo.is_file() else platform.processor()
     flags = sorted({line for line in cpu.splitlines() if line.startswith(("flags", "Features"))})
     key = hashlib.sha256(
-        "\0".join([bench.C_SOURCE.read_text(), *bench.CFLAGS, "linked-apart", version, *flags]).encode()
+        "\0".join(
+            [bench.C_SOURCE.read_text(), *bench.CFLAGS, "linked-apart", version, *flags]
+        ).encode()
     ).hexdigest()[:16]
     cache = os.environ.get("ROUGHDIFFUSE_CACHE_DIR")
     kept = Path(cache) / "c-baselines" / f"{key}.so" if cache else None
