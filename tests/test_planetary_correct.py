@@ -190,7 +190,9 @@ def test_parameter_map_of_the_albedo_corrects_exactly():
     )
     keep = lit & (bp.incidence < math.radians(85)) & (bp.emission < math.radians(85))
     assert keep.sum() > 2500
-    np.testing.assert_allclose(got[keep], truth[keep], rtol=1e-12)
+    # rtol: the compiled float64 path against the NumPy one (tests/test_fastpath.py: 1e-9);
+    # a scalar parameter runs compiled, a map of values may not
+    np.testing.assert_allclose(got[keep], truth[keep], rtol=1e-9)
     # a map of one value is the scalar model, and a map's NaN is NoData
     b0 = np.full(iof.shape, HAPKE["b0"])
     b0[40, 40] = np.nan
@@ -201,4 +203,4 @@ def test_parameter_map_of_the_albedo_corrects_exactly():
     )
     assert np.isnan(mapped[40, 40]) and np.isfinite(one[40, 40])
     mapped[40, 40] = one[40, 40]
-    np.testing.assert_allclose(mapped, one, rtol=1e-13, equal_nan=True)
+    np.testing.assert_allclose(mapped, one, rtol=1e-9, equal_nan=True)
