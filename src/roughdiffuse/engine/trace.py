@@ -89,7 +89,7 @@ class Graph:
     Equal concrete values are one parameter (``share_scalars``), so that the operations on
     them are shared; with ``share_scalars=False`` each concrete number met is a parameter of
     its own (node arrays are still shared), so that the graph does not depend on which
-    values happen to be equal (the GLSL printer's uniforms, :mod:`.glsl`).
+    values happen to be equal (the GLSL printer's uniforms, :mod:`roughdiffuse.engine.glsl`).
     """
 
     def __init__(self, dtype: np.dtype, share_scalars: bool = True) -> None:

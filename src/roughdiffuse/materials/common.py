@@ -90,7 +90,8 @@ def rgb_of(albedo: Any) -> list[float]:
 
 def python_comment_lines(text: str) -> list[str]:
     """``text`` as Python comment lines: every line it holds (any line break Python or a
-    reader might see) gets its own ``# ``, so no part of it becomes code."""
+    reader might see) gets its own comment mark (``#`` and a space), so no part of it
+    becomes code."""
     return ["# " + line for line in (text.splitlines() or [""])]
 
 

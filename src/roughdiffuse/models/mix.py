@@ -104,7 +104,7 @@ class Mix(Model):
         eta: float | Array = 1.5,
         distribution: str = "gaussian",
     ) -> Mix:
-        """The registry's ``mix``: (1 − w) ``oren-nayar-full``(ρ, σ) + w ``torrance-sparrow``(η,
+        """The registry's ``mix``: (1 − w) ``oren-nayar-full`` (ρ, σ) + w ``torrance-sparrow`` (η,
         σ), both made by the registry.
 
         With ``distribution="beckmann"`` the specular part has α = √2 σ (the explorer's

@@ -1,7 +1,7 @@
 """Photometric correction of image files of any size, chunk by chunk, through ``dask.array``.
 
 The image and its backplanes are never read whole: each chunk (a window of lines × samples)
-is read from the files (:class:`~roughdiffuse.planetary.rasters.Plane`), corrected by
+is read from the files (:class:`~roughdiffuse.planetary.rasters.RasterPlane`), corrected by
 :func:`~roughdiffuse.planetary.correct.normalize` and written to its window of the output,
 which is written whole or not at all. Peak memory is a chunk per worker thread (about
 :data:`BYTES_PER_PIXEL` bytes per pixel of a chunk) and the float32 results of two chunks per
@@ -26,7 +26,7 @@ import numpy as np
 
 from .._validate import ParameterError
 from .correct import MATCH, REFERENCE, THRESH, normalize
-from .rasters import NULL, VALID, Plane, blocks_of, encode, is_data, write_blocks
+from .rasters import NULL, VALID, RasterPlane, blocks_of, encode, is_data, write_blocks
 
 __all__ = [
     "BYTES_PER_PIXEL",
@@ -56,9 +56,9 @@ Hapke and Hapke 2012 with the mixed method: 394–400 bytes; the albedo method 2
 class FileGeometry:
     """Backplanes from three files of the image's size, in degrees."""
 
-    incidence: Plane
-    emission: Plane
-    phase: Plane
+    incidence: RasterPlane
+    emission: RasterPlane
+    phase: RasterPlane
 
     def describe(self) -> str:
         names = (os.path.basename(p.path) for p in (self.incidence, self.emission, self.phase))
@@ -117,12 +117,12 @@ class ParameterMaps:
 
     Attributes
     ----------
-    planes : tuple of (parameter, Plane, in degrees)
+    planes : tuple of (parameter, RasterPlane, in degrees)
         The parameter's name, its band, and whether the band holds degrees (an angle
         parameter; the model takes radians).
     """
 
-    planes: tuple[tuple[str, Plane, bool], ...]
+    planes: tuple[tuple[str, RasterPlane, bool], ...]
 
     def read(self, rows: slice, cols: slice) -> dict[str, np.ndarray]:
         out = {}
@@ -169,7 +169,7 @@ class _Windows:
     """The corrected image as an array-like whose item ``[rows, cols]`` computes that window
     (``dask.array.from_array`` calls it once per chunk, on whichever worker runs the chunk)."""
 
-    image: Plane
+    image: RasterPlane
     geometry: Any
     correction: Correction
     out_fmt: str
@@ -200,7 +200,11 @@ class _Windows:
 
 
 def corrected_array(
-    image: Plane, geometry: Any, correction: Correction, chunk: int = CHUNK, out_fmt: str = "npy"
+    image: RasterPlane,
+    geometry: Any,
+    correction: Correction,
+    chunk: int = CHUNK,
+    out_fmt: str = "npy",
 ) -> Any:
     """The corrected image as a lazy ``dask.array`` of float32 in ``chunk``² windows, each
     pixel encoded for ``out_fmt`` (:func:`.rasters.encode`)."""
@@ -288,7 +292,7 @@ def computed_blocks(
 
 
 def correct_file(
-    image: Plane,
+    image: RasterPlane,
     geometry: Any,
     correction: Correction,
     output: str | os.PathLike[str],
@@ -303,7 +307,7 @@ def correct_file(
 
     Parameters
     ----------
-    image : Plane
+    image : RasterPlane
         The I/F image (:func:`.rasters.open_plane`).
     geometry : FileGeometry or EllipsoidGeometry
         Its backplanes.
@@ -343,7 +347,7 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
 
 
 def sample_pixels(
-    image: Plane,
+    image: RasterPlane,
     geometry: Any,
     samples: int,
     *,

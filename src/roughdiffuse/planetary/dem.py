@@ -191,7 +191,7 @@ class DemGeometry:
 
     Attributes
     ----------
-    dem : Plane
+    dem : RasterPlane
         The DEM (heights in metres, or radii with ``holds_radius``).
     offset : (line, sample)
         The image's first pixel in the DEM's grid (the DEM covers the image).
@@ -292,7 +292,7 @@ def dem_geometry(
     radius: float = 0.0,
     holds_radius: bool = False,
 ) -> DemGeometry:
-    """The :class:`DemGeometry` of ``image`` (a Plane) from ``dem`` (a Plane), checked.
+    """The :class:`DemGeometry` of ``image`` (a RasterPlane) from ``dem`` (a RasterPlane), checked.
 
     The DEM must be on the image's pixel grid: the same size without a map projection; with
     one, the same projection and pixel size, the image's pixels a whole-pixel window of the

@@ -19,7 +19,7 @@ NoData. A pixel is data only if it is finite and is none of: the file's NoData v
 ISIS special pixels (``isis/src/base/objs/SpecialPixel/SpecialPixel.h``): for 4-byte reals
 the bit patterns 0xFF7FFFFB (Null), …FC (Lrs), …FD (Lis), …FE (His), …FF (Hrs), and every
 value below VALID_MIN4 (0xFF7FFFFA); for 2-byte signed integers −32768 … −32764; for unsigned
-2-byte 0, 1, 2, 65534, 65535; for bytes 0 (Null) and 255 (Hrs). :meth:`Plane.read` returns
+2-byte 0, 1, 2, 65534, 65535; for bytes 0 (Null) and 255 (Hrs). :meth:`RasterPlane.read` returns
 each pixel's class (:data:`VALID`, :data:`NULL`, :data:`LRS`, :data:`LIS`, :data:`HIS`,
 :data:`HRS`) beside its value (NaN unless valid), so that a writer keeps the class: an ISIS
 cube written gets the same special pixel back, any other format NaN.
@@ -60,7 +60,7 @@ __all__ = [
     "LRS",
     "NULL",
     "VALID",
-    "Plane",
+    "RasterPlane",
     "format_of",
     "is_data",
     "open_plane",
@@ -166,7 +166,7 @@ def classify(raw: np.ndarray, isis: bool, nodata: Iterable[float]) -> tuple[np.n
 
 
 @dataclass(frozen=True)
-class Plane:
+class RasterPlane:
     """One image plane of a file, read by windows (picklable: it holds the path, not an open
     file, so a Dask worker opens it itself).
 
@@ -182,9 +182,11 @@ class Plane:
         A value meaning NoData besides the file's own.
     file_nodata : float or None
         The file's own NoData value (GDAL's nodata, FITS BLANK), compared with raw pixels.
-    scale, offset : float
+    scale : float
         Raw pixels to values: value = raw × scale + offset (GDAL's scale and offset, an ISIS
         cube's Multiplier and Base; FITS BSCALE and BZERO).
+    offset : float
+        See ``scale``.
     band_names : tuple of str
         Every band's name (GDAL files).
     block : (lines, samples)
@@ -266,7 +268,7 @@ def open_plane(
     *,
     band: int | str = 1,
     nodata: float | None = None,
-) -> Plane:
+) -> RasterPlane:
     """Open one plane of an image file (the header only; pixels are read by window).
 
     Parameters
@@ -299,7 +301,7 @@ def open_plane(
                 index = _band_index(band, names, ds.count, name)
                 scale = float(ds.scales[index - 1] or 1.0)
                 offset = float(ds.offsets[index - 1] or 0.0)
-                return Plane(
+                return RasterPlane(
                     path,
                     fmt,
                     (int(ds.height), int(ds.width)),
@@ -329,17 +331,17 @@ def open_plane(
             raise ParameterError(f"{name}: not a FITS file ({exc})") from None
         if len(shape) != 2:
             raise ParameterError(f"{name}: expected one image plane (got shape {shape})")
-        return Plane(path, fmt, (shape[0], shape[1]), 1, nodata, blank, scale, offset)
+        return RasterPlane(path, fmt, (shape[0], shape[1]), 1, nodata, blank, scale, offset)
     if fmt == "npy":
         try:
             arr = np.load(path, mmap_mode="r", allow_pickle=False)
         except ValueError as exc:
             raise ParameterError(f"{name}: not a .npy array ({exc})") from None
         if arr.ndim == 3 and arr.shape[2] == 1 or arr.ndim == 2:
-            return Plane(path, fmt, (int(arr.shape[0]), int(arr.shape[1])), 1, nodata)
+            return RasterPlane(path, fmt, (int(arr.shape[0]), int(arr.shape[1])), 1, nodata)
         raise ParameterError(f"{name}: expected one image plane (got shape {arr.shape})")
     img = _exr_plane(path, os.stat(path).st_mtime_ns)
-    return Plane(path, fmt, (int(img.shape[0]), int(img.shape[1])), 1, nodata)
+    return RasterPlane(path, fmt, (int(img.shape[0]), int(img.shape[1])), 1, nodata)
 
 
 def _georef(ds: Any) -> str:
@@ -422,7 +424,7 @@ def write_blocks(
     blocks: Iterable[Block],
     *,
     fmt: str | None = None,
-    like: Plane | None = None,
+    like: RasterPlane | None = None,
     description: str = "",
 ) -> Path:
     """Write a float32 plane from its blocks, whole or not at all.
@@ -435,7 +437,7 @@ def write_blocks(
     blocks : iterable of (rows, cols, pixels)
         Covering the plane once (any order), pixels float32 as :func:`encode` gives them for
         the output's format; consumed while the file is being written.
-    like : Plane, optional
+    like : RasterPlane, optional
         The input whose label (map projection, geotransform; FITS header) the output takes.
     description : str
         The band's description (GDAL formats).
@@ -499,7 +501,7 @@ def _write_fits(tmp: Path, shape: tuple[int, int], blocks: Iterable[Block], like
     del arr
 
 
-def _gdal_profile(fmt: str, shape: tuple[int, int], like: Plane | None) -> dict[str, Any]:
+def _gdal_profile(fmt: str, shape: tuple[int, int], like: RasterPlane | None) -> dict[str, Any]:
     """The rasterio profile of a one-band float32 output of ``fmt``: the grid and map
     projection of ``like`` (a GDAL input), tiles for GeoTIFF, the format's NoData."""
     rasterio = _rasterio()
@@ -532,7 +534,7 @@ def _write_gdal(
     fmt: str,
     shape: tuple[int, int],
     blocks: Iterable[Block],
-    like: Plane | None,
+    like: RasterPlane | None,
     description: str,
 ) -> Path:
     from ..io.atomic import atomic_write
@@ -590,7 +592,7 @@ def _write_gdal(
                 img.unlink()
 
 
-def _single_real_cube(like: Plane | None) -> bool:
+def _single_real_cube(like: RasterPlane | None) -> bool:
     """Whether ``like`` is an ISIS cube of one band of 4-byte reals: an output cube is then
     a copy of it (GDAL's ISIS3 driver keeps the source's whole label: Instrument, BandBin,
     Kernels, ... besides Dimensions, Pixels and Mapping) with its pixels replaced."""
