@@ -2,7 +2,7 @@
 
 Two measurements; the section "Planetary images" of ``bench/RESULTS.md`` is rewritten::
 
-    python bench/planetary_bench.py [--size 4096] [--scale 20000x50000] [--chunk 512]
+    python bench/planetary_bench.py [--size 4096] [--scale 20000x50000] [--chunk 512] [--write]
                                     [--workdir DIR] [--no-write]
 
 * **Correctness.** A ``--size`` × ``--size`` synthetic scene (a Hapke moon whose albedo
@@ -277,7 +277,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
             "## Planetary images",
             "",
             f"`python bench/planetary_bench.py --size {args.size} --scale {lines}x{samples} "
-            f"--chunk {args.chunk}` ({cores} cores, load average {load0:.1f} at the start and "
+            f"--chunk {args.chunk} --write` ({cores} cores, load average {load0:.1f} at the "
+            "start and "
             f"{load1:.1f} at the end, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}).",
             ""
             if full
