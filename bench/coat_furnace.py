@@ -1,6 +1,6 @@
 """Thin wrapper, from a checkout: ``python bench/coat_furnace.py [options] [--write]`` runs
-:mod:`roughdiffuse.bench.coat_furnace` (the white furnace of the layered walk's rough coat); ``--write``
-replaces its section of ``bench/RESULTS.md`` next to this file."""
+:mod:`roughdiffuse.bench.coat_furnace` (the white furnace of the layered walk's rough
+coat); ``--write`` replaces its section of ``bench/RESULTS.md`` next to this file."""
 
 from __future__ import annotations
 
