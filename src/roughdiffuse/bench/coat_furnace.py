@@ -7,7 +7,7 @@ included) must be 1. For η in {1.1, 1.5, 2.5}, GGX and Beckmann, α in {0.1, 0.
 θi in {0, 30, 60, 75, 85}°, with the multiple-scattering interface (the default) and, for
 comparison, the single-scattering one (a tenth of the paths). Per row: the largest |A − 1|
 over θi, the largest |A − 1| / standard error, the largest standard error. The check of
-the issue: |A − 1| < 0.2 % and < 4 standard errors everywhere (multiple scattering).
+the target: |A − 1| < 0.2 % and < 4 standard errors everywhere (multiple scattering).
 
 Prints Markdown; ``--write`` replaces the marked section of bench/RESULTS.md.
 """
