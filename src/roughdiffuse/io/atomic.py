@@ -356,6 +356,25 @@ def atomic_write(path: PathLike, write: Callable[[Path], Any]) -> Path:
     return path
 
 
+def place(written: PathLike, path: PathLike) -> Path:
+    """Put a file that another program has already written whole (``written``, beside
+    ``path``) at ``path``, as :func:`atomic_write` puts its temporary: synced, then renamed,
+    refusing an existing ``path`` where :func:`keep_existing` asked so.
+
+    For a product of several files (a PDS4 label and its data file) whose secondary file a
+    library writes under a name of its own choosing.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    written, path = Path(written), check_output_path(path)
+    _fsync(written)
+    _finish(written, path)
+    return path
+
+
 def _finish(tmp: Path, path: Path) -> None:
     """Put the written temporary ``tmp`` at ``path`` now, or stage it (:func:`deferred`)."""
     target = os.path.abspath(path)

@@ -605,13 +605,15 @@ def _single_real_cube(like: RasterPlane | None) -> bool:
 def _pds4_finish(label_tmp: Path, image_tmp: Path, target: Path) -> None:
     """Move a PDS4 product's data file beside the target and point the label at it; the
     label (the product's entry point) is committed after, by the caller."""
+    from ..io.atomic import place
+
     final_image = target.with_suffix(".img")
     text = label_tmp.read_text(encoding="utf-8")
     text = text.replace(
         f"<file_name>{image_tmp.name}</file_name>", f"<file_name>{final_image.name}</file_name>"
     )
     label_tmp.write_text(text, encoding="utf-8")
-    os.replace(image_tmp, final_image)
+    place(image_tmp, final_image)
 
 
 def blocks_of(shape: tuple[int, int], chunk: tuple[int, int]) -> list[tuple[slice, slice]]:
