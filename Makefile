@@ -33,7 +33,7 @@ $(VENV)/.installed-docs: pyproject.toml $(VENV)/.installed
 
 # Blender as a Python module (the bpy wheel, about 375 MB to download) for the Blender check
 # and the .blend export. It pins its own NumPy (1.26) and Python (3.11), so it gets a virtual
-# environment of its own, which roughdiffuse runs as a subprocess (roughdiffuse.materials.
+# environment of its own, which roughdiffuse runs as a subprocess (roughdiffuse.exporters.
 # blender_run finds it here, or through ROUGHDIFFUSE_BLENDER_PYTHON)
 BLENDER_VENV ?= .venv-blender
 BLENDER_PYTHON ?= python3.11

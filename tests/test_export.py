@@ -20,8 +20,8 @@ import pytest
 import roughdiffuse as rd
 from materialx_setup import load_document
 from roughdiffuse import registry
-from roughdiffuse.materials import export, load_result
-from roughdiffuse.materials.mitsuba import LIGHT, MARGIN, SIZE, load_dict, scene_dict
+from roughdiffuse.exporters import export, load_result
+from roughdiffuse.exporters.mitsuba import LIGHT, MARGIN, SIZE, load_dict, scene_dict
 
 ALBEDO = [0.8, 0.6, 0.4]
 
@@ -65,7 +65,7 @@ def test_mitsuba_xml_renders_as_the_dict_and_as_roughdiffuse(mi, tmp_path):
     result = export(model, "mitsuba", tmp_path / "scene.xml")
     assert result.conversion is None
     from_xml = _render(mi, mi.load_file(str(tmp_path / "scene.xml")))
-    from roughdiffuse.materials.mitsuba import bsdf_dict
+    from roughdiffuse.exporters.mitsuba import bsdf_dict
 
     from_dict = _render(mi, load_dict(mi, scene_dict(bsdf_dict(model))))
     np.testing.assert_allclose(from_xml, from_dict, rtol=1e-5, atol=1e-7)

@@ -2,7 +2,7 @@
 
 Blender (the ``bpy`` wheel, ``make install-blender``) runs in a virtual environment of its own
 (``.venv-blender``, or ``ROUGHDIFFUSE_BLENDER_PYTHON``), as a subprocess on
-:mod:`roughdiffuse.materials.blender_scene`; without it these tests skip. The scenes: a sun of
+:mod:`roughdiffuse.exporters.blender_scene`; without it these tests skip. The scenes: a sun of
 irradiance 1 with parallel rays, an orthographic camera, direct light only, a pixel filter
 0.01 pixel wide (each pixel sees its centre).
 
@@ -27,9 +27,9 @@ import numpy as np
 import pytest
 
 from roughdiffuse import registry
-from roughdiffuse.materials import export
-from roughdiffuse.materials.blender import write
-from roughdiffuse.materials.blender_run import blender_command, run_scene
+from roughdiffuse.exporters import export
+from roughdiffuse.exporters.blender import write
+from roughdiffuse.exporters.blender_run import blender_command, run_scene
 
 ALBEDO = [0.8, 0.5, 0.2]
 ROUGHNESS = 0.6
@@ -214,7 +214,7 @@ def test_the_blender_interpreter_is_found_or_refused(monkeypatch, tmp_path):
     fails with Blender's own last lines, and a .blend given as the script's name is refused."""
     import sys
 
-    from roughdiffuse.materials.blender_run import ENV, BlenderError
+    from roughdiffuse.exporters.blender_run import ENV, BlenderError
 
     monkeypatch.setenv(ENV, str(tmp_path / "no-such-python"))
     with pytest.raises(ValueError, match=ENV):

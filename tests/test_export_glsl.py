@@ -36,7 +36,7 @@ import pytest
 
 from roughdiffuse import registry
 from roughdiffuse.engine.glsl import glsl_uniforms
-from roughdiffuse.materials import TARGETS, export
+from roughdiffuse.exporters import TARGETS, export
 from roughdiffuse.render import DistantLight, OrthographicCamera, Sphere, pixel_coordinates, render
 from threejs_sphere import open_sphere_page, threejs_sphere
 

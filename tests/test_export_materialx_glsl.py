@@ -27,7 +27,7 @@ import pytest
 from explorer_browser import PageWithLog
 from materialx_setup import load_document
 from roughdiffuse import registry
-from roughdiffuse.materials import export
+from roughdiffuse.exporters import export
 
 RTOL = 1e-4
 ATOL = 1e-7

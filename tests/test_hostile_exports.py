@@ -10,9 +10,9 @@ import pytest
 
 from roughdiffuse import registry
 from roughdiffuse.cli import main
-from roughdiffuse.materials import blender_run
-from roughdiffuse.materials.common import python_comment_lines, rgb_of, xml_comment_text
-from roughdiffuse.materials.mitsuba import bsdf_dict
+from roughdiffuse.exporters import blender_run
+from roughdiffuse.exporters.common import python_comment_lines, rgb_of, xml_comment_text
+from roughdiffuse.exporters.mitsuba import bsdf_dict
 
 
 def run(argv: list[str]) -> int:
@@ -48,7 +48,7 @@ def test_lambert_sphere_scene_carries_its_variant_and_loads(tmp_path, capsys):
 
 def test_a_scene_mitsuba_cannot_load_is_refused():
     pytest.importorskip("mitsuba")
-    from roughdiffuse.materials.mitsuba import check_scenes, scene_xml
+    from roughdiffuse.exporters.mitsuba import check_scenes, scene_xml
 
     bad = {"type": "roughdiffuse_v_cavity", "albedo": {"type": "rgb", "value": [0.8] * 3}}
     with pytest.raises(ValueError, match="does not load"):
@@ -94,7 +94,7 @@ def test_xml_comment_text_never_holds_a_double_hyphen_or_ends_in_one(text):
 
 def test_a_materialx_document_with_hostile_comments_validates():
     pytest.importorskip("MaterialX")
-    from roughdiffuse.materials.materialx import check_document, document
+    from roughdiffuse.exporters.materialx import check_document, document
 
     text = document({"albedo": 0.5, "roughness": 0.3}, True, ["evil ---> <tag/> -", "x\n-->"])
     assert check_document(text) is None
@@ -109,7 +109,7 @@ def test_python_comment_lines_keep_every_line_a_comment(text):
 
 
 def test_blender_script_with_a_newline_in_a_comment_is_still_only_comments(tmp_path):
-    from roughdiffuse.materials.blender import script
+    from roughdiffuse.exporters.blender import script
 
     text = script({"albedo": 0.5, "roughness": 0.2}, ["OrenNayar\nraise SystemExit('pwned')"])
     code = compile(text, "m.py", "exec")

@@ -14,7 +14,7 @@ import pytest
 import roughdiffuse
 from roughdiffuse import programs
 from roughdiffuse.cli import main
-from roughdiffuse.materials import blender_run
+from roughdiffuse.exporters import blender_run
 
 SRC = Path(roughdiffuse.__file__).parent
 

@@ -11,8 +11,8 @@ import sys
 import pytest
 
 from roughdiffuse.cli import main
+from roughdiffuse.exporters import blender_run
 from roughdiffuse.io import write_text
-from roughdiffuse.materials import blender_run
 
 
 def run(argv: list[str]) -> int:

@@ -29,7 +29,7 @@ FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),
     ("registry", frozenset({"registry"})),
-    ("services", frozenset(("accuracy data energy figures fit integrations materials "
+    ("services", frozenset(("accuracy data energy figures fit integrations exporters "
                             "planetary plots render stereo").split())),  # fmt: skip
     ("applications", frozenset("roughdiffuse __main__ bench cli commands explorer".split())),
 )

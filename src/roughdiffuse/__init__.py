@@ -84,7 +84,7 @@ def __dir__() -> list[str]:
     return sorted(set(_dir()) | set(__getattr__("__all__")) | {"fastpath"})
 
 
-_FUNCTIONS = {"convert": "fit.between_models", "export": "materials"}
+_FUNCTIONS = {"convert": "fit.between_models", "export": "exporters"}
 """Functions served here from the submodule that holds them (imported on first use)."""
 
 _OWN = [

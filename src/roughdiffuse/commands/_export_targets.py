@@ -18,7 +18,7 @@ def export_errors(path: Path, option: str, target: str, write_option: str) -> It
     """An exporter's refusals as one-line ``UsageError`` s: a model the target cannot hold
     (``option target: ...``), a file that cannot be written (``write_option: ...``), and a
     Blender process that failed after the script was written."""
-    from ..materials.blender_run import BlenderError
+    from ..exporters.blender_run import BlenderError
 
     try:
         yield
@@ -34,8 +34,8 @@ def export_errors(path: Path, option: str, target: str, write_option: str) -> It
 
 def parse_targets(text: str, option: str = "--export") -> list[str]:
     """The comma-separated targets of ``text``, each one of
-    :data:`roughdiffuse.materials.TARGETS` (a ``UsageError`` naming the unknown one)."""
-    from ..materials import TARGETS
+    :data:`roughdiffuse.exporters.TARGETS` (a ``UsageError`` naming the unknown one)."""
+    from ..exporters import TARGETS
 
     targets = [t.strip().lower() for t in text.split(",") if t.strip()]
     if not targets:
@@ -51,8 +51,8 @@ def export_paths(
 ) -> dict:
     """The file of each target: ``PREFIX_TARGET`` with the target's suffix. Checked before
     any work: the folder (a ``UsageError`` if it is missing), and every file each target may
-    write (:func:`roughdiffuse.materials.planned_files`), none replaced unless ``force``."""
-    from ..materials import TARGETS, planned_files
+    write (:func:`roughdiffuse.exporters.planned_files`), none replaced unless ``force``."""
+    from ..exporters import TARGETS, planned_files
     from ._checks import output_file
 
     base = Path(prefix)
@@ -69,7 +69,7 @@ def export_paths(
 
 def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> None:
     """Write ``model`` for each target in ``paths``; print each summary with ``say``."""
-    from ..materials import export
+    from ..exporters import export
 
     for target, path in paths.items():
         with export_errors(path, "--export", target, f"--export {target}"):

@@ -87,8 +87,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..materials import TARGETS, export, load_result, planned_files
-    from ..materials.blender import write as write_blender
+    from ..exporters import TARGETS, export, load_result, planned_files
+    from ..exporters.blender import write as write_blender
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")

@@ -68,7 +68,7 @@ def files_for(path: Path, blend: bool | None = None) -> tuple[Path, ...]:
 def write(model: Model, path: Path, principled: bool = False, blend: bool | None = None) -> Export:
     """Write the Blender script of ``model`` (converted to ``cycles-diffuse`` if needed), and
     the ``.blend`` file beside it (same name, suffix ``.blend``) made by running the script in
-    Blender's Python (:mod:`roughdiffuse.materials.blender_run`).
+    Blender's Python (:mod:`roughdiffuse.exporters.blender_run`).
 
     Parameters
     ----------

@@ -10,10 +10,10 @@ Targets (:data:`TARGETS`):
   ``openpbr=True``, an ``open_pbr_surface`` with ``base_diffuse_roughness``);
 * ``blender``: a ``.py`` that builds the node tree (Diffuse BSDF) when run by Blender or
   ``bpy``, and beside it a ``.blend`` saved by Blender where Blender's Python is found
-  (:mod:`roughdiffuse.materials.blender_run`);
+  (:mod:`roughdiffuse.exporters.blender_run`);
 * ``glsl``: a GLSL ES 3.00 function ``vec3 rd_brdf(vec3 wi, vec3 wo)`` for a WebGL 2,
   three.js or Godot shader, printed from the model's own code (exact; parameter values baked
-  in, or uniforms with ``uniforms=True``; :mod:`roughdiffuse.materials.glsl`).
+  in, or uniforms with ``uniforms=True``; :mod:`roughdiffuse.exporters.glsl`).
 
 Where the target cannot hold the model exactly, the parameters are converted
 (:func:`roughdiffuse.fit.between_models.convert`) and the conversion error is written into

@@ -2,7 +2,7 @@
 
 The ``bpy`` wheel (Blender as a Python module) pins its own NumPy, so it lives in a virtual
 environment of its own (``make install-blender`` makes ``.venv-blender``), and roughdiffuse
-runs it as a subprocess on :mod:`roughdiffuse.materials.blender_scene`. Where it is found
+runs it as a subprocess on :mod:`roughdiffuse.exporters.blender_scene`. Where it is found
 (:func:`blender_command`):
 
 1. the environment variable ``ROUGHDIFFUSE_BLENDER_PYTHON``: a Python with ``bpy``, or a
@@ -78,7 +78,7 @@ def blender_command() -> list[str] | None:
 
 
 def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0) -> None:
-    """Run :mod:`~roughdiffuse.materials.blender_scene` on the exported script ``material``
+    """Run :mod:`~roughdiffuse.exporters.blender_scene` on the exported script ``material``
     with these jobs (see that module for their fields).
 
     Raises

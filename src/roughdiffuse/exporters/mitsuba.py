@@ -193,7 +193,7 @@ def write(model: Model, path: Path) -> Export:
     files[py] = (
         "# Mitsuba 3 scene written by roughdiffuse export (exact: roughdiffuse's plugin)\n"
         "import mitsuba as mi\n\n"
-        "from roughdiffuse.materials.mitsuba import load_dict\n"
+        "from roughdiffuse.exporters.mitsuba import load_dict\n"
         "from roughdiffuse.integrations.mitsuba import register\n\n"
         "mi.set_variant('scalar_rgb')\nregister()\n"
         f"SCENE = {scene_dict(bsdf)!r}\nscene = load_dict(mi, SCENE)\n"
