@@ -77,7 +77,7 @@ def test_models_table_lists_every_id(capsys):
     out = capsys.readouterr().out
     for model_id in registry.ids():
         assert f"\n{model_id}  " in f"\n{out}"
-    assert "limb_darkening  [0, ∞); default 0.5" in out
+    assert "limb_darkening  [0, 1000]; default 0.5" in out
 
 
 def test_models_json_agrees_with_the_python_defaults(capsys):
