@@ -44,9 +44,11 @@ class Alias(Model):
     @classmethod
     def conversion(cls) -> dict[str, Any]:
         """:meth:`to_base` traced on symbols (:mod:`roughdiffuse.engine.trace`):
-        ``{"text": {name: expression}, "javascript": body}``, each base parameter as an
-        expression to show, and the body of a JavaScript function ``(p) => ({...})`` that
-        computes them from this model's values (``p.sigma_deg``; a colour channel by channel).
+        ``{"text": {name: expression}, "tree": {name: tree}, "javascript": body}``, each base
+        parameter as an expression to show and as a JSON expression tree
+        (:func:`~roughdiffuse.engine.glsl.expression_tree`), and the body of a JavaScript
+        function ``(p) => ({...})`` that computes them from this model's values
+        (``p.sigma_deg``; a colour channel by channel).
 
         Raises
         ------
@@ -61,7 +63,7 @@ class Alias(Model):
         """
         import numpy as np
 
-        from ..engine.glsl import expression_text, javascript_values
+        from ..engine.glsl import expression_text, expression_tree, javascript_values
         from ..engine.trace import Graph
 
         graph = Graph(np.dtype(np.float64))
@@ -69,6 +71,7 @@ class Alias(Model):
         out = cls.to_base(**{n: graph.input(n) for n in names})
         return {
             "text": {k: expression_text(graph, v) for k, v in out.items()},
+            "tree": {k: expression_tree(graph, v) for k, v in out.items()},
             "javascript": javascript_values(graph, out),
         }
 
