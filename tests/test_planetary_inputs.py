@@ -114,3 +114,21 @@ def test_a_fits_cube_of_five_bands_is_refused_by_the_same_rule(tmp_path):
     fits.writeto(path, np.zeros((5, *SHAPE), dtype=np.float32))
     with pytest.raises(ValueError, match="no axis of 1, 3 channels"):
         read_plane(path)
+
+
+@pytest.mark.parametrize("param", ["L=1e308", "limb_darkening=1e308", "L=inf", "L=1001"])
+def test_a_huge_parameter_is_one_line_before_any_output(tmp_path, capsys, param):
+    """ISIS accepts any L; the declared ceiling (1000) refuses what would overflow to ∞ (an
+    all-zero image, exit 0, before the ceiling)."""
+    from roughdiffuse.cli import main
+
+    paths = _planes(tmp_path)
+    out = tmp_path / "out.npy"
+    argv = ["photometry", "correct", str(paths["img"]), "--incidence", str(paths["i"]),
+            "--emission", str(paths["e"]), "--phase", str(paths["g"]),
+            "--model", "lunar-lambert", "--param", param, "-o", str(out)]  # fmt: skip
+    status = main(argv)
+    err = capsys.readouterr().err
+    assert status == 2 and len(err.strip().splitlines()) == 1, err
+    assert "limb_darkening must be" in err and "1000" in err
+    assert not out.exists()
