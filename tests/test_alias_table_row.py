@@ -66,7 +66,7 @@ def test_the_row_equals_the_class_id_by_id(model_id):
         with use_fastpath(False):
             np.testing.assert_allclose(row.brdf(wi, wo), cls.brdf(wi, wo), rtol=1e-14)
             np.testing.assert_allclose(
-                row.directional_albedo(wo), cls.directional_albedo(wo), rtol=1e-14
+                row.directional_albedo(wo[:6]), cls.directional_albedo(wo[:6]), rtol=1e-14
             )
         got, want = row.base_model(), cls.base_model()
         assert type(got) is type(want) and got.variant == want.variant
