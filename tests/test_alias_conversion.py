@@ -1,6 +1,7 @@
 """An Alias's ``to_base`` traced (roughdiffuse.engine.trace) for the explorer: the text it
-shows and the JavaScript that converts the page's values, in the ``alias`` record of
-``roughdiffuse models --json`` / ``/api/models``.
+shows, the JSON expression trees (``to_base``) and the JavaScript that converts the page's
+values (``javascript``), in the ``alias`` record of ``roughdiffuse models --json`` /
+``/api/models``.
 
 Reference values are the conversions as the other projects state them (pbrt-v3's σ in
 degrees, Mitsuba 0.6's α = √2 σ, Filament's and Unreal's α = roughness²), not the code under
@@ -60,8 +61,43 @@ def test_each_alias_record(model_id, base, name, own, value, want):
     other project defines it; colour passes unchanged."""
     rec = {r["id"]: r for r in registry.to_json()}[model_id]["alias"]
     assert rec["base"] == base and rec["fixed"] == {} and rec["why"] is None
-    got = _run_javascript(rec["to_base"], {own: value, "albedo": 0.4})
+    got = _run_javascript(rec["javascript"], {own: value, "albedo": 0.4})
     assert got[name] == pytest.approx(want, rel=1e-15) and got["albedo"] == 0.4
+    trees = rec["to_base"]  # the JSON expression trees, evaluated here by their definition
+    assert set(trees) == set(got)
+    assert _evaluate_tree(trees[name], {own: value, "albedo": 0.4}) == pytest.approx(
+        want, rel=1e-15
+    )
+    assert _evaluate_tree(trees["albedo"], {own: value, "albedo": 0.4}) == 0.4
+
+
+_TREE_OPS = {
+    "+": lambda a, b: a + b,
+    "-": lambda a, b: a - b,
+    "*": lambda a, b: a * b,
+    "/": lambda a, b: a / b,
+    "**": lambda a, b: a**b,
+    "neg": lambda a: -a,
+    "sqrt": math.sqrt,
+}
+
+
+def _evaluate_tree(tree, values):
+    """A name, a number, or [op, operand, ...] (the documented form of ``to_base``)."""
+    if isinstance(tree, str):
+        return values[tree]
+    if isinstance(tree, int | float):
+        return float(tree)
+    op, *args = tree
+    return _TREE_OPS[op](*(_evaluate_tree(a, values) for a in args))
+
+
+def test_to_base_trees_are_json_of_names_numbers_and_operators():
+    """pbrt-v3: σ = sigma · π/180, the tree ["*", "sigma_deg", π/180] (its source's rule)."""
+    rec = {r["id"]: r for r in registry.to_json()}["pbrt3-oren-nayar"]["alias"]
+    assert rec["to_base"]["albedo"] == "albedo"
+    op, name, factor = rec["to_base"]["sigma"]
+    assert (op, name) == ("*", "sigma_deg") and factor == pytest.approx(math.pi / 180, rel=1e-15)
 
 
 def test_every_alias_has_a_record_and_nothing_else_does():

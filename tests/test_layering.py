@@ -24,7 +24,8 @@ SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
     ("leaves", frozenset(("_array _env _figure _lazy _validate _version deprecation frames io "
-                          "programs progress quadrature roughness").split())),  # fmt: skip
+                          "programs progress quadrature roughness user_config")
+                         .split())),  # fmt: skip
     ("engine", frozenset({"engine"})),
     ("solvers", frozenset({"simulate"})),
     ("models", frozenset({"models"})),

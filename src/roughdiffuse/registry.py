@@ -194,9 +194,10 @@ class Entry:
 
         ``base``: the registry id of the equal model (from :meth:`Alias.base_model`);
         ``fixed``: the base's categorical values that id leaves open; ``text``: each base
-        parameter as an expression of this model's; ``to_base``: the body of a JavaScript
-        function computing them (``None`` with the reason in ``why`` when ``to_base``
-        cannot be traced); both from :meth:`Alias.conversion`.
+        parameter as an expression of this model's; ``to_base``: each as a JSON expression
+        tree (a name, a number, or ``[op, operand, ...]``); ``javascript``: the body of a
+        JavaScript function computing them (``None`` with the reason in ``why`` when
+        ``to_base`` cannot be traced); all from :meth:`Alias.conversion`.
         """
         from .models.alias import Alias
 
@@ -214,15 +215,16 @@ class Entry:
         base_id = id_of(base)
         if base_id is None:
             why = f"{base!r} has no id"
-            return {"base": None, "fixed": {}, "to_base": None, "text": None, "why": why}
+            return {"base": None, "fixed": {}, "to_base": None, "javascript": None, "text": None,
+                    "why": why}
         fixed = {p.name: getattr(base, p.name) for p in get(base_id).parameters if p.categorical}
         try:
             traced, why = self.cls.conversion(), None
         except TraceError as exc:
-            return {"base": base_id, "fixed": fixed, "to_base": None, "text": None,
-                    "why": str(exc)}
-        return {"base": base_id, "fixed": fixed, "to_base": traced["javascript"],
-                "text": traced["text"], "why": why}
+            return {"base": base_id, "fixed": fixed, "to_base": None, "javascript": None,
+                    "text": None, "why": str(exc)}
+        return {"base": base_id, "fixed": fixed, "to_base": traced["tree"],
+                "javascript": traced["javascript"], "text": traced["text"], "why": why}
 
     def to_json(self) -> dict[str, Any]:
         """The record of ``roughdiffuse models --json`` and the explorer's ``/api/models``."""

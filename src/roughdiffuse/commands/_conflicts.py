@@ -109,10 +109,12 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
         AppliesOnly(("--max-samples",), _suffix("data", ".binary"), "a MERL .binary DATA"),
         AppliesOnly(("--margin",), _set("shape"), "--shape"),
         AppliesOnly(("--force",), _set("report"), "--report"),
-        AppliesOnly(("--export-prefix",), _set("export"), "--export"),
+        AppliesOnly(("--export-prefix", "--blender-python"), _set("export"), "--export"),
     ),
     "export": (
-        AppliesOnly(("--principled", "--no-blend"), _to("blender"), "--to blender"),
+        AppliesOnly(
+            ("--principled", "--no-blend", "--blender-python"), _to("blender"), "--to blender"
+        ),
         AppliesOnly(("--openpbr",), _to("materialx"), "--to materialx"),
         AppliesOnly(("--uniforms", "--name"), _to("glsl"), "--to glsl"),
     ),

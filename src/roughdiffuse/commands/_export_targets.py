@@ -10,7 +10,15 @@ from typing import Any
 
 from . import UsageError
 
-__all__ = ["export_errors", "export_model", "export_paths", "parse_targets"]
+__all__ = [
+    "BLENDER_PYTHON_HELP",
+    "add_blender_python",
+    "export_errors",
+    "export_model",
+    "export_paths",
+    "parse_targets",
+    "use_blender_python_flag",
+]
 
 
 @contextmanager
@@ -75,3 +83,32 @@ def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> No
         with export_errors(path, "--export", target, f"--export {target}"):
             result = export(model, target, path)
         say(result.summary())
+
+
+BLENDER_PYTHON_HELP = (
+    "Blender's Python (with bpy) or a blender executable, for the .blend; without it: "
+    "ROUGHDIFFUSE_BLENDER_PYTHON, else `python` under [blender] in "
+    "~/.config/roughdiffuse/config.toml ($XDG_CONFIG_HOME), else the .venv-blender that "
+    "`make install-blender` makes beside roughdiffuse (never one in the current folder)"
+)
+
+
+def add_blender_python(parser: Any) -> None:
+    """The ``--blender-python PATH`` option of the commands that run Blender."""
+    parser.add_argument("--blender-python", metavar="PATH", help=BLENDER_PYTHON_HELP)
+
+
+def use_blender_python_flag(args: Any) -> None:
+    """Apply ``--blender-python`` (before the files are planned: whether a ``.blend`` is
+    written depends on it); a path that is not an executable file is a ``UsageError``.
+    Without the flag, an earlier run's choice in this process is forgotten."""
+    from ..exporters.blender_run import blender_command, use_blender_python
+
+    path = getattr(args, "blender_python", None)
+    use_blender_python(path)
+    if path is None:
+        return
+    try:
+        blender_command()
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None

@@ -100,9 +100,10 @@ def _number_with_unit(text: str) -> float:
     else:
         t = t.removesuffix("deg").removesuffix("°")
     value = float(t)  # ValueError for anything else
-    if not math.isfinite(value):
+    degrees = math.degrees(value) if radians else value
+    if not math.isfinite(degrees):  # 1e308rad is ∞ degrees
         raise ParameterError(text)
-    return math.degrees(value) if radians else value
+    return degrees
 
 
 def angle(text: str) -> float:
@@ -172,6 +173,11 @@ def geometry_used(args: argparse.Namespace) -> str:
         note = ""
         if value is None:
             value, note = default, " (default)"
+        if name == "delta_phi" and not -360.0 < value < 360.0:
+            # reduced exactly (fmod is exact) before radians: radians(1e308) keeps no phase
+            note = f" (≡ {math.fmod(value, 360.0):g}° mod 360)"
+            setattr(args, name, math.fmod(value, 360.0))
+        else:
             setattr(args, name, value)
         parts.append(f"{sym} = {value:g}°{note}")
     return ", ".join(parts)

@@ -8,7 +8,7 @@ import argparse
 from . import UsageError
 from ._checks import output_file
 from ._common import add_model_arguments, model_from_args
-from ._export_targets import export_errors
+from ._export_targets import add_blender_python, export_errors, use_blender_python_flag
 
 EXAMPLES = """\
 examples:
@@ -70,8 +70,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--no-blend",
         action="store_true",
         help="Blender: the .py only (by default a .blend is also written beside it where "
-        "Blender's Python is found: make install-blender, or ROUGHDIFFUSE_BLENDER_PYTHON)",
+        "Blender's Python is found: see --blender-python)",
     )
+    add_blender_python(p)
     p.add_argument(
         "--uniforms",
         action="store_true",
@@ -92,6 +93,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.to not in TARGETS:
         raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
+    use_blender_python_flag(args)
     out = output_file(args.output, (TARGETS[args.to][0],), force=args.force)
     if args.source:
         try:

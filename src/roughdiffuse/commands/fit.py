@@ -11,6 +11,7 @@ from typing import Any
 from . import UsageError
 from ._checks import bounded_float, finite_float, output_file, reading, require_finite
 from ._common import _assignment
+from ._export_targets import add_blender_python
 from ._inputs import angle_pair, input_file, known_id
 from .render import MAX_EXPOSURE
 
@@ -122,6 +123,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="PREFIX",
         help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl (default: material)",
     )
+    add_blender_python(p)
     _add_input_arguments(p)
     p.set_defaults(func=run)
 
@@ -359,8 +361,9 @@ def _export_plan(args: argparse.Namespace) -> dict | None:
     """``--export``'s files by target (``None`` without it), checked before any work."""
     if args.export is None:
         return None
-    from ._export_targets import export_paths, parse_targets
+    from ._export_targets import export_paths, parse_targets, use_blender_python_flag
 
+    use_blender_python_flag(args)
     return export_paths(args.export_prefix, parse_targets(args.export), force=args.force)
 
 

@@ -25,7 +25,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="list the models with their parameters, units, ranges, defaults and sources",
         description="List every model id with its parameters (unit, range, default) and "
         "the paper it comes from. --json prints the same as JSON, one object per model "
-        "(the explorer serves it at /api/models).",
+        "(the explorer serves it at /api/models), with glsl_id and glsl_keys (the name of "
+        "the model's function in the explorer's generated models.glsl and the parameters "
+        "it takes, in order) and, for a renderer's variant, alias.to_base (each base "
+        "parameter as an expression tree: a name, a number, or [op, operand, ...]).",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -70,7 +73,10 @@ def run(args: argparse.Namespace) -> int:
     from .. import registry
 
     if args.json:
-        print(json.dumps(registry.to_json(), indent=2, ensure_ascii=False, allow_nan=False))
+        from ..explorer.shaders import with_glsl_fields
+
+        records = with_glsl_fields(registry.to_json())
+        print(json.dumps(records, indent=2, ensure_ascii=False, allow_nan=False))
     else:
         print(table())
     return 0

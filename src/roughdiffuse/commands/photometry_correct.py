@@ -381,7 +381,7 @@ def _parameter_maps(args: argparse.Namespace, image: Any) -> Any:
 
 
 def run_correct(args: argparse.Namespace) -> int:
-    from ..planetary.chunked import Correction, check_chunk, correct_file, same_file
+    from ..planetary.chunked import Correction, check_chunk, check_not_an_input, correct_file
     from ..planetary.disk import PHOTOMETRIC_MODELS
     from ..planetary.rasters import format_of
     from ..progress import progress_enabled
@@ -418,9 +418,10 @@ def run_correct(args: argparse.Namespace) -> int:
     image = _plane(args.image, "image", args.band, args.nodata)
     geometry = _geometry(args, image)
     inputs = [args.image, args.incidence, args.emission, args.phase, args.dem, args.param_map]
-    for path in filter(None, inputs):
-        if same_file(path, args.output):
-            raise UsageError(f"-o {args.output!r} is one of the inputs; name another file")
+    try:
+        check_not_an_input(args.output, inputs)
+    except ValueError as exc:
+        raise UsageError(f"-o: {exc}") from None
     workers = os.cpu_count() or 1
     try:
         check_chunk(args.chunk, workers, available_memory())

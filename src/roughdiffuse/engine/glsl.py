@@ -81,6 +81,7 @@ __all__ = [
     "Printed",
     "Traced",
     "expression_text",
+    "expression_tree",
     "glsl_source",
     "glsl_uniforms",
     "javascript_prepass",
@@ -576,6 +577,32 @@ def expression_text(graph: Graph, value: Any, digits: int = 6) -> str:
         return f"{op}({', '.join(p for p, _ in parts)})", 9
 
     return text(graph.ref(value))[0]
+
+
+_TREE_OPS = {"add": "+", "sub": "-", "mul": "*", "div": "/", "pow": "**"}
+
+
+def expression_tree(graph: Graph, value: Any) -> Any:
+    """A traced value as a JSON expression tree: an input's name (a string), a number, or
+    ``[op, operand, ...]``, op one of ``"+" "-" "*" "/" "**"`` (two operands), ``"neg"``
+    (one), or a function's name (``"sqrt"``, ``"exp"``...) with its operands.
+
+    The form ``roughdiffuse models --json`` has given an alias's ``to_base`` since the
+    explorer first offered aliases.
+    """
+
+    def tree(r: tuple[Any, ...]) -> Any:
+        kind, val = r
+        if kind == "in":
+            return str(val)
+        if kind in ("lit", "par"):
+            return float(val if kind == "lit" else graph.params[val])
+        if kind == "vec":
+            raise TraceError("an array of values has no expression tree")
+        op, args = graph.nodes[val][0], graph.nodes[val][1:]
+        return [_TREE_OPS.get(op, op), *(tree(a) for a in args)]
+
+    return tree(graph.ref(value))
 
 
 def uniform_function(

@@ -471,11 +471,11 @@ def models_json() -> list[dict[str, Any]]:
     parameters whose key differs from their name (``state_keys``)."""
     from .. import registry
     from .params import STATE_KEYS
-    from .shaders import shader_records
+    from .shaders import shader_records, with_glsl_fields
 
     shaders = shader_records()
     out = []
-    for record in registry.to_json():
+    for record in with_glsl_fields(registry.to_json()):
         keys = {n: k for n, k in STATE_KEYS.items()
                 if any(p["name"] == n for p in record["parameters"])}
         out.append({**record, "shader": shaders.get(record["id"]), "state_keys": keys})

@@ -42,7 +42,14 @@ from ..engine.glsl import (
 )
 from ..engine.trace import TraceError
 
-__all__ = ["ShaderTable", "models_glsl", "server_shader", "shader_records", "shader_table"]
+__all__ = [
+    "ShaderTable",
+    "models_glsl",
+    "server_shader",
+    "shader_records",
+    "shader_table",
+    "with_glsl_fields",
+]
 
 SERVER_SHADERS_KEPT = 64
 """Baked server shaders kept in memory (the last parameter sets the page asked for)."""
@@ -84,9 +91,11 @@ class ShaderTable:
     glsl : str
         The text of ``models.glsl``.
     records : dict
-        Registry id -> ``{"variants": [{"choices", "number", "arity", "prepass"}]}`` (traced
-        with symbolic parameters), ``{"server": True}`` (traced on the server for each
-        parameter set) or ``{"left_out": reason}``.
+        Registry id -> ``{"variants": [{"choices", "number", "arity", "function", "params",
+        "prepass"}]}`` (traced with symbolic parameters: ``function`` is the name of its
+        function in ``models.glsl``, ``params`` the parameters its prepass reads, in order),
+        ``{"server": True}`` (traced on the server for each parameter set) or
+        ``{"left_out": reason}``.
     max_arity : int
         The length of the uniform array ``RDParams.h``.
     """
@@ -130,6 +139,7 @@ class ShaderTable:
                              "#endif"]
                 printed_all.append((n, printed))
                 record.append({"choices": choices, "number": n, "arity": printed.arity,
+                               "function": f"rd_m{n}", "params": list(traced.params),
                                "prepass": javascript_prepass(traced, printed)})
             self.records[entry.id] = {"variants": record}
         self.max_arity = max([p.arity for _, p in printed_all] + [1])
@@ -195,6 +205,31 @@ def models_glsl() -> str:
 def shader_records() -> dict[str, dict[str, Any]]:
     """Registry id -> its record in ``/api/models``'s ``shader`` field (:class:`ShaderTable`)."""
     return shader_table().records
+
+
+def with_glsl_fields(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Registry records (:func:`roughdiffuse.registry.to_json`) with ``glsl_id`` and
+    ``glsl_keys`` after ``glsl``: the name of the model's function in ``models.glsl`` (for
+    its default categorical choices) and the parameters that function's prepass takes, as
+    GLSL names (a colour parameter is one ``vec3``), in order; ``None`` and ``[]`` for a
+    model the page does not draw from a printed function (a simulation, a table, ``coated``
+    whose shader is printed on the server). What ``roughdiffuse models --json`` and
+    ``/api/models`` both print."""
+    table = shader_records()
+    out = []
+    for record in records:
+        entry = registry.get(record["id"])
+        defaults = {p.name: p.default for p in entry.parameters if p.categorical}
+        glsl_id, keys = None, []
+        for variant in table.get(record["id"], {}).get("variants", ()):
+            if all(defaults.get(k) == v for k, v in variant["choices"].items()):
+                glsl_id, keys = variant["function"], list(variant["params"])
+                break
+        fields = {"glsl_id": glsl_id, "glsl_keys": keys}
+        items = list(record.items())
+        at = next((k + 1 for k, (name, _) in enumerate(items) if name == "glsl"), len(items))
+        out.append(dict(items[:at]) | fields | dict(items[at:]))
+    return out
 
 
 _SERVED: OrderedDict[str, dict[str, str]] = OrderedDict()

@@ -5,15 +5,20 @@ environment of its own (``make install-blender`` makes ``.venv-blender``), and r
 runs it as a subprocess on :mod:`roughdiffuse.exporters.blender_scene`. Where it is found
 (:func:`blender_command`):
 
-1. the environment variable ``ROUGHDIFFUSE_BLENDER_PYTHON``: a Python with ``bpy``, or a
-   ``blender`` executable (run as ``blender --background --python ...``);
-2. the environment ``make install-blender`` creates beside the installed package:
+1. the command line's ``--blender-python PATH`` (:func:`use_blender_python`);
+2. the environment variable ``ROUGHDIFFUSE_BLENDER_PYTHON``;
+3. ``python`` in the ``[blender]`` table of the user's configuration file
+   (:mod:`roughdiffuse.user_config`: ``~/.config/roughdiffuse/config.toml``), an absolute
+   path;
+4. the environment ``make install-blender`` creates beside the installed package:
    ``.venv-blender/bin/python`` in the source checkout roughdiffuse is imported from, or
    beside the virtual environment it is installed in (``.venv`` and ``.venv-blender`` side
    by side).
 
-Never from the current folder: a ``.venv-blender`` there is not run (no code runs from an
-untrusted place, :mod:`roughdiffuse.programs`).
+Each of 1-3 names a Python with ``bpy``, or a ``blender`` executable (run as ``blender
+--background --python ...``), and must be an executable file: a setting that names none is
+refused, naming where it came from. Never from the current folder: a ``.venv-blender``
+there is not run (no code runs from an untrusted place, :mod:`roughdiffuse.programs`).
 """
 
 from __future__ import annotations
@@ -29,7 +34,15 @@ from .._validate import ParameterError
 from ..io.atomic import atomic_write
 from ..programs import TimeoutExpired, find_program, run
 
-__all__ = ["ENV", "BlenderError", "blender_command", "check_blend", "run_scene", "write_blend"]
+__all__ = [
+    "ENV",
+    "BlenderError",
+    "blender_command",
+    "check_blend",
+    "run_scene",
+    "use_blender_python",
+    "write_blend",
+]
 
 ENV = "ROUGHDIFFUSE_BLENDER_PYTHON"
 """The environment variable naming Blender's Python (or a ``blender`` executable)."""
@@ -54,22 +67,58 @@ def _beside_package() -> list[Path]:
     return roots
 
 
+_chosen: list[str] = []  # the --blender-python of this process (use_blender_python)
+
+
+def use_blender_python(path: str | os.PathLike[str] | None) -> None:
+    """Use ``path`` as Blender's Python in this process, before every other setting (the
+    command line's ``--blender-python``); ``None`` forgets it. Checked when it is used
+    (:func:`blender_command`)."""
+    _chosen[:] = [] if path is None else [os.fspath(path)]
+
+
+def _command(exe: str) -> list[str]:
+    if Path(exe).name.startswith("blender"):
+        return [exe, "--background", "--factory-startup", "--python-exit-code", "1", "--python"]
+    return [exe]
+
+
+def _setting() -> tuple[str, str, bool] | None:
+    """(value, where it comes from, whether it must be absolute) of the first setting given."""
+    from ..user_config import setting
+
+    if _chosen:
+        return _chosen[0], "--blender-python", False
+    named = os.environ.get(ENV, "").strip()
+    if named:
+        return named, ENV, False
+    configured = setting("blender", "python")
+    if configured is not None:
+        value, path = configured
+        return value, f"{path}: [blender] python", True
+    return None
+
+
 def blender_command() -> list[str] | None:
-    """The command that runs a script with ``bpy`` (``None`` where none is found).
+    """The command that runs a script with ``bpy`` (``None`` where none is found): from the
+    first of ``--blender-python``, ``ROUGHDIFFUSE_BLENDER_PYTHON`` and the configuration file
+    that is given, else from beside the package (see the module).
 
     Raises
     ------
-    ValueError
-        If ``ROUGHDIFFUSE_BLENDER_PYTHON`` is set but names no executable file.
+    ParameterError
+        If the setting used names no executable file, or the configuration file's is not an
+        absolute path (it would be looked for from the current folder).
     """
-    named = os.environ.get(ENV, "").strip()
-    if named:
-        exe = find_program(named)
+    given = _setting()
+    if given is not None:
+        value, origin, absolute = given
+        if absolute and not os.path.isabs(os.path.expanduser(value)):
+            raise ParameterError(f"{origin} must be an absolute path (got {value!r})")
+        exe = find_program(value)
         if exe is None:
-            raise ParameterError(f"{ENV}={named!r} is not an executable file")
-        if Path(exe).name.startswith("blender"):
-            return [exe, "--background", "--factory-startup", "--python-exit-code", "1", "--python"]
-        return [exe]
+            raise ParameterError(f"{origin}: {value!r} is not an executable file")
+        return _command(exe)
     for root in _beside_package():
         candidate = root / _VENV
         if candidate.is_file() and os.access(candidate, os.X_OK):
@@ -88,7 +137,10 @@ def run_scene(material: Path, jobs: list[dict[str, Any]], timeout: float = 900.0
     """
     command = blender_command()
     if command is None:
-        raise BlenderError(f"no Blender interpreter: run `make install-blender` or set {ENV}")
+        raise BlenderError(
+            f"no Blender interpreter: run `make install-blender`, give --blender-python or "
+            f"set {ENV}"
+        )
     with tempfile.TemporaryDirectory(prefix="roughdiffuse-blender-") as tmp:
         request = Path(tmp) / "request.json"
         request.write_text(

@@ -33,11 +33,15 @@ from typing import Any
 import numpy as np
 
 from .. import registry
-from .._validate import ParameterError
+from .._validate import ParameterError, check_range
 from ..engine.dispatch import use_fastpath
 from ..models.base import Model
 
 __all__ = ["Conversion", "convert"]
+
+N_MAX = 64
+"""Most points per axis of the sampling: n³ pairs (262,144 at 64) are evaluated per solver
+step; beyond, the arrays outgrow a workstation's memory long before the result improves."""
 
 
 @dataclass(frozen=True)
@@ -176,13 +180,22 @@ def convert(
 
     Raises
     ------
-    ValueError
-        For an unknown target, or a target that cannot reach the source's albedo (its
+    ParameterError
+        For a source that is not a model or gives values that are not finite, ``n`` outside
+        [1, ``N_MAX``], an ``albedo_weight`` that is not a finite number >= 0, an unknown or
+        not closed-form target, or a target that cannot reach the source's albedo (its
         largest directional albedo, at the albedo parameter's maximum, is below the
-        source's), with the two values.
+        source's), with the two values. Anything else the solver raises is a bug.
     """
     from scipy.optimize import least_squares
 
+    if not isinstance(source, Model):
+        raise ParameterError(
+            f"source must be a roughdiffuse model, e.g. roughdiffuse.create('eon') "
+            f"(got a {type(source).__name__})"
+        )
+    check_range("n", n, 1, N_MAX)
+    check_range("albedo_weight", albedo_weight, 0.0, math.inf)
     entry = registry.get(target)
     if not getattr(entry.cls, "closed_form", True):
         raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")
@@ -195,6 +208,7 @@ def convert(
     with use_fastpath(False):
         f_src = np.asarray(source.brdf_cosines(mi, mo, cio), dtype=np.float64)
         a_src = _albedos(source, mu)
+    _check_source_values(source, f_src, a_src)
     channels = f_src.shape[-1] if f_src.ndim == 2 else 0
     reps = max(channels, 1)
     y = f_src * (mi[:, None] if channels else mi)
@@ -252,6 +266,18 @@ def convert(
         *_differences(f_src, f_t, a_src, a_t, mi, weight, wmu),
         fixed=fixed,
     )
+
+
+def _check_source_values(source: Model, f_src: np.ndarray, a_src: np.ndarray) -> None:
+    """Refuse a source whose BRDF or albedo is not finite at the sampled directions: the
+    solver's residuals would be (SciPy: "Residuals are not finite in the initial point")."""
+    for what, values in (("BRDF", f_src), ("directional albedo", a_src)):
+        bad = ~np.isfinite(values)
+        if np.any(bad):
+            raise ParameterError(
+                f"source {source!r}: its {what} is not finite at {int(bad.sum())} of "
+                f"{bad.size} sampled directions; it cannot be converted"
+            )
 
 
 def _lower_bound(p: Any) -> float:

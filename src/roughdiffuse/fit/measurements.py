@@ -17,7 +17,7 @@ from typing import Any, Literal
 import numpy as np
 
 from .._validate import ParameterError
-from ..frames import angles_to_cosines, local_cosines, world_cosines
+from ..frames import angles_to_cosines, check_cosines, local_cosines, world_cosines
 
 __all__ = ["Measurements"]
 
@@ -96,8 +96,7 @@ class Measurements:
             a = arrs[name]
             if np.any(a < -1e-12) or np.any(a > 1 + 1e-12):
                 raise ParameterError(f"{name} must be in [0, 1] (samples above the horizon)")
-        if np.any(np.abs(arrs["cos_io"]) > 1 + 1e-9):
-            raise ParameterError("cos_io must be in [-1, 1]")
+        check_cosines(arrs["mu_i"], arrs["mu_o"], arrs["cos_io"])
         if self.kind not in ("brdf", "radiance"):
             raise ParameterError(f"kind must be 'brdf' or 'radiance' (got {self.kind!r})")
 

@@ -35,6 +35,9 @@ class Alias(Model):
 
     base: ClassVar[type[Model]]
     base_fixed: ClassVar[dict[str, Any]] = {}
+    base_choices: ClassVar[dict[str, dict[str, dict[str, Any]]]] = {}
+    """For a categorical parameter of the alias: each of its values -> the base's categorical
+    values it selects (Mitsuba 0.6's ``variant`` "fast" is Oren–Nayar's "qualitative")."""
 
     @staticmethod
     def to_base(**params: Any) -> dict[str, Any]:
@@ -44,9 +47,11 @@ class Alias(Model):
     @classmethod
     def conversion(cls) -> dict[str, Any]:
         """:meth:`to_base` traced on symbols (:mod:`roughdiffuse.engine.trace`):
-        ``{"text": {name: expression}, "javascript": body}``, each base parameter as an
-        expression to show, and the body of a JavaScript function ``(p) => ({...})`` that
-        computes them from this model's values (``p.sigma_deg``; a colour channel by channel).
+        ``{"text": {name: expression}, "tree": {name: tree}, "javascript": body}``, each base
+        parameter as an expression to show and as a JSON expression tree
+        (:func:`~roughdiffuse.engine.glsl.expression_tree`), and the body of a JavaScript
+        function ``(p) => ({...})`` that computes them from this model's values
+        (``p.sigma_deg``; a colour channel by channel).
 
         Raises
         ------
@@ -61,7 +66,7 @@ class Alias(Model):
         """
         import numpy as np
 
-        from ..engine.glsl import expression_text, javascript_values
+        from ..engine.glsl import expression_text, expression_tree, javascript_values
         from ..engine.trace import Graph
 
         graph = Graph(np.dtype(np.float64))
@@ -69,16 +74,25 @@ class Alias(Model):
         out = cls.to_base(**{n: graph.input(n) for n in names})
         return {
             "text": {k: expression_text(graph, v) for k, v in out.items()},
+            "tree": {k: expression_tree(graph, v) for k, v in out.items()},
             "javascript": javascript_values(graph, out),
         }
+
+    def base_categories(self) -> dict[str, Any]:
+        """The base's categorical values: ``base_fixed``, and those this instance's own
+        categorical values select (``base_choices``)."""
+        chosen = dict(self.base_fixed)
+        for name, by_value in self.base_choices.items():
+            chosen.update(by_value[getattr(self, name)])
+        return chosen
 
     def base_model(self) -> Model:
         """The equal model of the base class (its parameters converted)."""
         values = {f: getattr(self, f) for f in self.array_fields}
-        return self.base(**self.base_fixed, **self.to_base(**values))
+        return self.base(**self.base_categories(), **self.to_base(**values))
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **p: Array) -> Array:
-        shape = self.base(**self.base_fixed)  # categorical values only; numbers come from p
+        shape = self.base(**self.base_categories())  # categorical only; numbers come from p
         return shape._kernel(xp, mu_i, mu_o, cos_io, **self.to_base(**p))
 
     def directional_albedo(self, wo: Array) -> Array:
@@ -90,8 +104,6 @@ def alias(
     name: str,
     module: str,
     *,
-    model_id: str,
-    label: str,
     base: type[Model],
     params: tuple[Param, ...],
     to_base: Callable[..., dict[str, Any]],
@@ -100,17 +112,35 @@ def alias(
     formula: str,
     doc: str,
     order: int,
+    model_id: str | None = None,
+    label: str | None = None,
+    ids: dict[str, dict[str, Any]] | None = None,
+    labels: dict[str, str] | None = None,
     base_fixed: dict[str, Any] | None = None,
+    base_choices: dict[str, dict[str, dict[str, Any]]] | None = None,
     symbols: dict[str, str] | None = None,
 ) -> type[Alias]:
-    """A one-id :class:`Alias` class from one row of a table (``models/renderers.py``).
+    """An :class:`Alias` class from one row of a table (``models/renderers.py``).
 
     The class is a frozen dataclass (a JAX pytree) whose fields are ``params`` with their
     declared defaults, in order; ``to_base`` its conversion, whose docstring becomes ``rule``
     (the rule docs/implementations.md shows); the other arguments are the class attributes
-    of :class:`~roughdiffuse.models.base.Model` (``model_id`` and ``label`` its one id and
-    label; ``symbols`` defaults to ρ for albedo and r for roughness).
+    of :class:`~roughdiffuse.models.base.Model` and :class:`Alias` (``model_id`` and
+    ``label`` its one id and label, or ``ids`` and ``labels`` for several ids, each fixing a
+    categorical parameter whose values select the base's through ``base_choices``;
+    ``symbols`` defaults to ρ for albedo and r for roughness).
     """
+    if (model_id is None) == (ids is None) or (label is None) == (labels is None):
+        raise TypeError(f"alias {name}: give model_id and label, or ids and labels")
+    if model_id is not None:
+        ids, labels = {model_id: {}}, {model_id: str(label)}
+    for choice, by_value in (base_choices or {}).items():
+        declared = next((p for p in params if p.name == choice), None)
+        if declared is None or set(declared.choices or ()) != set(by_value):
+            raise TypeError(
+                f"alias {name}: base_choices[{choice!r}] must map each choice of a "
+                "categorical parameter of params"
+            )
     convert = staticmethod(to_base)
     to_base.__doc__ = rule + "."
     attributes: dict[str, Any] = {
@@ -120,14 +150,15 @@ def alias(
         "__annotations__": {p.name: Any for p in params},
         **{p.name: p.default for p in params},
         "params": params,
-        "ids": {model_id: {}},
-        "labels": {model_id: label},
+        "ids": dict(ids or {}),
+        "labels": dict(labels or {}),
         "reference": reference,
         "formula": formula,
         "symbols": symbols or {"albedo": r"\rho", "roughness": r"r"},
         "order": order,
         "base": base,
         "base_fixed": dict(base_fixed or {}),
+        "base_choices": dict(base_choices or {}),
         "to_base": convert,
     }
     return register_pytree(dataclass(frozen=True)(type(name, (Alias,), attributes)))

@@ -34,7 +34,7 @@ from .._array import (
 from .._lazy import when_imported
 from .._validate import ParameterError
 from ..engine.dispatch import compiled
-from ..frames import local_cosines, unit_components, world_cosines
+from ..frames import check_cosines, local_cosines, unit_components, world_cosines
 from .constraints import Constraint, check_constraints
 from .declaration import Param, declared_params, param
 from .sampling import COSINE, BSDFSample, Strategy
@@ -286,7 +286,10 @@ class Model:
         This is the entry point of renderers and tables that already hold cosines. Output
         shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
         NumPy inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
+        Cosines no pair of directions has (a cosine beyond ±1, cos_io outside what μi and μo
+        allow) are refused (:func:`~roughdiffuse.frames.check_cosines`).
         """
+        check_cosines(mu_i, mu_o, cos_io)
         fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
         if fast is not None:
             return fast

@@ -57,8 +57,12 @@ THETA_BAR_MAX = math.pi / 3
 
 B0_SOFT_MAX = 3.0
 """Upper end of the box a fit searches for a surge amplitude, and of the explorer's slider.
-B0 itself is unbounded above, as in ISIS (``Hapke::SetPhotoB0`` accepts any B0 >= 0):
-published fits exceed 1 where the shadow-hiding surge absorbs coherent backscatter."""
+Published fits exceed 1 where the shadow-hiding surge absorbs coherent backscatter."""
+
+AMPLITUDE_MAX = 1e3
+"""Largest accepted surge amplitude (B0, B_S0, B_C0) and porosity factor K. ISIS accepts any
+B0 >= 0 (``Hapke::SetPhotoB0``); published fits stay below 3 and K below 3, and a finite
+ceiling keeps the BRDF finite (B0 = 1e308 overflows to ∞): 1e3 is far beyond both."""
 
 _TAN_FLOOR = 1e-6  # tan θ̄ in the rough branch (θ̄ = 0 takes the smooth branch)
 _TINY = 1e-12
@@ -225,9 +229,9 @@ def _isis_hapke(
 # functions, not constants: each model's field is a declaration of its own
 def _surge_amplitude(what: str, example: float) -> Any:
     return param(
-        f"{what} amplitude (unbounded above)",
+        f"{what} amplitude",
         min=0.0,
-        max=None,
+        max=AMPLITUDE_MAX,
         default=0.0,
         example=example,
         fit_range=(0.0, B0_SOFT_MAX),
@@ -283,8 +287,8 @@ class Hapke(Model):
     albedo : float or array (C,)
         Single-scattering albedo w in [0, 1] (ISIS ``Wh``).
     b0 : float
-        Amplitude B0 >= 0 of the shadow-hiding opposition surge (``B0``); unbounded above as
-        in ISIS.
+        Amplitude B0 in [0, 1000] of the shadow-hiding opposition surge (``B0``; ISIS accepts
+        any B0 >= 0, see ``AMPLITUDE_MAX``).
     h : float
         Angular width h of the surge, in [0, 1] (``Hh``; 0: no surge).
     xi : float
@@ -516,7 +520,7 @@ class Hapke2012(Model):
     bc0: float | Array = param(
         "coherent-backscatter surge amplitude B_C0",
         min=0.0,
-        max=None,
+        max=AMPLITUDE_MAX,
         default=0.0,
         example=0.4,
         fit_range=(0.0, 1.0),
@@ -531,7 +535,7 @@ class Hapke2012(Model):
     porosity: float | Array = param(
         "porosity factor K (1: very porous)",
         min=1.0,
-        max=None,
+        max=AMPLITUDE_MAX,
         default=1.0,
         example=1.3,
         fit_range=(1.0, 3.0),

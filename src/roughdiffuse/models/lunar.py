@@ -33,6 +33,11 @@ __all__ = ["LommelSeeliger", "LunarLambert"]
 
 _SUM_FLOOR = 1e-6
 
+L_MAX = 1e3
+"""Largest accepted L. ISIS's ``LunarLambert`` accepts any L (its unit test takes L = 2) and
+fits search [0, 1]; a finite ceiling keeps the BRDF finite (L = 1e308 overflows to ∞, an
+all-zero corrected image): 1e3 is far beyond any fit."""
+
 
 class LommelSeeliger(Model):
     """Lommel–Seeliger BRDF, f = w / (4π (μi + μo)).
@@ -89,8 +94,9 @@ class LunarLambert(Model):
     albedo : float or array (C,)
         ρ in [0, 1]; L = 0 is Lambert with this albedo.
     limb_darkening : float
-        L >= 0, the weight of the Lommel–Seeliger term (0.5–1 for the moon near full). ISIS's
-        ``LunarLambert`` accepts any L (its unit test takes L = 2); for every L >= 0 the I/F
+        L in [0, 1000], the weight of the Lommel–Seeliger term (0.5–1 for the moon near
+        full). ISIS's ``LunarLambert`` accepts any L (its unit test takes L = 2; see
+        ``L_MAX``); for every L >= 0 the I/F
         μ0 [(1 − L) + 2L/(μ0 + μ)] is positive, as μ0 + μ <= 2. Fits search [0, 1].
         Default 0.5: half Lambert, half Lommel–Seeliger (L = 1 is the ``lommel-seeliger``
         model up to its normalisation).
@@ -98,9 +104,9 @@ class LunarLambert(Model):
 
     albedo: float | Array = albedo_param("albedo ρ (L = 0: Lambert)")
     limb_darkening: float | Array = param(
-        "L, weight of the Lommel–Seeliger term (unbounded above, as ISIS)",
+        "L, weight of the Lommel–Seeliger term",
         min=0.0,
-        max=None,
+        max=L_MAX,
         default=0.5,
         fit_range=(0.0, 1.0),
     )

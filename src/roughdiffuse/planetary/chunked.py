@@ -15,9 +15,10 @@ same bit for bit; the workers must see the files at the same paths.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,8 +36,10 @@ __all__ = [
     "EllipsoidGeometry",
     "FileGeometry",
     "ParameterMaps",
+    "check_not_an_input",
     "correct_file",
     "corrected_array",
+    "input_paths",
     "sample_pixels",
 ]
 
@@ -323,6 +326,7 @@ def correct_file(
     """
     from .rasters import format_of
 
+    check_not_an_input(output, input_paths(image, geometry, correction))
     fmt = format_of(output, out_fmt)
     arr = corrected_array(image, geometry, correction, chunk, fmt)
     count = [0]
@@ -344,6 +348,38 @@ def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
         return os.path.samefile(a, b)
     except OSError:
         return os.path.abspath(a) == os.path.abspath(b)
+
+
+def input_paths(image: RasterPlane, geometry: Any, correction: Correction) -> list[str]:
+    """The files a correction reads: the image, the backplanes or the DEM, the parameter
+    maps (every field of the geometry that is a file's plane)."""
+    paths = [image.path]
+    if dataclasses.is_dataclass(geometry):
+        for f in dataclasses.fields(geometry):
+            path = getattr(getattr(geometry, f.name), "path", None)
+            if isinstance(path, str | os.PathLike):
+                paths.append(os.fspath(path))
+    if correction.maps is not None:
+        paths += [plane.path for _, plane, _ in correction.maps.planes]
+    return paths
+
+
+def check_not_an_input(
+    output: str | os.PathLike[str], inputs: Iterable[str | os.PathLike[str] | None]
+) -> None:
+    """Refuse an ``output`` that is one of the ``inputs`` (it would be overwritten while it
+    is read): the one check of ``photometry correct`` and :func:`correct_file`.
+
+    Raises
+    ------
+    ParameterError
+        Naming the output.
+    """
+    for path in filter(None, inputs):
+        if same_file(path, output):
+            raise ParameterError(
+                f"the output {os.fspath(output)!r} is one of the inputs; name another file"
+            )
 
 
 def sample_pixels(

@@ -177,7 +177,8 @@ class RasterPlane:
         A key of :data:`FORMATS`.
     shape : (lines, samples)
     band : int
-        1-based band of a GDAL file (FITS, .npy and .exr: the first plane).
+        1-based band of a GDAL file, or of a FITS or .npy cube (bands first or last, by the
+        shape rule of :func:`~roughdiffuse.io.reading.image_array`); .exr: the first plane.
     nodata : float or None
         A value meaning NoData besides the file's own.
     file_nodata : float or None
@@ -224,10 +225,11 @@ class RasterPlane:
         elif self.fmt == "fits":
             fits = _fits()
             with fits.open(self.path, memmap=True, do_not_scale_image_data=True) as hdul:
-                raw = np.array(_fits_hdu(hdul, self.path).section[rows, cols])
+                section = _fits_hdu(hdul, self.path).section
+                raw = np.array(section[_window(section.shape, rows, cols, self.band, self.path)])
         elif self.fmt == "npy":
             arr = np.load(self.path, mmap_mode="r", allow_pickle=False)
-            raw = np.array(arr[(rows, cols) + (0,) * (arr.ndim - 2)])
+            raw = np.array(arr[_window(arr.shape, rows, cols, self.band, self.path)])
         else:
             raw = _exr_plane(self.path, os.stat(self.path).st_mtime_ns)[rows, cols]
         raw = raw.astype(raw.dtype.newbyteorder("="))
@@ -253,6 +255,47 @@ def _exr_plane(path: str, mtime_ns: int) -> np.ndarray:
     out = np.where(finite, img, np.nan)
     out.setflags(write=False)
     return out
+
+
+def _layout(shape: tuple[int, ...], dtype: Any, path: str) -> tuple[int, int, int, str]:
+    """(lines, samples, bands, where the band axis is: "", "first" or "last") of an array
+    file (.npy, FITS), by the one shape and value rule of every image reader
+    (:func:`~roughdiffuse.io.reading.image_array`, :func:`~roughdiffuse.io.reading.check_real`):
+    (H, W); (H, W, C) bands last; (C, H, W) bands first (FITS order), C in {1, 3}."""
+    from ..io.reading import check_real, image_array
+
+    name = os.path.basename(path)
+    check_real(np.empty(0, dtype=dtype), name)
+    stand_in = np.broadcast_to(np.zeros((), dtype=np.uint8), shape)  # the shape, no memory
+    plane = image_array(stand_in, name)
+    lines, samples = (int(n) for n in plane.shape[:2])
+    if len(shape) == 2:
+        return lines, samples, 1, ""
+    bands = int(shape[0] if shape[1:] == (lines, samples) else shape[2])
+    return lines, samples, bands, "first" if shape[1:] == (lines, samples) else "last"
+
+
+def _window(shape: tuple[int, ...], rows: slice, cols: slice, band: int, path: str) -> Any:
+    """The index of band ``band`` (1-based) of a window in an array of ``shape``."""
+    *_, where = _layout(shape, np.float32, path)
+    if where == "first":
+        return (band - 1, rows, cols)
+    if where == "last":
+        return (rows, cols, band - 1)
+    return (rows, cols)
+
+
+def _array_plane(
+    path: str, fmt: str, shape: tuple[int, ...], dtype: Any, band: int | str
+) -> tuple[int, int, int]:
+    """(lines, samples, band) of band ``band`` of an array file, checked (see :func:`_layout`)."""
+    name = os.path.basename(path)
+    lines, samples, bands, _ = _layout(shape, dtype, path)
+    index = int(band) if isinstance(band, int) or str(band).isdigit() else None
+    if index is None or not 1 <= index <= bands:
+        held = "one band" if bands == 1 else f"{bands} bands (1 to {bands})"
+        raise ParameterError(f"{name}: a {fmt} file of {held}; no band {band!r}")
+    return lines, samples, index
 
 
 def _fits_hdu(hdul: Any, path: str) -> Any:
@@ -316,8 +359,8 @@ def open_plane(
                 )
         except rasterio.errors.RasterioIOError as exc:
             raise ParameterError(f"{name}: GDAL cannot read it ({_gdal_reason(exc)})") from None
-    if band not in (1, "1"):
-        raise ParameterError(f"{name}: a {fmt} file holds one plane (asked for band {band!r})")
+    if fmt == "exr" and band not in (1, "1"):
+        raise ParameterError(f"{name}: an exr file holds one plane (asked for band {band!r})")
     if fmt == "fits":
         fits = _fits()
         try:
@@ -327,19 +370,18 @@ def open_plane(
                 shape = tuple(int(hdr[f"NAXIS{k}"]) for k in range(hdr["NAXIS"], 0, -1))
                 blank = hdr.get("BLANK") if hdr.get("BITPIX", -32) > 0 else None
                 scale, offset = float(hdr.get("BSCALE", 1.0)), float(hdr.get("BZERO", 0.0))
+                dtype = np.float64 if hdr.get("BITPIX", -32) < 0 else np.int64
         except OSError as exc:
             raise ParameterError(f"{name}: not a FITS file ({exc})") from None
-        if len(shape) != 2:
-            raise ParameterError(f"{name}: expected one image plane (got shape {shape})")
-        return RasterPlane(path, fmt, (shape[0], shape[1]), 1, nodata, blank, scale, offset)
+        lines, samples, index = _array_plane(path, fmt, shape, dtype, band)
+        return RasterPlane(path, fmt, (lines, samples), index, nodata, blank, scale, offset)
     if fmt == "npy":
         try:
             arr = np.load(path, mmap_mode="r", allow_pickle=False)
         except ValueError as exc:
             raise ParameterError(f"{name}: not a .npy array ({exc})") from None
-        if arr.ndim == 3 and arr.shape[2] == 1 or arr.ndim == 2:
-            return RasterPlane(path, fmt, (int(arr.shape[0]), int(arr.shape[1])), 1, nodata)
-        raise ParameterError(f"{name}: expected one image plane (got shape {arr.shape})")
+        lines, samples, index = _array_plane(path, fmt, arr.shape, arr.dtype, band)
+        return RasterPlane(path, fmt, (lines, samples), index, nodata)
     img = _exr_plane(path, os.stat(path).st_mtime_ns)
     return RasterPlane(path, fmt, (int(img.shape[0]), int(img.shape[1])), 1, nodata)
 

@@ -190,7 +190,7 @@ export function applies(p, s) {
 
 /** An alias's state (UI state or a record with radians) as its base model's record: the
  * alias's own parameter values (declared defaults for those missing) through its conversion,
- * traced on the server from its Python to_base (roughdiffuse.models.alias, `to_base`: a
+ * traced on the server from its Python to_base (roughdiffuse.models.alias, `javascript`: a
  * function body; a colour channel by channel). */
 export function baseState(s) {
   const m = BY_KEY[s.model];
@@ -203,7 +203,7 @@ export function baseState(s) {
     own[p.name] = v;
   }
   // eslint-disable-next-line no-new-func
-  const convert = new Function("p", m.alias.to_base);
+  const convert = new Function("p", m.alias.javascript);
   const arrays = Object.values(own).find((v) => Array.isArray(v) || ArrayBuffer.isView(v));
   const channel = (c) => Object.fromEntries(Object.entries(own).map(([k, v]) => [k, typeof v === "number" ? v : v[c]]));
   const out = arrays ? [0, 1, 2].map((c) => convert(channel(c))) : [convert(own)];

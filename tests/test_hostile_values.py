@@ -1,0 +1,184 @@
+"""Hostile values at the edges of the declared boxes: huge, denormal and infinite parameters,
+the horizon, an azimuth of 1e308 degrees, and cosines that no pair of directions has. Valid
+input gives a finite, non-negative value; invalid input one line naming the parameter and its
+range (exit status 2 on the command line)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import roughdiffuse as rd
+from roughdiffuse import cli, registry
+from roughdiffuse._validate import ParameterError
+from roughdiffuse.engine.dispatch import use_fastpath
+from roughdiffuse.fit.measurements import Measurements
+from roughdiffuse.frames import check_cosines
+
+
+def _error_line(capsys, argv, *words):
+    try:
+        status = cli.main(argv)
+    except SystemExit as stop:  # argparse's own errors
+        status = stop.code
+    out, err = capsys.readouterr()
+    assert status == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    for w in words:
+        assert w in lines[0], lines[0]
+    return lines[0]
+
+
+# ------------------------------------------------------------------ parameters
+# every numeric parameter that ISIS leaves unbounded above: its ceiling, and one beyond it
+UNBOUNDED_IN_ISIS = [
+    ("lunar-lambert", "limb_darkening"),
+    ("hapke", "b0"),
+    ("hapke-legendre", "b0"),
+    ("hapke-2012", "bs0"),
+    ("hapke-2012", "bc0"),
+    ("hapke-2012", "porosity"),
+]
+
+
+@pytest.mark.parametrize(("model", "name"), UNBOUNDED_IN_ISIS)
+@pytest.mark.parametrize("value", [1e308, 1.0001e3, math.inf, -math.inf, math.nan])
+def test_huge_parameters_are_refused_naming_the_range(model, name, value):
+    with pytest.raises(ParameterError, match=rf"^{name} must be .*1000") as info:
+        registry.create(model, **{name: value})
+    assert "\n" not in str(info.value)
+
+
+def _corners():
+    """θi, θr in {0, 45°, 90°} and Δφ in {0, 90°, 180°}: (wi, wo) of shape (27, 3)."""
+    t = np.radians([0.0, 45.0, 90.0])
+    ti, to, dp = (a.ravel() for a in np.meshgrid(t, t, 2 * t, indexing="ij"))
+    wi = np.stack([np.sin(ti), 0 * ti, np.cos(ti)], -1)
+    wo = np.stack([np.sin(to) * np.cos(dp), np.sin(to) * np.sin(dp), np.cos(to)], -1)
+    return wi, wo
+
+
+@pytest.mark.parametrize(("model", "name"), UNBOUNDED_IN_ISIS)
+def test_at_the_ceiling_every_corner_is_finite_and_non_negative(model, name):
+    m = registry.create(model, **{name: 1e3})
+    wi, wo = _corners()
+    with use_fastpath(False):
+        f = np.asarray(m.brdf(wi, wo))
+        a = np.asarray(m.directional_albedo(wo))
+    assert np.all(np.isfinite(f)) and np.all(f >= 0.0)
+    assert np.all(np.isfinite(a)) and np.all(a >= 0.0)
+
+
+def test_a_denormal_limb_darkening_is_lambert():
+    """L → 0 is Lambert: f = ρ/π (McEwen 1991) at every corner."""
+    m = rd.LunarLambert(0.6, limb_darkening=5e-324)
+    wi, wo = _corners()
+    with use_fastpath(False):
+        f = np.asarray(m.brdf(wi, wo))
+    np.testing.assert_allclose(f, 0.6 / math.pi, rtol=1e-15)
+
+
+@pytest.mark.parametrize("value", ["1e308", "inf", "-1e-320", "nan"])
+def test_param_value_on_the_command_line_is_one_line(capsys, value):
+    argv = ["eval", "--model", "lunar-lambert", "--param", f"limb_darkening={value}"]
+    _error_line(capsys, argv, "limb_darkening", "[0, 1000]")
+
+
+# ------------------------------------------------------------------ the horizon
+def test_minnaert_k0_at_the_limb_is_its_stated_floor():
+    """k = 0: f = ρ/π (μi μo)^(−1), each cosine floored at 1e-6 (the formula's stated limit):
+    at θi = 0, θr = 90° that is ρ/π · 1e6."""
+    m = rd.Minnaert(0.5, k=0.0)
+    wi, wo = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
+    with use_fastpath(False):
+        f = float(m.brdf(wi, wo))
+    assert f == pytest.approx(0.5 / math.pi * 1e6, rel=1e-12)
+
+
+CLOSED_FORM = [e for e in registry.entries() if getattr(e.cls, "closed_form", True)]
+
+
+@pytest.mark.parametrize("entry", CLOSED_FORM, ids=lambda e: e.id)
+def test_every_model_is_finite_on_the_horizon(entry):
+    """θ = 90° exactly (the stated limit: each model's floors), for the declared example."""
+    m = entry.create()
+    wi, wo = _corners()
+    with use_fastpath(False):
+        f = np.asarray(m.brdf(wi, wo), dtype=float)
+    assert np.all(np.isfinite(f)) and np.all(f >= 0.0), f
+
+
+# ------------------------------------------------------------------ the azimuth
+def _brdf_line(capsys, delta_phi):
+    argv = ["eval", "--model", "oren-nayar-full", "--theta-i", "60", "--theta-r", "30"]
+    assert cli.main([*argv, "--delta-phi", delta_phi]) == 0
+    out = capsys.readouterr().out
+    return next(line for line in out.splitlines() if line.startswith("brdf")), out
+
+
+def test_a_huge_azimuth_is_reduced_exactly():
+    """Δφ = 1e308° is an integer number of degrees: Python's integers give its residue mod
+    360 exactly (an independent reduction), and the BRDF there equals the one at 1e308°."""
+    residue = int(1e308) % 360
+    assert residue == 296
+
+
+def test_a_huge_azimuth_on_the_command_line(capsys):
+    huge, out = _brdf_line(capsys, "1e308")
+    assert "≡ 296° mod 360" in out
+    same, _ = _brdf_line(capsys, str(int(1e308) % 360))
+    mirrored, _ = _brdf_line(capsys, str(360 - int(1e308) % 360))  # isotropic: ±Δφ
+    assert huge == same == mirrored
+
+
+def test_an_azimuth_beyond_every_float_in_degrees_is_one_line(capsys):
+    argv = ["eval", "--model", "eon", "--delta-phi", "1e308rad"]
+    _error_line(capsys, argv, "--delta-phi", "1e308rad")
+
+
+# ------------------------------------------------------------------ cosines
+@pytest.mark.parametrize(
+    ("mu_i", "mu_o", "cos_io", "named"),
+    [
+        (1.5, 0.5, 0.5, "mu_i"),
+        (0.5, -1.01, 0.5, "mu_o"),
+        (0.5, 0.5, 2.0, "cos_io"),
+        (1.0, 1.0, 0.5, "cos_io"),  # both along the normal: wi·wo = 1
+        (0.0, 0.0, 0.0, None),  # both on the horizon, 90° apart: possible
+        (0.5, 0.5, -0.9, "cos_io"),  # wi·wo >= cos(60° + 60°) = −0.5
+        (math.inf, 0.5, 0.5, "mu_i"),
+    ],
+)
+def test_cosines_no_pair_of_directions_has_are_refused(mu_i, mu_o, cos_io, named):
+    model = rd.Lambert(0.5)
+    if named is None:
+        assert float(model.brdf_cosines(mu_i, mu_o, cos_io)) == pytest.approx(0.5 / math.pi)
+        return
+    with pytest.raises(ParameterError, match=rf"^{named} must be in"):
+        model.brdf_cosines(mu_i, mu_o, cos_io)
+    with pytest.raises(ParameterError, match=rf"^{named} must be"):
+        Measurements(
+            np.array([abs(mu_i) if named != "mu_i" else mu_i]),
+            np.array([abs(mu_o) if named != "mu_o" else mu_o]),
+            np.array([cos_io]),
+            np.array([0.1]),
+            np.array([1.0]),
+        )
+
+
+def test_cosines_of_real_directions_in_float32_pass():
+    """Cosines computed in float32 from random unit vectors, grazing ones included, are never
+    refused (their rounding is within the check's tolerance)."""
+    rng = np.random.default_rng(7)
+    v = rng.normal(size=(2, 20_000, 3))
+    v[:, :, 2] = np.abs(v[:, :, 2]) * (rng.random((2, 20_000)) < 0.5)  # half on the horizon
+    v = (v / np.linalg.norm(v, axis=-1, keepdims=True)).astype(np.float32)
+    wi, wo = v
+    check_cosines(wi[:, 2], wo[:, 2], np.sum(wi * wo, axis=-1))
+
+
+def test_nodata_cosines_pass_the_check():
+    check_cosines(np.array([np.nan, 0.5]), np.array([0.5, 0.5]), np.array([0.2, 0.25]))
