@@ -262,7 +262,7 @@ _FIT_POWERS = tuple((i, j, k) for i in range(1, 4) for j in range(1, 4) for k in
 
 
 @functools.lru_cache(maxsize=2)
-def _ms_fit(distribution: str) -> tuple[float, ...]:
+def ms_fit(distribution: str) -> tuple[float, ...]:
     """The coefficients of :func:`ms_boost`: least squares (weight √μ E_ss, the reflectance
     each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
     reflectance from above (the multiple-scattering microsurface) minus the
@@ -284,10 +284,10 @@ def _ms_fit(distribution: str) -> tuple[float, ...]:
 def ms_boost(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str) -> Array:
     """b(μ) = √(1 + c(μ)), c = ΔE/E_ss ≥ 0 the rough coat's reflection by more than one facet
     event relative to its single scattering (light from above at cosine μ), a polynomial
-    fitted to the walk (:func:`_ms_fit`; arithmetic only; η clamped to [1, 3], α to
+    fitted to the walk (:func:`ms_fit`; arithmetic only; η clamped to [1, 3], α to
     [0, 1]; c = 0 at η = 1 and α = 0). The coat's lobe times b(μi) b(μo) is reciprocal and,
     where it is narrow, reflects E_ss (1 + c) = E_ss + ΔE."""
-    coef = _ms_fit(distribution)
+    coef = ms_fit(distribution)
     x = clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0)
     a = clip(xp, alpha, 0.0, 1.0)
     u = 1.0 - clip(xp, mu, 0.0, 1.0)
