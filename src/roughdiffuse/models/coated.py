@@ -73,15 +73,21 @@ from .lambert import Lambert
 from .microfacet import fresnel_dielectric, slope_distribution
 from .oren_nayar import OrenNayar
 from .sampling import Strategy
-from .torrance_sparrow import ETA_MAX
 
-__all__ = ["Coated", "COAT_BASES", "COAT_DISTRIBUTIONS"]
+__all__ = ["Coated", "COAT_BASES", "COAT_DISTRIBUTIONS", "COAT_ETA_RANGE"]
 
 COAT_DISTRIBUTIONS: tuple[str, ...] = ("ggx", "beckmann")
 
 COAT_BASES: tuple[str, ...] = ("lambert", "oren-nayar", "oren-nayar-full", "fujii", "eon")
 """The registry ids the registry's ``coated`` accepts as its ``base`` (the explorer's base
 menu; each has a GLSL copy). In Python, :class:`Coated` takes any closed-form model."""
+
+COAT_ETA_RANGE: tuple[float, float] = (1.0, 5.0)
+"""The coat's relative index η accepted: a coat in air or in a less dense medium (η ≥ 1;
+η = 1 is no interface), up to 5, beyond the most refractive transparent materials (rutile
+2.9 in the visible, silicon and germanium about 3.5 and 4 in the infrared). Below 1 the
+rough coat's internal reflectance, 1 − (1 − Ē)/η² from above, is not what the formula
+assumes (the total internal reflection is on the way in), and at η ≈ 1e-154 η² underflows."""
 
 _ON_BASES = ("oren-nayar", "oren-nayar-full")
 _FON_BASES = ("fujii", "eon")
@@ -417,7 +423,8 @@ class Coated(Model):
         ``base="oren-nayar-full", base_params={"albedo": 0.8, "sigma": 0.3}``). It must be
         a closed form or a table (not a simulation such as ``SmithDiffuse``), and not a coat.
     eta : float
-        Relative refractive index η of the coat in (0, 1000] (1.5 for glazes and plastics).
+        Relative refractive index η of the coat in [1, 5] (:data:`COAT_ETA_RANGE`; 1.5 for
+        glazes and plastics).
     roughness : float
         The coat's roughness α in [0, 1] (0: smooth, a mirror reflection that the BRDF value
         does not hold).
@@ -444,8 +451,9 @@ class Coated(Model):
     """
 
     base: Any = None
-    eta: float | Array = param("relative refractive index η of the coat", min=0.0, max=ETA_MAX,
-                               min_open=True, default=1.5, fit_range=(1.05, 3.0))
+    eta: float | Array = param("relative refractive index η of the coat",
+                               min=COAT_ETA_RANGE[0], max=COAT_ETA_RANGE[1], default=1.5,
+                               fit_range=(1.05, 3.0))
     roughness: float | Array = param("α, roughness of the coat (0: smooth)", min=0.0, max=1.0,
                                      default=0.0, fit_range=(0.0, 1.0))
     distribution: str = param("facet distribution of the rough coat",
