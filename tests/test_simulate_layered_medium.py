@@ -11,8 +11,8 @@ and a real renderer.
   coat loses nothing (directional albedo 1), for forward and backward scattering.
 * ω = 0 is the absorbing walk (the same paths, the same numbers).
 * Mitsuba 3's ``volpath`` rendering the layer as geometry (a dielectric box with a
-  homogeneous medium over a diffuse plane; :mod:`roughdiffuse.accuracy.layered_medium`):
-  within 1 % plus four combined standard errors (slow).
+  homogeneous medium over a diffuse plane; :mod:`roughdiffuse.accuracy.layered_medium`),
+  smooth and rough coats: within 1 % plus four combined standard errors (slow).
 """
 
 from __future__ import annotations
@@ -102,15 +102,16 @@ def test_bad_medium_named(kwargs: dict, name: str) -> None:
 
 @pytest.mark.slow
 def test_walk_matches_mitsuba_volpath_slab() -> None:
-    """Mitsuba 3's ``volpath`` on the slab of three of the accuracy page's layers (a glaze-like
+    """Mitsuba 3's ``volpath`` on the slab of four of the accuracy page's layers (a glaze-like
     medium at 45°, a thick back-scattering one over a bright base, a conservative one over a
-    black base): the walk's directional albedo within 1 % plus four combined standard
-    errors."""
+    black base, the glaze under a rough ``roughdielectric`` coat against the walk's
+    single-scattering interface): the walk's directional albedo within 1 % plus four
+    combined standard errors."""
     from mitsuba_setup import mitsuba_variant
     from roughdiffuse.accuracy import layered_medium
 
     mi = mitsuba_variant("scalar_rgb")
-    for case in (layered_medium.CASES[1], layered_medium.CASES[3], layered_medium.CASES[5]):
+    for case in [layered_medium.CASES[k] for k in (1, 3, 5, 6)]:
         r = layered_medium.compare(mi, case, samples=40_000, spp=64, res=24)
         se = math.hypot(r["walk_se"], r["render_se"])
         assert abs(r["walk"] - r["render"]) <= 0.01 * r["render"] + Z_MAX * se, (case, r)

@@ -42,7 +42,9 @@ __all__ = ["CASES", "MediumCase", "compare", "medium_lines", "render_slab"]
 @dataclass(frozen=True)
 class MediumCase:
     """One layer: the view θ (degrees), the base's albedo ρ, the coat's η, the medium's
-    optical thickness τ, single-scattering albedo ω and Henyey–Greenstein g."""
+    optical thickness τ, single-scattering albedo ω and Henyey–Greenstein g, and the coat's
+    GGX roughness α (0: smooth; rough: Mitsuba's ``roughdielectric`` against the walk's
+    single-scattering interface, ``interface="single"``, which is its behaviour)."""
 
     theta_deg: float
     rho: float
@@ -50,6 +52,7 @@ class MediumCase:
     tau: float
     omega: float
     g: float
+    alpha: float = 0.0
 
 
 CASES = (
@@ -59,10 +62,12 @@ CASES = (
     MediumCase(30.0, 0.8, 1.33, 3.0, 0.95, -0.3),
     MediumCase(60.0, 0.2, 1.8, 0.3, 0.6, 0.8),
     MediumCase(30.0, 0.0, 1.5, 2.0, 1.0, 0.0),
+    MediumCase(45.0, 0.5, 1.5, 1.0, 0.8, 0.5, 0.3),
 )
 """The layers compared: a glaze-like medium at three views; a thick, nearly conservative,
 back-scattering one over a bright base; a thin forward-scattering one over a dark base; a
-conservative medium over a black base (all its light from the medium)."""
+conservative medium over a black base (all its light from the medium); the glaze under a
+rough GGX coat (α = 0.3)."""
 
 
 def render_slab(mi: Any, case: MediumCase, *, spp: int = 256, res: int = 32,
@@ -93,7 +98,10 @@ def render_slab(mi: Any, case: MediumCase, *, spp: int = 256, res: int = 32,
         "slab": {
             "type": "cube",
             "to_world": t4().translate([0.0, 0.0, 0.5 * d]) @ t4().scale([half, half, 0.5 * d]),
-            "bsdf": {"type": "dielectric", "int_ior": case.eta, "ext_ior": 1.0},
+            "bsdf": ({"type": "dielectric", "int_ior": case.eta, "ext_ior": 1.0}
+                     if case.alpha == 0 else
+                     {"type": "roughdielectric", "distribution": "ggx", "alpha": case.alpha,
+                      "int_ior": case.eta, "ext_ior": 1.0}),
             "interior": {"type": "homogeneous", "albedo": grey, "sigma_t": case.tau / d,
                          "phase": {"type": "hg", "g": case.g}},
         },
@@ -110,12 +118,12 @@ def render_slab(mi: Any, case: MediumCase, *, spp: int = 256, res: int = 32,
 
 def walk_albedo(case: MediumCase, samples: int = 100_000,
                 seed: int = 0) -> tuple[float, float]:
-    """The layered walk's directional albedo of ``case`` (smooth coat) and its standard
-    error."""
+    """The layered walk's directional albedo of ``case`` and its standard error (a rough
+    coat with the single-scattering interface, Mitsuba's ``roughdielectric``'s)."""
     value, se = layered.directional_albedo(
-        math.radians(case.theta_deg), Lambert(case.rho), case.eta, 0.0,
+        math.radians(case.theta_deg), Lambert(case.rho), case.eta, case.alpha,
         absorption=case.tau, medium_albedo=case.omega, medium_g=case.g, samples=samples,
-        seed=seed, return_stderr=True)
+        seed=seed, return_stderr=True, interface="single" if case.alpha > 0 else "multiple")
     return float(value), float(se)
 
 
@@ -143,6 +151,9 @@ def medium_lines(mi: Any, samples: int = 100_000, spp: int = 256) -> list[str]:
         "roulette). The light is a uniform `constant` environment of radiance 1, so each",
         "pixel is the directional albedo at the view θ (by reciprocity, the walk's",
         "`directional_albedo(θ)`), the coat's mirror reflection included in both. A",
+        "rough coat (α > 0, GGX) is Mitsuba's `roughdielectric`, against the walk with the",
+        "single-scattering interface (`interface=\"single\"`, one facet event per crossing,",
+        "as `roughdielectric` has). A",
         "directional emitter cannot be used: its light is a delta in direction, which neither",
         "Mitsuba's path tracer (the shadow ray stops at the dielectric) nor its light tracer",
         "(the orthographic sensor is a delta too) carries through a smooth dielectric.",
@@ -151,14 +162,15 @@ def medium_lines(mi: Any, samples: int = 100_000, spp: int = 256) -> list[str]:
         "error that of the pixels' mean. Relative difference (walk − render) / render, and",
         "that difference in combined standard errors:",
         "",
-        "| θ | ρ | η | τ | ω | g | walk | render | difference | in s.e. |",
-        "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        "| θ | ρ | η | α | τ | ω | g | walk | render | difference | in s.e. |",
+        "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for case in CASES:
         r = compare(mi, case, samples=samples, spp=spp)
         se = math.hypot(r["walk_se"], r["render_se"])
         lines.append(
-            f"| {case.theta_deg:g}° | {case.rho:g} | {case.eta:g} | {case.tau:g} | "
+            f"| {case.theta_deg:g}° | {case.rho:g} | {case.eta:g} | {case.alpha:g} | "
+            f"{case.tau:g} | "
             f"{case.omega:g} | {case.g:g} | {r['walk']:.5f} ± {r['walk_se']:.5f} | "
             f"{r['render']:.5f} ± {r['render_se']:.5f} | {100 * r['rel']:+.2f} % | "
             f"{(r['walk'] - r['render']) / se:+.1f} |")
