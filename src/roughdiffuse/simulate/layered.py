@@ -393,7 +393,7 @@ def _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, 
                 max_k, seed, BETA_CUT, c, ms, omega=medium[0], hg_g=medium[1])
         except TraceError as exc:
             why = str(exc)
-    if required and np.any(medium[0] > 0):
+    if required and np.any(medium[0] > 0) and np.any(tau > 0):
         raise ParameterError(
             f"a scattering medium (medium_albedo > 0) runs on the compiled walk, which cannot "
             f"run base {type(base).__name__}: {why}")
@@ -598,7 +598,8 @@ def directional_albedo(
     no absorption a smooth coat conserves energy exactly: the white furnace gives 1. With
     ``interface="multiple"`` (default) the rough coat's reflection is the walk's own: each
     path that the microsurface sends back up scores 1, and a rough coat conserves energy
-    exactly too. ``interface``, ``engine``, ``return_segments``: as in :func:`brdf`.
+    exactly too. ``medium_albedo``, ``medium_g`` (a scattering coat), ``interface``,
+    ``engine``, ``return_segments``: as in :func:`brdf`.
     """
     base, eta, alpha, tau, bounces, engine, ms, medium = _checked(
         base, eta, roughness, distribution, absorption, bounces, samples, engine, interface,
