@@ -152,18 +152,12 @@ def _points(entry: registry.Entry) -> list[dict[str, Any]]:
     return out
 
 
-NOT_YET = {"coated"}
-"""Ids whose C loop is known to hold an older formula, left out until it is written again:
-kernels.c's Coated loop predates the coat's multiple scattering (the interface's own energy
-1 - E(mu) and the fitted lobe boost of models/coated.py)."""
-
-
 def _cases() -> list[Any]:
     """(id, parameter set) for every set whose model the C file has a kernel for (Coated's
-    kernel is over the full Oren–Nayar base only)."""
+    kernels are over the full Oren–Nayar and the Lambert bases only)."""
     cases = []
     for entry in registry.entries():
-        if entry.id not in bench.C_KERNELS or entry.id in NOT_YET:
+        if entry.id not in bench.C_KERNELS:
             continue
         points = [p for p in _points(entry) if bench.C_KERNELS[entry.id](entry.create(**p))[0]]
         cases += [pytest.param(entry.id, p, id=f"{entry.id}-{k}") for k, p in enumerate(points)]
@@ -248,7 +242,7 @@ def test_every_c_kernel_is_checked():
     """Each registry id with a C kernel has parameter sets here, with both ends of each
     numeric parameter."""
     ids = {c.values[0] for c in CASES}
-    assert ids == (set(bench.C_KERNELS) & set(registry.ids())) - NOT_YET
+    assert ids == set(bench.C_KERNELS) & set(registry.ids())
     on = [c.values[1] for c in CASES if c.values[0] == "oren-nayar-full"]
     assert {p["sigma"] for p in on} >= {0.0, math.pi / 2}
     assert {p["albedo"] for p in on} >= {0.0, 1.0}

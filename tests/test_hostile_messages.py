@@ -163,8 +163,10 @@ def test_a_layered_truth_beyond_the_cost_budget_is_a_400_before_any_walk(monkeyp
         raise AssertionError("the walk ran")
 
     monkeypatch.setattr(lt, "_plane_of_incidence", no_walk)
-    with pytest.raises(ValueError, match="lower η or the albedo"):
+    with pytest.raises(ValueError, match=r"eta must be in \[1, 5\]"):  # the model's range
         lt.layered_truth({"model": "coated", "eta": "1000", "albedo": "1", "theta_i": "30"})
+    with pytest.raises(ValueError, match="lower η or the albedo"):  # the walk's own budget
+        lt.check_cost(1000.0, 1.0)
     assert lt.arrivals(1.5, 0.0) == 1.0  # a black base: the one arrival of each path
     # a closed form: the mean of a geometric count with continuation p is 1 / (1 - p)
     eta, rho = 2.0, 0.5

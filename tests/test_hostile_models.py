@@ -31,6 +31,30 @@ def test_legendre_minimum_is_the_least_value_on_a_fine_grid(b, c):
     assert float(legendre_minimum(b, c)) == pytest.approx(brute, abs=1e-7)
 
 
+@pytest.mark.parametrize("eta", [1e-154, 0.0, 0.5, 5.5, 1e3, math.nan])
+def test_coated_refuses_eta_outside_its_physical_range_naming_it(eta):
+    """η below 1 (the coat's internal reflectance from above assumes η ≥ 1; η ≈ 1e-154 made
+    η² underflow to NaN) or above 5 (beyond any transparent material) is refused, the
+    message naming η and its range."""
+    with pytest.raises(ValueError, match=r"eta must be in \[1, 5\]"):
+        registry.create("coated", eta=eta)
+
+
+def test_coated_at_the_ends_of_its_eta_range_is_finite_and_non_negative():
+    """η = 1 (no interface) and η = 5, smooth and rough, over an Oren–Nayar base: finite and
+    non-negative at grazing and normal directions."""
+    theta = np.radians([0.0, 45.0, 89.0, 90.0])
+    ti, to = (a.ravel() for a in np.meshgrid(theta, theta, indexing="ij"))
+    wi = np.stack([np.sin(ti), 0 * ti, np.cos(ti)], -1)
+    wo = np.stack([-np.sin(to), 0 * to, np.cos(to)], -1)
+    for eta in (1.0, 5.0):
+        for alpha in (0.0, 1.0):
+            m = registry.create("coated", eta=eta, roughness=alpha, albedo=1.0, sigma=1.5)
+            with use_fastpath(False):
+                f = np.asarray(m.brdf(wi, wo))
+            assert np.all(np.isfinite(f)) and np.all(f >= 0.0), (eta, alpha, f)
+
+
 def test_accepted_legendre_models_are_non_negative_at_every_phase():
     m = registry.create("hapke-legendre", bh=1.0, ch=0.0)  # p(π) = 0: the edge, accepted
     theta = np.linspace(0.0, math.pi / 2 - 1e-6, 64)
@@ -40,16 +64,7 @@ def test_accepted_legendre_models_are_non_negative_at_every_phase():
         assert np.all(np.asarray(m.brdf(wi, wo)) >= 0.0)
 
 
-# Coated with η below about 1e-154 (η² underflows to 0) is NaN: its declared box (0, 1000]
-# needs a stated lower limit; until its declaration has one, that case is a known failure.
-_KNOWN = {"coated": "eta near 0 (eta**2 underflows): NaN; the declaration needs a lower limit"}
-CLOSED_FORM = [
-    pytest.param(e, marks=pytest.mark.xfail(strict=False, reason=_KNOWN[e.id]))
-    if e.id in _KNOWN
-    else e
-    for e in registry.entries()
-    if getattr(e.cls, "closed_form", True)
-]
+CLOSED_FORM = [e for e in registry.entries() if getattr(e.cls, "closed_form", True)]
 
 
 def _value(p, draw):

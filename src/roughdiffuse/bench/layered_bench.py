@@ -1,14 +1,16 @@
 """Speed of the coat: the layered walk and ``Coated``'s closed form.
 
 1. The layered walk (:func:`roughdiffuse.simulate.layered.brdf`): path segments (arrivals on
-   the base) per CPU second (``time.process_time``, every thread counted), compiled and NumPy,
-   for a Lambertian base under a smooth coat, an Oren–Nayar base under a rough GGX coat and
+   the base, and facet events of the multiple-scattering interface) per CPU second
+   (``time.process_time``, every thread counted), compiled (a rough coat with each interface:
+   ``"multiple"``, the default, and ``"single"``) and NumPy (the single interface), for a
+   Lambertian base under a smooth coat, Oren–Nayar and EON bases under rough GGX coats and
    an EON base under a rough Beckmann coat; beside it, in the same run, the compiled Smith
    walk's segments per CPU second as the reference, and the ratio to it
    (``--walk-only``: this part alone).
 2. ``Coated`` over Lambert with a rough GGX and a rough Beckmann coat: the default call
    ``model.brdf(wi, wo)`` (compiled fast path) against the C loop of the same formula
-   (``rd_coated_lambert_*`` of ``c/kernels.c``, the same node rules, compiled as
+   (``rd_coated_lambert_*`` of ``c/kernels.c``, the same node rules and fitted boost, compiled as
    :func:`.run.build_c` compiles it), interleaved, on float64 (N, 3) arrays; the ratio
    default/C is what counts on a shared machine (``--coated-only``: this part alone).
 
@@ -43,10 +45,17 @@ WALK_CASES = (
 )
 
 
-def _walk_rate(engine: str, base, alpha: float, dist: str, samples: int) -> tuple[int, float]:
+INTERFACES = ("multiple", "single")
+"""The rough interfaces timed: the exact multiple-scattering microsurface (the default) and
+the single-scattering one (pbrt-v4's and Mitsuba's)."""
+INTERFACE_LABELS = {"multiple": "multiple-scattering interface", "single": "single interface"}
+
+
+def _walk_rate(engine: str, base, alpha: float, dist: str, samples: int,
+               interface: str = "multiple") -> tuple[int, float]:
     """(segments, CPU seconds) of one call of the layered walk on 4 geometries."""
     g = np.radians([0.0, 30.0, 60.0, 80.0])
-    kw = dict(roughness=alpha, distribution=dist, engine=engine)
+    kw = dict(roughness=alpha, distribution=dist, engine=engine, interface=interface)
     t0 = time.process_time()
     _, seg = layered.brdf(g, g[::-1], 1.0, base, samples=samples, return_segments=True, **kw)
     return seg, time.process_time() - t0
@@ -66,8 +75,9 @@ def walk_rates(samples: int, repeat: int = 3) -> list[str]:
     (the least disturbed by other jobs); the NumPy walk one round."""
     smith.random_walk(0.3, 0.3, 0.0, 0.5, 1.0, samples=2_000)  # compile / load
     for _, base, alpha, dist in WALK_CASES:
-        layered.brdf(0.3, 0.3, 0.0, base, samples=2_000, roughness=alpha, distribution=dist,
-                     engine="compiled")
+        for interface in INTERFACES:
+            layered.brdf(0.3, 0.3, 0.0, base, samples=2_000, roughness=alpha,
+                         distribution=dist, engine="compiled", interface=interface)
     best: dict[str, tuple[int, float]] = {}
 
     def keep(key: str, seg_cpu: tuple[int, float]) -> None:
@@ -78,21 +88,25 @@ def walk_rates(samples: int, repeat: int = 3) -> list[str]:
     for _ in range(repeat):
         keep("smith", _smith_rate(samples))
         for label, base, alpha, dist in WALK_CASES:
-            keep(label, _walk_rate("compiled", base, alpha, dist, samples))
+            for interface in INTERFACES if alpha > 0 else ("multiple",):
+                keep(f"{label} {interface}",
+                     _walk_rate("compiled", base, alpha, dist, samples, interface))
     seg, cpu = best["smith"]
     smith_rate = seg / cpu
     lines = [f"| Smith walk (compiled, reference), α = 0.5 | {seg:,} | {cpu:.2f} | "
              f"{smith_rate / 1e6:.2f} | 1 |"]
     for label, base, alpha, dist in WALK_CASES:
-        seg, cpu = best[label]
-        lines.append(f"| layered walk (compiled), {label} | {seg:,} | {cpu:.2f} | "
-                     f"{seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
+        for interface in INTERFACES if alpha > 0 else ("multiple",):
+            seg, cpu = best[f"{label} {interface}"]
+            kind = INTERFACE_LABELS[interface] if alpha > 0 else "smooth"
+            lines.append(f"| layered walk (compiled, {kind}), {label} | {seg:,} | {cpu:.2f} | "
+                         f"{seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
         n = max(samples // 5, 2_000)
         layered.brdf(0.3, 0.3, 0.0, base, samples=200, roughness=alpha, distribution=dist,
-                     engine="numpy")
-        seg, cpu = _walk_rate("numpy", base, alpha, dist, n)
-        lines.append(f"| layered walk (numpy), {label} | {seg:,} | {cpu:.2f} | "
-                     f"{seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
+                     engine="numpy", interface="single")
+        seg, cpu = _walk_rate("numpy", base, alpha, dist, n, "single")
+        lines.append(f"| layered walk (numpy, single interface), {label} | {seg:,} | "
+                     f"{cpu:.2f} | {seg / cpu / 1e6:.2f} | {seg / cpu / smith_rate:.2f} |")
     return lines
 
 
@@ -128,8 +142,9 @@ def walk_markdown(samples: int, repeat: int) -> str:
                f"--repeat {repeat} --threads {threads}")
     return "\n".join([
         BEGIN,
-        _run_line(command) + " Path segments (arrivals "
-        f"on the base) per CPU second on {threads} Numba thread(s), every thread counted "
+        _run_line(command) + " Path segments (arrivals on the base, and each facet event of "
+        f"the multiple-scattering interface) per CPU second on {threads} Numba thread(s), "
+        "every thread counted "
         "(`time.process_time`), 4 "
         f"geometries × {samples:,} paths; the compiled walks interleaved over {repeat} rounds, "
         "each its fastest round; the NumPy walk one round of a fifth of the paths; the last "
@@ -202,7 +217,8 @@ def coated_markdown(rows_log2: int, repeat: int) -> str:
         _run_line(command) + " `Coated` over Lambert "
         "with a rough coat: the default call `model.brdf(wi, wo)` (the compiled fast path, "
         f"{numba.config.NUMBA_NUM_THREADS} threads) against a C loop of the same formula "
-        "(`rd_coated_lambert_*` of roughdiffuse/bench/c/kernels.c, the same node rules, "
+        "(`rd_coated_lambert_*` of roughdiffuse/bench/c/kernels.c, the same node rules and "
+        "fitted multiple-scattering boost, "
         "gcc -O3 -march=native -fopenmp -ffast-math, every core), interleaved, "
         f"the median of {repeat} calls each on float64 (N, 3) arrays (wall time: both use "
         "every core); default/C is the ratio of the rates:",

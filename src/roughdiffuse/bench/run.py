@@ -84,7 +84,7 @@ class BenchCase(NamedTuple):
     label: str
     model: Any
     c_name: str | None
-    c_params: tuple[float, ...]
+    c_params: tuple[Any, ...]
 
 
 def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
@@ -97,18 +97,23 @@ def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
     return "rd_torrance_sparrow", (float(model.eta), float(model.sigma), norm)
 
 
-def _c_coated(model: Any) -> tuple[str | None, tuple[float, ...]]:
+def _c_coated(model: Any) -> tuple[str | None, tuple[Any, ...]]:
     """The registry's ``coated`` over the full Oren–Nayar model (its default base) or over
-    Lambert (σ passed as 0, unused); the C file has no other base."""
+    Lambert (σ passed as 0, unused); the C file has no other base. The last argument is the
+    array of the boost's fitted coefficients (:func:`~roughdiffuse.models.coated.ms_fit`)."""
     from roughdiffuse import registry
 
     base, base_id = model.base, registry.id_of(model.base)
     if base_id not in ("oren-nayar-full", "lambert"):
         return None, ()
+    from roughdiffuse.models.coated import ms_fit
+
     sigma = base.sigma if base_id == "oren-nayar-full" else 0.0
     args = (base.albedo, sigma, model.eta, model.roughness, model.absorption)
     name = "rd_coated_" + ("lambert_" if base_id == "lambert" else "") + model.distribution
-    return name, tuple(float(a) for a in args)
+    # the fitted coefficients of the coat's multiple-scattering boost: data, not formula
+    coef = np.asarray(ms_fit(model.distribution), np.float64)
+    return name, (*(float(a) for a in args), coef)
 
 
 def _c_args(*names: str) -> Callable[[Any], tuple[float, ...]]:
@@ -203,13 +208,31 @@ def build_c(workdir: Path) -> tuple[ctypes.CDLL | None, str]:
     return ctypes.CDLL(str(lib)), f"{line}; `{cmd_text}`; OMP_WAIT_POLICY={policy}"
 
 
+def _param_types(params: tuple[Any, ...], ctype: Any) -> list[Any]:
+    """The ctypes of a kernel's parameters: ``ctype`` for a number, a pointer to double for a
+    float64 array (Coated's fitted coefficients)."""
+    double_ptr = ctypes.POINTER(ctypes.c_double)
+    return [double_ptr if isinstance(p, np.ndarray) else ctype for p in params]
+
+
+def _param_values(params: tuple[Any, ...]) -> tuple[Any, ...]:
+    """The parameters as passed: numbers as they are, a float64 array by a pointer to its
+    C-contiguous data (the pointer keeps the array alive)."""
+    double_ptr = ctypes.POINTER(ctypes.c_double)
+    return tuple(
+        np.ascontiguousarray(p, np.float64).ctypes.data_as(double_ptr)  # keeps the array
+        if isinstance(p, np.ndarray) else p
+        for p in params
+    )
+
+
 def c_caller(lib: ctypes.CDLL, name: str, params: tuple[float, ...]) -> Callable[..., None]:
     fn = getattr(lib, name)
     ptr = ctypes.POINTER(ctypes.c_float)
-    fn.argtypes = [ptr, ptr, ptr, ptr, ctypes.c_long, ctypes.c_float] + [ctypes.c_float] * len(
-        params
-    )
+    fn.argtypes = [ptr, ptr, ptr, ptr, ctypes.c_long, ctypes.c_float] + _param_types(
+        params, ctypes.c_float)
     fn.restype = None
+    params = _param_values(params)
 
     def call(n: np.ndarray, l: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
         for a in (n, l, v, out):
@@ -279,8 +302,9 @@ def c_brdf_caller(
     fn = getattr(lib, f"{name}_brdf_{'f64' if double else 'f32'}")
     ctype = ctypes.c_double if double else ctypes.c_float
     ptr = ctypes.POINTER(ctype)
-    fn.argtypes = [ptr, ptr, ptr, ctypes.c_long] + [ctype] * len(params)
+    fn.argtypes = [ptr, ptr, ptr, ctypes.c_long] + _param_types(params, ctype)
     fn.restype = None
+    params = _param_values(params)
 
     def call(wi: np.ndarray, wo: np.ndarray, out: np.ndarray) -> None:
         for a in (wi, wo, out):

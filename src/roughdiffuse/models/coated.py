@@ -73,15 +73,21 @@ from .lambert import Lambert
 from .microfacet import fresnel_dielectric, slope_distribution
 from .oren_nayar import OrenNayar
 from .sampling import Strategy
-from .torrance_sparrow import ETA_MAX
 
-__all__ = ["Coated", "COAT_BASES", "COAT_DISTRIBUTIONS"]
+__all__ = ["Coated", "COAT_BASES", "COAT_DISTRIBUTIONS", "COAT_ETA_RANGE"]
 
 COAT_DISTRIBUTIONS: tuple[str, ...] = ("ggx", "beckmann")
 
 COAT_BASES: tuple[str, ...] = ("lambert", "oren-nayar", "oren-nayar-full", "fujii", "eon")
 """The registry ids the registry's ``coated`` accepts as its ``base`` (the explorer's base
 menu; each has a GLSL copy). In Python, :class:`Coated` takes any closed-form model."""
+
+COAT_ETA_RANGE: tuple[float, float] = (1.0, 5.0)
+"""The coat's relative index η accepted: a coat in air or in a less dense medium (η ≥ 1;
+η = 1 is no interface), up to 5, beyond the most refractive transparent materials (rutile
+2.9 in the visible, silicon and germanium about 3.5 and 4 in the infrared). Below 1 the
+rough coat's internal reflectance, 1 − (1 − Ē)/η² from above, is not what the formula
+assumes (the total internal reflection is on the way in), and at η ≈ 1e-154 η² underflows."""
 
 _ON_BASES = ("oren-nayar", "oren-nayar-full")
 _FON_BASES = ("fujii", "eon")
@@ -262,7 +268,7 @@ _FIT_POWERS = tuple((i, j, k) for i in range(1, 4) for j in range(1, 4) for k in
 
 
 @functools.lru_cache(maxsize=2)
-def _ms_fit(distribution: str) -> tuple[float, ...]:
+def ms_fit(distribution: str) -> tuple[float, ...]:
     """The coefficients of :func:`ms_boost`: least squares (weight √μ E_ss, the reflectance
     each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
     reflectance from above (the multiple-scattering microsurface) minus the
@@ -284,10 +290,10 @@ def _ms_fit(distribution: str) -> tuple[float, ...]:
 def ms_boost(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str) -> Array:
     """b(μ) = √(1 + c(μ)), c = ΔE/E_ss ≥ 0 the rough coat's reflection by more than one facet
     event relative to its single scattering (light from above at cosine μ), a polynomial
-    fitted to the walk (:func:`_ms_fit`; arithmetic only; η clamped to [1, 3], α to
+    fitted to the walk (:func:`ms_fit`; arithmetic only; η clamped to [1, 3], α to
     [0, 1]; c = 0 at η = 1 and α = 0). The coat's lobe times b(μi) b(μo) is reciprocal and,
     where it is narrow, reflects E_ss (1 + c) = E_ss + ΔE."""
-    coef = _ms_fit(distribution)
+    coef = ms_fit(distribution)
     x = clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0)
     a = clip(xp, alpha, 0.0, 1.0)
     u = 1.0 - clip(xp, mu, 0.0, 1.0)
@@ -417,7 +423,8 @@ class Coated(Model):
         ``base="oren-nayar-full", base_params={"albedo": 0.8, "sigma": 0.3}``). It must be
         a closed form or a table (not a simulation such as ``SmithDiffuse``), and not a coat.
     eta : float
-        Relative refractive index η of the coat in (0, 1000] (1.5 for glazes and plastics).
+        Relative refractive index η of the coat in [1, 5] (:data:`COAT_ETA_RANGE`; 1.5 for
+        glazes and plastics).
     roughness : float
         The coat's roughness α in [0, 1] (0: smooth, a mirror reflection that the BRDF value
         does not hold).
@@ -444,8 +451,9 @@ class Coated(Model):
     """
 
     base: Any = None
-    eta: float | Array = param("relative refractive index η of the coat", min=0.0, max=ETA_MAX,
-                               min_open=True, default=1.5, fit_range=(1.05, 3.0))
+    eta: float | Array = param("relative refractive index η of the coat",
+                               min=COAT_ETA_RANGE[0], max=COAT_ETA_RANGE[1], default=1.5,
+                               fit_range=(1.05, 3.0))
     roughness: float | Array = param("α, roughness of the coat (0: smooth)", min=0.0, max=1.0,
                                      default=0.0, fit_range=(0.0, 1.0))
     distribution: str = param("facet distribution of the rough coat",

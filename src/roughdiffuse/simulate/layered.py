@@ -58,6 +58,14 @@ for every channel; the bias is below that).
 Absorption: τ = thickness × absorption coefficient (per colour channel), Beer–Lambert along
 the path length, τ / |cos θ| per crossing.
 
+A scattering coat (``medium_albedo`` > 0): τ is then the medium's optical thickness
+(extinction) and a fraction ω of it scatters, with the Henyey–Greenstein phase function of
+asymmetry ``medium_g``: the homogeneous slab of pbrt-v4's ``coateddiffuse``
+(``LayeredBxDF``, ``src/pbrt/bxdfs.h``: albedo, g, thickness). The compiled walk draws free
+paths in the slab, scatters, and takes next events towards the exit direction from every
+scattering as from every arrival on the base (:func:`~.layered_walk_numba._medium_path`);
+with ω = 0 the walk is the absorbing one above.
+
 Anchors (``tests/test_simulate_layered.py``): Mitsuba 3's own ``plastic`` (a smooth coat over
 a Lambertian base, its internal reflections summed in closed form), the white furnace (ρ = 1,
 no absorption: directional albedo 1 with the specular reflection), the limits η → 1 and ρ = 0,
@@ -169,6 +177,24 @@ def _check_absorption(absorption: object) -> np.ndarray:
             f"or one per channel (got {absorption!r})"
         )
     return a
+
+
+def _check_medium(medium_albedo: object, medium_g: object) -> tuple[np.ndarray, float]:
+    """The medium's single-scattering albedo (per channel, each in [0, 1]) and its
+    Henyey–Greenstein g in (−1, 1), checked by name."""
+    w = np.atleast_1d(np.asarray(medium_albedo, dtype=np.float64))
+    if w.ndim != 1 or not np.all(np.isfinite(w)) or np.any(w < 0) or np.any(w > 1):
+        raise ParameterError(
+            "medium_albedo (the medium's single-scattering albedo) must be in [0, 1], a number "
+            f"or one per channel (got {medium_albedo!r})")
+    try:
+        g = float(medium_g)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        g = math.nan
+    if not abs(g) < 1.0:  # NaN too
+        raise ParameterError(
+            f"medium_g (Henyey–Greenstein asymmetry) must be in (-1, 1) (got {medium_g!r})")
+    return w, g
 
 
 def _directions(theta_i, theta_r, delta_phi):
@@ -321,16 +347,22 @@ def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, d
 
 
 def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, engine,
-         per_geometry_wo=True, ms=False):
+         per_geometry_wo=True, ms=False, medium=None):
     max_k = MAX_BOUNCES if bounces == "all" else int(bounces)
-    channels = max(base.channels, tau.size if tau.size > 1 else 0)
+    omega, g = medium if medium is not None else (np.zeros(1), 0.0)
+    channels = max(base.channels, tau.size if tau.size > 1 else 0,
+                   omega.size if omega.size > 1 else 0)
     c = max(channels, 1)
     if tau.size not in (1, c):
         raise ParameterError(f"absorption has {tau.size} channels, the base {base.channels}")
+    if omega.size not in (1, c):
+        raise ParameterError(f"medium_albedo has {omega.size} channels where the walk has {c}")
+    scatters = bool(np.any(omega > 0) and np.any(tau > 0))
     sums = None
     if engine != "numpy":
         sums = _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
-                             per_geometry_wo, required=engine == "compiled" or ms, ms=ms)
+                             per_geometry_wo, required=engine == "compiled" or ms or scatters,
+                             ms=ms, medium=(omega, g))
     if sums is None:
         sums = _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
                           per_geometry_wo)
@@ -342,12 +374,13 @@ def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, engine,
 
 
 def _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per_geometry_wo,
-                  required, ms=False):
+                  required, ms=False, medium=None):
     """The sums of the compiled walk (:mod:`.layered_walk_numba`), or ``None`` (with
     ``required`` False) for a base it cannot compile: a table or a simulation, or a model
     whose code the trace cannot express."""
     from ..engine.trace import TraceError
 
+    medium = (np.zeros(1), 0.0) if medium is None else medium
     why = None
     if not getattr(type(base), "closed_form", False):
         why = "it is not a closed form"
@@ -357,9 +390,13 @@ def _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, 
         try:
             return layered_walk_numba.run(
                 base, wi, wo, not per_geometry_wo, samples, eta, alpha, dist == "ggx", tau,
-                max_k, seed, BETA_CUT, c, ms)
+                max_k, seed, BETA_CUT, c, ms, omega=medium[0], hg_g=medium[1])
         except TraceError as exc:
             why = str(exc)
+    if required and np.any(medium[0] > 0) and np.any(tau > 0):
+        raise ParameterError(
+            f"a scattering medium (medium_albedo > 0) runs on the compiled walk, which cannot "
+            f"run base {type(base).__name__}: {why}")
     if required and ms:
         raise ParameterError(
             f"interface='multiple' runs on the compiled walk, which cannot run base "
@@ -416,6 +453,8 @@ def brdf(
     absorption: float | np.ndarray = 0.0,
     bounces: Bounces = "all",
     *,
+    medium_albedo: float | np.ndarray = 0.0,
+    medium_g: float = 0.0,
     interface: str = "multiple",
     samples: int = 100_000,
     seed: int = 0,
@@ -442,7 +481,13 @@ def brdf(
         The interface's facet distribution when rough.
     absorption : float or array (C,)
         Optical depth τ = thickness × absorption coefficient at normal incidence, ≥ 0, per
-        channel; light crossing the layer at angle θ keeps e^{−τ/|cos θ|}.
+        channel; light crossing the layer at angle θ keeps e^{−τ/|cos θ|}. With a
+        scattering medium, its optical thickness (extinction).
+    medium_albedo : float or array (C,)
+        The medium's single-scattering albedo ω in [0, 1], per channel (0: it only absorbs;
+        > 0 runs on the compiled walk).
+    medium_g : float
+        The Henyey–Greenstein asymmetry g of the medium's phase function, in (−1, 1).
     bounces : int >= 1 or "all"
         Arrivals on the base summed (1: one base bounce, no internal reflection).
     interface : {"multiple", "single"}
@@ -479,12 +524,13 @@ def brdf(
     >>> bool(abs(f * math.pi - 0.96 * 0.96 / 1.5**2 / (1 - 0.596)) < 5 * se * math.pi + 3e-3)
     True
     """
-    base, eta, alpha, tau, bounces, engine, ms = _checked(
-        base, eta, roughness, distribution, absorption, bounces, samples, engine, interface)
+    base, eta, alpha, tau, bounces, engine, ms, medium = _checked(
+        base, eta, roughness, distribution, absorption, bounces, samples, engine, interface,
+        medium_albedo, medium_g)
     wi, wo, shape = _directions(theta_i, theta_r, delta_phi)
     mean, se, channels, segments = _run(
         base, wi, wo, eta, alpha, str(distribution), tau, bounces, int(samples), seed, engine,
-        ms=ms)
+        ms=ms, medium=medium)
     if not ms:
         mean = mean + interface_brdf(wi, wo, eta, alpha, str(distribution))[:, None]
     out = _finish(mean, se, shape, channels, return_stderr)
@@ -499,9 +545,10 @@ def _check_samples(samples: object) -> None:
 
 
 def _checked(base, eta, roughness, distribution, absorption, bounces, samples, engine,
-             interface="multiple"):
+             interface="multiple", medium_albedo=0.0, medium_g=0.0):
     """The walk's arguments checked by name, as :func:`brdf` and :func:`directional_albedo`
-    take them: (base, η, α, τ, bounces, engine, whether the interface scatters multiply);
+    take them: (base, η, α, τ, bounces, engine, whether the interface scatters multiply,
+    the medium's (ω, g));
     the engine stays "auto" where Numba can run (the compiled walk, the NumPy one for a base
     it cannot compile)."""
     base = check_base(base)
@@ -514,11 +561,15 @@ def _checked(base, eta, roughness, distribution, absorption, bounces, samples, e
             "interface='multiple' (a rough coat) runs on the compiled walk: use engine "
             "'auto' or 'compiled', or interface='single' with engine 'numpy'")
     tau = _check_absorption(absorption)
+    medium = _check_medium(medium_albedo, medium_g)
+    if np.any(medium[0] > 0) and np.any(tau > 0) and engine == "numpy":
+        raise ParameterError("a scattering medium (medium_albedo > 0) runs on the compiled "
+                             "walk: use engine 'auto' or 'compiled'")
     bounces = check_bounces(bounces)
     _check_samples(samples)
     resolved = _check_engine(engine)
     auto = engine == "auto" and resolved == "compiled"
-    return base, eta, alpha, tau, bounces, "auto" if auto else resolved, ms
+    return base, eta, alpha, tau, bounces, "auto" if auto else resolved, ms, medium
 
 
 def directional_albedo(
@@ -530,6 +581,8 @@ def directional_albedo(
     absorption: float | np.ndarray = 0.0,
     bounces: Bounces = "all",
     *,
+    medium_albedo: float | np.ndarray = 0.0,
+    medium_g: float = 0.0,
     interface: str = "multiple",
     samples: int = 100_000,
     seed: int = 0,
@@ -545,16 +598,18 @@ def directional_albedo(
     no absorption a smooth coat conserves energy exactly: the white furnace gives 1. With
     ``interface="multiple"`` (default) the rough coat's reflection is the walk's own: each
     path that the microsurface sends back up scores 1, and a rough coat conserves energy
-    exactly too. ``interface``, ``engine``, ``return_segments``: as in :func:`brdf`.
+    exactly too. ``medium_albedo``, ``medium_g`` (a scattering coat), ``interface``,
+    ``engine``, ``return_segments``: as in :func:`brdf`.
     """
-    base, eta, alpha, tau, bounces, engine, ms = _checked(
-        base, eta, roughness, distribution, absorption, bounces, samples, engine, interface)
+    base, eta, alpha, tau, bounces, engine, ms, medium = _checked(
+        base, eta, roughness, distribution, absorption, bounces, samples, engine, interface,
+        medium_albedo, medium_g)
     ti = np.asarray(theta_i, dtype=np.float64)
     check_range("theta_i", ti, 0.0, math.pi / 2, unit="radians", scalar=False)
     wi, _, shape = _directions(ti, 0.0 * ti, 0.0 * ti)
     mean, se, channels, segments = _run(
         base, wi, wi, eta, alpha, str(distribution), tau, bounces, int(samples), seed, engine,
-        per_geometry_wo=False, ms=ms,
+        per_geometry_wo=False, ms=ms, medium=medium,
     )
     if not ms:
         spec, spec_se = _interface_albedo(wi, eta, alpha, str(distribution), int(samples),

@@ -137,6 +137,40 @@ def _reflect_inside(wx, wy, wz, eta, alpha, ggx, key, c):  # pragma: no cover - 
 
 
 @_JIT
+def _hg(cos_t, g):  # pragma: no cover - compiled by Numba
+    """The Henyey–Greenstein phase function (1 − g²) / (4π (1 + g² − 2 g cos θ)^{3/2}),
+    θ between the directions of travel before and after the scattering (Henyey and
+    Greenstein 1941, ApJ 93, eq. 3, normalised to 1 over the sphere): g > 0 scatters
+    forwards."""
+    den = 1.0 + g * g - 2.0 * g * cos_t
+    return (1.0 - g * g) / (4.0 * _PI * den * math.sqrt(den))
+
+
+@_JIT
+def _hg_sample(dx, dy, dz, g, u1, u2):  # pragma: no cover - compiled by Numba
+    """A direction of travel after a Henyey–Greenstein scattering of light travelling along
+    the unit (dx, dy, dz): cos θ by inversion of its distribution,
+    (1 + g² − ((1 − g²) / (1 − g + 2 g u))²) / (2 g) (uniform for |g| < 1e-3), the azimuth
+    2π u2 in the frame of Duff et al. 2017 ("Building an orthonormal basis, revisited")."""
+    if abs(g) < 1e-3:
+        ct = 1.0 - 2.0 * u1
+    else:
+        q = (1.0 - g * g) / (1.0 - g + 2.0 * g * u1)
+        ct = (1.0 + g * g - q * q) / (2.0 * g)
+    ct = min(max(ct, -1.0), 1.0)
+    st = math.sqrt(max(1.0 - ct * ct, 0.0))
+    phi = _TWO_PI * u2
+    sign = 1.0 if dz >= 0.0 else -1.0
+    a = -1.0 / (sign + dz)
+    b = dx * dy * a
+    t1x, t1y, t1z = 1.0 + sign * dx * dx * a, sign * b, -sign * dx
+    t2x, t2y, t2z = b, sign + dy * dy * a, -dy
+    cp, sp = st * math.cos(phi), st * math.sin(phi)
+    return _unit(cp * t1x + sp * t2x + ct * dx, cp * t1y + sp * t2y + ct * dy,
+                 cp * t1z + sp * t2z + ct * dz)
+
+
+@_JIT
 def _ms_walk(wx, wy, wz, outside, eta, alpha, ggx, key, c, nee, ox, oy, oz,
              lam_o):  # pragma: no cover - compiled by Numba
     """The random walk on the dielectric microsurface of Heitz, Hanika, d'Eon and
@@ -187,19 +221,120 @@ def _ms_walk(wx, wy, wz, outside, eta, alpha, ggx, key, c, nee, ox, oy, oz,
     return wx, wy, wz, outside, True, total, events, c
 
 
+MEDIUM_MAX_EVENTS = 100_000
+"""Scatterings in the medium one path traces at most (its weight is then dropped: a
+conservative medium of optical thickness 10 scatters about a hundred times per path)."""
+
+
+def _medium_path(dx, dy, dz, w_in, tx, ty, tz, w_exit, h_exit, spec, tau, tau_s, tau_bar,
+                 g_hg, eta, alpha, ggx, ms, max_k, key, c, cut, pf, ps, n_f, ox, oy, oz, beta,
+                 tot, fb):  # pragma: no cover - compiled by Numba
+    """One path through a coat whose medium scatters (the slab of pbrt-v4's
+    ``LayeredBxDF``: depth z from 0 under the interface to 1 on the base): ``tot`` gets its
+    score per channel; returns (the next draw, the segments traced). Free paths are drawn
+    with the channels' mean scattering thickness τ̄s (a path of length ℓ, in thicknesses,
+    is a scattering with density τ̄s e^{−τ̄s ℓ}); each channel's weight takes the ratio of its
+    own, τs e^{−τ ℓ} / (τ̄s e^{−τ̄s ℓ}) at a scattering, e^{−τ L} / e^{−τ̄s L} on reaching a
+    boundary (absorption in e^{−τ ℓ}, τ the extinction). Next events towards the exit
+    direction t (drawn once per path, as the base's): from a scattering at depth z,
+    p(d · (−t)) e^{−τ z/|t_z|} / |t_z| (the source of radiance of a collision density, per
+    unit optical path along −t); from the base, f e^{−τ/|t_z|}, as the walk without a
+    medium. At the base: its sampler; at the interface from below: its reflection (single
+    or multiple scattering), as the walk without a medium."""
+    n_c = tot.shape[0]
+    n_t = tau.size
+    z = 0.0
+    nseg = 0
+    arrivals = 0
+    events = 0
+    inv_tz = 1.0 / max(-tz, 1e-12)
+    live = False
+    for ch in range(n_c):
+        beta[ch] = w_in
+        tot[ch] = spec
+        live |= beta[ch] > cut
+    while live and arrivals < max_k and events < MEDIUM_MAX_EVENTS:
+        if dz < 0.0:
+            dist = (1.0 - z) / max(-dz, 1e-12)
+        else:
+            dist = z / max(dz, 1e-12)
+        ell = -math.log(1.0 - uniform(key, c)) / tau_bar
+        c += 1
+        if ell < dist:  # a scattering at z − ℓ d_z
+            events += 1
+            nseg += 1
+            z = min(max(z - ell * dz, 0.0), 1.0)
+            ph = _hg(-(dx * tx + dy * ty + dz * tz), g_hg) * inv_tz * w_exit
+            live = False
+            for ch in range(n_c):
+                t = tau[min(ch, n_t - 1)]
+                beta[ch] *= tau_s[ch] / tau_bar * math.exp(-(t - tau_bar) * ell)
+                tot[ch] += beta[ch] * ph * math.exp(-t * z * inv_tz)
+                live |= beta[ch] > cut
+            dx, dy, dz = _hg_sample(dx, dy, dz, g_hg, uniform(key, c), uniform(key, c + 1))
+            c += 2
+            continue
+        for ch in range(n_c):
+            beta[ch] *= math.exp(-(tau[min(ch, n_t - 1)] - tau_bar) * dist)
+        if dz < 0.0:  # on the base: its next event, then its sampler
+            arrivals += 1
+            nseg += 1
+            z = 1.0
+            ux, uy, uz = -dx, -dy, -dz
+            h_u = base_f_o(uz, pf)
+            base_f_io(uz, -tz, -(ux * tx + uy * ty + uz * tz), base_f_i_as_o(uz, h_u, pf),
+                      h_exit, fb, pf)
+            for ch in range(n_c):
+                att = math.exp(-tau[min(ch, n_t - 1)] * inv_tz)
+                tot[ch] += beta[ch] * w_exit * fb[min(ch, n_f - 1)] * att
+            sx, sy, sz, pdf = base_sample(uniform(key, c), uniform(key, c + 1), ux, uy, uz, ps)
+            c += 2
+            if not (pdf > 0.0 and sz > 0.0):
+                break
+            base_f_io(sz, uz, sx * ux + sy * uy + sz * uz, base_f_i(sz, pf), h_u, fb, pf)
+            live = False
+            for ch in range(n_c):
+                beta[ch] *= fb[min(ch, n_f - 1)] * sz / pdf
+                live |= beta[ch] > cut
+            dx, dy, dz = sx, sy, sz
+        else:  # under the interface: reflected down, or out (its light is in the next events)
+            z = 0.0
+            if not ms:
+                dx, dy, dz, refl, c = _reflect_inside(dx, dy, dz, eta, alpha, ggx, key, c)
+            else:
+                dx, dy, dz, up, lost, _nee, ev, c = _ms_walk(
+                    dx, dy, dz, False, eta, alpha, ggx, key, c, False, ox, oy, oz, 0.0)
+                nseg += ev
+                refl = 0.0 if up or lost else 1.0
+            if refl == 0.0:
+                break
+            live = False
+            for ch in range(n_c):
+                beta[ch] *= refl
+                live |= beta[ch] > cut
+    return c, nseg
+
+
 def _walk_blocks(
-    wi, wo, uniform_wo, samples, first, count, eta, alpha, ggx, ms, tau, max_k, seed, cut,
-    pf, ps, n_f, sum1, sum2, segments,
+    wi, wo, uniform_wo, samples, first, count, eta, alpha, ggx, ms, tau, omega, g_hg, max_k,
+    seed, cut, pf, ps, n_f, sum1, sum2, segments,
 ):  # pragma: no cover - compiled by Numba
     """Trace blocks ``first`` .. ``first + count − 1``; block b holds paths
     (b mod n) · BLOCK ... of geometry b // n, n = ⌈samples / BLOCK⌉. Row j of ``sum1``,
     ``sum2`` (count, C) gets the sums of each path's score and of its square, ``segments[j]``
-    the arrivals on the base traced. With ``uniform_wo`` each path draws ωo cosine-distributed
-    and scores π f (the directional albedo)."""
+    the arrivals on the base (and scatterings in the medium) traced. With ``uniform_wo`` each
+    path draws ωo cosine-distributed and scores π f (the directional albedo). ``omega`` (per
+    channel) and ``g_hg``: the medium's single-scattering albedo and Henyey–Greenstein g; a
+    medium that scatters takes :func:`_medium_path`."""
     per_group = (samples + BLOCK - 1) // BLOCK
     n_c = sum1.shape[1]
     n_t = tau.size
     absorbs = np.any(tau > 0.0)  # else no exponentials per crossing
+    n_w = omega.size
+    tau_s = np.empty(n_c)  # the scattering optical thickness of each channel, ω τ
+    for ch in range(n_c):
+        tau_s[ch] = omega[min(ch, n_w - 1)] * tau[min(ch, n_t - 1)]
+    tau_bar = np.mean(tau_s)  # free paths are drawn with the channels' mean
     inv_eta2 = 1.0 / (eta * eta)
     for j in prange(count):
         b = first + j
@@ -245,6 +380,15 @@ def _walk_blocks(
                 tx, ty, tz, w_exit, c = _enter(ox, oy, oz, eta, alpha, ggx, key, c)
             w_exit *= inv_eta2 * wgt
             h_exit = base_f_o(-tz, pf)  # the next events' f: its part at μo = −t_z
+            if tau_bar > 0.0:
+                c, ns = _medium_path(dx, dy, dz, w_in, tx, ty, tz, w_exit, h_exit, spec, tau,
+                                     tau_s, tau_bar, g_hg, eta, alpha, ggx, ms, max_k, key, c,
+                                     cut, pf, ps, n_f, ox, oy, oz, beta, tot, fb)
+                nseg += ns
+                for ch in range(n_c):
+                    sum1[j, ch] += tot[ch]
+                    sum2[j, ch] += tot[ch] * tot[ch]
+                continue
             live = False
             for ch in range(n_c):
                 beta[ch] = w_in * (math.exp(-tau[min(ch, n_t - 1)] / abs(dz)) if absorbs else 1.0)
@@ -372,6 +516,10 @@ def _kernel(source: str) -> Any:
         scope.update({name: namespace[name]
                       for name in ("base_f_o", "base_f_i", "base_f_i_as_o", "base_f_io",
                                    "base_sample")})
+        # the medium's path calls the same base functions: compiled in the same scope
+        medium = types.FunctionType(_medium_path.__code__, scope, "_medium_path")
+        scope["_medium_path"] = numba.njit(nogil=True, error_model="numpy",
+                                           fastmath=_FASTMATH)(medium)
         fn = types.FunctionType(_walk_blocks.__code__, scope, "_walk_blocks")
         kernel = _compiled(fn, f"layered_walk_{digest}")
         _KERNELS[digest] = kernel
@@ -397,10 +545,13 @@ def _compiled(fn: Any, folder: str) -> Any:
 
 def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: int, eta: float,
         alpha: float, ggx: bool, tau: np.ndarray, max_k: int, seed: int, cut: float,
-        channels: int, ms: bool = False) -> tuple[np.ndarray, np.ndarray, int]:
+        channels: int, ms: bool = False, omega: np.ndarray | None = None,
+        hg_g: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Per-geometry sums of the path scores and of their squares (G, C), and the number of
     path segments, for directions ``wi``, ``wo`` (G, 3) (``wo`` unused with ``uniform_wo``);
-    ``ms``: a rough interface scatters multiply (:func:`_ms_walk`), its reflection included.
+    ``ms``: a rough interface scatters multiply (:func:`_ms_walk`), its reflection included;
+    ``omega`` (per channel, default 0) and ``hg_g``: the single-scattering albedo and the
+    Henyey–Greenstein g of the medium whose optical thickness is ``tau``.
     Raises :class:`~roughdiffuse.engine.trace.TraceError` if the base cannot be traced."""
     traced = scalar_sources(base)
     kernel = _kernel(traced.source)
@@ -412,7 +563,9 @@ def run(base: Any, wi: np.ndarray, wo: np.ndarray, uniform_wo: bool, samples: in
     key = np.uint64(int(seed) % (1 << 64))  # the generator's key is 64 bits
     args = (np.ascontiguousarray(wi, np.float64), np.ascontiguousarray(wo, np.float64),
             bool(uniform_wo), int(samples), 0, n, float(eta), float(alpha), bool(ggx),
-            bool(ms and alpha > 0.0), np.ascontiguousarray(tau, np.float64), int(max_k), key,
+            bool(ms and alpha > 0.0), np.ascontiguousarray(tau, np.float64),
+            np.ascontiguousarray(np.zeros(1) if omega is None else omega, np.float64),
+            float(hg_g), int(max_k), key,
             float(cut),
             traced.f_params, traced.sample_params, traced.channels, sum1, sum2, segments)
     with _CALL_LOCK:

@@ -134,29 +134,31 @@ MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
 
 /* A dielectric coat over the full Oren-Nayar base (rd_coated_ggx, rd_coated_beckmann: the
  * registry's "coated") or over Lambert (rd_coated_lambert_ggx, ..._beckmann; sigma unused), as
- * src/roughdiffuse/models/coated.py: the parameter-only quantities (the coat's internal sums K and a K, the
- * rules' facet nodes) once per call, as the fast path computes them once per trace; then the
- * per-row formula with the same node rules. p0..p4 = albedo, sigma, eta, alpha, tau. */
-#define COATED(dist, BECK, LAMBERT)                                                               \
-    void rd_coated_##dist(ARGS, P5(float)) {                                             \
+ * src/roughdiffuse/models/coated.py: the parameter-only quantities (the coat's internal sums
+ * K and a K, the rules' facet nodes, the boost's polynomial in mu) once per call, as the fast
+ * path computes them once per trace; then the per-row formula with the same node rules.
+ * p0..p4 = albedo, sigma, eta, alpha, tau; coef: the 36 fitted coefficients of the coat's
+ * multiple-scattering boost for the distribution (coated.py ms_fit). */
+#define COATED(dist, BECK, LAMBERT)                                                      \
+    void rd_coated_##dist(ARGS, P5(float), const double *restrict coef) {                \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT, coef);                     \
         LOOP {                                                                           \
             GEOMETRY                                                                     \
             STORE(coated_f32(&s, mi, mo, cio))                                           \
         }                                                                                \
     }                                                                                    \
-    void rd_coated_##dist##_brdf_f32(BARGS(float), P5(float)) {                          \
+    void rd_coated_##dist##_brdf_f32(BARGS(float), P5(float), const double *restrict coef) { \
         coat_f32 s;                                                                      \
-        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
+        coat_setup_f32(&s, p0, p1, p2, p3, p4, BECK, LAMBERT, coef);                     \
         LOOP {                                                                           \
             BRDF_GEOMETRY(float, _f32)                                                   \
             out[i] = above ? coated_f32(&s, mi, mo, cio) : 0.0f;                         \
         }                                                                                \
     }                                                                                    \
-    void rd_coated_##dist##_brdf_f64(BARGS(double), P5(double)) {                        \
+    void rd_coated_##dist##_brdf_f64(BARGS(double), P5(double), const double *restrict coef) { \
         coat_f64 s;                                                                      \
-        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK, LAMBERT);                                    \
+        coat_setup_f64(&s, p0, p1, p2, p3, p4, BECK, LAMBERT, coef);                     \
         LOOP {                                                                           \
             BRDF_GEOMETRY(double, _f64)                                                  \
             out[i] = above ? coated_f64(&s, mi, mo, cio) : 0.0;                          \
@@ -418,6 +420,7 @@ static inline real RD_F(fresnel)(real c, real eta) {
     return g2 > C(0) ? C(0.5) * a * a * (C(1) + b * b) : C(1);
 }
 
+/* Smith's Lambda: GGX exact, Beckmann by Walter's rational fit (coated.py _smith_lambda) */
 static inline real RD_F(smith_lambda)(real mu, real alpha, int beck) {
     mu = fmax(mu, C(1e-7));
     real tan2 = (C(1) - mu * mu) / (mu * mu);
@@ -431,7 +434,9 @@ static inline real RD_F(smith_lambda)(real mu, real alpha, int beck) {
 
 static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
     if (!beck) {
-        real a2 = fmax(alpha * alpha, C(1e-14)), den = cos_h * cos_h * (a2 - C(1)) + C(1);
+        /* cos^2 (a^2 - 1) + 1 written as sin^2 + cos^2 a^2 (never 0 for a > 0) */
+        real a2 = fmax(alpha * alpha, C(1e-14)), c = RD_F(clamp)(cos_h, C(0), C(1));
+        real den = (C(1) - c) * (C(1) + c) + c * c * a2;
         return cos_h > C(0) ? a2 / (PI * den * den) : C(0);
     }
     real s = fmax(alpha, C(ALPHA_FLOOR_BECKMANN)), a2 = s * s;
@@ -445,33 +450,38 @@ static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
 typedef struct {
     real albedo, sigma, eta, alpha, tau, k, ak;
     int beck, lambert; /* the distribution (Beckmann or GGX), the base (Lambert or Oren-Nayar) */
+    real boost[4]; /* the boost's polynomial in u = 1 - mu: c(u) = sum boost[k] u^k */
     real cos_h[COAT_IF], sin_h[COAT_IF], cos_phi[COAT_IF], w_if[COAT_IF];
     real m2[COAT_BA], sin_cos[COAT_BA], w_ba[COAT_BA];
 } RD_F(coat);
 
-/* the interface's reflectance (or transmittance) from a direction of cosine mu, relative
- * index eta: coated.py interface_albedo */
-static inline real RD_F(coat_interface)(const RD_F(coat) *s, real mu, real eta, int transmitted) {
+/* b(mu) = sqrt(1 + max(c, 0)), the coat's multiple-scattering boost: coated.py ms_boost */
+static inline real RD_F(coat_boost)(const RD_F(coat) *s, real mu) {
+    real u = C(1) - RD_F(clamp)(mu, C(0), C(1));
+    real c = s->boost[0] + u * (s->boost[1] + u * (s->boost[2] + u * s->boost[3]));
+    return sqrt(C(1) + fmax(c, C(0)));
+}
+
+/* the interface's reflectance E(mu) from a direction of cosine mu, relative index eta, with
+ * the height-correlated masking G2/G1 = (1 + L(mu)) / (1 + L(mu) + L(mu_r)); with `boosted`,
+ * the lobe times b(mu) b(mu_r): coated.py interface_albedo */
+static inline real RD_F(coat_reflectance)(const RD_F(coat) *s, real mu, real eta, int boosted) {
     real sin = sqrt(fmax(C(1) - mu * mu, C(0))), mu_s = fmax(mu, C(1e-7)), total = C(0);
+    real lam = RD_F(smith_lambda)(mu, s->alpha, s->beck);
     for (int j = 0; j < COAT_IF; ++j) {
         real cos_h = s->cos_h[j];
         real dot = mu * cos_h + sin * s->sin_h[j] * s->cos_phi[j];
-        real c = RD_F(clamp)(dot, C(0), C(1)), f = RD_F(fresnel)(c, eta), val;
-        int ok;
-        if (transmitted) {
-            real k = C(1) - (C(1) - c * c) / (eta * eta);
-            real t_z = -mu / eta + (c / eta - sqrt(fmax(k, C(0)))) * cos_h;
-            val = (C(1) - f) / (C(1) + RD_F(smith_lambda)(-t_z, s->alpha, s->beck));
-            ok = (k > C(0)) & (t_z < C(0)) & (dot > C(0));
-        } else {
-            real mu_r = C(2) * dot * cos_h - mu;
-            val = f / (C(1) + RD_F(smith_lambda)(mu_r, s->alpha, s->beck));
-            ok = (mu_r > C(0)) & (dot > C(0));
-        }
+        real c = RD_F(clamp)(dot, C(0), C(1));
+        real mu_r = C(2) * dot * cos_h - mu;
+        real val = RD_F(fresnel)(c, eta) * (C(1) + lam)
+                   / (C(1) + lam + RD_F(smith_lambda)(mu_r, s->alpha, s->beck));
+        if (boosted)
+            val *= RD_F(coat_boost)(s, mu_r);
         val = val * dot / (mu_s * cos_h);
-        total += ok ? val * s->w_if[j] : C(0);
+        total += (mu_r > C(0) && dot > C(0)) ? val * s->w_if[j] : C(0);
     }
-    return total / (C(1) + RD_F(smith_lambda)(mu, s->alpha, s->beck));
+    real g = C(1) / (C(1) + lam);
+    return total * (boosted ? g * RD_F(coat_boost)(s, mu) : g);
 }
 
 /* the base's directional albedo at cosine mu: coated.py base_albedo */
@@ -486,10 +496,28 @@ static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
     return total;
 }
 
+/* the node rules, the boost's polynomial and the internal sums K and a K of one call;
+ * coef: the 36 fitted coefficients of the boost (coated.py ms_fit), of x^i a^j u^k for
+ * i, j = 1..3, k = 0..3 in that order (x = 1 - 1/eta clamped to [0, 2/3], a = alpha clamped
+ * to [0, 1]) */
 static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
-                             real tau, int beck, int lambert) {
+                             real tau, int beck, int lambert, const double *coef) {
     s->albedo = albedo, s->sigma = sigma, s->eta = eta, s->alpha = alpha, s->tau = tau;
     s->beck = beck, s->lambert = lambert;
+    double x = fmin(fmax(1.0 - 1.0 / (double)eta, 0.0), 2.0 / 3.0);
+    double a = fmin(fmax((double)alpha, 0.0), 1.0);
+    for (int k = 0; k < 4; ++k) {
+        double p = 0.0, xi = 1.0;
+        for (int i = 1; i <= 3; ++i) {
+            xi *= x;
+            double aj = 1.0;
+            for (int j = 1; j <= 3; ++j) {
+                aj *= a;
+                p += coef[(3 * (i - 1) + (j - 1)) * 4 + k] * xi * aj;
+            }
+        }
+        s->boost[k] = (real)p;
+    }
     for (int iu = 0; iu < 6; ++iu)
         for (int h = 0; h < 2; ++h)
             for (int it = 0; it < 4; ++it) {
@@ -510,18 +538,32 @@ static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, r
                 s->sin_cos[j] = (real)(sqrt(1.0 - GL4_T[is]) * cos(phi));
                 s->w_ba[j] = (real)(GL4_W[is] * GL4_W[it] * 0.5 * M_PI);
             }
-    /* K and a K: 8 nodes on each side of the critical cosine (in its square root above it) */
-    real mu_c = sqrt(fmax(C(1) - C(1) / (eta * eta), C(0))), k = C(0), ak = C(0);
+    /* the mean reflectance from above, E_bar = int E(mu) 2 mu dmu (8 nodes, boosted) */
+    real e_bar = C(0);
+    for (int i = 0; i < 8; ++i)
+        e_bar += RD_F(coat_reflectance)(s, (real)GL8_T[i], eta, 1) * C(2) * (real)GL8_T[i]
+                 * (real)GL8_W[i];
+    /* K and a K: 8 nodes on each side of the critical cosine (in its square root above it);
+     * a rough coat's K at tau = 0 is its own, 1 - (1 - E_bar)/eta^2 (reciprocity of a lossless
+     * interface): what the single-scattering reflectance from below misses of it is added
+     * evenly over the cosine-weighted hemisphere */
+    real mu_c = sqrt(fmax(C(1) - C(1) / (eta * eta), C(0)));
+    real mus[16], cosine[16], r[16], k_ss = C(0);
     for (int i = 0; i < 16; ++i) {
         int upper = i >= 8;
         real t = (real)GL8_T[i % 8], w = (real)GL8_W[i % 8];
         real width = upper ? C(1) - mu_c : mu_c;
-        real mu = (upper ? mu_c : C(0)) + width * (upper ? t * t : t);
-        real jac = upper ? C(2) * t * w : w;
-        real term = width * jac * RD_F(coat_interface)(s, mu, C(1) / eta, 0) * C(2) * mu
-                    * exp(C(-2) * tau / fmax(mu, C(1e-12)));
+        mus[i] = (upper ? mu_c : C(0)) + width * (upper ? t * t : t);
+        cosine[i] = width * (upper ? C(2) * t * w : w) * C(2) * mus[i];
+        r[i] = RD_F(coat_reflectance)(s, mus[i], C(1) / eta, 0);
+        k_ss += cosine[i] * r[i];
+    }
+    real missing = alpha > C(0) ? C(1) - (C(1) - e_bar) / (eta * eta) - k_ss : C(0);
+    real k = C(0), ak = C(0);
+    for (int i = 0; i < 16; ++i) {
+        real term = cosine[i] * (r[i] + missing) * exp(C(-2) * tau / fmax(mus[i], C(1e-12)));
         k += term;
-        ak += term * RD_F(coat_base_albedo)(s, mu);
+        ak += term * RD_F(coat_base_albedo)(s, mus[i]);
     }
     s->k = k, s->ak = ak;
 }
@@ -531,7 +573,9 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
     real ri = sqrt(fmax(C(1) - (C(1) - mi * mi) * inv_eta2, C(0)));
     real ro = sqrt(fmax(C(1) - (C(1) - mo * mo) * inv_eta2, C(0)));
     real cos_in = RD_F(clamp)(ri * ro + (cio - mi * mo) * inv_eta2, C(-1), C(1));
-    real trans = RD_F(coat_interface)(s, mi, eta, 1) * RD_F(coat_interface)(s, mo, eta, 1);
+    /* the interface's own energy: T = 1 - E, E the boosted lobe's albedo */
+    real trans = (C(1) - RD_F(coat_reflectance)(s, mi, eta, 1))
+                 * (C(1) - RD_F(coat_reflectance)(s, mo, eta, 1));
     real single = s->lambert ? s->albedo / PI
                              : RD_F(oren_nayar_full)(ri, ro, cos_in, s->albedo, s->sigma);
     real a_i = RD_F(coat_base_albedo)(s, ri), a_o = RD_F(coat_base_albedo)(s, ro);
@@ -539,13 +583,14 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
     real multi = a_i * a_o * (den != C(0) ? s->k / den : C(0)) / PI;
     real att = exp(-s->tau / fmax(ri, C(1e-12))) * exp(-s->tau / fmax(ro, C(1e-12)));
     real spec = C(0);
-    if (s->alpha > C(0)) {
+    if (s->alpha > C(0)) { /* F D G2 / (4 mi mo), G2 = 1/(1 + L(mi) + L(mo)), times b(mi) b(mo) */
         real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
         real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
-        real g = C(1) / ((C(1) + RD_F(smith_lambda)(mi, s->alpha, s->beck))
-                         * (C(1) + RD_F(smith_lambda)(mo, s->alpha, s->beck)));
+        real g = C(1) / (C(1) + RD_F(smith_lambda)(mi, s->alpha, s->beck)
+                         + RD_F(smith_lambda)(mo, s->alpha, s->beck));
         spec = RD_F(fresnel)(C(0.5) * len_h, eta) * RD_F(coat_ndf)(cos_h, s->alpha, s->beck) * g
-               / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)));
+               / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)))
+               * RD_F(coat_boost)(s, mi) * RD_F(coat_boost)(s, mo);
     }
     return spec + trans * inv_eta2 * att * (single + multi);
 }
