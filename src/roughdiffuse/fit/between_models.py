@@ -162,7 +162,9 @@ def convert(
         Any closed-form model (a grey or an RGB albedo; RGB is converted per channel with a
         shared roughness fitted to the channel mean).
     target : str
-        A registry id (``"eon"``, ``"cycles-diffuse"``, ``"materialx-eon"``, ...).
+        A registry id (``"eon"``, ``"cycles-diffuse"``, ``"materialx-eon"``, ...), or an
+        engine's name (``"unity"``, ``"filament"``, ...: its default variant,
+        :data:`roughdiffuse.models.renderers.ENGINE_DEFAULTS`).
     n : int
         Points per axis of the hemisphere sampling (see the module docstring): n³ pairs.
     albedo_weight : float
@@ -183,6 +185,9 @@ def convert(
     """
     from scipy.optimize import least_squares
 
+    from ..models.renderers import engine_variant
+
+    target = engine_variant(target)
     entry = registry.get(target)
     if not getattr(entry.cls, "closed_form", True):
         raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")

@@ -37,7 +37,9 @@ from .lambert import Lambert
 from .oren_nayar import SIGMA_MAX, OrenNayar
 
 __all__ = [
+    "ENGINES",
     "ENGINE_DEFAULTS",
+    "engine_variant",
     "CyclesDiffuse",
     "FilamentBurley",
     "FilamentLambert",
@@ -63,22 +65,37 @@ BSDL_EPS = 1e-7
 UNITY_DISNEY_NORM = 1.03571
 """HDRP's ``DisneyDiffuseNoPI`` divides by this (its albedo at normal view, ρ = r = 1)."""
 
-ENGINE_DEFAULTS: dict[str, str] = {
-    "blender": "cycles-diffuse",
-    "cycles": "cycles-diffuse",
-    "filament": "filament-lambert",
-    "materialx": "materialx-eon",
-    "mitsuba06": "mitsuba06-roughdiffuse",
-    "openpbr": "openpbr-diffuse",
-    "osl": "osl-eon",
-    "pbrt3": "pbrt3-oren-nayar",
-    "unity": "unity-disney-diffuse",
-    "unreal": "unreal-burley",
+ENGINES: dict[str, tuple[str, ...]] = {
+    "blender": ("cycles-diffuse", "cycles-principled", "cycles-osl"),
+    "cycles": ("cycles-diffuse", "cycles-principled", "cycles-osl"),
+    "filament": ("filament-lambert", "filament-burley"),
+    "materialx": ("materialx-oren-nayar", "materialx-eon", "materialx-eon-genosl"),
+    "mitsuba06": ("mitsuba06-roughdiffuse", "mitsuba06-roughdiffuse-fast"),
+    "openpbr": ("openpbr-diffuse",),
+    "osl": ("materialx-oren-nayar", "osl-eon"),
+    "pbrt3": ("pbrt3-oren-nayar",),
+    "unity": ("unity-disney-diffuse", "unity-diffuse-ggx"),
 }
-"""The variant each engine renders when a user names the engine: its shipped default
-(Filament's ``BRDF_DIFFUSE`` is ``DIFFUSE_LAMBERT``; HDRP's Lit calls ``DisneyDiffuse``;
-Unreal's ``Diffuse_Burley`` is its default, ``Diffuse_Chan`` opt-in; a node whose EON is a
-switch, MaterialX's and OSL's, named with the switch on)."""
+"""Each engine's variants, its shipped default first, then those it offers as opt-in:
+Filament's ``BRDF_DIFFUSE`` is ``DIFFUSE_LAMBERT`` (``Fd_Burley`` compiled out); HDRP's Lit
+calls ``DisneyDiffuse`` (``DiffuseGGX`` opt-in); MaterialX's ``oren_nayar_diffuse_bsdf`` and
+OSL's closure default to ``energy_compensation`` off, the qualitative model (EON is the
+switch turned on); Cycles' Diffuse BSDF, Principled BSDF and OSL closure build one closure
+(``cycles-diffuse``). Unreal is not listed: its shaders were not read here, so
+``unreal-burley`` and ``unreal-chan`` are named by id."""
+
+ENGINE_DEFAULTS: dict[str, str] = {name: ids[0] for name, ids in ENGINES.items()}
+"""The variant ``convert --to ENGINE`` picks: the engine's shipped default."""
+
+
+def engine_variant(name: str) -> str:
+    """The registry id ``name`` stands for: an engine's default variant
+    (:data:`ENGINE_DEFAULTS`, case-insensitive), or ``name`` itself (an id, opt-in included).
+
+    >>> engine_variant("Unity"), engine_variant("unity-diffuse-ggx")
+    ('unity-disney-diffuse', 'unity-diffuse-ggx')
+    """
+    return ENGINE_DEFAULTS.get(name.strip().lower(), name)
 
 _ORDER = 300  # after roughdiffuse's own models
 
