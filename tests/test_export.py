@@ -109,6 +109,7 @@ def _generate(path):
     return out
 
 
+@pytest.mark.filterwarnings("ignore::roughdiffuse.exporters.common.BackendWarning")  # GLSL here
 @pytest.mark.parametrize(
     "model, openpbr, node",
     [

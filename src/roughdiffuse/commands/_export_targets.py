@@ -10,7 +10,26 @@ from typing import Any
 
 from . import UsageError
 
-__all__ = ["export_errors", "export_model", "export_paths", "parse_targets"]
+__all__ = [
+    "export_errors",
+    "export_model",
+    "export_paths",
+    "parse_targets",
+    "quiet_backend_warnings",
+]
+
+
+@contextmanager
+def quiet_backend_warnings() -> Iterator[None]:
+    """The exporters' backend warnings left to the summary a command prints (one line each),
+    not repeated by Python's warning machinery."""
+    import warnings
+
+    from ..exporters.common import BackendWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BackendWarning)
+        yield
 
 
 @contextmanager
@@ -72,6 +91,7 @@ def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> No
     from ..exporters import export
 
     for target, path in paths.items():
-        with export_errors(path, "--export", target, f"--export {target}"):
+        errors = export_errors(path, "--export", target, f"--export {target}")
+        with errors, quiet_backend_warnings():
             result = export(model, target, path)
         say(result.summary())
