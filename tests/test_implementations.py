@@ -289,6 +289,8 @@ DOC_TABLE = {
     "roughdiffuse EON": {"A": 0.4018, "B": 0.1513, "C": 0.2357, "D": 0.1125},
     "MaterialX EON": {"A": 0.4018, "B": 0.2070, "C": 0.2357, "D": 0.2221},
     "Cycles EON": {"A": 0.3993, "B": 0.1489, "C": 0.2331, "D": 0.1124},
+    "OSL BSDL EON": {"A": 0.4018, "B": 0.1513, "C": 0.2357, "D": 0.1125},
+    "MaterialX EON through genosl": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
 }
 
 
@@ -307,6 +309,8 @@ def _doc_values() -> dict[str, dict[str, float]]:
             "roughdiffuse EON": _ours(rd.EON(0.8, 0.5), nv, nl, lv),
             "MaterialX EON": mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, True),
             "Cycles EON": cycles_oren_nayar(nv, nl, lv, 0.5, 0.8),
+            "OSL BSDL EON": bsdl_oren_nayar_diffuse(nv, nl, lv, 0.5, 0.8, True),
+            "MaterialX EON through genosl": materialx_genosl_eon_node(nv, nl, lv, 0.5, 0.8),
         }
         for name, value in row.items():
             out.setdefault(name, {})[key] = float(np.asarray(value).reshape(()))
