@@ -226,12 +226,18 @@ class MaterialXEON(Model):
         "mx_oren_nayar_compensated_diffuse"
     )
     order: ClassVar[int] = _ORDER + 10
+    eps: ClassVar[float] = MX_EPS  # the floors of 1 − E and 1 − Ē
 
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
     ) -> Array:
-        nl, nv, lv = (clip(xp, x, MX_EPS, 1.0) for x in (mu_i, mu_o, cos_io))
-        return eon_floored(xp, nl, nv, lv, albedo, roughness, MX_EPS)
+        nl, nv, lv = self._cosines(xp, mu_i, mu_o, cos_io)
+        return eon_floored(xp, nl, nv, lv, albedo, roughness, self.eps)
+
+    @staticmethod
+    def _cosines(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> tuple[Array, ...]:
+        """N·L, N·V and L·V clamped as the node clamps them, to [1e-8, 1]."""
+        return tuple(clip(xp, x, MX_EPS, 1.0) for x in (mu_i, mu_o, cos_io))
 
 
 def eon_floored(
@@ -254,24 +260,21 @@ def eon_floored(
 
 @register_pytree
 @dataclass(frozen=True)
-class OSLEON(Model):
+class OSLEON(MaterialXEON):
     """OSL's ``oren_nayar_diffuse_bsdf`` closure with ``energy_compensation = 1``, as BSDL
     (testrender) evaluates it: EON with no L·V clamp.
 
     ``src/libbsdl/include/BSDL/MTX/bsdf_oren_nayar_diffuse_impl.h``,
     ``OrenNayarDiffuseLobe::eval_impl`` (in OSL since PR 1817, 2024): N·L and N·V clamped to
     [0, 1], L·V to [−1, 1] (so EON's negative s is kept), 1 − E and 1 − Ē floored at 1e-7.
-    The closure's weight is ρ f_ss + ρ_ms f_ms per π, as EON's.
+    The closure's weight is ρ f_ss + ρ_ms f_ms per π, as EON's. (MaterialX's GLSL node's
+    formula with other clamps and floors: hence the subclass.)
     """
-
-    albedo: float | Array = 1.0
-    roughness: float | Array = 0.0
 
     params: ClassVar[tuple[Param, ...]] = (
         _colour("albedo ρ"),
-        _unit("roughness", "roughness r (EON's, not an angle; clamped to [0, 1])"),
+        _unit("roughness", "roughness r (EON's, not an angle)"),
     )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "roughness": r"r"}
     formula: ClassVar[str | dict[str, str]] = r"""
         ```{math}
         f = f_{\mathrm{EON}}(\rho, r),\quad 1 - E_F,\ 1 - \bar E_F \ \text{floored at}\ 10^{-7}
@@ -289,13 +292,12 @@ class OSLEON(Model):
         "OrenNayarDiffuseLobe::eval_impl and E_FON_analytic"
     )
     order: ClassVar[int] = _ORDER + 15
+    eps: ClassVar[float] = BSDL_EPS
 
-    def _kernel(
-        self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, roughness: Array
-    ) -> Array:
-        nl, nv = clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0)
-        lv = clip(xp, cos_io, -1.0, 1.0)
-        return eon_floored(xp, nl, nv, lv, albedo, roughness, BSDL_EPS)
+    @staticmethod
+    def _cosines(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array) -> tuple[Array, ...]:
+        """N·L and N·V clamped to [0, 1], L·V to [−1, 1] (BSDL's ``CLAMP``)."""
+        return clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0), clip(xp, cos_io, -1.0, 1.0)
 
 
 # ----------------------------------------------------------------------------- aliases
