@@ -2,7 +2,7 @@
 
 Where a renderer computes a formula roughdiffuse already has, the variant is an
 :class:`~roughdiffuse.models.alias.Alias`: the other project's parameter names and the
-conversion, declared once. Two formulas are new, and have a kernel of their own:
+conversion, declared once. Three formulas are new, and have a kernel of their own:
 
 * Blender Cycles' Diffuse BSDF (and the Principled BSDF's diffuse roughness): Fujii's single
   scattering plus ρ times EON's multiple-scattering lobe (``bsdf_oren_nayar_setup`` folds ρ²
