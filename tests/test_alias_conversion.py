@@ -53,6 +53,7 @@ def test_conversion_text():
         ("unity-diffuse-ggx", "hammon", "alpha", "roughness", 0.3, 0.3),
         ("materialx-oren-nayar", "oren-nayar", "sigma", "roughness", 0.7, 0.7),
         ("openpbr-diffuse", "eon", "roughness", "roughness", 0.7, 0.7),
+        ("materialx-eon-genosl", "oren-nayar", "sigma", "roughness", 0.7, 0.7),
     ],
     ids=lambda v: v if isinstance(v, str) else None,
 )
@@ -100,8 +101,24 @@ def test_to_base_trees_are_json_of_names_numbers_and_operators():
     assert (op, name) == ("*", "sigma_deg") and factor == pytest.approx(math.pi / 180, rel=1e-15)
 
 
+def test_unity_disney_diffuse_record_scales_the_colour():
+    """HDRP's ``DisneyDiffuseNoPI`` divides by 1.03571 (BSDF.hlsl); perceptual roughness is
+    Burley's r as it is."""
+    rec = {r["id"]: r for r in registry.to_json()}["unity-disney-diffuse"]["alias"]
+    assert rec["base"] == "burley"
+    got = _run_javascript(rec["to_base"], {"roughness": 0.6, "albedo": 0.4})
+    assert got["roughness"] == pytest.approx(0.6, rel=1e-15)
+    assert got["albedo"] == pytest.approx(0.4 / 1.03571, rel=1e-15)
+
+
+def test_filament_lambert_record_is_lambert():
+    rec = {r["id"]: r for r in registry.to_json()}["filament-lambert"]["alias"]
+    assert rec["base"] == "lambert"
+    assert _run_javascript(rec["to_base"], {"albedo": 0.4}) == {"albedo": 0.4}
+
+
 def test_every_alias_has_a_record_and_nothing_else_does():
-    assert len(ALIASES) == 9
+    assert len(ALIASES) == 12
     for r in registry.to_json():
         assert (r["alias"] is not None) == (r["id"] in ALIASES), r["id"]
 

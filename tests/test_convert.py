@@ -74,3 +74,42 @@ def test_cli_prints_parameters_differences_and_snippet():
         capture_output=True, text=True,
     )  # fmt: skip
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    "name, default",
+    [("unity", "unity-disney-diffuse"), ("Filament", "filament-lambert"),
+     ("blender", "cycles-diffuse"), ("materialx", "materialx-oren-nayar")],
+)  # fmt: skip
+def test_an_engine_name_picks_what_the_engine_renders_by_default(name, default):
+    """HDRP's Lit calls DisneyDiffuse (Lit.hlsl); Filament defines BRDF_DIFFUSE as
+    DIFFUSE_LAMBERT (surface_brdf.fs); Cycles' Diffuse BSDF; MaterialX's node defaults to
+    energy_compensation = false (pbrlib_defs.mtlx)."""
+    assert convert(rd.EON(0.8, 0.5), target=name).target == default
+
+
+def test_an_opt_in_variant_is_named_by_its_id():
+    r = convert(rd.Burley(0.8, 0.5), target="filament-burley")
+    assert r.target == "filament-burley"
+    # Filament's Fd_Burley at perceptual roughness √0.5 is Burley at r = 0.5: exact
+    assert r.params["roughness"] == pytest.approx(math.sqrt(0.5), abs=1e-5) and r.max_f < 1e-6
+
+
+def test_unity_default_reproduces_burley_with_its_colour_scale():
+    """DisneyDiffuse is Burley at the perceptual roughness divided by 1.03571 (BSDF.hlsl):
+    the conversion of Burley is exact, with the colour 1.03571 times larger."""
+    r = convert(rd.Burley(0.5, 0.6), target="unity")
+    assert r.params["albedo"] == pytest.approx(0.5 * 1.03571, abs=1e-6)
+    assert r.params["roughness"] == pytest.approx(0.6, abs=1e-5) and r.max_f < 1e-6
+
+
+def test_cli_engine_name_says_which_variant_and_a_misspelt_one_gets_did_you_mean(capsys):
+    from roughdiffuse.cli import main
+
+    assert main(["convert", "--model", "eon", "--to", "unity"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("unity: its default diffuse, unity-disney-diffuse")
+    assert "unity-diffuse-ggx" in first
+    assert main(["convert", "--model", "eon", "--to", "untiy"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "did you mean unity?" in err

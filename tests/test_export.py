@@ -109,6 +109,7 @@ def _generate(path):
     return out
 
 
+@pytest.mark.filterwarnings("ignore::roughdiffuse.exporters.common.BackendWarning")  # GLSL here
 @pytest.mark.parametrize(
     "model, openpbr, node",
     [
@@ -139,6 +140,7 @@ def test_materialx_document_validates_and_generates_glsl_that_compiles(
     assert subprocess.run(["glslangValidator", str(frag)], capture_output=True).returncode != 0
 
 
+@pytest.mark.filterwarnings("ignore::roughdiffuse.exporters.common.BackendWarning")
 def test_materialx_qualitative_oren_nayar_is_exact(tmp_path):
     result = export(rd.OrenNayar(0.8, 0.35), "materialx", tmp_path / "m.mtlx")
     assert result.model_id == "materialx-oren-nayar"

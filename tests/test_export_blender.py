@@ -7,7 +7,10 @@ irradiance 1 with parallel rays, an orthographic camera, direct light only, a pi
 0.01 pixel wide (each pixel sees its centre).
 
 * A flat plane: every pixel sees one geometry, so each render is one value of
-  f(wi, wo) cos θi, which must equal roughdiffuse's ``cycles-diffuse`` there to float32.
+  f(wi, wo) cos θi, which must equal roughdiffuse's ``cycles-diffuse`` there to float32,
+  rendered through Cycles' SVM and through its OSL (``scene.cycles.shading_system``, whose
+  Diffuse BSDF is ``node_diffuse_bsdf.osl``: the ``oren_nayar_diffuse_bsdf`` closure,
+  ``cycles-osl``).
 * A unit sphere (a point of a point cloud, which Cycles intersects exactly) lit from the side,
   against roughdiffuse's own ray tracer (:func:`roughdiffuse.render.render`, one sample at each
   pixel centre). Inside the disc, the median relative difference is at float32 level; the
@@ -66,24 +69,31 @@ def cycles():
     return registry.create("cycles-diffuse", albedo=ALBEDO, roughness=ROUGHNESS)
 
 
+SHADING = {"svm": ("cycles-diffuse", False), "osl": ("cycles-osl", True)}
+"""Cycles' shading systems: the variant each renders, and ``scene.cycles.shading_system``."""
+
+
 @pytest.fixture(scope="module")
-def plane(blender, cycles, tmp_path_factory):
+def plane(blender, tmp_path_factory):
     """One Blender process: the plane at each geometry, made of the exported Cycles variant as
-    a Diffuse BSDF and as a Principled BSDF (its "Diffuse Roughness", specular off)."""
+    a Diffuse BSDF and as a Principled BSDF (its "Diffuse Roughness", specular off), each
+    shaded by Cycles' SVM and by its OSL."""
     tmp = tmp_path_factory.mktemp("blender_plane")
+    cycles = registry.create("cycles-diffuse", albedo=ALBEDO, roughness=ROUGHNESS)
     exported = write(cycles, tmp / "cycles.py", blend=False)
     write(cycles, tmp / "principled.py", principled=True, blend=False)
     jobs = [
         {"kind": "render", "shape": "plane", "light": _deg(ti, 0.0), "view": _deg(to, dp),
          "size": 8, "scale": 1.0, "samples": 4, "material": str(tmp / f"{node}.py"),
-         "output": str(tmp / f"{node}{k}.npy")}
-        for node in ("cycles", "principled") for k, (ti, to, dp) in enumerate(PLANE)
+         "osl": osl, "output": str(tmp / f"{node}_{shading}{k}.npy")}
+        for node in ("cycles", "principled") for shading, (_, osl) in SHADING.items()
+        for k, (ti, to, dp) in enumerate(PLANE)
     ]  # fmt: skip
     run_scene(tmp / "cycles.py", jobs)
     images = {
-        n: [np.load(tmp / f"{n}{k}.npy") for k in range(len(PLANE))]
-        for n in ("cycles", "principled")
-    }
+        (n, s): [np.load(tmp / f"{n}_{s}{k}.npy") for k in range(len(PLANE))]
+        for n in ("cycles", "principled") for s in SHADING
+    }  # fmt: skip
     return exported, images
 
 
@@ -123,12 +133,15 @@ def _interior(image: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return binary_erosion(mask == 1) & (lum > 0.01 * lum.max())
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("shading", list(SHADING))
 @pytest.mark.parametrize("node", ["cycles", "principled"])
-def test_cycles_renders_the_plane_as_the_cycles_variant(plane, cycles, node):
+def test_cycles_renders_the_plane_as_the_cycles_variant(plane, node, shading):
+    """SVM and OSL each render their variant (cycles-diffuse, cycles-osl) to float32."""
     exported, images = plane
     assert exported.conversion is None
-    model = cycles
-    for (ti, to, dp), image in zip(PLANE, images[node], strict=True):
+    model = registry.create(SHADING[shading][0], albedo=ALBEDO, roughness=ROUGHNESS)
+    for (ti, to, dp), image in zip(PLANE, images[node, shading], strict=True):
         got = image.reshape(-1, 3).mean(axis=0)
         wi, wo = np.array(_deg(ti, 0.0)), np.array(_deg(to, dp))
         expected = np.asarray(model.brdf(wi, wo)) * wi[2]

@@ -10,7 +10,16 @@ NL = n·l, NV = n·v, LV = l·v (arrays), with that project's clamps and paramet
 * Blender Cycles ``intern/cycles/kernel/closure/bsdf_oren_nayar.h`` (``bsdf_oren_nayar_setup``,
   ``bsdf_oren_nayar_get_intensity``, ``bsdf_oren_nayar_G``); the closure weight is the base
   colour (``svm/closure.h``: ``bsdf_alloc(..., rgb_to_spectrum(base_color) * ...)``);
-* OSL ``src/testrender/shading.cpp`` (``OrenNayar::eval``);
+* OSL ``src/testrender/shading.cpp`` (``OrenNayar::eval``) and BSDL
+  ``src/libbsdl/include/BSDL/MTX/bsdf_oren_nayar_diffuse_impl.h``
+  (``OrenNayarDiffuseLobe::eval_impl``, ``E_FON_analytic``);
+* MaterialX ``libraries/pbrlib/genosl/pbrlib_genosl_impl.mtlx``
+  (``IM_oren_nayar_diffuse_bsdf_genosl``: the OSL closure without ``energy_compensation``);
+* Blender Cycles ``intern/cycles/kernel/osl/closures_setup.h``
+  (``osl_closure_oren_nayar_diffuse_bsdf_setup``);
+* Unity Graphics ``Packages/com.unity.render-pipelines.core/ShaderLibrary/BSDF.hlsl``
+  (``DisneyDiffuseNoPI``, ``DisneyDiffuse``; HDRP's ``Lit.hlsl`` calls it by default);
+* Filament ``shaders/src/surface_brdf.fs`` (``diffuse``, ``Fd_Lambert``, ``Fd_Burley``);
 * Mitsuba 0.6 ``src/bsdfs/roughdiffuse.cpp`` (``RoughDiffuse::eval``; σ = α/√2);
 * pbrt-v3 ``src/core/reflection.cpp`` (``OrenNayar::f``; σ given in degrees).
 
@@ -280,6 +289,8 @@ DOC_TABLE = {
     "roughdiffuse EON": {"A": 0.4018, "B": 0.1513, "C": 0.2357, "D": 0.1125},
     "MaterialX EON": {"A": 0.4018, "B": 0.2070, "C": 0.2357, "D": 0.2221},
     "Cycles EON": {"A": 0.3993, "B": 0.1489, "C": 0.2331, "D": 0.1124},
+    "OSL BSDL EON": {"A": 0.4018, "B": 0.1513, "C": 0.2357, "D": 0.1125},
+    "MaterialX EON through genosl": {"A": 0.3262, "B": 0.1998, "C": 0.1998, "D": 0.1998},
 }
 
 
@@ -298,6 +309,8 @@ def _doc_values() -> dict[str, dict[str, float]]:
             "roughdiffuse EON": _ours(rd.EON(0.8, 0.5), nv, nl, lv),
             "MaterialX EON": mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.5, 0.8, True),
             "Cycles EON": cycles_oren_nayar(nv, nl, lv, 0.5, 0.8),
+            "OSL BSDL EON": bsdl_oren_nayar_diffuse(nv, nl, lv, 0.5, 0.8, True),
+            "MaterialX EON through genosl": materialx_genosl_eon_node(nv, nl, lv, 0.5, 0.8),
         }
         for name, value in row.items():
             out.setdefault(name, {})[key] = float(np.asarray(value).reshape(()))
@@ -409,3 +422,157 @@ def test_cycles_variant_albedo_is_eon_with_the_lobe_times_rho():
     n = np.array([0.0, 0.0, 1.0])
     cycles = float(_variant("cycles-diffuse", albedo=0.5, roughness=1.0).directional_albedo(n))
     assert cycles == pytest.approx(0.414, abs=5e-4)  # the page's number (EON: 0.439)
+
+
+# ----------------------------------------------------------------------------- engine defaults
+def unity_disney_diffuse(nv, nl, lv, perceptual_roughness, color):
+    """Unity ``ShaderLibrary/BSDF.hlsl``, ``DisneyDiffuse`` = INV_PI * ``DisneyDiffuseNoPI``
+    (fd90 = 0.5 + (pr + pr LdotV), two ``F_Schlick(1, fd90, ·)``, times rcp(1.03571)),
+    times the diffuse colour as HDRP ``Lit.hlsl`` ``BSDF`` applies it."""
+    fd90 = 0.5 + (perceptual_roughness + perceptual_roughness * lv)
+
+    def f_schlick(f0, f90, u):
+        x = 1.0 - u
+        x2 = x * x
+        x5 = x * x2 * x2
+        return (f90 - f0) * x5 + f0
+
+    light = f_schlick(1.0, fd90, nl)
+    view = f_schlick(1.0, fd90, nv)
+    return color * (1.0 / PI) * ((1.0 / 1.03571) * (light * view))
+
+
+def filament_diffuse(nv, nl, lv, perceptual_roughness, color):
+    """Filament ``surface_brdf.fs``, ``diffuse()``: ``BRDF_DIFFUSE == DIFFUSE_LAMBERT`` so
+    ``Fd_Lambert()`` = 1/π, times the diffuse colour."""
+    return color * (1.0 / PI) + 0.0 * (nv + nl + lv + perceptual_roughness)
+
+
+BSDL_C1 = 0.5 - 2.0 / (3.0 * PI)  # constant1_FON
+BSDL_C2 = 2.0 / 3.0 - 28.0 / (15.0 * PI)  # constant2_FON
+
+
+def bsdl_e_fon_analytic(mu, roughness):
+    """BSDL ``OrenNayarDiffuseLobe::E_FON_analytic``."""
+    af = 1.0 / (1.0 + BSDL_C1 * roughness)
+    bf = roughness * af
+    si = np.sqrt(np.maximum(0.0, 1.0 - mu * mu))
+    g = si * (np.arccos(mu) - si * mu) + 2.0 * (
+        (si / np.maximum(mu, 1e-7)) * (1.0 - si * si * si) - si
+    ) * (1.0 / 3.0)
+    return af + (bf / PI) * g
+
+
+def bsdl_oren_nayar_diffuse(nv, nl, lv, roughness, albedo, energy_compensation):
+    """BSDL ``OrenNayarDiffuseLobe::eval_impl``: the sample weight (f cos / pdf, pdf =
+    cosNI/π) divided by π is the BRDF."""
+    r = min(max(roughness, 0.0), 1.0)
+    cos_ni, cos_no = np.clip(nl, 0.0, 1.0), np.clip(nv, 0.0, 1.0)
+    cos_io = np.clip(lv, -1.0, 1.0)
+    s = cos_io - cos_ni * cos_no
+    if not energy_compensation:
+        s2 = r * r
+        a = 1.0 - 0.50 * s2 / (s2 + 0.33)
+        b = 0.45 * s2 / (s2 + 0.09)
+        stinv = np.where(s > 0.0, s / np.maximum(cos_ni, cos_no), 0.0)
+        return albedo * (a + b * stinv) / PI
+    af = 1.0 / (1.0 + BSDL_C1 * r)
+    stinv = np.where(s > 0.0, s / np.maximum(cos_ni, cos_no), s)
+    f_ss = af * (1.0 + r * stinv)
+    efo, efi = bsdl_e_fon_analytic(cos_no, r), bsdl_e_fon_analytic(cos_ni, r)
+    avg_ef = af * (1.0 + BSDL_C2 * r)
+    rho_ms = albedo * albedo * avg_ef / (1 - albedo * max(0.0, 1.0 - avg_ef))
+    f_ms = np.maximum(1e-7, 1.0 - efo) * np.maximum(1e-7, 1.0 - efi) / max(1e-7, 1.0 - avg_ef)
+    return (albedo * f_ss + rho_ms * f_ms) / PI
+
+
+def materialx_genosl_eon_node(nv, nl, lv, roughness, color):
+    """MaterialX ``pbrlib_genosl_impl.mtlx``: ``{{weight}} * oren_nayar_diffuse_bsdf(
+    {{normal}}, {{color}}, {{roughness}})``, no ``energy_compensation``: the closure's
+    default, 0 (BSDL's first branch), whatever the node's switch."""
+    return bsdl_oren_nayar_diffuse(nv, nl, lv, roughness, color, energy_compensation=False)
+
+
+def cycles_osl_closure(nv, nl, lv, roughness, albedo, weight=1.0):
+    """Cycles' OSL Diffuse BSDF, ``osl/shaders/node_diffuse_bsdf.osl`` (``Roughness == 0``:
+    ``Color * diffuse(Normal)``, else ``oren_nayar_diffuse_bsdf(Normal, Color, Roughness)``),
+    and ``osl/closures_setup.h``, ``osl_closure_oren_nayar_diffuse_bsdf_setup``: closure weight
+    ``weight * albedo``, ``bsdf_oren_nayar_setup(..., color = albedo)`` (no
+    ``energy_compensation`` read): the closure weight times the intensity per N·L."""
+    if roughness == 0.0:
+        return weight * albedo / PI + 0.0 * (nv + nl + lv)
+    intensity_per_nl = cycles_oren_nayar(nv, nl, lv, roughness, albedo) / albedo
+    return weight * albedo * intensity_per_nl
+
+
+def _grid_cosines():
+    """θi, θo on 0.5°..89° and Δφ on 0°..180°: a grid, every branch of s/t."""
+    ti, tr, dp = np.meshgrid(
+        np.linspace(0.5, 89.0, 9), np.linspace(0.5, 89.0, 9), np.linspace(0, 180, 7),
+        indexing="ij",
+    )
+    return _cosines(ti.ravel(), tr.ravel(), dp.ravel())
+
+
+ENGINE_CASES = [
+    # id, its parameter name for roughness (None: none), transcription (nv, nl, lv, r, ρ) -> f
+    ("unity-disney-diffuse", "roughness", unity_disney_diffuse),
+    ("filament-lambert", None, filament_diffuse),
+    ("osl-eon", "roughness",
+     lambda nv, nl, lv, r, rho: bsdl_oren_nayar_diffuse(nv, nl, lv, r, rho, True)),
+    ("materialx-eon-genosl", "roughness", materialx_genosl_eon_node),
+    ("cycles-osl", "roughness", cycles_osl_closure),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "model_id, rough, reference", ENGINE_CASES, ids=[c[0] for c in ENGINE_CASES]
+)
+def test_engine_variant_equals_its_transcription_on_a_grid(model_id, rough, reference):
+    nv, nl, lv = _grid_cosines()
+    model_ref = _variant(model_id).reference
+    assert model_ref  # the file and function transcribed
+    for r in (0.0, 0.1, 0.5, 1.0) if rough else (0.3,):
+        for rho in (0.2, 0.8, 1.0):
+            params = {"albedo": rho, **({rough: r} if rough else {})}
+            got = _ours(_variant(model_id, **params), nv, nl, lv)
+            np.testing.assert_allclose(
+                got, reference(nv, nl, lv, r, rho), rtol=1e-12, err_msg=f"{model_id} {params}"
+            )
+
+
+def test_materialx_eon_through_genosl_is_not_eon():
+    """The OSL output of an EON node differs from EON (and from the GLSL node) by far more
+    than rounding: the qualitative model loses energy where EON keeps it."""
+    nv, nl, lv = _grid_cosines()
+    genosl = materialx_genosl_eon_node(nv, nl, lv, 0.7, 0.8)
+    glsl = mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.7, 0.8, energy_compensation=True)
+    assert np.max(np.abs(genosl - glsl) / glsl) > 0.1
+
+
+def test_osl_eon_keeps_the_negative_s_that_materialx_clamps(rng):
+    """BSDL has no L·V clamp: where L·V > 1e-8 it is MaterialX's GLSL node (floors aside),
+    where L·V < 0 it is EON, below MaterialX's values."""
+    nv, nl, lv = _random_cosines(rng)
+    osl = bsdl_oren_nayar_diffuse(nv, nl, lv, 0.7, 0.8, True)
+    mx = mx_oren_nayar_diffuse_bsdf(nv, nl, lv, 0.7, 0.8, True)
+    ok = lv > MX_EPS
+    np.testing.assert_allclose(osl[ok], mx[ok], rtol=1e-12)
+    np.testing.assert_allclose(osl, _ours(rd.EON(0.8, 0.7), nv, nl, lv), rtol=1e-12)
+    assert np.all(osl[lv < 0] < mx[lv < 0])
+
+
+def test_unity_disney_diffuse_at_normal_view_is_one_at_rho_r_one():
+    """HDRP's constant 1.03571 is the directional albedo of Burley at θo = 0, ρ = r = 1: the
+    variant's albedo there is 1 to the constant's five digits."""
+    n = np.array([0.0, 0.0, 1.0])
+    unity = _variant("unity-disney-diffuse", albedo=1.0, roughness=1.0)
+    albedo = float(unity.directional_albedo(n))
+    assert albedo == pytest.approx(1.0, abs=5e-5)
+
+
+def test_filament_lambert_ignores_roughness_and_is_lambert(rng):
+    nv, nl, lv = _random_cosines(rng)
+    np.testing.assert_allclose(
+        _ours(_variant("filament-lambert", albedo=0.6), nv, nl, lv), 0.6 / PI, rtol=1e-15
+    )

@@ -620,8 +620,9 @@ FIGURES: tuple[Figure, ...] = (
         "9-production-models",
         "What production renderers use",
         "Spheres and plane-of-incidence radiance of the diffuse models production renderers "
-        "ship: Burley's Disney diffuse (Filament, MaterialX), Frostbite's renormalised "
-        "version (Falcor), Hammon's GGX diffuse (Unity), Chan's (Unreal), EON (OpenPBR) and "
+        "ship: Burley's Disney diffuse (MaterialX; Unity HDRP's default divided by 1.03571; "
+        "compiled out in Filament, which renders Lambert), Frostbite's renormalised version "
+        "(Falcor), Hammon's GGX diffuse (opt-in in Unity), Chan's (Unreal), EON (OpenPBR) and "
         "d'Eon's Lambertian spheres, against Lambert (dashed). Burley 2015 (Mitsuba 3's "
         "principled) is Burley 2012 rewritten and coincides with it.",
         _production_models,

@@ -17,8 +17,22 @@ __all__ = [
     "export_model",
     "export_paths",
     "parse_targets",
+    "quiet_backend_warnings",
     "use_blender_python_flag",
 ]
+
+
+@contextmanager
+def quiet_backend_warnings() -> Iterator[None]:
+    """The exporters' backend warnings left to the summary a command prints (one line each),
+    not repeated by Python's warning machinery."""
+    import warnings
+
+    from ..exporters.common import BackendWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BackendWarning)
+        yield
 
 
 @contextmanager
@@ -80,7 +94,8 @@ def export_model(model: Any, paths: dict, say: Callable[..., Any] = print) -> No
     from ..exporters import export
 
     for target, path in paths.items():
-        with export_errors(path, "--export", target, f"--export {target}"):
+        errors = export_errors(path, "--export", target, f"--export {target}")
+        with errors, quiet_backend_warnings():
             result = export(model, target, path)
         say(result.summary())
 

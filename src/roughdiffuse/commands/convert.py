@@ -13,7 +13,11 @@ examples:
   roughdiffuse convert --model oren-nayar-full --param sigma=20 --to cycles-diffuse
   roughdiffuse convert --model eon --roughness 0.5 --to materialx-eon --json
   roughdiffuse convert --model oren-nayar --param sigma=20 --to pbrt3-oren-nayar
+  roughdiffuse convert --model eon --roughness 0.5 --to unity
 
+An engine's name (blender, cycles, filament, materialx, mitsuba06, openpbr, osl, pbrt3, unity)
+picks what that engine renders by default (unity: unity-disney-diffuse, filament:
+filament-lambert); an opt-in variant is named by its id (unity-diffuse-ggx, filament-burley).
 The differences are those of f cos θi over both hemispheres (relative to the source's RMS)
 and of the directional albedo; `roughdiffuse models` lists the targets.
 """
@@ -30,27 +34,47 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_arguments(p)
-    p.add_argument("--to", required=True, metavar="ID", help="target model id (e.g. eon)")
+    p.add_argument(
+        "--to",
+        required=True,
+        metavar="ID",
+        help="target model id (e.g. eon), or an engine's name for its default (e.g. unity)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
 
-def run(args: argparse.Namespace) -> int:
+def target_id(name: str) -> tuple[str, str | None]:
+    """The registry id ``--to`` names and the line that says which engine default it is
+    (``None`` for an id); a misspelt name is a ``UsageError`` with the closest names."""
     from .. import registry
+    from ..models.renderers import ENGINES, engine_variant
+    from ._inputs import known_id
+
+    model_id = engine_variant(name)
+    if model_id == name:
+        known_id(name, [*registry.ids(), *ENGINES], option="--to")
+        return name, None
+    engine = name.strip().lower()
+    others = ENGINES[engine][1:]
+    note = f"{engine}: its default diffuse, {model_id}"
+    return model_id, note + (f" (opt-in, by id: {', '.join(others)})" if others else "")
+
+
+def run(args: argparse.Namespace) -> int:
     from ..fit.between_models import convert
 
-    try:
-        registry.get(args.to)
-    except ValueError as exc:
-        raise UsageError(f"--to: {exc}") from None
+    target, note = target_id(args.to)
     model = model_from_args(args)
     try:
-        result = convert(model, target=args.to)
+        result = convert(model, target=target)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     if args.json:
         print(json.dumps(result.to_json(), indent=2, ensure_ascii=False))
         return 0
+    if note:
+        print(note)
     print(result.summary())
     print("\nPython:\n" + result.snippet())
     print("\nCommand line:\n" + result.command())

@@ -8,7 +8,12 @@ import argparse
 from . import UsageError
 from ._checks import output_file
 from ._common import add_model_arguments, model_from_args
-from ._export_targets import add_blender_python, export_errors, use_blender_python_flag
+from ._export_targets import (
+    add_blender_python,
+    export_errors,
+    quiet_backend_warnings,
+    use_blender_python_flag,
+)
 
 EXAMPLES = """\
 examples:
@@ -103,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         model = model_from_args(args)
     blend = False if args.no_blend else None
-    with export_errors(out, "--to", args.to, "--output"):
+    with export_errors(out, "--to", args.to, "--output"), quiet_backend_warnings():
         for path in planned_files(model, args.to, out, blend=blend)[1:]:
             output_file(path, force=args.force)  # each file it writes, kept unless --force
         if args.to == "blender":

@@ -156,6 +156,13 @@ def export(
         If the file cannot be written.
     BlenderError
         If Blender's process fails while writing the ``.blend``.
+
+    Warns
+    -----
+    BackendWarning
+        Where a backend of the target renders the material as another model (MaterialX's
+        OSL and MDL outputs, Cycles' OSL), one line naming what it renders
+        (:class:`roughdiffuse.exporters.common.BackendWarning`; also in ``Export.warnings``).
     """
     _check_target(target)
     path = Path(path)

@@ -6,8 +6,9 @@ exported material script and a list of jobs (each may name its own ``"material"`
 
 * ``{"kind": "render", "shape": "plane" | "sphere", "light": [x, y, z], "view": [x, y, z],
   "size": N, "scale": S, "samples": K, "output": "out.npy"}`` (and ``"pixel_filter": "box"``
-  to average over each pixel's area instead of its centre): renders the shape made of the
-  material in Cycles and saves the linear RGB image (float32, row 0 at the top) as ``.npy``;
+  to average over each pixel's area instead of its centre; ``"osl": true`` to shade through
+  Cycles' OSL, ``scene.cycles.shading_system``, instead of its SVM): renders the shape made of
+  the material in Cycles and saves the linear RGB image (float32, row 0 at the top) as ``.npy``;
 * ``{"kind": "blend", "output": "material.blend"}``: saves the sphere scene with the material
   as a ``.blend`` file.
 
@@ -94,6 +95,7 @@ def _scene(bpy: Any, material_script: str, job: dict[str, Any]) -> Any:
     _look(cam_obj, view)
     scene.camera = cam_obj
     _settings(scene, int(job.get("size", 64)), int(job.get("samples", 16)))
+    scene.cycles.shading_system = bool(job.get("osl", False))  # True: OSL (CPU only)
     if job.get("pixel_filter") == "box":  # the pixel's area, as roughdiffuse's k × k samples
         scene.cycles.pixel_filter_type = "BOX"
         scene.render.filter_size = scene.cycles.filter_width = 1.0

@@ -15,7 +15,21 @@ from ..fit.between_models import Conversion, convert
 from ..io.atomic import write_text
 from ..models.base import Model
 
-__all__ = ["Export", "error_lines", "material_for", "model_record", "params_of", "write_files"]
+__all__ = [
+    "BackendWarning",
+    "Export",
+    "error_lines",
+    "material_for",
+    "model_record",
+    "params_of",
+    "warn_backends",
+    "write_files",
+]
+
+
+class BackendWarning(UserWarning):
+    """One of the target's backends renders the written material as another model (the
+    message names the backend and the registry id of what it renders)."""
 
 
 @dataclass(frozen=True)
@@ -29,14 +43,27 @@ class Export:
     params: dict[str, Any]
     conversion: Conversion | None
     notes: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def summary(self) -> str:
-        """The lines ``roughdiffuse export`` prints."""
+        """The lines ``roughdiffuse export`` prints (a backend warning on one line each)."""
         lines = [f"{self.target}: {', '.join(str(p) for p in self.paths)}"]
         lines.append(f"  as {self.model_id}: " + _params_text(self.params))
         lines.extend("  " + line for line in error_lines(self.conversion))
         lines.extend("  " + line for line in self.notes)
+        lines.extend("  warning: " + line for line in self.warnings)
         return "\n".join(lines)
+
+
+def warn_backends(result: Export) -> Export:
+    """Issue each of ``result.warnings`` as a :class:`BackendWarning` (for the caller of
+    :func:`roughdiffuse.exporters.export`); returns ``result``. The command line prints them
+    in its summary instead."""
+    import warnings
+
+    for text in result.warnings:
+        warnings.warn(text, BackendWarning, stacklevel=4)
+    return result
 
 
 def _params_text(params: dict[str, Any]) -> str:

@@ -6,6 +6,16 @@ model with ``energy_compensation`` false (roughdiffuse's ``materialx-oren-nayar`
 ``oren-nayar`` and its aliases, roughness = σ in radians), else EON with its L·V clamp
 (``materialx-eon``; ``open_pbr_surface`` sets ``energy_compensation`` true in
 ``libraries/bxdf/open_pbr_surface.mtlx``). Any other model is converted to ``materialx-eon``.
+
+That holds for MaterialX's GLSL, ESSL and MSL outputs. Its other backends render the node
+otherwise, and the export says so (:data:`BACKEND_WARNINGS`, a
+:class:`~roughdiffuse.exporters.common.BackendWarning`): the OSL generator
+(``libraries/pbrlib/genosl/pbrlib_genosl_impl.mtlx``) writes
+``oren_nayar_diffuse_bsdf(normal, color, roughness)`` without ``energy_compensation``, so OSL
+renders qualitative Oren–Nayar (``materialx-eon-genosl``) and Cycles' OSL closure, which has
+no switch, its own EON with the ρ³ lobe (``cycles-osl``); MDL 1.9 and earlier mark the option
+unused (``libraries/mdl/materialx/pbrlib_1_6.mdl``) and MDL 1.10 maps it to
+``multiscatter_tint`` (``pbrlib_1_10.mdl``), which is not EON's formula.
 """
 
 from __future__ import annotations
@@ -16,11 +26,33 @@ from typing import Any
 from .. import registry
 from .._validate import ParameterError
 from ..models.base import Model
-from .common import Export, error_lines, material_for, rgb_of, write_files, xml_comment_text
+from .common import (
+    Export,
+    error_lines,
+    material_for,
+    rgb_of,
+    warn_backends,
+    write_files,
+    xml_comment_text,
+)
 
-__all__ = ["document", "write"]
+__all__ = ["BACKEND_WARNINGS", "document", "write"]
 
 VERSION = "1.39"
+
+BACKEND_WARNINGS: dict[str, str] = {
+    "materialx-eon": (
+        "EON renders as written only in MaterialX's GLSL, ESSL and MSL; genosl drops "
+        "energy_compensation (OSL renders materialx-eon-genosl, qualitative Oren-Nayar; Cycles' "
+        "OSL renders cycles-osl), MDL 1.9 and earlier ignore it, MDL 1.10 maps it to "
+        "multiscatter_tint (not EON)"
+    ),
+    "materialx-oren-nayar": (
+        "Cycles' OSL closure has no energy_compensation switch: through genosl in Cycles this "
+        "renders cycles-osl (Fujii's model and the rho^3 lobe), not the qualitative model"
+    ),
+}
+"""The one-line warning of each MaterialX export target: what its other backends render."""
 
 
 def _is_qualitative_oren_nayar(model: Model) -> bool:
@@ -76,11 +108,17 @@ def write(model: Model, path: Path, openpbr: bool = False) -> Export:
     else:
         target = "materialx-eon"
     params, conversion = material_for(model, target)
-    comments = [f"MaterialX evaluates this as roughdiffuse's {target!r}."] + error_lines(conversion)
+    backend = BACKEND_WARNINGS["materialx-eon" if openpbr else target]
+    comments = [
+        f"MaterialX's GLSL, ESSL and MSL evaluate this as roughdiffuse's {target!r}.",
+        f"Other backends: {backend}.",
+        *error_lines(conversion),
+    ]
     text = document(params, target == "materialx-eon", comments, openpbr)
     note = check_document(text)
     notes = (note,) if note else ()
-    return Export("materialx", write_files({path: text}), target, params, conversion, notes)
+    paths = write_files({path: text})
+    return warn_backends(Export("materialx", paths, target, params, conversion, notes, (backend,)))
 
 
 def check_document(text: str) -> str | None:

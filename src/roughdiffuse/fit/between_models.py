@@ -166,7 +166,9 @@ def convert(
         Any closed-form model (a grey or an RGB albedo; RGB is converted per channel with a
         shared roughness fitted to the channel mean).
     target : str
-        A registry id (``"eon"``, ``"cycles-diffuse"``, ``"materialx-eon"``, ...).
+        A registry id (``"eon"``, ``"cycles-diffuse"``, ``"materialx-eon"``, ...), or an
+        engine's name (``"unity"``, ``"filament"``, ...: its default variant,
+        :data:`roughdiffuse.models.renderers.ENGINE_DEFAULTS`).
     n : int
         Points per axis of the hemisphere sampling (see the module docstring): n³ pairs.
     albedo_weight : float
@@ -189,6 +191,8 @@ def convert(
     """
     from scipy.optimize import least_squares
 
+    from ..models.renderers import engine_variant
+
     if not isinstance(source, Model):
         raise ParameterError(
             f"source must be a roughdiffuse model, e.g. roughdiffuse.create('eon') "
@@ -196,6 +200,7 @@ def convert(
         )
     check_range("n", n, 1, N_MAX)
     check_range("albedo_weight", albedo_weight, 0.0, math.inf)
+    target = engine_variant(target)
     entry = registry.get(target)
     if not getattr(entry.cls, "closed_form", True):
         raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")

@@ -64,9 +64,11 @@ class Burley(Model):
     """Burley's (Disney's) 2012 diffuse BRDF.
 
     Burley, "Physically-Based Shading at Disney", SIGGRAPH 2012 course notes, Eq. (3); as in
-    Filament (``shaders/src/brdf.fs``, ``Fd_Burley``) and MaterialX (``mx_burley_diffuse``).
-    Filament passes its α = perceptual roughness² here; roughdiffuse, like the paper and
-    MaterialX, uses Disney's roughness r as it is.
+    Filament (``shaders/src/surface_brdf.fs``, ``Fd_Burley``, compiled out by default: Filament
+    renders Lambert) and MaterialX (``mx_burley_diffuse``); Unity HDRP's default
+    ``DisneyDiffuse`` is it at the perceptual roughness, divided by 1.03571. Filament passes
+    its α = perceptual roughness² here; roughdiffuse, like the paper and MaterialX, uses
+    Disney's roughness r as it is.
 
     Parameters
     ----------
