@@ -4,8 +4,8 @@ renders as in three.js 0.187 (``MeshPhysicalMaterial.diffuseRoughness``).
 From ``src/renderers/shaders/ShaderChunk/lights_physical_pars_fragment.glsl.js`` of three.js
 0.187.0 (npm ``three``, read in tests/js/node_modules): ``BRDF_EON`` and
 ``FON_DirectionalAlbedo``. EON (J. Portsmouth, P. Kutz, S. Hill, JCGT 2025) with FON's
-directional albedo E_F(μ) taken from the paper's polynomial fit instead of its closed form
-(paper Eq. 8, roughdiffuse's ``eon``).
+directional albedo E_F(μ) taken from the paper's polynomial fit (``E_FON_approx`` of its
+Listing 1) instead of its closed form (paper Eq. 8, roughdiffuse's ``eon``).
 """
 
 from __future__ import annotations

@@ -41,11 +41,11 @@ and the conversion error is printed and written in the file's comments.
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "export",
-        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material, or "
-        "as a GLSL function",
-        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx, a Blender .py or "
-        "a GLSL ES 3.00 function for a model (--model, --param) or a fit result (--from fit "
-        "JSON or stereo params.json).",
+        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material, a "
+        "glTF sphere, or a GLSL function",
+        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx, a Blender .py, "
+        "a glTF sphere (.gltf or .glb) or a GLSL ES 3.00 function for a model (--model, "
+        "--param) or a fit result (--from fit JSON or stereo params.json).",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
