@@ -127,7 +127,8 @@ def test_threejs_renders_the_file_with_its_eon_at_the_mesh_normals(page, tmp_pat
 
 @pytest.mark.slow
 def test_a_roughness_one_tenth_away_is_told_apart(page, tmp_path):
-    """The comparison can fail: the file of r = 0.7 against three_eon at r = 0.8."""
+    """The comparison can fail: the file of r = 0.7 against three_eon at r = 0.8 (4.4 % of
+    the brightest pixel measured)."""
     rho = np.array([0.8, 0.5, 0.2])
     model = registry.create("eon", albedo=rho.tolist(), roughness=0.7)
     path = export(model, "gltf", tmp_path / "s.glb").paths[0]
