@@ -18,7 +18,9 @@ from __future__ import annotations
 import math
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -50,15 +52,10 @@ MIN_COS_VIEW = 0.1  # the rim left out of the comparison (see tests/test_export_
 
 def main(out: str = "docs/images/glsl-threejs.png") -> None:
     model = rd.OrenNayar([0.8, 0.5, 0.2], math.radians(30.0), "full")
-    with tempfile.TemporaryDirectory() as tmp:
-        result = rd.export(model, "glsl", Path(tmp) / "brdf.glsl")
-        print(result.summary())
-        glsl = result.paths[0].read_text()
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        page = open_sphere_page(browser)
-        theirs, covered = threejs_sphere(page, glsl, light=LIGHT, camera=CAMERA, size=SIZE)
-        browser.close()
+    glsl = exported(model, "glsl", "brdf.glsl").decode("utf-8")
+    theirs, covered = on_page(
+        lambda page: threejs_sphere(page, glsl, light=LIGHT, camera=CAMERA, size=SIZE)
+    )
     ours, mask = render(model, Sphere(), LIGHT, CAMERA, size=SIZE, samples_per_pixel=1)
     inside = interior()
     top = float(ours.max())
@@ -72,6 +69,25 @@ def main(out: str = "docs/images/glsl-threejs.png") -> None:
           f"brightest pixel; relative, where the radiance is > 5 % of it: "
           f"{float(np.max(np.abs(theirs - ours)[lit] / ours[lit])):.2g}")  # fmt: skip
     print(f"wrote {out}")
+
+
+def exported(model: rd.Model, target: str, name: str) -> bytes:
+    """The bytes of ``model`` exported to ``target`` as a file ``name`` (its summary
+    printed)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        result = rd.export(model, target, Path(tmp) / name)
+        print(result.summary())
+        return result.paths[0].read_bytes()
+
+
+def on_page(draw: Callable[[Any], Any]) -> Any:
+    """``draw(page)`` on the three.js page (tests/js/sphere.html) in headless Chromium."""
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            return draw(open_sphere_page(browser))
+        finally:
+            browser.close()
 
 
 def interior() -> np.ndarray:

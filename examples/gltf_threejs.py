@@ -18,21 +18,27 @@ Run from the repository root: ``python examples/gltf_threejs.py [OUT.png]``. Nee
 from __future__ import annotations
 
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
-from glsl_threejs import CAMERA, LIGHT, MIN_COS_VIEW, SIZE, interior, side_by_side
-from playwright.sync_api import sync_playwright
+from glsl_threejs import (
+    CAMERA,
+    LIGHT,
+    MIN_COS_VIEW,
+    SIZE,
+    exported,
+    interior,
+    on_page,
+    side_by_side,
+)
 
 import roughdiffuse as rd
 from roughdiffuse.render import Sphere, pixel_coordinates, render
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
-from explorer_browser import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 from threejs_eon import three_eon  # noqa: E402
-from threejs_sphere import open_sphere_page, threejs_gltf  # noqa: E402
+from threejs_sphere import threejs_gltf  # noqa: E402
 
 RHO, R = np.array([0.8, 0.5, 0.2]), 0.8
 
@@ -52,15 +58,10 @@ def three_at_exact_normals() -> np.ndarray:
 
 def main(out: str = "docs/images/gltf-threejs.png") -> None:
     model = rd.registry.create("eon", albedo=RHO.tolist(), roughness=R)
-    with tempfile.TemporaryDirectory() as tmp:
-        result = rd.export(model, "gltf", Path(tmp) / "sphere.glb")
-        print(result.summary())
-        data = result.paths[0].read_bytes()
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        page = open_sphere_page(browser)
-        theirs, covered, material = threejs_gltf(page, data, light=LIGHT, camera=CAMERA, size=SIZE)
-        browser.close()
+    data = exported(model, "gltf", "sphere.glb")
+    theirs, covered, material = on_page(
+        lambda page: threejs_gltf(page, data, light=LIGHT, camera=CAMERA, size=SIZE)
+    )
     print(f"three.js loaded: {material}")
     ours, mask = render(model, Sphere(), LIGHT, CAMERA, size=SIZE, samples_per_pixel=1)
     diff = side_by_side(
