@@ -52,8 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     p.add_argument("--from", dest="source", metavar="FILE.json", help="a fit result instead")
     p.add_argument(
-        "--to", required=True, metavar="TARGET",
-        help="mitsuba, materialx, blender, glsl or gltf"
+        "--to", required=True, metavar="TARGET", help="mitsuba, materialx, blender, glsl or gltf"
     )
     p.add_argument(
         "-o",

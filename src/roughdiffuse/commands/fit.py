@@ -120,8 +120,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--export-prefix",
         default="material",
         metavar="PREFIX",
-        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl/.gltf (default: "
-        "material)",
+        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl/.gltf (default: material)",
     )
     _add_input_arguments(p)
     p.set_defaults(func=run)

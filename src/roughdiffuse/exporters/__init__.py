@@ -211,22 +211,22 @@ def planned_files(
     """Every file :func:`export` will write for these arguments, ``path`` first: Mitsuba's
     ``.xml``, its ``.py`` and (Lambert, Burley 2015) its ``_builtin.xml``; MaterialX's
     ``.mtlx``; Blender's ``.py`` and (``blend``, see :func:`export`) its ``.blend``; glTF's
-    ``.gltf`` or ``.glb``. A command
-    checks each of them before any work (and keeps each existing one unless ``--force``).
+    ``.gltf`` or ``.glb``. A command checks each of them before any work (and keeps each
+    existing one unless ``--force``).
     ``model`` ``None`` (not known yet: before a fit) gives every file the target may write.
 
     Raises
     ------
     ValueError
         For an unknown target, or a ``path`` whose suffix is not the target's (``.xml``,
-        ``.mtlx``, ``.py``): two of the files would have the same name.
+        ``.mtlx``, ``.py``, ``.glsl``, ``.gltf`` or ``.glb``): two of the files would have the
+        same name.
     """
     _check_target(target)
     path = Path(path)
     if path.suffix.lower() not in suffixes(target):
         raise ParameterError(
-            f"the {target} target writes a {' or '.join(suffixes(target))} file "
-            f"(got {str(path)!r})"
+            f"the {target} target writes a {' or '.join(suffixes(target))} file (got {str(path)!r})"
         )
     if target == "mitsuba":
         from .mitsuba import files_for
