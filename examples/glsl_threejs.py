@@ -18,7 +18,9 @@ from __future__ import annotations
 import math
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -50,28 +52,63 @@ MIN_COS_VIEW = 0.1  # the rim left out of the comparison (see tests/test_export_
 
 def main(out: str = "docs/images/glsl-threejs.png") -> None:
     model = rd.OrenNayar([0.8, 0.5, 0.2], math.radians(30.0), "full")
+    glsl = exported(model, "glsl", "brdf.glsl").decode("utf-8")
+    theirs, covered = on_page(
+        lambda page: threejs_sphere(page, glsl, light=LIGHT, camera=CAMERA, size=SIZE)
+    )
+    ours, mask = render(model, Sphere(), LIGHT, CAMERA, size=SIZE, samples_per_pixel=1)
+    inside = interior()
+    top = float(ours.max())
+    diff = side_by_side(theirs, ours, covered, "three.js ShaderMaterial\n(export --to glsl, "
+                        "Chromium)", out)  # fmt: skip
+    lit = inside[..., None] & (ours > 0.05 * top)
+    same = np.array_equal(covered, mask == 1)
+    print(f"sphere pixels: {int(covered.sum())} in three.js, {int((mask == 1).sum())} in "
+          f"roughdiffuse ({'the same' if same else 'not the same'})")  # fmt: skip
+    print(f"largest difference inside n·v >= {MIN_COS_VIEW}: {np.nanmax(diff):.2g} of the "
+          f"brightest pixel; relative, where the radiance is > 5 % of it: "
+          f"{float(np.max(np.abs(theirs - ours)[lit] / ours[lit])):.2g}")  # fmt: skip
+    print(f"wrote {out}")
+
+
+def exported(model: rd.Model, target: str, name: str) -> bytes:
+    """The bytes of ``model`` exported to ``target`` as a file ``name`` (its summary
+    printed)."""
     with tempfile.TemporaryDirectory() as tmp:
-        result = rd.export(model, "glsl", Path(tmp) / "brdf.glsl")
+        result = rd.export(model, target, Path(tmp) / name)
         print(result.summary())
-        glsl = result.paths[0].read_text()
+        return result.paths[0].read_bytes()
+
+
+def on_page(draw: Callable[[Any], Any]) -> Any:
+    """``draw(page)`` on the three.js page (tests/js/sphere.html) in headless Chromium."""
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        page = open_sphere_page(browser)
-        theirs, covered = threejs_sphere(page, glsl, light=LIGHT, camera=CAMERA, size=SIZE)
-        browser.close()
-    ours, mask = render(model, Sphere(), LIGHT, CAMERA, size=SIZE, samples_per_pixel=1)
+        try:
+            return draw(open_sphere_page(browser))
+        finally:
+            browser.close()
+
+
+def interior() -> np.ndarray:
+    """The pixels compared: the sphere where n·v ≥ MIN_COS_VIEW."""
     x, y = pixel_coordinates(Sphere(), CAMERA, SIZE)
     cos_view = np.sqrt(np.clip(1.0 - x[None, :] ** 2 - y[:, None] ** 2, 0.0, None))
-    inside = cos_view >= MIN_COS_VIEW
+    return cos_view >= MIN_COS_VIEW
+
+
+def side_by_side(
+    theirs: np.ndarray, ours: np.ndarray, covered: np.ndarray, label: str, out: str
+) -> np.ndarray:
+    """Save three.js's render (``label``), roughdiffuse's and their difference (largest
+    channel, ÷ the brightest pixel, NaN on the rim) to ``out``; returns that difference."""
+    inside = interior()
     top = float(ours.max())
     diff = np.where(inside, np.nanmax(np.abs(theirs - ours), axis=-1), np.nan) / top
     fig, axes = plt.subplots(1, 3, figsize=(10.5, 3.6))
     for ax, (title, img) in zip(
         axes,
-        [
-            ("three.js ShaderMaterial\n(export --to glsl, Chromium)", theirs),
-            ("roughdiffuse.render\n(the model's own code, JAX)", ours),
-        ],
+        [(label, theirs), ("roughdiffuse.render\n(the model's own code, JAX)", ours)],
         strict=False,
     ):
         shown = np.clip(img / top, 0, 1) ** (1 / 2.2)
@@ -85,19 +122,13 @@ def main(out: str = "docs/images/glsl-threejs.png") -> None:
         f"(÷ brightest pixel; grey: rim, n·v < {MIN_COS_VIEW})",
         fontsize=9,
     )
-    fig.colorbar(im, ax=axes[2], fraction=0.046, format="%.0e")
+    fig.colorbar(im, ax=axes[2], fraction=0.046, format="%.1e")
     for ax in axes:
         ax.set_axis_off()
     fig.tight_layout()
     atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=100, format="png", bbox_inches="tight"))
-    lit = inside[..., None] & (ours > 0.05 * top)
-    same = np.array_equal(covered, mask == 1)
-    print(f"sphere pixels: {int(covered.sum())} in three.js, {int((mask == 1).sum())} in "
-          f"roughdiffuse ({'the same' if same else 'not the same'})")  # fmt: skip
-    print(f"largest difference inside n·v >= {MIN_COS_VIEW}: {np.nanmax(diff):.2g} of the "
-          f"brightest pixel; relative, where the radiance is > 5 % of it: "
-          f"{float(np.max(np.abs(theirs - ours)[lit] / ours[lit])):.2g}")  # fmt: skip
-    print(f"wrote {out}")
+    plt.close(fig)
+    return diff
 
 
 if __name__ == "__main__":

@@ -68,7 +68,7 @@ def test_models_mitsuba_cannot_hold_are_refused_in_one_line(tmp_path, capsys, mo
 
 
 @pytest.mark.parametrize(("target", "suffix"), [("mitsuba", ".xml"), ("materialx", ".mtlx"),
-                                                ("blender", ".py")])  # fmt: skip
+                                                ("blender", ".py"), ("gltf", ".glb")])  # fmt: skip
 def test_a_four_channel_albedo_is_refused_by_every_target(tmp_path, capsys, target, suffix):
     record = tmp_path / "fit.json"
     record.write_text(json.dumps({"model": "eon", "params": {"albedo": [0.1, 0.2, 0.3, 0.4],

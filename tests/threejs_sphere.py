@@ -1,4 +1,5 @@
-"""A sphere rendered by three.js with an exported GLSL function, read back as float radiance.
+"""A sphere rendered by three.js with an exported GLSL function, or an exported glTF file
+loaded by three.js's GLTFLoader, read back as float radiance.
 
 The page ``tests/js/sphere.html`` puts the function in a ``THREE.ShaderMaterial`` (the user's
 way: the exported text pasted above a ``main``; ``tests/js/material.js`` is the material the
@@ -15,6 +16,7 @@ by Playwright (:meth:`Page.route`), under an address that is never resolved.
 
 from __future__ import annotations
 
+import base64
 from pathlib import Path
 from typing import Any
 from urllib.parse import urlparse
@@ -28,7 +30,7 @@ JS_DIR = Path(__file__).resolve().parent / "js"
 THREE = JS_DIR / "node_modules" / "three" / "build" / "three.module.js"
 ORIGIN = "http://roughdiffuse-threejs.invalid"
 
-__all__ = ["JS_DIR", "THREE", "open_sphere_page", "threejs_sphere"]
+__all__ = ["JS_DIR", "THREE", "open_sphere_page", "threejs_gltf", "threejs_sphere"]
 
 
 def _serve(route: Any) -> None:
@@ -104,16 +106,26 @@ def threejs_sphere(
     mask : bool array (size, size)
         Where the sphere is (the pixel centre's ray meets it).
     """
+    spec = _frame(light, camera, size, radius)
+    spec.update(brdf=glsl, name=name, uniforms=uniforms, normals=normals)
+    got = page.page.evaluate("(spec) => window.renderSphere(spec)", spec)
+    if "error" in got:
+        raise RuntimeError(f"three.js could not compile the shader: {got['error']}")
+    return _image(got, size)
+
+
+def _frame(
+    light: DistantLight | None, camera: OrthographicCamera | None, size: int, radius: float
+) -> dict[str, Any]:
+    """The page's light and camera: ``camera`` framing a sphere of ``radius`` in ``size`` ×
+    ``size`` pixels as :func:`roughdiffuse.render.render` frames it."""
     light = DistantLight() if light is None else light
     camera = OrthographicCamera() if camera is None else camera
     right, up, view = camera.basis()
     centre, pixel = camera.frame(Sphere(radius), size, size)
     cx, cy, half = float(centre @ right), float(centre @ up), 0.5 * size * pixel
     e0 = np.broadcast_to(np.asarray(light.irradiance, dtype=np.float64), (3,))
-    spec = {
-        "brdf": glsl,
-        "name": name,
-        "uniforms": uniforms,
+    return {
         "width": size,
         "height": size,
         "light": light.direction.tolist(),
@@ -125,10 +137,38 @@ def threejs_sphere(
         "top": cy + half,
         "bottom": cy - half,
         "radius": float(radius),
-        "normals": normals,
     }
-    got = page.page.evaluate("(spec) => window.renderSphere(spec)", spec)
-    if "error" in got:
-        raise RuntimeError(f"three.js could not compile the shader: {got['error']}")
+
+
+def _image(got: dict[str, Any], size: int) -> tuple[np.ndarray, np.ndarray]:
     rgba = np.asarray(got["pixels"], dtype=np.float32).reshape(size, size, 4)
     return rgba[..., :3], rgba[..., 3] > 0.5
+
+
+def threejs_gltf(
+    page: PageWithLog,
+    data: bytes,
+    *,
+    light: DistantLight | None = None,
+    camera: OrthographicCamera | None = None,
+    size: int = 64,
+) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
+    """Render a glTF file (``roughdiffuse export --to gltf``: a unit sphere) as three.js loads
+    it (``GLTFLoader``), lit by a ``DirectionalLight`` of colour E0 and intensity 1 along
+    ``light``, seen by ``camera`` framed as for :func:`threejs_sphere`.
+
+    Returns
+    -------
+    image, mask
+        As :func:`threejs_sphere`'s (the mask: where the mesh is).
+    material : dict
+        The loaded material's ``type`` (``MeshPhysicalMaterial``), ``color``,
+        ``diffuseRoughness``, ``specularIntensity`` and ``metalness``.
+    """
+    spec = _frame(light, camera, size, 1.0)
+    spec["data"] = base64.b64encode(data).decode("ascii")
+    got = page.page.evaluate("(spec) => window.renderGltf(spec)", spec)
+    if "error" in got:
+        raise RuntimeError(f"three.js could not load or render the file: {got['error']}")
+    image, mask = _image(got, size)
+    return image, mask, got["material"]

@@ -58,13 +58,17 @@ def parse_targets(text: str, option: str = "--export") -> list[str]:
     """The comma-separated targets of ``text``, each one of
     :data:`roughdiffuse.exporters.TARGETS` (a ``UsageError`` naming the unknown one)."""
     from ..exporters import TARGETS
+    from ._inputs import suggest
 
     targets = [t.strip().lower() for t in text.split(",") if t.strip()]
     if not targets:
         raise UsageError(f"{option}: name one or more of: {', '.join(TARGETS)}")
     for t in targets:
         if t not in TARGETS:
-            raise UsageError(f"{option}: unknown target {t!r}; choose from: {', '.join(TARGETS)}")
+            raise UsageError(
+                f"{option}: unknown target {t!r}{suggest(t, TARGETS)}; choose from: "
+                f"{', '.join(TARGETS)}"
+            )
     return list(dict.fromkeys(targets))
 
 

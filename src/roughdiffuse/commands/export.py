@@ -1,5 +1,5 @@
 """``roughdiffuse export``: write a model or a fit result as a Mitsuba, MaterialX or Blender
-material, or as a GLSL function for the user's own shader."""
+material, a glTF sphere, or a GLSL function for the user's own shader."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from ._export_targets import (
     quiet_backend_warnings,
     use_blender_python_flag,
 )
+from ._inputs import suggest
 
 EXAMPLES = """\
 examples:
@@ -22,6 +23,12 @@ examples:
   roughdiffuse export --model eon --roughness 0.5 --to mitsuba -o scene.xml
   roughdiffuse export --model oren-nayar-full --param sigma=20 --to glsl -o brdf.glsl
   roughdiffuse export --model hapke-2012 --to glsl --uniforms -o hapke.glsl
+  roughdiffuse export --model eon --roughness 0.5 --albedo 0.8,0.5,0.2 --to gltf -o sphere.glb
+
+glTF: a sphere whose material is EON (KHR_materials_diffuse_roughness, the specular lobe
+off); FILE.gltf is JSON with its buffer embedded, FILE.glb binary. Other rough-diffuse
+models are converted to EON; planetary and glossy models are refused (as by materialx and
+blender): export them with --to glsl or mitsuba.
 
 GLSL (WebGL 2, three.js, Godot): `vec3 rd_brdf(vec3 wi, vec3 wo)`, the BRDF in 1/sr
 printed from the model's own code, wi and wo in the surface's frame (z the normal); paste it
@@ -39,18 +46,18 @@ and the conversion error is printed and written in the file's comments.
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "export",
-        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material, or "
-        "as a GLSL function",
-        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx, a Blender .py or "
-        "a GLSL ES 3.00 function for a model (--model, --param) or a fit result (--from fit "
-        "JSON or stereo params.json).",
+        help="write a model or a fit result as a Mitsuba, MaterialX or Blender material, a "
+        "glTF sphere, or a GLSL function",
+        description="Write a Mitsuba 3 scene (XML + dict), a MaterialX .mtlx, a Blender .py, "
+        "a glTF sphere (.gltf or .glb) or a GLSL ES 3.00 function for a model (--model, "
+        "--param) or a fit result (--from fit JSON or stereo params.json).",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_model_arguments(p)
     p.add_argument("--from", dest="source", metavar="FILE.json", help="a fit result instead")
     p.add_argument(
-        "--to", required=True, metavar="TARGET", help="mitsuba, materialx, blender or glsl"
+        "--to", required=True, metavar="TARGET", help="mitsuba, materialx, blender, glsl or gltf"
     )
     p.add_argument(
         "-o",
@@ -59,7 +66,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="the file to write: mitsuba FILE.xml and FILE.py beside it (and FILE_builtin.xml "
         "for lambert and burley-2015), materialx FILE.mtlx, blender FILE.py and FILE.blend "
-        "beside it (unless --no-blend or no Blender is found), glsl FILE.glsl; none is replaced "
+        "beside it (unless --no-blend or no Blender is found), glsl FILE.glsl, gltf FILE.gltf or "
+        "FILE.glb; none is replaced "
         "without --force",
     )
     p.add_argument("--force", action="store_true", help="replace files that exist")
@@ -93,13 +101,17 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..exporters import TARGETS, export, load_result, planned_files
+    from ..exporters import TARGETS, export, load_result, planned_files, suffixes
     from ..exporters.blender import write as write_blender
+    from ..exporters.scope import check_model
 
     if args.to not in TARGETS:
-        raise UsageError(f"--to: unknown target {args.to!r}; choose one of: {', '.join(TARGETS)}")
+        raise UsageError(
+            f"--to: unknown target {args.to!r}{suggest(args.to, TARGETS)}; choose one of: "
+            f"{', '.join(TARGETS)}"
+        )
     use_blender_python_flag(args)
-    out = output_file(args.output, (TARGETS[args.to][0],), force=args.force)
+    out = output_file(args.output, suffixes(args.to), force=args.force)
     if args.source:
         try:
             model = load_result(args.source)
@@ -109,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
         model = model_from_args(args)
     blend = False if args.no_blend else None
     with export_errors(out, "--to", args.to, "--output"), quiet_backend_warnings():
+        check_model(model, args.to)  # before a conversion (and Blender's own path)
         for path in planned_files(model, args.to, out, blend=blend)[1:]:
             output_file(path, force=args.force)  # each file it writes, kept unless --force
         if args.to == "blender":

@@ -114,14 +114,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--export",
         metavar="TARGET,...",
-        help="after the fit, write the (best) fitted model for blender, materialx, mitsuba "
-        "and/or glsl (see `roughdiffuse export`), converted where needed",
+        help="after the fit, write the (best) fitted model for blender, materialx, mitsuba, "
+        "glsl and/or gltf (see `roughdiffuse export`), converted where needed",
     )
     p.add_argument(
         "--export-prefix",
         default="material",
         metavar="PREFIX",
-        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl (default: material)",
+        help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl/.gltf (default: material)",
     )
     add_blender_python(p)
     _add_input_arguments(p)

@@ -13,12 +13,17 @@ Targets (:data:`TARGETS`):
   (:mod:`roughdiffuse.exporters.blender_run`);
 * ``glsl``: a GLSL ES 3.00 function ``vec3 rd_brdf(vec3 wi, vec3 wo)`` for a WebGL 2,
   three.js or Godot shader, printed from the model's own code (exact; parameter values baked
-  in, or uniforms with ``uniforms=True``; :mod:`roughdiffuse.exporters.glsl`).
+  in, or uniforms with ``uniforms=True``; :mod:`roughdiffuse.exporters.glsl`);
+* ``gltf``: a glTF 2.0 sphere (``.gltf`` with its buffer embedded, or ``.glb``) whose
+  material carries EON's roughness in ``KHR_materials_diffuse_roughness``, the specular lobe
+  off (:mod:`roughdiffuse.exporters.gltf`).
 
 Where the target cannot hold the model exactly, the parameters are converted
 (:func:`roughdiffuse.fit.between_models.convert`) and the conversion error is written into
-the file's comments and returned. A ``UsdPreviewSurface`` is not offered: its diffuse lobe has no
-roughness, so any rough model would be exported wrong.
+the file's comments and returned. A model that is not a rough-diffuse BRDF (a planetary
+photometric function, a glossy model) is refused by the targets that convert
+(:mod:`roughdiffuse.exporters.scope`). A ``UsdPreviewSurface`` is not offered: its diffuse
+lobe has no roughness, so any rough model would be exported wrong.
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ from .. import registry
 from .._validate import ParameterError
 from ..models.base import Model
 from .common import Export, material_for, model_record
+from .scope import check_model
 
 __all__ = [
     "TARGETS",
@@ -42,6 +48,7 @@ __all__ = [
     "material_for",
     "model_record",
     "planned_files",
+    "suffixes",
 ]
 
 TARGETS: dict[str, tuple[str, str]] = {
@@ -50,9 +57,18 @@ TARGETS: dict[str, tuple[str, str]] = {
     "materialx": (".mtlx", "materialx-eon"),
     "blender": (".py", "cycles-diffuse"),
     "glsl": (".glsl", ""),
+    "gltf": (".gltf", "eon"),
 }
 """Export targets: their file suffix and the registry model the renderer evaluates ('' for
 Mitsuba and GLSL: the model itself)."""
+
+OTHER_SUFFIXES: dict[str, tuple[str, ...]] = {"gltf": (".glb",)}
+"""Suffixes a target also writes, each naming another form (glTF: ``.glb``, binary)."""
+
+
+def suffixes(target: str) -> tuple[str, ...]:
+    """The file suffixes ``target`` writes: its own first (:data:`TARGETS`), then others."""
+    return (TARGETS[target][0], *OTHER_SUFFIXES.get(target, ()))
 
 
 def _from_fit_json(data: dict[str, Any]) -> dict[str, Any]:
@@ -134,9 +150,10 @@ def export(
     ----------
     model : Model
         The model (from the registry, a fit, or :func:`load_result`).
-    target : {"mitsuba", "materialx", "blender", "glsl"}
+    target : {"mitsuba", "materialx", "blender", "glsl", "gltf"}
     path : path
-        The file to write (Mitsuba also writes the scene dict beside it, ``.py``).
+        The file to write (Mitsuba also writes the scene dict beside it, ``.py``; glTF: a
+        ``.glb`` is binary, a ``.gltf`` JSON with the buffer embedded).
     openpbr : bool
         MaterialX: an ``open_pbr_surface`` instead of an ``oren_nayar_diffuse_bsdf``.
     blend : bool or None
@@ -165,6 +182,7 @@ def export(
         (:class:`roughdiffuse.exporters.common.BackendWarning`; also in ``Export.warnings``).
     """
     _check_target(target)
+    check_model(model, target)
     path = Path(path)
     if target == "mitsuba":
         from .mitsuba import write
@@ -178,6 +196,10 @@ def export(
         from .glsl import write as write_glsl
 
         return write_glsl(model, path, uniforms=uniforms, name=name)
+    if target == "gltf":
+        from .gltf import write as write_gltf
+
+        return write_gltf(model, path)
     from .blender import write as write_blender
 
     return write_blender(model, path, blend=blend)
@@ -195,22 +217,23 @@ def planned_files(
 ) -> tuple[Path, ...]:
     """Every file :func:`export` will write for these arguments, ``path`` first: Mitsuba's
     ``.xml``, its ``.py`` and (Lambert, Burley 2015) its ``_builtin.xml``; MaterialX's
-    ``.mtlx``; Blender's ``.py`` and (``blend``, see :func:`export`) its ``.blend``. A command
-    checks each of them before any work (and keeps each existing one unless ``--force``).
+    ``.mtlx``; Blender's ``.py`` and (``blend``, see :func:`export`) its ``.blend``; glTF's
+    ``.gltf`` or ``.glb``. A command checks each of them before any work (and keeps each
+    existing one unless ``--force``).
     ``model`` ``None`` (not known yet: before a fit) gives every file the target may write.
 
     Raises
     ------
     ValueError
         For an unknown target, or a ``path`` whose suffix is not the target's (``.xml``,
-        ``.mtlx``, ``.py``): two of the files would have the same name.
+        ``.mtlx``, ``.py``, ``.glsl``, ``.gltf`` or ``.glb``): two of the files would have the
+        same name.
     """
     _check_target(target)
     path = Path(path)
-    suffix = TARGETS[target][0]
-    if path.suffix.lower() != suffix:
+    if path.suffix.lower() not in suffixes(target):
         raise ParameterError(
-            f"the {target} target writes a {suffix} file (got {str(path)!r})"
+            f"the {target} target writes a {' or '.join(suffixes(target))} file (got {str(path)!r})"
         )
     if target == "mitsuba":
         from .mitsuba import files_for
