@@ -10,6 +10,7 @@ from pathlib import Path
 from ..progress import progress_enabled
 from . import UsageError
 from ._checks import bounded_float
+from ._conflicts import given
 from ._inputs import input_file, known_id
 from .render import MAX_EXPOSURE
 
@@ -20,10 +21,17 @@ examples:
   roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
+  roughdiffuse stereo --demo --method l1 -o demo-l1/
+  roughdiffuse stereo --benchmark DiLiGenT/ -o table/   # every method, every object
 
 PNG images: --exposure E (linear = value / 2^E), --mask mask.png. A DiLiGenT object:
 --diligent DiLiGenT/pmsData/potPNG. --model lambert is Woodham's Lambertian photometric
-stereo alone (least squares per pixel): the same outputs, no roughness.
+stereo alone (least squares per pixel): the same outputs, no roughness (as --method lambertian).
+--method l1, sparse or rpca: robust Lambertian photometric stereo (L1 residual, sparse Bayesian
+learning, low-rank RPCA), which rejects highlights and shadows as outliers; --shadow, if given,
+leaves dark observations out before their fit. --benchmark DIR runs every method on every
+object of a DiLiGenT-format folder (pmsData/<object>PNG/ with Normal_gt.mat) and writes the
+mean angular error table (benchmark.md, .csv, .json) and report.html.
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -72,10 +80,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--demo", action="store_true", help="run on a rendered sphere of known shape (no input)"
     )
     p.add_argument(
+        "--benchmark",
+        metavar="DIR",
+        help="run every method on a DiLiGenT-format folder and write the error table",
+    )
+    p.add_argument(
+        "--method",
+        choices=tuple(METHOD_CHOICES),
+        help="lambertian, rough (default: the rough fit of --model), or a robust Lambertian "
+        "solver: l1, sparse, rpca",
+    )
+    p.add_argument(
         "--model",
-        default="oren-nayar-full",
         metavar="ID",
-        help="model id (default: oren-nayar-full)",
+        help=f"model id of the rough fit (default: {DEFAULT_MODEL})",
     )
     p.add_argument("--per-pixel", action="store_true", help="one roughness per pixel")
     p.add_argument(
@@ -96,6 +114,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+DEFAULT_MODEL = "oren-nayar-full"
+"""The model of the rough fit when --model is not given."""
+
+METHOD_CHOICES = ("lambertian", "rough", "l1", "sparse", "rpca")
+"""``--method``: the names of :data:`roughdiffuse.stereo.methods.METHODS`."""
+
+ROBUST = ("l1", "sparse", "rpca")
+"""The robust Lambertian solvers of :func:`roughdiffuse.stereo.robust.robust`."""
+
 LAMBERT = "lambert"
 """``--model lambert``: Woodham's Lambertian photometric stereo alone (least squares per
 pixel), the same outputs with no roughness."""
@@ -111,14 +138,17 @@ def _model(model_id: str):  # noqa: ANN202
 RESULT_MARKER = "params.json"
 """The file every stereo result folder holds: only such a folder is replaced by --force."""
 
+BENCHMARK_MARKER = "benchmark.json"
+"""The file every --benchmark result folder holds (replaced by --force only if so)."""
 
-def _prepare_output(folder: str, force: bool) -> Path:
+
+def _prepare_output(folder: str, force: bool, marker: str = RESULT_MARKER) -> Path:
     """The -o folder, checked before any work (it is written whole at the end:
     :func:`roughdiffuse.io.atomic_folder`)."""
     from ..io import check_output_folder
 
     try:
-        return check_output_folder(folder, replace=force, marker=RESULT_MARKER)
+        return check_output_folder(folder, replace=force, marker=marker)
     except ValueError as exc:
         raise UsageError(f"--output: {exc}") from None
 
@@ -128,13 +158,20 @@ def run(args: argparse.Namespace) -> int:
 
     from .. import stereo
 
-    sources = sum(bool(x) for x in (args.images, args.diligent, args.demo))
+    sources = sum(bool(x) for x in (args.images, args.diligent, args.demo, args.benchmark))
     if sources != 1:
-        raise UsageError("give IMAGE files with --lights, or --diligent DIR, or --demo")
+        raise UsageError(
+            "give IMAGE files with --lights, or --diligent DIR, or --demo, or --benchmark DIR"
+        )
     if not 0.0 <= args.shadow < 1.0:
         raise UsageError(f"--shadow must be in [0, 1) (got {args.shadow:g})")
-    model = _model(args.model)
-    out = _prepare_output(args.output, args.force)
+    method = _method(args)
+    model = _model(args.model or DEFAULT_MODEL) if method == "rough" else None
+    out = _prepare_output(
+        args.output, args.force, BENCHMARK_MARKER if args.benchmark else RESULT_MARKER
+    )
+    if args.benchmark:
+        return _benchmark(args, out)
     truth = None
     if args.diligent:
         data = stereo.read_diligent(args.diligent)
@@ -160,8 +197,17 @@ def run(args: argparse.Namespace) -> int:
         mask = stereo.read_mask(args.mask) if args.mask else None
         data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
     lam = stereo.lambertian(data, shadow=args.shadow)
+    methods = _compared(args, data, truth)
+    if method in ROBUST:
+        from ..stereo.robust import robust
+
+        shadow = args.shadow if "shadow" in given(args) else None
+        res = methods.get(method) or robust(data, method, shadow=shadow,
+                                            progress=progress_enabled())
+        methods = {"lambertian": lam, **methods, method: res}
+        return _lambert_only(args, data, res, out, truth, method, methods)
     if model is None:
-        return _lambert_only(args, data, lam, out, truth)
+        return _lambert_only(args, data, lam, out, truth, LAMBERT, {"lambertian": lam, **methods})
     res = stereo.rough(
         data,
         model,
@@ -183,9 +229,13 @@ def run(args: argparse.Namespace) -> int:
         extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
     from ..io import atomic_folder
 
+    model_id = args.model or DEFAULT_MODEL
+    key = "rough" if model_id == DEFAULT_MODEL else f"rough ({model_id})"
+    methods = {"lambertian": lam, key: res, **methods}
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
         params = stereo.write_outputs(
-            tmp, data, res, lam, depth, model_id=args.model, truth_normals=truth, extra=extra
+            tmp, data, res, lam, depth, model_id=model_id, truth_normals=truth, extra=extra,
+            methods=methods,
         )
     r = params["roughness"]
     if r["per_pixel"]:
@@ -199,12 +249,48 @@ def run(args: argparse.Namespace) -> int:
                 "infinite, e.g. every image lit alike): the value is not a measurement",
                 file=sys.stderr,
             )
-    print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
+    print(f"{model_id}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
 
 
-def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:  # noqa: ANN001
-    """Woodham's Lambertian photometric stereo: normals, albedo, depth; no roughness."""
+def _method(args: argparse.Namespace) -> str:
+    """The method to run: --method, or the one --model implies (lambert: lambertian)."""
+    if args.model == LAMBERT:
+        if args.method not in (None, "lambertian"):
+            raise UsageError(f"--model lambert is --method lambertian, not {args.method}")
+        return "lambertian"
+    if args.model is not None and args.method not in (None, "rough"):
+        raise UsageError(f"--model applies only to --method rough (got --method {args.method})")
+    return args.method or "rough"
+
+
+def _compared(args: argparse.Namespace, data, truth) -> dict:  # noqa: ANN001
+    """With the truth known (--demo): every robust method, for the report's comparison."""
+    if truth is None:
+        return {}
+    from ..stereo.robust import robust
+
+    return {m: robust(data, m, progress=progress_enabled()) for m in ROBUST}
+
+
+def _benchmark(args: argparse.Namespace, out: Path) -> int:
+    """--benchmark DIR: every method on every object; the error table and report."""
+    from ..io import atomic_folder
+    from ..stereo.benchmark import run_benchmark, write_benchmark
+
+    result = run_benchmark(args.benchmark, progress=progress_enabled())
+    with atomic_folder(out, replace=args.force, marker=BENCHMARK_MARKER) as tmp:
+        write_benchmark(tmp, result)
+    print(result.markdown(), end="")
+    print(f"{len(result.objects)} objects; table and report in {out}/ (benchmark.md, report.html)")
+    return 0
+
+
+def _lambert_only(  # noqa: PLR0913
+    args: argparse.Namespace, data, lam, out: Path, truth, label: str, methods: dict  # noqa: ANN001
+) -> int:
+    """Lambertian photometric stereo alone (Woodham's least squares, or a robust solver):
+    normals, albedo, depth; no roughness."""
     import numpy as np
 
     from .. import stereo
@@ -216,11 +302,12 @@ def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:
 
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
         params = stereo.write_outputs(
-            tmp, data, None, lam, depth, model_id=LAMBERT, truth_normals=truth
+            tmp, data, None, lam, depth, model_id=label, truth_normals=truth, methods=methods
         )
     res = params["lambertian"]["relative_rms_residual"]["median"]
+    name = "lambert (Woodham)" if label == LAMBERT else label
     print(
-        f"lambert (Woodham): no roughness; median relative residual {res:.3g}; "
+        f"{name}: no roughness; median relative residual {res:.3g}; "
         f"{params['pixels']} pixels; results in {out}/ (report.html)"
     )
     return 0

@@ -15,7 +15,7 @@ import numpy as np
 
 from .inputs import StereoInput
 
-__all__ = ["NORMAL_KEY", "report_pngs"]
+__all__ = ["NORMAL_KEY", "methods_pngs", "report_pngs"]
 
 NORMAL_KEY = "colour = normal direction: red = x (right), green = y (up), blue = z (camera)"
 
@@ -207,6 +207,69 @@ def report_pngs(
         figs["normal standard error"] = single_figure(maps["normal_se_deg"],
                                                       "normal standard error", "degrees", "magma")
     figs["depth"] = single_figure(depth, "depth (z towards the camera)", "pixels", "viridis")
+    out = {}
+    for name, fig in figs.items():
+        out[name] = _png(fig)
+        release(fig)
+    return out
+
+
+def methods_figure(maps: dict[str, np.ndarray], what: str, unit: str, cmap: str,
+                   top: float | None = None) -> Any:
+    """One map per method, side by side on one colour scale from 0, one colour bar.
+
+    ``maps`` is method label -> (H, W) map (NaN outside the object); ``top`` is the end of
+    the scale (default: the 99th percentile of every map together).
+    """
+    from .._figure import figure
+
+    values = np.concatenate([m[np.isfinite(m)] for m in maps.values()] + [np.zeros(1)])
+    hi = top if top is not None else float(np.percentile(values, 99))
+    hi = hi if hi > 0 else 1.0
+    cols = min(len(maps), 4)
+    rows = -(-len(maps) // cols)
+    fig = figure(figsize=(3.3 * cols + 1.2, 3.2 * rows + 0.3), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, cols)).ravel()
+    im = None
+    for ax, (label, image) in zip(axes, maps.items(), strict=False):
+        im = ax.imshow(image, cmap=cmap, vmin=0.0, vmax=hi)
+        ax.set_title(label, fontsize=9)
+        _pixel_axes(ax)
+    for ax in axes[len(maps):]:
+        ax.set_axis_off()
+    fig.colorbar(im, ax=axes[: len(maps)].tolist(), label=f"{what} ({unit})", shrink=0.85)
+    return fig
+
+
+def methods_pngs(
+    mask: np.ndarray,
+    results: dict[str, Any],
+    truth: np.ndarray | None,
+    title: str = "",
+) -> dict[str, bytes]:
+    """The per-method pictures: the angular error against ``truth`` (H, W, 3; when known)
+    and the fraction of each pixel's observations the method left out or rejected."""
+    from .._figure import release
+    from .synthetic import angular_error
+
+    prefix = f"{title}: " if title else ""
+    figs = {}
+    if truth is not None:
+        err = {}
+        for name, r in results.items():
+            e = np.full(mask.shape, np.nan)
+            e[mask] = angular_error(r.normals, truth[mask])
+            err[name] = e
+        figs[f"{prefix}angular error against the truth, per method"] = methods_figure(
+            err, "angular error", "degrees", "magma")
+    rejected = {}
+    for name, r in results.items():
+        f = np.full(mask.shape, np.nan)
+        f[mask] = 1.0 - np.asarray(r.weights).mean(axis=0)
+        rejected[name] = f
+    figs[f"{prefix}observations left out or rejected (shadows, outliers), per method"] = (
+        methods_figure(rejected, "fraction of the pixel's observations", "0 to 1", "viridis",
+                       top=1.0))
     out = {}
     for name, fig in figs.items():
         out[name] = _png(fig)
