@@ -27,8 +27,9 @@ errors e, I / E = L b + e, and recover b without a threshold on brightness:
 The observations used are the valid ones (finite, unsaturated); with ``shadow`` also the
 dark ones are left out before the fit, as :func:`.lambertian.observation_weights` does, and
 for ``rpca`` they become missing entries (the completion of Wu et al., Sec. 3.2). An
-observation counts as rejected when its recovered error |e_k| exceeds ``outlier`` times the
-pixel's brightest used value: the result's ``weights`` are 0 there.
+observation counts as rejected when its recovered error |e_k| exceeds both ``outlier`` times
+the pixel's brightest used value and 3 robust standard deviations of the pixel's errors
+(1.4826 × their median |e|): the result's ``weights`` are 0 there.
 """
 
 from __future__ import annotations
@@ -81,7 +82,8 @@ def robust(
         papers do.
     outlier : float > 0
         An observation is rejected (weight 0) when its recovered error exceeds this fraction
-        of the pixel's brightest used value.
+        of the pixel's brightest used value, and 3 robust standard deviations of the
+        pixel's errors.
     iterations : int
         Most iterations (IRLS, EM or ALM steps).
     tol : float, optional
@@ -118,9 +120,24 @@ def robust(
     length = np.linalg.norm(b, axis=-1)
     ok = enough & np.isfinite(length) & (length > 0)
     normals = np.where(ok[:, None], b / np.where(ok, length, 1.0)[:, None], np.nan)
-    top = np.max(np.where(used, grey, 0.0), axis=0, keepdims=True)
-    kept = used & (np.abs(err) <= outlier * top)
+    kept = used & (np.abs(err) <= _outlier_bound(err, used, grey, outlier))
     return albedo_and_residual(data, normals, kept.astype(np.float64))
+
+
+MAD_SCALE = 1.4826
+"""σ of a normal distribution per median absolute deviation (1 / Φ⁻¹(3/4))."""
+
+
+def _outlier_bound(err: np.ndarray, used: np.ndarray, grey: np.ndarray, outlier: float) -> Any:
+    """Per pixel, the largest error |e_k| of an inlier: ``outlier`` times the brightest used
+    value, or 3 robust standard deviations of the used errors (1.4826 × their median
+    absolute value) if that is larger. At least half the used observations are inliers."""
+    top = np.max(np.where(used, grey, 0.0), axis=0)
+    a = np.where(used, np.abs(err), np.nan)
+    spread = np.zeros(err.shape[1])
+    some = used.any(axis=0)
+    spread[some] = 3.0 * MAD_SCALE * np.nanmedian(a[:, some], axis=0)
+    return np.maximum(outlier * top, spread)[None, :]
 
 
 def _bar(total: int, desc: str, show: bool) -> Any:
