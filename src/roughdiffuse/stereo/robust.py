@@ -7,8 +7,9 @@ errors e, I / E = L b + e, and recover b without a threshold on brightness:
 ``l1``
     min_b ‖L b − m‖₁ per pixel (Ikehata, Wipf, Matsushita and Aizawa, "Robust photometric
     stereo using sparse regression", CVPR 2012, Sec. 3, the convex relaxation of the ℓ0
-    problem), solved by iteratively reweighted least squares with weights 1/|r_k| and
-    finished exactly at the vertex of the linear programme it reaches.
+    problem), solved by iteratively reweighted least squares with weights 1/|r_k|, finished
+    at the vertex of the linear programme it reaches, and solved as that linear programme
+    (HiGHS) where the vertex fails the optimality condition.
 ``sparse``
     sparse Bayesian learning (Ikehata, Wipf, Matsushita and Aizawa, "Photometric stereo
     using sparse Bayesian regression for general diffuse surfaces", IEEE TPAMI 36(9), 2014,
@@ -203,7 +204,8 @@ def _irls_l1(
             if not active.any():
                 finish(bar, f"converged after {it + 1} of {iterations} iterations")
                 break
-    return _vertex_polish(m, used, l, b)
+    b = _vertex_polish(m, used, l, b)
+    return _lp_finish(m, used, l, b)
 
 
 def _vertex_polish(m: np.ndarray, used: np.ndarray, l: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -226,6 +228,57 @@ def _vertex_polish(m: np.ndarray, used: np.ndarray, l: np.ndarray, b: np.ndarray
     better = regular & (cost_new <= cost_old)
     out = b.copy()
     out[idx[better]] = cand[better]
+    return out
+
+
+def _not_optimal(m: np.ndarray, used: np.ndarray, l: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Pixels whose b is not shown to minimise the L1 cost (P,): off a vertex, or at one
+    that fails the optimality condition.
+
+    At a vertex where the residuals of the set B (the 3 smallest) vanish, b is optimal iff
+    some u ∈ [−1, 1]³ balances the other residuals' signs: Σ_{k∉B} sign(r_k) l_k + L_Bᵀ u = 0
+    (the subgradient condition of min ‖L b − m‖₁).
+    """
+    ok = np.all(np.isfinite(b), axis=-1) & (used.sum(axis=0) >= 3)
+    bad = np.zeros(b.shape[0], dtype=bool)
+    idx = np.flatnonzero(ok)
+    if idx.size == 0:
+        return bad
+    r = np.where(used[:, idx], m[:, idx] - l @ b[idx].T, 0.0)
+    three = np.argsort(np.where(used[:, idx], np.abs(r), np.inf), axis=0)[:3]
+    sign = np.sign(r)
+    np.put_along_axis(sign, three, 0.0, axis=0)
+    g = -(sign.T @ l)  # (n, 3)
+    lb = l[three].transpose(1, 2, 0)  # (n, 3, 3): columns l_k, k in B
+    regular = np.abs(np.linalg.det(lb)) > 1e-12
+    u = np.full((idx.size, 3), np.inf)
+    u[regular] = np.linalg.solve(lb[regular], g[regular][..., None])[..., 0]
+    small = np.take_along_axis(np.abs(r), three, axis=0).max(axis=0)
+    off_vertex = small > 1e-12 * (1.0 + np.max(np.abs(m[:, idx]), axis=0))
+    bad[idx] = off_vertex | (np.max(np.abs(u), axis=-1) > 1.0 + 1e-9)
+    return bad
+
+
+def _lp_finish(m: np.ndarray, used: np.ndarray, l: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Solve min ‖L b − m‖₁ as a linear programme (HiGHS) where IRLS stopped short.
+
+    IRLS can stall at a vertex that is not optimal: a residual that reached 0 gets a weight
+    of 10¹⁶ and stays 0. Those few pixels (:func:`_not_optimal`) are solved exactly:
+    min Σ t_k subject to −t ≤ L b − m ≤ t over the used observations.
+    """
+    from scipy.optimize import linprog
+
+    out = b.copy()
+    for j in np.flatnonzero(_not_optimal(m, used, l, b)):
+        keep = used[:, j]
+        lk, mk = l[keep], m[keep, j]
+        k = lk.shape[0]
+        c = np.r_[np.zeros(3), np.ones(k)]
+        a = np.block([[lk, -np.eye(k)], [-lk, -np.eye(k)]])
+        bounds = [(None, None)] * 3 + [(0, None)] * k
+        lp = linprog(c, A_ub=a, b_ub=np.r_[mk, -mk], bounds=bounds, method="highs")
+        if lp.status == 0:
+            out[j] = lp.x[:3]
     return out
 
 

@@ -87,11 +87,14 @@ def main(checkout: str, out: str) -> None:
             result[f"{name}_converged"] = np.full(fg.size, ok)
             continue
         conv = np.zeros(fg.size, dtype=bool)
+        raw = np.zeros((fg.size, 3))
         for j, i in enumerate(fg):
             full = fn(data["lights"], m[i][:, None])
             short = fn(data["lights"], m[i][:, None], max_ite=999)
             conv[j] = np.array_equal(full, short)
+            raw[j] = full.ravel()
         result[f"{name}_converged"] = conv
+        result[f"{name}_x"] = raw  # the solver's x before the normalisation of rps.py
     git = ["git", "-C", checkout, "rev-parse", "HEAD"]
     commit = subprocess.run(git, capture_output=True, text=True).stdout.strip()
     result["reference_commit"] = np.array(commit or "unknown")
