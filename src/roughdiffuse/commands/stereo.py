@@ -22,7 +22,6 @@ examples:
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
   roughdiffuse stereo --demo --method l1 -o demo-l1/
-  roughdiffuse stereo --benchmark DiLiGenT/ -o table/   # every method, every object
 
 PNG images: --exposure E (linear = value / 2^E), --mask mask.png. A DiLiGenT object:
 --diligent DiLiGenT/pmsData/potPNG. --model lambert is Woodham's Lambertian photometric
