@@ -171,36 +171,13 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.benchmark:
         return _benchmark(args, out)
-    truth = None
-    if args.diligent:
-        data = stereo.read_diligent(args.diligent)
-    elif args.demo:
-        from ..models import OrenNayar
-        from ..render import Sphere
-
-        truth_model = OrenNayar(0.7, DEMO_SIGMA, "full")
-        data, truth = stereo.render_stereo(
-            truth_model, Sphere(), stereo.default_lights(8), 128, noise=0.01
-        )
-    else:
-        if not args.lights:
-            raise UsageError("--lights JSON is required with IMAGE files")
-        if len(args.images) < 3:
-            raise UsageError(f"photometric stereo needs at least 3 images (got {len(args.images)})")
-        images, valid = stereo.load_images(args.images, exposure=args.exposure)
-        dirs, ints = stereo.read_lights(args.lights)
-        if dirs.shape[0] != images.shape[0]:
-            raise UsageError(
-                f"{len(args.images)} images but {dirs.shape[0]} lights in {args.lights}"
-            )
-        mask = stereo.read_mask(args.mask) if args.mask else None
-        data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
+    data, truth = _read_input(args)
     lam = stereo.lambertian(data, shadow=args.shadow)
-    methods = _compared(args, data, truth)
+    shadow = args.shadow if "shadow" in given(args) else None  # robust: given, or none
+    methods = _compared(data, truth, shadow)
     if method in ROBUST:
         from ..stereo.robust import robust
 
-        shadow = args.shadow if "shadow" in given(args) else None
         res = methods.get(method) or robust(data, method, shadow=shadow,
                                             progress=progress_enabled())
         methods = {"lambertian": lam, **methods, method: res}
@@ -252,6 +229,37 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _read_input(args: argparse.Namespace):  # noqa: ANN202
+    """The StereoInput of IMAGE files, --diligent or --demo, and the true normals (--demo)."""
+    from .. import stereo
+
+    truth = None
+    if args.diligent:
+        data = stereo.read_diligent(args.diligent)
+    elif args.demo:
+        from ..models import OrenNayar
+        from ..render import Sphere
+
+        truth_model = OrenNayar(0.7, DEMO_SIGMA, "full")
+        data, truth = stereo.render_stereo(
+            truth_model, Sphere(), stereo.default_lights(8), 128, noise=0.01
+        )
+    else:
+        if not args.lights:
+            raise UsageError("--lights JSON is required with IMAGE files")
+        if len(args.images) < 3:
+            raise UsageError(f"photometric stereo needs at least 3 images (got {len(args.images)})")
+        images, valid = stereo.load_images(args.images, exposure=args.exposure)
+        dirs, ints = stereo.read_lights(args.lights)
+        if dirs.shape[0] != images.shape[0]:
+            raise UsageError(
+                f"{len(args.images)} images but {dirs.shape[0]} lights in {args.lights}"
+            )
+        mask = stereo.read_mask(args.mask) if args.mask else None
+        data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
+    return data, truth
+
+
 def _method(args: argparse.Namespace) -> str:
     """The method to run: --method, or the one --model implies (lambert: lambertian)."""
     if args.model == LAMBERT:
@@ -263,13 +271,13 @@ def _method(args: argparse.Namespace) -> str:
     return args.method or "rough"
 
 
-def _compared(args: argparse.Namespace, data, truth) -> dict:  # noqa: ANN001
+def _compared(data, truth, shadow: float | None) -> dict:  # noqa: ANN001
     """With the truth known (--demo): every robust method, for the report's comparison."""
     if truth is None:
         return {}
     from ..stereo.robust import robust
 
-    return {m: robust(data, m, progress=progress_enabled()) for m in ROBUST}
+    return {m: robust(data, m, shadow=shadow, progress=progress_enabled()) for m in ROBUST}
 
 
 def _benchmark(args: argparse.Namespace, out: Path) -> int:
