@@ -126,7 +126,7 @@ def write_outputs(
         extra["methods"] = method_stats(m, methods, truth_normals)
     if rough is None:
         shown = report_pngs(data, maps, None, depth, model_id, None)
-        shown.update(_methods_pngs(m, methods, truth_normals))
+        shown.update(_methods_pngs(m, methods, truth_normals))  # keys: METHODS_PREFIX
         return _write_params(out, data, lambert, shown, model_id, truth_normals, extra)
     shown = report_pngs(data, maps, lmaps, depth, model_id,
                         rough.roughness_name if np.ndim(rough.roughness) else None)
@@ -191,6 +191,10 @@ def method_stats(
     return out
 
 
+METHODS_PREFIX = "every method: "
+"""The captions of the per-method pictures begin so: the report shows them in their section."""
+
+
 def _methods_pngs(
     mask: np.ndarray, results: dict[str, Any] | None, truth: np.ndarray | None
 ) -> dict[str, bytes]:
@@ -198,7 +202,7 @@ def _methods_pngs(
         return {}
     from .report_figures import methods_pngs
 
-    return methods_pngs(mask, results, truth)
+    return {METHODS_PREFIX + k: v for k, v in methods_pngs(mask, results, truth).items()}
 
 
 def methods_table_html(stats: dict[str, dict[str, Any]]) -> str:
@@ -332,11 +336,15 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
            else "")
         + "</tr>" + "".join(rows) + "</table>"
     )
-    if "methods" in params:
-        buf.write("<h2>Every method</h2>" + methods_table_html(params["methods"]))
     buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>" if r is not None
               else "<h2>Lambertian photometric stereo</h2>")
     for name in images:
-        buf.write(img(name))
+        if not name.startswith(METHODS_PREFIX):
+            buf.write(img(name))
+    if "methods" in params:
+        buf.write("<h2>Every method</h2>" + methods_table_html(params["methods"]))
+        for name, png in images.items():
+            if name.startswith(METHODS_PREFIX):
+                buf.write(figure_html(name[len(METHODS_PREFIX):], png))
     buf.write("</body></html>\n")
     return buf.getvalue()

@@ -226,8 +226,8 @@ def methods_figure(maps: dict[str, np.ndarray], what: str, unit: str, cmap: str,
     values = np.concatenate([m[np.isfinite(m)] for m in maps.values()] + [np.zeros(1)])
     hi = top if top is not None else float(np.percentile(values, 99))
     hi = hi if hi > 0 else 1.0
-    cols = min(len(maps), 4)
-    rows = -(-len(maps) // cols)
+    rows = -(-len(maps) // 5)  # at most 5 a row, the rows equally full
+    cols = -(-len(maps) // rows)
     fig = figure(figsize=(3.3 * cols + 1.2, 3.2 * rows + 0.3), layout="constrained")
     axes = np.atleast_1d(fig.subplots(rows, cols)).ravel()
     im = None
