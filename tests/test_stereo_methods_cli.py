@@ -100,3 +100,14 @@ class _no_raise:  # noqa: N801 - used as a context manager beside pytest.raises
 
     def __exit__(self, *exc: object) -> bool:
         return False
+
+
+def test_method_choices_are_the_method_table():
+    """--method offers exactly the methods of roughdiffuse.stereo.methods (kept as a tuple in
+    the command so that its parser does not import the solvers)."""
+    from roughdiffuse.commands.stereo import METHOD_CHOICES, ROBUST
+    from roughdiffuse.stereo.methods import METHODS
+    from roughdiffuse.stereo.robust import ROBUST_METHODS
+
+    assert METHOD_CHOICES == tuple(METHODS)
+    assert ROBUST == ROBUST_METHODS
