@@ -341,6 +341,21 @@ def _sbl(
     return b
 
 
+def _singular_value_threshold(x: np.ndarray, tau: float) -> np.ndarray:
+    """D_τ(X) = U max(S − τ, 0) Vᵀ for a short, wide X (K × P, K ≪ P).
+
+    From the eigenvectors U and eigenvalues S² of the K × K matrix X Xᵀ: D_τ(X) =
+    U_r diag(1 − τ/s_r) U_rᵀ X over the singular values s_r > τ, with no P × P or K × P
+    factor; a singular value below about 10⁻⁸ of the largest is lost in X Xᵀ, where the
+    threshold has already set it to 0.
+    """
+    w, u = np.linalg.eigh(x @ x.T)
+    s = np.sqrt(np.clip(w, 0.0, None))
+    keep = s > tau
+    ur = u[:, keep]
+    return (ur * (1.0 - tau / s[keep])) @ (ur.T @ x)
+
+
 def _rpca(
     d: np.ndarray, used: np.ndarray, l: np.ndarray, iterations: int, tol: float, show: bool
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -348,7 +363,7 @@ def _rpca(
 
     Each step: E = S_{λ/μ}(D − A + Y/μ) on the observed entries (soft threshold; on the
     missing ones E takes the whole difference), A = D_{1/μ}(D − E + Y/μ) (singular value
-    threshold), Y += μ (D − A − E), μ = min(ρ μ, μ̄) with ρ = 1.5, μ₀ = 1.25/‖D‖₂,
+    threshold, :func:`_singular_value_threshold`), Y += μ (D − A − E), μ = min(ρ μ, μ̄) with ρ = 1.5, μ₀ = 1.25/‖D‖₂,
     μ̄ = 10⁷ μ₀. Returns b (P, 3), the least squares of L b = A per pixel, and E (K, P).
     """
     from ..progress import finish
@@ -370,9 +385,7 @@ def _rpca(
             t = d - a + y / mu
             shrunk = np.maximum(t - lam / mu, 0.0) + np.minimum(t + lam / mu, 0.0)
             e = np.where(used, shrunk, t)
-            u, s, vt = np.linalg.svd(d - e + y / mu, full_matrices=False)
-            r = int(np.sum(s > 1.0 / mu))
-            a = (u[:, :r] * (s[:r] - 1.0 / mu)) @ vt[:r]
+            a = _singular_value_threshold(d - e + y / mu, 1.0 / mu)
             z = d - a - e
             y = y + mu * z
             mu = min(mu * 1.5, mu_bar)
