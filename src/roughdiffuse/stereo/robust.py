@@ -6,28 +6,28 @@ errors e, I / E = L b + e, and recover b without a threshold on brightness:
 
 ``l1``
     min_b ‖L b − m‖₁ per pixel (Ikehata, Wipf, Matsushita and Aizawa, "Robust photometric
-    stereo using sparse regression", CVPR 2012, Sec. 3, the convex relaxation of the ℓ0
+    stereo using sparse regression", CVPR 2012: the convex relaxation of its ℓ0
     problem), solved by iteratively reweighted least squares with weights 1/|r_k|, finished
     at the vertex of the linear programme it reaches, and solved as that linear programme
     (HiGHS) where the vertex fails the optimality condition.
 ``sparse``
     sparse Bayesian learning (Ikehata, Wipf, Matsushita and Aizawa, "Photometric stereo
     using sparse Bayesian regression for general diffuse surfaces", IEEE TPAMI 36(9), 2014,
-    Sec. 4, Lambertian inlier model): each error e_k has a zero-mean Gaussian prior of its
+    with the Lambertian inlier model): each error e_k has a zero-mean Gaussian prior of its
     own variance γ_k; the EM updates alternate
     b = (Lᵀ Γ⁻¹ L + λ₂ I)⁻¹ Lᵀ Γ⁻¹ m and γ_k = e_k² + l_kᵀ (Lᵀ Γ⁻¹ L + λ₁ I)⁻¹ l_k,
     with e = m − L b, λ₁ = 1 and λ₂ = 10⁻⁶ (the values of the authors' code).
 ``rpca``
     low-rank matrix completion and recovery (Wu, Ganesh, Shi, Matsushita, Wang and Ma,
-    "Robust photometric stereo via low-rank matrix completion and recovery", ACCV 2010,
-    eq. 4): the K × P observation matrix D = A + E with A of rank 3 and E sparse,
+    "Robust photometric stereo via low-rank matrix completion and recovery", ACCV 2010):
+    the K × P observation matrix D = A + E with A of rank 3 and E sparse,
     min ‖A‖_* + λ ‖E‖₁ subject to A + E = D on the observed entries, λ = 1/√max(K, P),
     by the inexact augmented Lagrange multiplier method (Lin, Chen and Ma, UIUC
     UILU-ENG-09-2215, 2009, Algorithm 5); then b = least squares of L b = A per pixel.
 
 The observations used are the valid ones (finite, unsaturated); with ``shadow`` also the
 dark ones are left out before the fit, as :func:`.lambertian.observation_weights` does, and
-for ``rpca`` they become missing entries (the completion of Wu et al., Sec. 3.2). An
+for ``rpca`` they become missing entries (the completion of Wu et al.). An
 observation counts as rejected when its recovered error |e_k| exceeds both ``outlier`` times
 the pixel's brightest used value and 3 robust standard deviations of the pixel's errors
 (1.4826 × their median |e|): the result's ``weights`` are 0 there.
@@ -304,7 +304,7 @@ def _lp_finish(m: np.ndarray, used: np.ndarray, l: np.ndarray, b: np.ndarray) ->
 def _sbl(
     m: np.ndarray, used: np.ndarray, l: np.ndarray, iterations: int, tol: float, show: bool
 ) -> np.ndarray:
-    """Sparse Bayesian learning of b with sparse errors (Ikehata et al. 2014, Sec. 4).
+    """Sparse Bayesian learning of b with sparse errors (Ikehata et al. 2014).
 
     Each pixel runs the EM updates of the module's description until ‖b − b_prev‖ < tol;
     unused observations have Γ⁻¹ = 0 (no information).
@@ -363,8 +363,9 @@ def _rpca(
 
     Each step: E = S_{λ/μ}(D − A + Y/μ) on the observed entries (soft threshold; on the
     missing ones E takes the whole difference), A = D_{1/μ}(D − E + Y/μ) (singular value
-    threshold, :func:`_singular_value_threshold`), Y += μ (D − A − E), μ = min(ρ μ, μ̄) with ρ = 1.5, μ₀ = 1.25/‖D‖₂,
-    μ̄ = 10⁷ μ₀. Returns b (P, 3), the least squares of L b = A per pixel, and E (K, P).
+    threshold, :func:`_singular_value_threshold`), Y += μ (D − A − E), μ = min(ρ μ, μ̄)
+    with ρ = 1.5, μ₀ = 1.25/‖D‖₂, μ̄ = 10⁷ μ₀. Returns b (P, 3), the least squares of
+    L b = A per pixel, and E (K, P).
     """
     from ..progress import finish
 
