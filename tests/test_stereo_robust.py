@@ -36,21 +36,25 @@ def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(np.sum(a * b, axis=-1), -1.0, 1.0)))
 
 
-def _l1_optimum(lights: np.ndarray, obs: np.ndarray) -> object:
-    """min ‖L b − m‖₁ as the linear programme min Σ t, −t ≤ L b − m ≤ t (HiGHS)."""
+def _l1_optimum(lights: np.ndarray, obs: np.ndarray, a: np.ndarray | None = None) -> object:
+    """min ‖L b − m‖₁ as the linear programme min Σ t, −t ≤ L b − m ≤ t (HiGHS); ``a`` is
+    its constraint matrix, built once for many pixels."""
     k = lights.shape[0]
     c = np.r_[np.zeros(3), np.ones(k)]
-    a = np.block([[lights, -np.eye(k)], [-lights, -np.eye(k)]])
+    if a is None:
+        a = np.block([[lights, -np.eye(k)], [-lights, -np.eye(k)]])
     bounds = [(None, None)] * 3 + [(0, None)] * k
     return linprog(c, A_ub=a, b_ub=np.r_[obs, -obs], bounds=bounds, method="highs")
 
 
 def _reaches_the_l1_minimum(z: dict) -> np.ndarray:
     m, lights = z["images"][:, z["mask"]], z["lights"]
+    k = lights.shape[0]
+    a = np.block([[lights, -np.eye(k)], [-lights, -np.eye(k)]])
     out = np.zeros(m.shape[1], dtype=bool)
-    for j in range(m.shape[1]):
+    for j in np.flatnonzero(z["l1_converged"]):
         cost = np.abs(lights @ z["l1_x"][j] - m[:, j]).sum()
-        out[j] = cost <= _l1_optimum(lights, m[:, j]).fun * (1 + 1e-6)
+        out[j] = cost <= _l1_optimum(lights, m[:, j], a).fun * (1 + 1e-6)
     return out
 
 
