@@ -36,7 +36,7 @@ def _pixel_axes(ax: Any) -> None:
 
 
 def _grey(image: np.ndarray) -> np.ndarray:
-    return image if image.ndim == 2 else np.nanmean(image, axis=-1)
+    return image if image.ndim == 2 else image.mean(axis=-1)  # NaN where a channel is NaN
 
 
 def light_angles(direction: np.ndarray) -> tuple[float, float]:
@@ -101,14 +101,15 @@ def _normal_key(ax: Any) -> None:
     ax.tick_params(labelsize=7)
 
 
-def lambert_normals_figure(normals: np.ndarray) -> Any:
-    """The normal map of Lambertian photometric stereo alone, with its colour key."""
+def lambert_normals_figure(normals: np.ndarray, label: str = "Lambertian") -> Any:
+    """The normal map of Lambertian photometric stereo alone (``label``: which solver), with
+    its colour key."""
     from .._figure import figure
 
     fig = figure(figsize=(6.4, 3.6), layout="constrained")
     axes = fig.subplots(1, 2, width_ratios=[1, 0.75])
     axes[0].imshow(_normal_rgb(normals))
-    axes[0].set_title("normals, Lambertian", fontsize=9)
+    axes[0].set_title(f"normals, {label}", fontsize=9)
     _pixel_axes(axes[0])
     _normal_key(axes[1])
     return fig
@@ -187,7 +188,8 @@ def report_pngs(
 
     figs = {"the input images and their lights": inputs_figure(data)}
     if lambert_maps is None:
-        figs["normals"] = lambert_normals_figure(maps["normals"])
+        label = "Lambertian" if rough_label == "lambert" else rough_label
+        figs["normals"] = lambert_normals_figure(maps["normals"], label)
         figs["albedo"] = single_figure(maps["albedo"], "albedo", "fraction", "gray")
         figs["relative RMS residual"] = single_figure(
             maps["residual"], "relative RMS residual", "fraction of the data", "magma")
