@@ -72,7 +72,10 @@ MINIMAL = {
     "figures": [],
     "export": ["--model", "eon", "--to", "mitsuba", "-o", "x.xml"],
 }
-OTHER_MODE = {"plot": ["cross-section", "-o", "x.png"]}
+OTHER_MODE = {
+    "plot": ["cross-section", "-o", "x.png"],
+    "stereo": ["--method", "l1", "-o", "o"],
+}
 """A mode of the command where an AppliesOnly rule of its minimal mode does not hold."""
 """A command line of each command on which no conditional flag applies."""
 

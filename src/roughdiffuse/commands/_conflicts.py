@@ -151,6 +151,11 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
         Conflict("--demo", "--lights", "--demo renders its own lights"),
         Conflict("--demo", "--mask", "--demo renders its own mask"),
         AppliesOnly(("--exposure",), lambda a: bool(a.images), "IMAGE files"),
+        Conflict("--benchmark", "--lights", "a DiLiGenT folder holds its own lights"),
+        Conflict("--benchmark", "--mask", "a DiLiGenT folder holds its own masks"),
+        Conflict("--benchmark", "--method", "--benchmark runs every method"),
+        Conflict("--benchmark", "--model", "--benchmark runs every method"),
+        AppliesOnly(("--per-pixel",), lambda a: a.method in (None, "rough"), "--method rough"),
     ),
     "figures": (),
 }

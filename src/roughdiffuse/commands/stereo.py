@@ -10,6 +10,7 @@ from pathlib import Path
 from ..progress import progress_enabled
 from . import UsageError
 from ._checks import bounded_float
+from ._conflicts import given
 from ._inputs import input_file, known_id
 from .render import MAX_EXPOSURE
 
@@ -20,10 +21,16 @@ examples:
   roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
+  roughdiffuse stereo --demo --method l1 -o demo-l1/
 
 PNG images: --exposure E (linear = value / 2^E), --mask mask.png. A DiLiGenT object:
 --diligent DiLiGenT/pmsData/potPNG. --model lambert is Woodham's Lambertian photometric
-stereo alone (least squares per pixel): the same outputs, no roughness.
+stereo alone (least squares per pixel): the same outputs, no roughness (as --method lambertian).
+--method l1, sparse or rpca: robust Lambertian photometric stereo (L1 residual, sparse Bayesian
+learning, low-rank RPCA), which rejects highlights and shadows as outliers; --shadow, if given,
+leaves dark observations out before their fit. --benchmark DIR runs every method on every
+object of a DiLiGenT-format folder (pmsData/<object>PNG/ with Normal_gt.mat) and writes the
+mean angular error table (benchmark.md, .csv, .json) and report.html.
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -72,10 +79,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--demo", action="store_true", help="run on a rendered sphere of known shape (no input)"
     )
     p.add_argument(
+        "--benchmark",
+        metavar="DIR",
+        help="run every method on a DiLiGenT-format folder and write the error table",
+    )
+    p.add_argument(
+        "--method",
+        choices=tuple(METHOD_CHOICES),
+        help="lambertian, rough (default: the rough fit of --model), or a robust Lambertian "
+        "solver: l1, sparse, rpca",
+    )
+    p.add_argument(
         "--model",
-        default="oren-nayar-full",
         metavar="ID",
-        help="model id (default: oren-nayar-full)",
+        help=f"model id of the rough fit (default: {DEFAULT_MODEL})",
     )
     p.add_argument("--per-pixel", action="store_true", help="one roughness per pixel")
     p.add_argument(
@@ -96,6 +113,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+DEFAULT_MODEL = "oren-nayar-full"
+"""The model of the rough fit when --model is not given."""
+
+METHOD_CHOICES = ("lambertian", "rough", "l1", "sparse", "rpca")
+"""``--method``: the names of :data:`roughdiffuse.stereo.methods.METHODS`."""
+
+ROBUST = ("l1", "sparse", "rpca")
+"""The robust Lambertian solvers of :func:`roughdiffuse.stereo.robust.robust`."""
+
 LAMBERT = "lambert"
 """``--model lambert``: Woodham's Lambertian photometric stereo alone (least squares per
 pixel), the same outputs with no roughness."""
@@ -111,14 +137,17 @@ def _model(model_id: str):  # noqa: ANN202
 RESULT_MARKER = "params.json"
 """The file every stereo result folder holds: only such a folder is replaced by --force."""
 
+BENCHMARK_MARKER = "benchmark.json"
+"""The file every --benchmark result folder holds (replaced by --force only if so)."""
 
-def _prepare_output(folder: str, force: bool) -> Path:
+
+def _prepare_output(folder: str, force: bool, marker: str = RESULT_MARKER) -> Path:
     """The -o folder, checked before any work (it is written whole at the end:
     :func:`roughdiffuse.io.atomic_folder`)."""
     from ..io import check_output_folder
 
     try:
-        return check_output_folder(folder, replace=force, marker=RESULT_MARKER)
+        return check_output_folder(folder, replace=force, marker=marker)
     except ValueError as exc:
         raise UsageError(f"--output: {exc}") from None
 
@@ -128,13 +157,82 @@ def run(args: argparse.Namespace) -> int:
 
     from .. import stereo
 
-    sources = sum(bool(x) for x in (args.images, args.diligent, args.demo))
+    sources = sum(bool(x) for x in (args.images, args.diligent, args.demo, args.benchmark))
     if sources != 1:
-        raise UsageError("give IMAGE files with --lights, or --diligent DIR, or --demo")
+        raise UsageError(
+            "give IMAGE files with --lights, or --diligent DIR, or --demo, or --benchmark DIR"
+        )
     if not 0.0 <= args.shadow < 1.0:
         raise UsageError(f"--shadow must be in [0, 1) (got {args.shadow:g})")
-    model = _model(args.model)
-    out = _prepare_output(args.output, args.force)
+    method = _method(args)
+    model = _model(args.model or DEFAULT_MODEL) if method == "rough" else None
+    out = _prepare_output(
+        args.output, args.force, BENCHMARK_MARKER if args.benchmark else RESULT_MARKER
+    )
+    if args.benchmark:
+        return _benchmark(args, out)
+    data, truth = _read_input(args)
+    lam = stereo.lambertian(data, shadow=args.shadow)
+    shadow = args.shadow if "shadow" in given(args) else None  # robust: given, or none
+    methods = _compared(data, truth, shadow)
+    if method in ROBUST:
+        from ..stereo.robust import robust
+
+        res = methods.get(method) or robust(data, method, shadow=shadow,
+                                            progress=progress_enabled())
+        methods = {"lambertian": lam, **methods, method: res}
+        return _lambert_only(args, data, res, out, truth, method, methods)
+    if model is None:
+        return _lambert_only(args, data, lam, out, truth, LAMBERT, {"lambertian": lam, **methods})
+    res = stereo.rough(
+        data,
+        model,
+        per_pixel=args.per_pixel,
+        start=lam,
+        shadow=args.shadow,
+        progress=progress_enabled(),
+    )
+    from ..fit.sanity import fit_problem
+
+    problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
+    if problem is not None:  # never a quiet result
+        raise UsageError(problem)
+    normals = np.full(data.mask.shape + (3,), np.nan)
+    normals[data.mask] = res.normals
+    depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
+    extra = None
+    if args.demo:  # the report states the truth beside the fit
+        extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
+    from ..io import atomic_folder
+
+    model_id = args.model or DEFAULT_MODEL
+    key = "rough" if model_id == DEFAULT_MODEL else f"rough ({model_id})"
+    methods = {"lambertian": lam, key: res, **methods}
+    with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
+        params = stereo.write_outputs(
+            tmp, data, res, lam, depth, model_id=model_id, truth_normals=truth, extra=extra,
+            methods=methods,
+        )
+    r = params["roughness"]
+    if r["per_pixel"]:
+        line = f"{r['name']}: per pixel, median {r['median']:.4g}"
+    else:
+        se = r["standard_error"]
+        line = f"{r['name']} = {r['value']:.4g} ± {se:.2g}"
+        if not math.isfinite(se):
+            print(
+                f"warning: the images cannot determine {r['name']} (its standard error is "
+                "infinite, e.g. every image lit alike): the value is not a measurement",
+                file=sys.stderr,
+            )
+    print(f"{model_id}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
+    return 0
+
+
+def _read_input(args: argparse.Namespace):  # noqa: ANN202
+    """The StereoInput of IMAGE files, --diligent or --demo, and the true normals (--demo)."""
+    from .. import stereo
+
     truth = None
     if args.diligent:
         data = stereo.read_diligent(args.diligent)
@@ -159,52 +257,47 @@ def run(args: argparse.Namespace) -> int:
             )
         mask = stereo.read_mask(args.mask) if args.mask else None
         data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
-    lam = stereo.lambertian(data, shadow=args.shadow)
-    if model is None:
-        return _lambert_only(args, data, lam, out, truth)
-    res = stereo.rough(
-        data,
-        model,
-        per_pixel=args.per_pixel,
-        start=lam,
-        shadow=args.shadow,
-        progress=progress_enabled(),
-    )
-    from ..fit.sanity import fit_problem
+    return data, truth
 
-    problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
-    if problem is not None:  # never a quiet result
-        raise UsageError(problem)
-    normals = np.full(data.mask.shape + (3,), np.nan)
-    normals[data.mask] = res.normals
-    depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    extra = None
-    if args.demo:  # the report states the truth beside the fit
-        extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
+
+def _method(args: argparse.Namespace) -> str:
+    """The method to run: --method, or the one --model implies (lambert: lambertian)."""
+    if args.model == LAMBERT:
+        if args.method not in (None, "lambertian"):
+            raise UsageError(f"--model lambert is --method lambertian, not {args.method}")
+        return "lambertian"
+    if args.model is not None and args.method not in (None, "rough"):
+        raise UsageError(f"--model applies only to --method rough (got --method {args.method})")
+    return args.method or "rough"
+
+
+def _compared(data, truth, shadow: float | None) -> dict:  # noqa: ANN001
+    """With the truth known (--demo): every robust method, for the report's comparison."""
+    if truth is None:
+        return {}
+    from ..stereo.robust import robust
+
+    return {m: robust(data, m, shadow=shadow, progress=progress_enabled()) for m in ROBUST}
+
+
+def _benchmark(args: argparse.Namespace, out: Path) -> int:
+    """--benchmark DIR: every method on every object; the error table and report."""
     from ..io import atomic_folder
+    from ..stereo.benchmark import run_benchmark, write_benchmark
 
-    with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
-        params = stereo.write_outputs(
-            tmp, data, res, lam, depth, model_id=args.model, truth_normals=truth, extra=extra
-        )
-    r = params["roughness"]
-    if r["per_pixel"]:
-        line = f"{r['name']}: per pixel, median {r['median']:.4g}"
-    else:
-        se = r["standard_error"]
-        line = f"{r['name']} = {r['value']:.4g} ± {se:.2g}"
-        if not math.isfinite(se):
-            print(
-                f"warning: the images cannot determine {r['name']} (its standard error is "
-                "infinite, e.g. every image lit alike): the value is not a measurement",
-                file=sys.stderr,
-            )
-    print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
+    result = run_benchmark(args.benchmark, progress=progress_enabled())
+    with atomic_folder(out, replace=args.force, marker=BENCHMARK_MARKER) as tmp:
+        write_benchmark(tmp, result)
+    print(result.markdown(), end="")
+    print(f"{len(result.objects)} objects; table and report in {out}/ (benchmark.md, report.html)")
     return 0
 
 
-def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:  # noqa: ANN001
-    """Woodham's Lambertian photometric stereo: normals, albedo, depth; no roughness."""
+def _lambert_only(  # noqa: PLR0913
+    args: argparse.Namespace, data, lam, out: Path, truth, label: str, methods: dict  # noqa: ANN001
+) -> int:
+    """Lambertian photometric stereo alone (Woodham's least squares, or a robust solver):
+    normals, albedo, depth; no roughness."""
     import numpy as np
 
     from .. import stereo
@@ -216,11 +309,12 @@ def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:
 
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
         params = stereo.write_outputs(
-            tmp, data, None, lam, depth, model_id=LAMBERT, truth_normals=truth
+            tmp, data, None, lam, depth, model_id=label, truth_normals=truth, methods=methods
         )
     res = params["lambertian"]["relative_rms_residual"]["median"]
+    name = "lambert (Woodham)" if label == LAMBERT else label
     print(
-        f"lambert (Woodham): no roughness; median relative residual {res:.3g}; "
+        f"{name}: no roughness; median relative residual {res:.3g}; "
         f"{params['pixels']} pixels; results in {out}/ (report.html)"
     )
     return 0

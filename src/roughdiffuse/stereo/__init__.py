@@ -4,7 +4,9 @@ K ≥ 3 images of a still object, seen by an orthographic camera under known dis
 give per-pixel normals, albedo and roughness. Lambertian photometric stereo (Woodham 1980)
 is the baseline and the starting point; :func:`rough` then fits a rough-diffuse model of the
 registry (e.g. the full Oren–Nayar model) to every pixel, with the roughness global or per
-pixel, and :func:`integrate` turns the normals into a depth map.
+pixel, and :func:`integrate` turns the normals into a depth map. :func:`robust` holds the
+robust Lambertian solvers (L1, sparse Bayesian, RPCA), :data:`METHODS` every method by name,
+and :func:`run_benchmark` the DiLiGenT protocol.
 
 >>> import numpy as np
 >>> import roughdiffuse as rd
@@ -16,14 +18,18 @@ pixel, and :func:`integrate` turns the normals into a depth map.
 0.4
 """
 
+from .benchmark import run_benchmark, write_benchmark
 from .depth import gradients, integrate, write_ply
 from .inputs import StereoInput, load_images, read_diligent, read_lights, read_mask
 from .lambertian import LambertianResult, lambertian, observation_weights
+from .methods import METHODS
 from .outputs import result_maps, write_outputs
+from .robust import robust
 from .rough import RoughResult, rough, roughness_parameter
 from .synthetic import angular_error, default_lights, render_stereo, synthetic_sphere
 
 __all__ = [
+    "METHODS",
     "LambertianResult",
     "RoughResult",
     "StereoInput",
@@ -39,9 +45,12 @@ __all__ = [
     "read_mask",
     "render_stereo",
     "result_maps",
+    "robust",
     "rough",
     "roughness_parameter",
+    "run_benchmark",
     "synthetic_sphere",
+    "write_benchmark",
     "write_outputs",
     "write_ply",
 ]

@@ -312,6 +312,8 @@ def read_diligent(folder: str | os.PathLike[str]) -> StereoInput:
         valid.append(ok)
         if imgs[-1].shape != imgs[0].shape:
             raise ParameterError(f"{root}: image {n} differs in size from {names[0]}")
-    return StereoInput.from_arrays(
-        np.stack(imgs), dirs, ints, mask=read_mask(root / "mask.png"), valid=np.stack(valid)
-    )
+    mask = read_mask(root / "mask.png")
+    if mask.shape != imgs[0].shape[:2]:
+        (h, w), (mh, mw) = imgs[0].shape[:2], mask.shape
+        raise ParameterError(f"{root}/mask.png is {mw}x{mh} pixels, the images are {w}x{h}")
+    return StereoInput.from_arrays(np.stack(imgs), dirs, ints, mask=mask, valid=np.stack(valid))

@@ -15,7 +15,7 @@ import numpy as np
 from .._validate import ParameterError
 from .inputs import StereoInput
 
-__all__ = ["LambertianResult", "lambertian", "observation_weights"]
+__all__ = ["LambertianResult", "albedo_and_residual", "lambertian", "observation_weights"]
 
 
 def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
@@ -101,7 +101,33 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
     length = np.linalg.norm(b, axis=-1)
     ok &= length > 0
     normals = np.where(ok[:, None], b / np.where(ok, length, 1.0)[:, None], np.nan)
-    # per-channel albedo: least squares of I_c = (ρ_c/π) max(n·l, 0) over the kept observations
+    return albedo_and_residual(data, normals, w)
+
+
+def albedo_and_residual(
+    data: StereoInput, normals: np.ndarray, weights: np.ndarray
+) -> LambertianResult:
+    """The Lambertian result of given normals: per-channel albedo and relative residual.
+
+    The albedo of channel c is the least-squares solution of I_c / E_c = (ρ_c/π) max(n·l, 0)
+    over the observations of weight 1 (Woodham 1980); the residual is the RMS misfit over
+    them, relative to the pixel's mean kept value. Pixels with a NaN normal stay NaN.
+
+    Parameters
+    ----------
+    data : StereoInput
+        Images, lights and mask.
+    normals : array (P, 3)
+        Unit normals of the object pixels (NaN: none).
+    weights : array (K, P)
+        0/1 weights of the observations kept.
+    """
+    w = weights
+    m = data.mask
+    vals = data.images[:, m, :] / data.intensities[:, None, :]  # (K, P, C)
+    grey = vals.mean(axis=-1)  # (K, P)
+    l = data.directions  # (K, 3)
+    ok = np.all(np.isfinite(normals), axis=-1)
     shading = np.maximum(np.einsum("pi,ki->kp", np.nan_to_num(normals), l), 0.0) / np.pi  # (K, P)
     num = np.einsum("kp,kp,kpc->pc", w, shading, vals)
     den = np.einsum("kp,kp->p", w, shading**2)

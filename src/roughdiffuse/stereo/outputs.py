@@ -30,7 +30,7 @@ from .lambertian import LambertianResult
 from .report_figures import NORMAL_KEY, report_pngs
 from .rough import RoughResult
 
-__all__ = ["result_maps", "write_outputs"]
+__all__ = ["figure_html", "method_stats", "methods_table_html", "result_maps", "write_outputs"]
 
 
 def _scatter(mask: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -91,11 +91,16 @@ def write_outputs(
     model_id: str,
     truth_normals: np.ndarray | None = None,
     extra: dict[str, Any] | None = None,
+    methods: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Write every output file into ``folder`` (which must exist); return the parameters.
 
     With ``rough=None`` the result is Lambertian photometric stereo alone (Woodham 1980):
-    the same files from ``lambert``, with no roughness (``"roughness": null``).
+    the same files from ``lambert``, with no roughness (``"roughness": null``); a
+    ``model_id`` naming a robust method (``l1``, ``sparse``, ``rpca``) labels ``lambert``
+    as that method's result. ``methods`` (name -> result with ``normals`` and ``weights``)
+    adds, per method, the fraction of observations it rejected, its angular error against
+    ``truth_normals`` when known, their maps and a table (``params["methods"]``).
     """
     from ..io.atomic import write_text
     from ..io.images import write_exr, write_npy, write_png
@@ -116,11 +121,16 @@ def write_outputs(
         write_exr(out / f"{key}.exr", np.nan_to_num(image))
         lin = _png_of(image, key)
         write_png(out / f"{key}.png", lin, exposure=0.0, mask=m.astype(np.float64))
+    extra = dict(extra or {})
+    if methods:
+        extra["methods"] = method_stats(m, methods, truth_normals)
     if rough is None:
         shown = report_pngs(data, maps, None, depth, model_id, None)
+        shown.update(_methods_pngs(m, methods, truth_normals))  # keys: METHODS_PREFIX
         return _write_params(out, data, lambert, shown, model_id, truth_normals, extra)
     shown = report_pngs(data, maps, lmaps, depth, model_id,
                         rough.roughness_name if np.ndim(rough.roughness) else None)
+    shown.update(_methods_pngs(m, methods, truth_normals))
     rough_val = rough.roughness
     params: dict[str, Any] = {
         "model": model_id,
@@ -161,6 +171,59 @@ def write_outputs(
     return params
 
 
+def method_stats(
+    mask: np.ndarray, results: dict[str, Any], truth: np.ndarray | None
+) -> dict[str, dict[str, Any]]:
+    """Per method: the fraction of observations rejected and, with ``truth`` (H, W, 3), the
+    angular error statistics (degrees) over the object pixels with a normal."""
+    from .synthetic import angular_error
+
+    out: dict[str, dict[str, Any]] = {}
+    for name, r in results.items():
+        w = np.asarray(r.weights)
+        entry: dict[str, Any] = {
+            "rejected_fraction": float(1.0 - w.mean()),
+            "pixels_without_normal": int(np.sum(~np.all(np.isfinite(r.normals), axis=-1))),
+        }
+        if truth is not None:
+            entry["angular_error_deg"] = _stats(angular_error(r.normals, truth[mask]))
+        out[name] = entry
+    return out
+
+
+METHODS_PREFIX = "every method: "
+"""The captions of the per-method pictures begin so: the report shows them in their section."""
+
+
+def _methods_pngs(
+    mask: np.ndarray, results: dict[str, Any] | None, truth: np.ndarray | None
+) -> dict[str, bytes]:
+    if not results:
+        return {}
+    from .report_figures import methods_pngs
+
+    return {METHODS_PREFIX + k: v for k, v in methods_pngs(mask, results, truth).items()}
+
+
+def methods_table_html(stats: dict[str, dict[str, Any]]) -> str:
+    """The per-method table of the report: rejected fraction and angular error (if known)."""
+    from .methods import METHOD_LABELS
+
+    angles = any("angular_error_deg" in s for s in stats.values())
+    head = "<tr><th>method</th><th>observations rejected</th>" + (
+        "<th>mean angular error</th><th>median</th><th>95th percentile</th>" if angles else ""
+    ) + "</tr>"
+    rows = []
+    for name, s in stats.items():
+        label = html.escape(METHOD_LABELS.get(name, name))
+        cells = f"<td>{label}</td><td class=num>{100 * s['rejected_fraction']:.1f} %</td>"
+        if angles:
+            a = s["angular_error_deg"]
+            cells += "".join(f"<td class=num>{a[k]:.3g}°</td>" for k in ("mean", "median", "p95"))
+        rows.append(f"<tr>{cells}</tr>")
+    return f"<table>{head}{''.join(rows)}</table>"
+
+
 def _write_params(
     out: Path,
     data: StereoInput,
@@ -193,20 +256,37 @@ def _write_params(
     return params
 
 
+REPORT_STYLE = (
+    "body{font-family:system-ui,sans-serif;margin:2em;max-width:80em}"
+    "figure{margin:0 0 1.5em 0}img{max-width:100%}"
+    "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px}"
+    "td.num{text-align:right}"
+)
+"""The style sheet of the stereo reports."""
+
+
+def figure_html(caption: str, png: bytes, alt: str | None = None) -> str:
+    """A PNG embedded in a report page, with its caption."""
+    b64 = base64.b64encode(png).decode()
+    return (
+        f'<figure><img alt="{html.escape(alt or caption)}" src="data:image/png;base64,{b64}">'
+        f"<figcaption>{html.escape(caption)}</figcaption></figure>"
+    )
+
+
 def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     def img(name: str) -> str:
-        b64 = base64.b64encode(images[name]).decode()
-        note = f" ({NORMAL_KEY})" if name == "normals" else ""
-        return (
-            f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{b64}">'
-            f"<figcaption>{html.escape(name + note)}</figcaption></figure>"
-        )
+        return figure_html(name + (f" ({NORMAL_KEY})" if name == "normals" else ""),
+                           images[name], alt=name)
 
     r = params["roughness"]
     truth = params.get("truth") or {}
     true_value = truth.get(r["name"]) if r is not None else None
     if r is None:
-        rline = "Lambertian photometric stereo (Woodham 1980): no roughness"
+        from .methods import METHOD_LABELS
+
+        method = METHOD_LABELS.get(params["model"], "Lambertian least squares (Woodham 1980)")
+        rline = f"Lambertian photometric stereo, {method}: no roughness"
     elif r["per_pixel"]:
         rline = (
             f"{r['name']} per pixel: median {r['median']:.4g} "
@@ -220,7 +300,8 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
             off = abs(r["value"] - true_value) / r["standard_error"]
             rline += f" ({off:.1f} standard errors away)"
     rows = []
-    for label, key in (("rough model", "rough"), ("Lambertian", "lambertian")):
+    lam_label = "Lambertian" if r is not None or params["model"] == "lambert" else params["model"]
+    for label, key in (("rough model", "rough"), (lam_label, "lambertian")):
         if key not in params:
             continue
         s = params[key]
@@ -240,11 +321,7 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     buf = io.StringIO()
     buf.write(
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>"
-        "<title>roughdiffuse stereo report</title><style>"
-        "body{font-family:system-ui,sans-serif;margin:2em;max-width:80em}"
-        "figure{margin:0 0 1.5em 0}img{max-width:100%}"
-        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px}"
-        "td.num{text-align:right}"
+        "<title>roughdiffuse stereo report</title><style>" + REPORT_STYLE +
         "</style></head><body>"
     )
     buf.write(f"<h1>Photometric stereo: {html.escape(params['model'])}</h1>")
@@ -262,6 +339,12 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>" if r is not None
               else "<h2>Lambertian photometric stereo</h2>")
     for name in images:
-        buf.write(img(name))
+        if not name.startswith(METHODS_PREFIX):
+            buf.write(img(name))
+    if "methods" in params:
+        buf.write("<h2>Every method</h2>" + methods_table_html(params["methods"]))
+        for name, png in images.items():
+            if name.startswith(METHODS_PREFIX):
+                buf.write(figure_html(name[len(METHODS_PREFIX):], png))
     buf.write("</body></html>\n")
     return buf.getvalue()

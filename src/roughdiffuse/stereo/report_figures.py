@@ -15,7 +15,7 @@ import numpy as np
 
 from .inputs import StereoInput
 
-__all__ = ["NORMAL_KEY", "report_pngs"]
+__all__ = ["NORMAL_KEY", "methods_pngs", "report_pngs"]
 
 NORMAL_KEY = "colour = normal direction: red = x (right), green = y (up), blue = z (camera)"
 
@@ -36,7 +36,7 @@ def _pixel_axes(ax: Any) -> None:
 
 
 def _grey(image: np.ndarray) -> np.ndarray:
-    return image if image.ndim == 2 else np.nanmean(image, axis=-1)
+    return image if image.ndim == 2 else image.mean(axis=-1)  # NaN where a channel is NaN
 
 
 def light_angles(direction: np.ndarray) -> tuple[float, float]:
@@ -101,14 +101,15 @@ def _normal_key(ax: Any) -> None:
     ax.tick_params(labelsize=7)
 
 
-def lambert_normals_figure(normals: np.ndarray) -> Any:
-    """The normal map of Lambertian photometric stereo alone, with its colour key."""
+def lambert_normals_figure(normals: np.ndarray, label: str = "Lambertian") -> Any:
+    """The normal map of Lambertian photometric stereo alone (``label``: which solver), with
+    its colour key."""
     from .._figure import figure
 
     fig = figure(figsize=(6.4, 3.6), layout="constrained")
     axes = fig.subplots(1, 2, width_ratios=[1, 0.75])
     axes[0].imshow(_normal_rgb(normals))
-    axes[0].set_title("normals, Lambertian", fontsize=9)
+    axes[0].set_title(f"normals, {label}", fontsize=9)
     _pixel_axes(axes[0])
     _normal_key(axes[1])
     return fig
@@ -187,7 +188,8 @@ def report_pngs(
 
     figs = {"the input images and their lights": inputs_figure(data)}
     if lambert_maps is None:
-        figs["normals"] = lambert_normals_figure(maps["normals"])
+        label = "Lambertian" if rough_label == "lambert" else rough_label
+        figs["normals"] = lambert_normals_figure(maps["normals"], label)
         figs["albedo"] = single_figure(maps["albedo"], "albedo", "fraction", "gray")
         figs["relative RMS residual"] = single_figure(
             maps["residual"], "relative RMS residual", "fraction of the data", "magma")
@@ -207,6 +209,69 @@ def report_pngs(
         figs["normal standard error"] = single_figure(maps["normal_se_deg"],
                                                       "normal standard error", "degrees", "magma")
     figs["depth"] = single_figure(depth, "depth (z towards the camera)", "pixels", "viridis")
+    out = {}
+    for name, fig in figs.items():
+        out[name] = _png(fig)
+        release(fig)
+    return out
+
+
+def methods_figure(maps: dict[str, np.ndarray], what: str, unit: str, cmap: str,
+                   top: float | None = None) -> Any:
+    """One map per method, side by side on one colour scale from 0, one colour bar.
+
+    ``maps`` is method label -> (H, W) map (NaN outside the object); ``top`` is the end of
+    the scale (default: the 99th percentile of every map together).
+    """
+    from .._figure import figure
+
+    values = np.concatenate([m[np.isfinite(m)] for m in maps.values()] + [np.zeros(1)])
+    hi = top if top is not None else float(np.percentile(values, 99))
+    hi = hi if hi > 0 else 1.0
+    rows = -(-len(maps) // 5)  # at most 5 a row, the rows equally full
+    cols = -(-len(maps) // rows)
+    fig = figure(figsize=(3.3 * cols + 1.2, 3.2 * rows + 0.3), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, cols)).ravel()
+    im = None
+    for ax, (label, image) in zip(axes, maps.items(), strict=False):
+        im = ax.imshow(image, cmap=cmap, vmin=0.0, vmax=hi)
+        ax.set_title(label, fontsize=9)
+        _pixel_axes(ax)
+    for ax in axes[len(maps):]:
+        ax.set_axis_off()
+    fig.colorbar(im, ax=axes[: len(maps)].tolist(), label=f"{what} ({unit})", shrink=0.85)
+    return fig
+
+
+def methods_pngs(
+    mask: np.ndarray,
+    results: dict[str, Any],
+    truth: np.ndarray | None,
+    title: str = "",
+) -> dict[str, bytes]:
+    """The per-method pictures: the angular error against ``truth`` (H, W, 3; when known)
+    and the fraction of each pixel's observations the method left out or rejected."""
+    from .._figure import release
+    from .synthetic import angular_error
+
+    prefix = f"{title}: " if title else ""
+    figs = {}
+    if truth is not None:
+        err = {}
+        for name, r in results.items():
+            e = np.full(mask.shape, np.nan)
+            e[mask] = angular_error(r.normals, truth[mask])
+            err[name] = e
+        figs[f"{prefix}angular error against the truth, per method"] = methods_figure(
+            err, "angular error", "degrees", "magma")
+    rejected = {}
+    for name, r in results.items():
+        f = np.full(mask.shape, np.nan)
+        f[mask] = 1.0 - np.asarray(r.weights).mean(axis=0)
+        rejected[name] = f
+    figs[f"{prefix}observations left out or rejected (shadows, outliers), per method"] = (
+        methods_figure(rejected, "fraction of the pixel's observations", "0 to 1", "viridis",
+                       top=1.0))
     out = {}
     for name, fig in figs.items():
         out[name] = _png(fig)
