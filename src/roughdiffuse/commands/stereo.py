@@ -19,11 +19,14 @@ examples:
       --lights data:lights.json -o stack/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
+  roughdiffuse stereo --diligent pmsData/potPNG --model coated -o out-coated/   # glossy
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
 
 PNG images: --exposure E (linear = value / 2^E), --mask mask.png. A DiLiGenT object:
 --diligent DiLiGenT/pmsData/potPNG. --model lambert is Woodham's Lambertian photometric
-stereo alone (least squares per pixel): the same outputs, no roughness.
+stereo alone (least squares per pixel): the same outputs, no roughness. --model coated fits
+a dielectric coat (index --eta, fitted roughness α) over a full Oren–Nayar base: highlights
+are modelled, shadows found from the fitted shape; it needs at least 5 lights.
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -78,6 +81,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="model id (default: oren-nayar-full)",
     )
     p.add_argument("--per-pixel", action="store_true", help="one roughness per pixel")
+    p.add_argument(
+        "--eta",
+        type=bounded_float(1.05, 3.0),
+        default=1.5,
+        help="--model coated: the coat's refractive index, kept fixed (default: 1.5)",
+    )
     p.add_argument(
         "--shadow",
         type=float,
@@ -159,17 +168,22 @@ def run(args: argparse.Namespace) -> int:
             )
         mask = stereo.read_mask(args.mask) if args.mask else None
         data = stereo.StereoInput.from_arrays(images, dirs, ints, mask=mask, valid=valid)
+    if args.model == COATED:
+        _check_coated_lights(data)
     lam = stereo.lambertian(data, shadow=args.shadow)
     if model is None:
         return _lambert_only(args, data, lam, out, truth)
-    res = stereo.rough(
-        data,
-        model,
-        per_pixel=args.per_pixel,
-        start=lam,
-        shadow=args.shadow,
-        progress=progress_enabled(),
-    )
+    if args.model == COATED:
+        res = _coated_fit(args, data, lam)
+    else:
+        res = stereo.rough(
+            data,
+            model,
+            per_pixel=args.per_pixel,
+            start=lam,
+            shadow=args.shadow,
+            progress=progress_enabled(),
+        )
     from ..fit.sanity import fit_problem
 
     problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
@@ -178,9 +192,9 @@ def run(args: argparse.Namespace) -> int:
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    extra = None
+    extra = _coat_params(res) if args.model == COATED else {}
     if args.demo:  # the report states the truth beside the fit
-        extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
+        extra["truth"] = {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}
     from ..io import atomic_folder
 
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
@@ -199,8 +213,62 @@ def run(args: argparse.Namespace) -> int:
                 "infinite, e.g. every image lit alike): the value is not a measurement",
                 file=sys.stderr,
             )
+    if args.model == COATED:
+        line += f", coat α = {_value_text(res.alpha, res.alpha_se)} (η = {res.eta:g})"
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
+
+
+COATED = "coated"
+"""``--model coated``: :func:`roughdiffuse.stereo.coated`, a coat of index ``--eta`` over a
+full Oren–Nayar base."""
+
+
+def _check_coated_lights(data) -> None:  # noqa: ANN001
+    """Refuse, before any work, fewer lights than the coated model's parameters per pixel."""
+    from ..stereo.coated import parameter_count
+
+    need = parameter_count(data.channels)
+    if data.count < need:
+        raise UsageError(
+            f"--model coated fits {need} parameters per pixel (normal 2, albedo, σ, coat α): "
+            f"it needs at least {need} lights (got {data.count})"
+        )
+
+
+def _coated_fit(args: argparse.Namespace, data, lam):  # noqa: ANN001, ANN202
+    """The rough fit from the Lambertian start, then the coated fit from its normals."""
+    from .. import stereo
+    from ..models import OrenNayar
+
+    show = progress_enabled()
+    start = stereo.rough(data, OrenNayar(variant="full"), start=lam, shadow=args.shadow,
+                         progress=show)
+    return stereo.coated(data, eta=args.eta, per_pixel=args.per_pixel, start=start,
+                         shadow=args.shadow, progress=show)
+
+
+def _value_text(value, se) -> str:  # noqa: ANN001
+    import numpy as np
+
+    if np.ndim(value):
+        return f"per pixel, median {float(np.nanmedian(value)):.4g}"
+    return f"{float(value):.4g} ± {float(se):.2g}"
+
+
+def _coat_params(res) -> dict:  # noqa: ANN001
+    """The coat's entry of params.json: α (one value with its standard error, or the median
+    of the per-pixel map), η, and the shadow rounds."""
+    import numpy as np
+
+    coat: dict = {"eta": res.eta, "base": res.base, "shadow_rounds": res.shadow_rounds}
+    if np.ndim(res.alpha):
+        coat["alpha"] = {"per_pixel": True, "median": float(np.nanmedian(res.alpha)),
+                         "median_standard_error": float(np.nanmedian(res.alpha_se))}
+    else:
+        coat["alpha"] = {"per_pixel": False, "value": float(res.alpha),
+                         "standard_error": float(res.alpha_se)}
+    return {"coat": coat}
 
 
 def _lambert_only(args: argparse.Namespace, data, lam, out: Path, truth) -> int:  # noqa: ANN001

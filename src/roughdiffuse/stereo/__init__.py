@@ -4,7 +4,8 @@ K ≥ 3 images of a still object, seen by an orthographic camera under known dis
 give per-pixel normals, albedo and roughness. Lambertian photometric stereo (Woodham 1980)
 is the baseline and the starting point; :func:`rough` then fits a rough-diffuse model of the
 registry (e.g. the full Oren–Nayar model) to every pixel, with the roughness global or per
-pixel, and :func:`integrate` turns the normals into a depth map.
+pixel; :func:`coated` fits a dielectric coat over such a base (glossy objects: highlights
+in the model, shadows found from it), and :func:`integrate` turns the normals into a depth map.
 
 >>> import numpy as np
 >>> import roughdiffuse as rd
@@ -16,6 +17,7 @@ pixel, and :func:`integrate` turns the normals into a depth map.
 0.4
 """
 
+from .coated import CoatedResult, coated
 from .depth import gradients, integrate, write_ply
 from .inputs import StereoInput, load_images, read_diligent, read_lights, read_mask
 from .lambertian import LambertianResult, lambertian, observation_weights
@@ -24,10 +26,12 @@ from .rough import RoughResult, rough, roughness_parameter
 from .synthetic import angular_error, default_lights, render_stereo, synthetic_sphere
 
 __all__ = [
+    "CoatedResult",
     "LambertianResult",
     "RoughResult",
     "StereoInput",
     "angular_error",
+    "coated",
     "default_lights",
     "gradients",
     "integrate",
