@@ -131,21 +131,29 @@ def _base_model(base: str) -> Model:
 
 
 def cast_shadows(
-    depth: np.ndarray, mask: np.ndarray, directions: np.ndarray, tolerance: float = DEPTH_TOLERANCE
+    depth: np.ndarray,
+    mask: np.ndarray,
+    directions: np.ndarray,
+    tolerance: float = DEPTH_TOLERANCE,
+    slopes: np.ndarray | None = None,
 ) -> np.ndarray:
     """Observations (K, P) in a cast shadow: the surface z(x, y) (pixel units, NaN outside
     the object) stands above the ray from the pixel towards light k.
 
-    The ray is marched one pixel at a time across the image (x right, y up; row 0 at the
-    top), its height rising by l_z / |l_xy| per pixel, until it leaves the image or rises
-    above the highest point of the surface; an occluder is a sample (nearest pixel) higher
-    than the ray by more than ``tolerance``. Pixels outside the object do not occlude.
+    The ray starts at the top of the pixel's footprint, half its slope above its centre
+    (``slopes`` (P,), |∇z| of each object pixel; none: a flat pixel), and is marched one
+    pixel at a time across the image (x right, y up; row 0 at the top), its height rising by
+    l_z / |l_xy| per pixel, until it leaves the image or rises above the highest point of
+    the surface; an occluder is a sample higher than the ray by
+    more than ``tolerance``. The surface is sampled by bilinear interpolation between the
+    four nearest pixels (below a convex surface, never above it), or the nearest pixel where
+    one of the four lies outside the object. Pixels outside the object do not occlude.
     """
     z = np.asarray(depth, dtype=np.float64)
     m = np.asarray(mask, dtype=bool)
     h, w = m.shape
     rows, cols = np.nonzero(m)
-    z0 = z[m]
+    z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
     top = float(np.nanmax(z))
     height = np.where(np.isfinite(z), z, -np.inf)
     shadow = np.zeros((len(directions), rows.size), dtype=bool)
@@ -159,16 +167,36 @@ def cast_shadows(
             ray = z0[idx] + s * rise
             keep = ray < top - tolerance
             idx, ray = idx[keep], ray[keep]
-            r = np.rint(rows[idx] - s * dy).astype(np.int64)
-            c = np.rint(cols[idx] + s * dx).astype(np.int64)
-            inside = (r >= 0) & (r < h) & (c >= 0) & (c < w)
-            idx, ray, r, c = idx[inside], ray[inside], r[inside], c[inside]
+            rf, cf = rows[idx] - s * dy, cols[idx] + s * dx
+            inside = (rf > -0.5) & (rf < h - 0.5) & (cf > -0.5) & (cf < w - 0.5)
+            idx, ray, rf, cf = idx[inside], ray[inside], rf[inside], cf[inside]
             if idx.size == 0:
                 break
-            hit = height[r, c] > ray + tolerance
+            hit = _surface(height, rf, cf) > ray + tolerance
             shadow[k, idx[hit]] = True
             idx = idx[~hit]
     return shadow
+
+
+def _surface(height: np.ndarray, rf: np.ndarray, cf: np.ndarray) -> np.ndarray:
+    """The height map at fractional (row, column): bilinear between the four nearest pixels,
+    the nearest pixel's value where one of them is −∞ (outside the object)."""
+    h, w = height.shape
+    r0 = np.clip(np.floor(rf).astype(np.int64), 0, h - 1)
+    c0 = np.clip(np.floor(cf).astype(np.int64), 0, w - 1)
+    r1, c1 = np.minimum(r0 + 1, h - 1), np.minimum(c0 + 1, w - 1)
+    fr, fc = np.clip(rf - r0, 0.0, 1.0), np.clip(cf - c0, 0.0, 1.0)
+    corners = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
+    whole = np.all(np.isfinite(corners), axis=0)
+    safe = [np.where(whole, v, 0.0) for v in corners]
+    bilinear = (safe[0] * (1 - fc) + safe[1] * fc) * (1 - fr) + (
+        safe[2] * (1 - fc) + safe[3] * fc
+    ) * fr
+    nearest = height[
+        np.clip(np.rint(rf).astype(np.int64), 0, h - 1),
+        np.clip(np.rint(cf).astype(np.int64), 0, w - 1),
+    ]
+    return np.where(whole, bilinear, nearest)
 
 
 def model_weights(
@@ -187,7 +215,8 @@ def model_weights(
     cast = np.zeros_like(lit)
     if usable.sum() >= 2:
         z = integrate(image, usable, depth_method)
-        cast = cast_shadows(z, m, data.directions)
+        tilt = np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05)  # |∇z|, ≤ 20 (87°)
+        cast = cast_shadows(z, m, data.directions, slopes=np.nan_to_num(tilt))
     keep = data.valid[:, m] & lit & ~cast & good[None, :]
     return keep.astype(np.float64)
 
@@ -211,8 +240,11 @@ def _start_albedo(family: CoatedFamily, albedo: np.ndarray, base_value: float) -
     bare = family.model.base
     uncoated = np.array(
         [
-            float(dataclasses.replace(bare, albedo=a, **{family.base_param: base_value})
-                  .brdf_cosines(mu, mu, cos_io)[0])
+            float(
+                dataclasses.replace(bare, albedo=a, **{family.base_param: base_value}).brdf_cosines(
+                    mu, mu, cos_io
+                )[0]
+            )
             for a in grid
         ]
     )
@@ -297,18 +329,24 @@ def coated(
         start = rough(data, base_model, shadow=shadow, precision=precision, progress=progress)
     lo, hi = family.bounds[0]
     base0 = float(np.clip(np.nanmedian(start.roughness), lo + 0.02 * (hi - lo), 0.8 * hi))
-    current: Any = dataclasses.replace(
-        start, albedo=_start_albedo(family, start.albedo, base0)
-    )
+    current: Any = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
     initial = np.array([base0, ALPHA_START])
     weights = model_weights(data, start.normals, depth_method)
     label = "coated photometric stereo"
     done = 0
     for round_ in range(shadow_rounds + 1):
         fit = fit_pixels(
-            data, family, start=current, weights=weights, initial=initial,
-            per_pixel=per_pixel, subset_start=round_ == 0, iterations=iterations,
-            precision=precision, progress=progress, label=label,
+            data,
+            family,
+            start=current,
+            weights=weights,
+            initial=initial,
+            per_pixel=per_pixel,
+            subset_start=round_ == 0,
+            iterations=iterations,
+            precision=precision,
+            progress=progress,
+            label=label,
         )
         done = round_
         if round_ == shadow_rounds:
