@@ -6,9 +6,8 @@ Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light and cast shadow
 photometric stereo models them), under each distant light in turn, seen by an orthographic
 camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is any Mitsuba BSDF,
 roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar", "variant": "full",
-"sigma": 0.3, "albedo": 0.7}``).
-The true normals come from Mitsuba's own
-``aov`` integrator (``sh_normal``), averaged over each pixel.
+"sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own ``aov`` integrator
+(``sh_normal``), averaged over each pixel.
 
 Mitsuba is an optional dependency: ``pip install mitsuba``. Its ``llvm`` variants need libLLVM
 (see :mod:`roughdiffuse.integrations.mitsuba`). The caller's variant is restored afterwards.
