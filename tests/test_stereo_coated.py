@@ -158,5 +158,8 @@ def test_written_diligent_folder_reads_back_quantised(tmp_path):
     assert np.array_equal(back.mask, data.mask)
     code = np.rint(data.images[..., 0] / top * 0.9 * 4095)
     np.testing.assert_allclose(back.images[..., 0], code * 16 / 65535, atol=1e-9)
+    # the intensities hold the scale: image / intensity is the radiance, to half a code
+    radiance = back.images[..., 0] / back.intensities[:, None, None, 0]
+    np.testing.assert_allclose(radiance, data.images[..., 0], atol=0.5 * top / (0.9 * 4095))
     gt = loadmat(folder / "Normal_gt.mat")["Normal_gt"]
     np.testing.assert_allclose(gt[data.mask], normals[data.mask])

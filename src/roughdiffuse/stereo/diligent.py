@@ -56,6 +56,8 @@ def write_diligent(
     of the object's values over all images) reads 90 % of the range, rounded to ``bits`` bits
     and clipped there (brighter values saturate: the reader marks them invalid), and stored
     in 16-bit PNGs (the ``bits``-bit code shifted up, as a 12-bit camera's 16-bit files).
+    ``light_intensities.txt`` holds that scale (the images' irradiance 1 in PNG units), so the
+    values read back are the radiance of the images, noise and rounding aside.
 
     Parameters
     ----------
@@ -96,8 +98,11 @@ def write_diligent(
             Image.fromarray(img).save(tmp / name)
         (tmp / "filenames.txt").write_text("\n".join(names) + "\n", encoding="utf-8")
         np.savetxt(tmp / "light_directions.txt", data.directions, fmt="%.6f")
-        # every light of irradiance 1 in the PNGs' units (the images' scale is the albedo's)
-        np.savetxt(tmp / "light_intensities.txt", np.ones((data.count, 3)), fmt="%.6f")
+        # each light's irradiance in the PNGs' units (value / 65535): radiance 1 under
+        # irradiance 1 reads 0.9 · levels / top codes, shifted up to 16 bits; a model that is
+        # not linear in its albedo (a coat: its highlight against the base) needs this scale
+        unit = 0.9 * levels / top * (1 << (16 - bits)) / 65535.0
+        np.savetxt(tmp / "light_intensities.txt", np.full((data.count, 3), unit), fmt="%.8g")
         Image.fromarray((data.mask * 255).astype(np.uint8)).save(tmp / "mask.png")
         buf = io.BytesIO()
         savemat(buf, {"Normal_gt": np.where(data.mask[..., None], normals, 0.0)})

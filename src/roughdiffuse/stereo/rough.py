@@ -748,21 +748,43 @@ def _result(
 
 
 def _inverse_diagonal(s: np.ndarray) -> np.ndarray:
-    """The diagonal of S⁻¹ for a symmetric S; infinite where S is not positive definite
-    (the images cannot determine the values)."""
-    w = np.linalg.eigvalsh(s)
-    if not np.all(np.isfinite(s)) or w.min() <= 1e-12 * max(abs(w).max(), 1e-300):
-        return np.full(s.shape[0], math.inf)
-    return np.diag(np.linalg.inv(s))
+    """The diagonal of S⁻¹ for a symmetric S, over the values the images determine (those
+    whose diagonal entry is not ~0: e.g. σ of Oren–Nayar at σ = 0, where its derivative
+    vanishes); infinite for the others, and for all when the rest is not positive definite."""
+    d = np.diag(s)
+    out = np.full(s.shape[0], math.inf)
+    if not np.all(np.isfinite(s)):
+        return out
+    live = d > 1e-9 * max(float(d.max()), 1e-300)
+    sub = s[np.ix_(live, live)]
+    if live.any() and np.linalg.eigvalsh(sub).min() > 1e-12 * np.abs(sub).max():
+        out[live] = np.diag(np.linalg.inv(sub))
+    return out
 
 
-def _newton_step(s: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """−S⁻¹ rhs on the directions where S is positive (none: no step)."""
+def _newton_step(
+    s: np.ndarray, rhs: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> np.ndarray:
+    """−S⁻¹ rhs on the directions where S is positive, for the values free to move: a value
+    at a bound of its box that the step would push out is held there and the step solved
+    for the others (a projected Gauss–Newton step)."""
+    step = np.zeros_like(rhs)
     if not np.all(np.isfinite(s)) or not np.all(np.isfinite(rhs)):
-        return np.zeros_like(rhs)
-    w, v = np.linalg.eigh(s)
-    inv = np.where(w > 1e-12 * max(abs(w).max(), 1e-300), 1.0 / np.where(w > 0, w, 1.0), 0.0)
-    return -(v * inv) @ (v.T @ rhs)
+        return step
+    free = np.ones(rhs.shape[0], dtype=bool)
+    for _ in range(rhs.shape[0]):
+        step[:] = 0.0
+        sub = s[np.ix_(free, free)]
+        w, v = np.linalg.eigh(sub)
+        inv = np.where(w > 1e-9 * max(abs(w).max(), 1e-300), 1.0 / np.where(w > 0, w, 1.0), 0.0)
+        step[free] = -(v * inv) @ (v.T @ rhs[free])
+        blocked = free & (((g <= lo) & (step < 0)) | ((g >= hi) & (step > 0)))
+        if not blocked.any():
+            return step
+        free &= ~blocked
+        if not free.any():
+            break
+    return np.zeros_like(rhs)
 
 
 def _fit_globals(
@@ -814,7 +836,7 @@ def _fit_globals(
                 tr = np.minimum(2.0 * tr, 0.25 * width)
             n = g.shape[0]
             schur = np.sum(sch_p, axis=0, dtype=np.float64).reshape(n, n)
-            step = _newton_step(schur, np.sum(rhs_p, axis=0, dtype=np.float64))
+            step = _newton_step(schur, np.sum(rhs_p, axis=0, dtype=np.float64), g, lo, hi)
             best = ({k: v.copy() for k, v in state.items()}, g.copy(), cost, step)
             if converged:
                 break
