@@ -163,3 +163,46 @@ def test_written_diligent_folder_reads_back_quantised(tmp_path):
     np.testing.assert_allclose(radiance, data.images[..., 0], atol=0.5 * top / (0.9 * 4095))
     gt = loadmat(folder / "Normal_gt.mat")["Normal_gt"]
     np.testing.assert_allclose(gt[data.mask], normals[data.mask])
+
+
+def test_projected_step_holds_a_value_at_its_bound():
+    """S = diag(2, 1), rhs = (2, −1): the Gauss–Newton step −S⁻¹ rhs = (−1, 1); with the
+    first value at its lower bound the step would push it out, so it is held and the second
+    moves alone, by −rhs₂/S₂₂ = 1."""
+    import importlib
+
+    module = importlib.import_module("roughdiffuse.stereo.rough")
+    s, rhs = np.diag([2.0, 1.0]), np.array([2.0, -1.0])
+    lo, hi = np.zeros(2), np.ones(2)
+    np.testing.assert_allclose(module._newton_step(s, rhs, np.array([0.5, 0.5]), lo, hi), [-1, 1])
+    np.testing.assert_allclose(module._newton_step(s, rhs, np.array([0.0, 0.5]), lo, hi), [0, 1])
+    # coupled: S = [[2, 1], [1, 2]]; value 1 held at 0, value 2 steps by −rhs₂ / S₂₂
+    s2 = np.array([[2.0, 1.0], [1.0, 2.0]])
+    step = module._newton_step(s2, np.array([3.0, -1.0]), np.array([0.0, 0.5]), lo, hi)
+    np.testing.assert_allclose(step, [0.0, 0.5])
+    # a value whose derivative vanishes (σ of Oren–Nayar at 0): its standard error is
+    # infinite, the other's is that of its own diagonal entry
+    np.testing.assert_allclose(module._inverse_diagonal(np.diag([0.0, 4.0])), [np.inf, 0.25])
+
+
+@pytest.mark.slow
+def test_cli_coated_on_a_diligent_folder(tmp_path):
+    """``roughdiffuse stereo --diligent DIR --model coated``: a coated sphere written in the
+    DiLiGenT layout (12-bit, no noise), its coat's α and its normals recovered."""
+    import json
+
+    truth = rd.Coated(rd.OrenNayar(ALBEDO, SIGMA, "full"), 1.5, ALPHA)
+    data, normals = stereo.render_stereo(truth, Sphere(), stereo.default_lights(12), 24)
+    folder = write_diligent(tmp_path / "ballPNG", data, normals, noise=0.0)
+    out = subprocess.run(
+        [sys.executable, "-m", "roughdiffuse", "stereo", "--diligent", str(folder),
+         "--model", "coated", "-o", str(tmp_path / "o")],
+        capture_output=True, text=True, timeout=1200,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "coat α = 0.3" in out.stdout
+    params = json.loads((tmp_path / "o" / "params.json").read_text())
+    assert params["coat"]["alpha"]["value"] == pytest.approx(ALPHA, abs=0.01)
+    assert params["roughness"]["value"] == pytest.approx(SIGMA, abs=0.05)
+    fitted = np.load(tmp_path / "o" / "normals.npy")[data.mask]
+    assert np.nanmean(stereo.angular_error(fitted, normals[data.mask])) < 0.5
