@@ -515,20 +515,13 @@ class PixelFit:
 
     Attributes
     ----------
-    normals : array (P, 3)
-    albedo : array (P, C)
     values : array (G,) or (P, G)
         The fitted values: one each for the object, or one per pixel.
     values_se : array like ``values``
         Their standard errors.
-    normal_se : array (P,)
-        Angular standard error of each normal, radians.
-    albedo_se : array (P, C)
-    residual : array (P,)
-        RMS residual over the kept observations, relative to the pixel's mean value.
-    weights : array (K, P)
-        Observations used.
-    iterations : int
+
+    The others (normals, albedo, their standard errors, residual, weights, iterations) as
+    :class:`RoughResult`'s.
     """
 
     normals: np.ndarray
