@@ -213,8 +213,10 @@ def run(args: argparse.Namespace) -> int:
                 "infinite, e.g. every image lit alike): the value is not a measurement",
                 file=sys.stderr,
             )
-    if args.model == COATED:
+    if args.model == COATED and res.coat:
         line += f", coat α = {_value_text(res.alpha, res.alpha_se)} (η = {res.eta:g})"
+    elif args.model == COATED:
+        line += " (no coat: a coat does not fit these images better than the bare base)"
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
 
@@ -261,8 +263,11 @@ def _coat_params(res) -> dict:  # noqa: ANN001
     of the per-pixel map), η, and the shadow rounds."""
     import numpy as np
 
-    coat: dict = {"eta": res.eta, "base": res.base, "shadow_rounds": res.shadow_rounds}
-    if np.ndim(res.alpha):
+    coat: dict = {"eta": res.eta, "base": res.base, "shadow_rounds": res.shadow_rounds,
+                  "coat_explains_the_images": res.coat}
+    if not res.coat:
+        coat["alpha"] = None
+    elif np.ndim(res.alpha):
         coat["alpha"] = {"per_pixel": True, "median": float(np.nanmedian(res.alpha)),
                          "median_standard_error": float(np.nanmedian(res.alpha_se))}
     else:

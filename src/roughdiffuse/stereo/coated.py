@@ -17,8 +17,15 @@ current normals: an observation is left out where the light is behind the pixel'
 (attached, n·l ≤ 0; the model is 0 there and its derivative too) or where the surface,
 integrated from the current normals (:func:`.depth.integrate`), stands between the pixel and
 the light (cast; :func:`cast_shadows` marches from each pixel towards each light over the
-depth map). The fit starts from the rough fit's normals (with its threshold shadows), and
-the shadows are found again after each fit, ``shadow_rounds`` times.
+depth map); observations darker than the rough fit's threshold stay out too (shadows of
+parts outside the mask, which the integrated surface does not hold). The fit starts from
+the rough fit's normals, and the shadows are found again after each fit, ``shadow_rounds``
+times.
+
+A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
+When the coated fit's mean squared relative residual is not below the rough fit's, the
+result is the rough fit's (``CoatedResult.coat`` False, α NaN): a choice between the two
+models by their residuals.
 
 Standard errors are the Gauss–Newton ones, as for the rough fit: s² (JᵀJ)⁻¹ per pixel, and
 s² S⁻¹ for σ and α, S the 2 × 2 Schur complement, with s² the residual variance.
@@ -39,6 +46,7 @@ from ..models.base import Model
 from ..models.coated import Coated
 from .depth import integrate
 from .inputs import StereoInput
+from .lambertian import observation_weights
 from .rough import Family, RoughResult, fit_box, fit_pixels, rough
 
 __all__ = ["CoatedFamily", "CoatedResult", "cast_shadows", "coated", "parameter_count"]
@@ -101,6 +109,11 @@ class CoatedResult(RoughResult):
         Registry id of the base.
     shadow_rounds : int
         How many times the shadows were found again from the fitted normals.
+    coat : bool
+        Whether the coat explains the images: False when the coated fit's mean squared
+        relative residual is not below the rough fit's (a matte object: a coat of η > 1
+        cannot vanish, and the fit runs to its bounds); the normals, albedo and σ are then
+        the rough fit's, and α is NaN.
     """
 
     alpha: Any = 0.0
@@ -108,6 +121,7 @@ class CoatedResult(RoughResult):
     eta: float = 1.5
     base: str = "oren-nayar-full"
     shadow_rounds: int = 0
+    coat: bool = True
 
     @property
     def sigma(self) -> Any:
@@ -200,11 +214,13 @@ def _surface(height: np.ndarray, rf: np.ndarray, cf: np.ndarray) -> np.ndarray:
 
 
 def model_weights(
-    data: StereoInput, normals: np.ndarray, depth_method: str = "poisson"
+    data: StereoInput, normals: np.ndarray, depth_method: str = "poisson", shadow: float = 0.0
 ) -> np.ndarray:
     """0/1 weights (K, P) of the observations the coated model explains: valid (finite, not
-    saturated), lit by the light (n·l > 0 for the current normals) and not in a cast shadow
-    of the surface integrated from them (:func:`cast_shadows`)."""
+    saturated), lit by the light (n·l > 0 for the current normals), not in a cast shadow
+    of the surface integrated from them (:func:`cast_shadows`) and, with ``shadow`` > 0, not
+    darker than that fraction of the pixel's brightest (:func:`.observation_weights`: the
+    shadows the integrated surface misses, e.g. of parts outside the mask)."""
     m = data.mask
     n = np.asarray(normals, dtype=np.float64)
     good = np.all(np.isfinite(n), axis=1)
@@ -218,6 +234,8 @@ def model_weights(
         tilt = np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05)  # |∇z|, ≤ 20 (87°)
         cast = cast_shadows(z, m, data.directions, slopes=np.nan_to_num(tilt))
     keep = data.valid[:, m] & lit & ~cast & good[None, :]
+    if shadow > 0:
+        keep &= observation_weights(data, shadow) > 0
     return keep.astype(np.float64)
 
 
@@ -285,7 +303,8 @@ def coated(
         Starting normals, albedo and σ (default: :func:`.rough` with the base model and the
         threshold ``shadow``).
     shadow : float
-        Threshold of the rough start's shadows (the coated fit's own come from the model).
+        Observations darker than this fraction of the pixel's brightest are left out, as
+        by the rough fit (its start), besides the shadows found from the model.
     shadow_rounds : int
         Times the shadows are found again from the fitted normals, each followed by a fit
         (0: the start's normals only).
@@ -331,7 +350,7 @@ def coated(
     base0 = float(np.clip(np.nanmedian(start.roughness), lo + 0.02 * (hi - lo), 0.8 * hi))
     current: Any = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
     initial = np.array([base0, ALPHA_START])
-    weights = model_weights(data, start.normals, depth_method)
+    weights = model_weights(data, start.normals, depth_method, shadow)
     label = "coated photometric stereo"
     done = 0
     for round_ in range(shadow_rounds + 1):
@@ -351,12 +370,20 @@ def coated(
         done = round_
         if round_ == shadow_rounds:
             break
-        again = model_weights(data, fit.normals, depth_method)
+        again = model_weights(data, fit.normals, depth_method, shadow)
         if np.array_equal(again, weights):
             break
         weights, current, initial = again, fit, fit.values
     values, se = fit.values, fit.values_se
     pick = (lambda a, j: a[:, j]) if per_pixel else (lambda a, j: float(a[j]))
+    if not np.nanmean(fit.residual**2) < np.nanmean(np.asarray(start.residual) ** 2):
+        # the coat does not explain the images better than the bare base: keep the base
+        fields = {f.name: getattr(start, f.name) for f in dataclasses.fields(RoughResult)}
+        nan = np.full_like(values[:, 1], np.nan) if per_pixel else math.nan
+        return CoatedResult(
+            **fields, alpha=nan, alpha_se=nan, eta=float(eta), base=base, shadow_rounds=done,
+            coat=False,
+        )
     return CoatedResult(
         normals=fit.normals,
         albedo=fit.albedo,
