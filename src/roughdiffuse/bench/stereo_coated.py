@@ -16,7 +16,9 @@ first coated object), as a ratio to the Lambertian solve timed in the same run. 
     python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders [--write FILE]
     python bench/stereo_coated.py --renders /tmp/renders [--write]  # bench/RESULTS.md
 
-Targets: coated ≤ 1.0° on the α = 0.3 sphere and ≤ 2° on the α = 0.3 mesh (blob), below every
+The coats are Mitsuba's ``roughplastic`` (Lambertian base, σ = 0): the roughdiffuse plugin
+of ``Coated`` renders too slowly for 96 lights (see the script). Targets: coated ≤ 1.0° on
+the α = 0.3 sphere and ≤ 2° on the α = 0.3 mesh (blob), below every
 Lambertian solver and the rough fit on the coated objects, no worse than the rough fit on the
 matte ones, σ within its error bars, ≤ 60 s per megapixel on 2 cores.
 """
@@ -41,7 +43,9 @@ END = "<!-- stereo-coated:end -->"
 HEADING = "## Coated photometric stereo"
 
 ROBUST = ("l1", "sparse", "rpca")
-TRUE_SIGMA = 0.4
+TRUE_SIGMA = {"matte": 0.4, "coat01": 0.0, "coat03": 0.0}
+"""σ of each material's base: full Oren–Nayar for ``matte``; the coats (Mitsuba's
+``roughplastic``) have a Lambertian base. The ``metal`` blend has no σ."""
 TRUE_ALPHA = {"coat01": 0.1, "coat03": 0.3}
 
 
@@ -133,9 +137,13 @@ def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[s
         f"{len(no_worse)})",
         all(no_worse) if no_worse else None,
     )
-    within = [abs(r["sigma"][0] - TRUE_SIGMA) <= 2 * r["sigma"][1] for r in rows]
+    within = [
+        abs(r["sigma"][0] - TRUE_SIGMA[m]) <= 2 * r["sigma"][1]
+        for r in rows
+        if (m := r["name"].split("-")[-1]) in TRUE_SIGMA
+    ]
     check(
-        f"coated σ within two standard errors of {TRUE_SIGMA} ({sum(within)} of {len(within)})",
+        f"coated σ within two standard errors of the truth ({sum(within)} of {len(within)})",
         all(within) if within else None,
     )
     check(f"≤ 60 s per megapixel ({per_mpx:.0f} s)", per_mpx <= 60)
@@ -182,7 +190,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         f"{load:.1f}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}): Mitsuba renders "
         f"of `scripts/stereo_renders.py`, {data.count} lights, {data.images.shape[2]}² pixels; "
         "mean angular error against the true normals; σ and α with their standard errors "
-        f"(truth σ = {TRUE_SIGMA}, α in brackets). "
+        "(truth: σ 0.4 for matte, 0 for the coats' Lambertian base; α in brackets; α nan: "
+        "the coat did not lower the residual and the result is the rough fit's). "
         + ("" if robust else "The robust solvers (`roughdiffuse.stereo.robust`) were absent."),
         "",
         *_table(rows, robust is not None),
