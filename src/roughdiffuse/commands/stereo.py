@@ -173,17 +173,7 @@ def run(args: argparse.Namespace) -> int:
     lam = stereo.lambertian(data, shadow=args.shadow)
     if model is None:
         return _lambert_only(args, data, lam, out, truth)
-    if args.model == COATED:
-        res = _coated_fit(args, data, lam)
-    else:
-        res = stereo.rough(
-            data,
-            model,
-            per_pixel=args.per_pixel,
-            start=lam,
-            shadow=args.shadow,
-            progress=progress_enabled(),
-        )
+    res = _fit(args, data, lam, model)
     from ..fit.sanity import fit_problem
 
     problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
@@ -213,10 +203,8 @@ def run(args: argparse.Namespace) -> int:
                 "infinite, e.g. every image lit alike): the value is not a measurement",
                 file=sys.stderr,
             )
-    if args.model == COATED and res.coat:
-        line += f", coat α = {_value_text(res.alpha, res.alpha_se)} (η = {res.eta:g})"
-    elif args.model == COATED:
-        line += " (no coat: a coat does not fit these images better than the bare base)"
+    if args.model == COATED:
+        line += _coat_line(res)
     print(f"{args.model}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
 
@@ -238,24 +226,34 @@ def _check_coated_lights(data) -> None:  # noqa: ANN001
         )
 
 
-def _coated_fit(args: argparse.Namespace, data, lam):  # noqa: ANN001, ANN202
-    """The rough fit from the Lambertian start, then the coated fit from its normals."""
+def _fit(args: argparse.Namespace, data, lam, model):  # noqa: ANN001, ANN202
+    """The rough fit of ``model`` from the Lambertian start; for ``--model coated`` the
+    rough fit of its base, then the coated fit from its normals."""
     from .. import stereo
     from ..models import OrenNayar
 
     show = progress_enabled()
+    if args.model != COATED:
+        return stereo.rough(data, model, per_pixel=args.per_pixel, start=lam,
+                            shadow=args.shadow, progress=show)
     start = stereo.rough(data, OrenNayar(variant="full"), start=lam, shadow=args.shadow,
                          progress=show)
     return stereo.coated(data, eta=args.eta, per_pixel=args.per_pixel, start=start,
                          shadow=args.shadow, progress=show)
 
 
-def _value_text(value, se) -> str:  # noqa: ANN001
+def _coat_line(res) -> str:  # noqa: ANN001
+    """The coat's part of the summary line: α with its standard error (or its median per
+    pixel), or that no coat fits better than the bare base."""
     import numpy as np
 
-    if np.ndim(value):
-        return f"per pixel, median {float(np.nanmedian(value)):.4g}"
-    return f"{float(value):.4g} ± {float(se):.2g}"
+    if not res.coat:
+        return " (no coat: a coat does not fit these images better than the bare base)"
+    if np.ndim(res.alpha):
+        alpha = f"per pixel, median {float(np.nanmedian(res.alpha)):.4g}"
+    else:
+        alpha = f"{float(res.alpha):.4g} ± {float(res.alpha_se):.2g}"
+    return f", coat α = {alpha} (η = {res.eta:g})"
 
 
 def _coat_params(res) -> dict:  # noqa: ANN001

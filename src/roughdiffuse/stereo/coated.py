@@ -47,7 +47,7 @@ from ..models.coated import Coated
 from .depth import integrate
 from .inputs import StereoInput
 from .lambertian import observation_weights
-from .rough import Family, RoughResult, fit_box, fit_pixels, rough
+from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
 
 __all__ = ["CoatedFamily", "CoatedResult", "cast_shadows", "coated", "parameter_count"]
 
@@ -133,7 +133,9 @@ class CoatedResult(RoughResult):
         return self.roughness_se
 
 
-def _base_model(base: str) -> Model:
+def _family(base: str, eta: float, distribution: str) -> CoatedFamily:
+    """The coated models over the registry's ``base``: its albedo and roughness, and the
+    coat's α, fitted in their declared boxes; η and the distribution kept."""
     from .. import registry
 
     if base not in BASES:
@@ -141,7 +143,15 @@ def _base_model(base: str) -> Model:
             f"base must be one of {', '.join(map(repr, BASES))} (a base with a roughness; "
             f"got {base!r})"
         )
-    return registry.create(base)
+    base_model = registry.create(base)
+    name = BASES[base]
+    model = Coated(base_model, eta, ALPHA_START, distribution)
+    return CoatedFamily(
+        model,
+        (name, "roughness"),
+        (fit_box(base_model, name), fit_box(model, "roughness")),
+        base_param=name,
+    )
 
 
 def cast_shadows(
@@ -327,8 +337,8 @@ def coated(
     >>> round(float(res.alpha), 2), round(float(res.sigma), 2)
     (0.3, 0.4)
     """
-    base_model = _base_model(base)
-    name = BASES[base]
+    family = _family(base, eta, distribution)
+    name = family.base_param
     if data.count < parameter_count(data.channels):
         raise ParameterError(
             f"the coated model has {parameter_count(data.channels)} parameters per pixel "
@@ -337,15 +347,10 @@ def coated(
         )
     if not isinstance(shadow_rounds, int) or shadow_rounds < 0:
         raise ParameterError(f"shadow_rounds must be an integer ≥ 0 (got {shadow_rounds!r})")
-    model = Coated(base_model, eta, ALPHA_START, distribution)
-    family = CoatedFamily(
-        model,
-        (name, "roughness"),
-        (fit_box(base_model, name), fit_box(model, "roughness")),
-        base_param=name,
-    )
     if start is None:
-        start = rough(data, base_model, shadow=shadow, precision=precision, progress=progress)
+        start = rough(
+            data, family.model.base, shadow=shadow, precision=precision, progress=progress
+        )
     lo, hi = family.bounds[0]
     base0 = float(np.clip(np.nanmedian(start.roughness), lo + 0.02 * (hi - lo), 0.8 * hi))
     current: Any = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
@@ -374,16 +379,23 @@ def coated(
         if np.array_equal(again, weights):
             break
         weights, current, initial = again, fit, fit.values
+    coat = {"eta": float(eta), "base": base, "shadow_rounds": done}
+    return _result(fit, start, family.base_param, per_pixel, coat)
+
+
+def _result(
+    fit: PixelFit, start: RoughResult, name: str, per_pixel: bool, coat: dict[str, Any]
+) -> CoatedResult:
+    """The coated fit as a :class:`CoatedResult` (``coat``: η, base id, shadow rounds), or
+    the rough start's result when the coat does not lower the mean squared relative
+    residual (``coat=False``, α NaN)."""
     values, se = fit.values, fit.values_se
     pick = (lambda a, j: a[:, j]) if per_pixel else (lambda a, j: float(a[j]))
     if not np.nanmean(fit.residual**2) < np.nanmean(np.asarray(start.residual) ** 2):
         # the coat does not explain the images better than the bare base: keep the base
         fields = {f.name: getattr(start, f.name) for f in dataclasses.fields(RoughResult)}
         nan = np.full_like(values[:, 1], np.nan) if per_pixel else math.nan
-        return CoatedResult(
-            **fields, alpha=nan, alpha_se=nan, eta=float(eta), base=base, shadow_rounds=done,
-            coat=False,
-        )
+        return CoatedResult(**fields, alpha=nan, alpha_se=nan, coat=False, **coat)
     return CoatedResult(
         normals=fit.normals,
         albedo=fit.albedo,
@@ -397,7 +409,5 @@ def coated(
         iterations=fit.iterations,
         alpha=pick(values, 1),
         alpha_se=pick(se, 1),
-        eta=float(eta),
-        base=base,
-        shadow_rounds=done,
+        **coat,
     )
