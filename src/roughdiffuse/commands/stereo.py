@@ -20,6 +20,7 @@ examples:
       --lights data:lights.json -o stack/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
+  roughdiffuse stereo --diligent pmsData/potPNG --model coated -o out-coated/   # glossy
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
   roughdiffuse stereo --demo --method l1 -o demo-l1/
 
@@ -31,6 +32,8 @@ learning, low-rank RPCA), which rejects highlights and shadows as outliers; --sh
 leaves dark observations out before their fit. --benchmark DIR runs every method on every
 object of a DiLiGenT-format folder (pmsData/<object>PNG/ with Normal_gt.mat) and writes the
 mean angular error table (benchmark.md, .csv, .json) and report.html.
+--model coated fits a dielectric coat (index --eta, fitted roughness α) over a full Oren–Nayar
+base: highlights are modelled, shadows found from the fitted shape; it needs at least 5 lights.
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -95,6 +98,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help=f"model id of the rough fit (default: {DEFAULT_MODEL})",
     )
     p.add_argument("--per-pixel", action="store_true", help="one roughness per pixel")
+    p.add_argument(
+        "--eta",
+        type=bounded_float(1.05, 3.0),
+        default=1.5,
+        help="--model coated: the coat's refractive index, kept fixed (default: 1.5)",
+    )
     p.add_argument(
         "--shadow",
         type=float,
@@ -172,6 +181,8 @@ def run(args: argparse.Namespace) -> int:
     if args.benchmark:
         return _benchmark(args, out)
     data, truth = _read_input(args)
+    if args.model == COATED:
+        _check_coated_lights(data)
     lam = stereo.lambertian(data, shadow=args.shadow)
     shadow = args.shadow if "shadow" in given(args) else None  # robust: given, or none
     methods = _compared(data, truth, shadow)
@@ -184,14 +195,7 @@ def run(args: argparse.Namespace) -> int:
         return _lambert_only(args, data, res, out, truth, method, methods)
     if model is None:
         return _lambert_only(args, data, lam, out, truth, LAMBERT, {"lambertian": lam, **methods})
-    res = stereo.rough(
-        data,
-        model,
-        per_pixel=args.per_pixel,
-        start=lam,
-        shadow=args.shadow,
-        progress=progress_enabled(),
-    )
+    res = _fit(args, data, lam, model)
     from ..fit.sanity import fit_problem
 
     problem = fit_problem(float(np.nanmedian(res.residual)), (), f"the {args.model} fit")
@@ -200,9 +204,9 @@ def run(args: argparse.Namespace) -> int:
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    extra = None
+    extra = _coat_params(res) if args.model == COATED else {}
     if args.demo:  # the report states the truth beside the fit
-        extra = {"truth": {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}}
+        extra["truth"] = {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}
     from ..io import atomic_folder
 
     model_id = args.model or DEFAULT_MODEL
@@ -225,6 +229,8 @@ def run(args: argparse.Namespace) -> int:
                 "infinite, e.g. every image lit alike): the value is not a measurement",
                 file=sys.stderr,
             )
+    if args.model == COATED:
+        line += _coat_line(res)
     print(f"{model_id}: {line}; {params['pixels']} pixels; results in {out}/ (report.html)")
     return 0
 
@@ -291,6 +297,71 @@ def _benchmark(args: argparse.Namespace, out: Path) -> int:
     print(result.markdown(), end="")
     print(f"{len(result.objects)} objects; table and report in {out}/ (benchmark.md, report.html)")
     return 0
+
+
+COATED = "coated"
+"""``--model coated``: :func:`roughdiffuse.stereo.coated`, a coat of index ``--eta`` over a
+full Oren–Nayar base."""
+
+
+def _check_coated_lights(data) -> None:  # noqa: ANN001
+    """Refuse, before any work, fewer lights than the coated model's parameters per pixel."""
+    from ..stereo.coated import parameter_count
+
+    need = parameter_count(data.channels)
+    if data.count < need:
+        raise UsageError(
+            f"--model coated fits {need} parameters per pixel (normal 2, albedo, σ, coat α): "
+            f"it needs at least {need} lights (got {data.count})"
+        )
+
+
+def _fit(args: argparse.Namespace, data, lam, model):  # noqa: ANN001, ANN202
+    """The rough fit of ``model`` from the Lambertian start; for ``--model coated`` the
+    rough fit of its base, then the coated fit from its normals."""
+    from .. import stereo
+    from ..models import OrenNayar
+
+    show = progress_enabled()
+    if args.model != COATED:
+        return stereo.rough(data, model, per_pixel=args.per_pixel, start=lam,
+                            shadow=args.shadow, progress=show)
+    start = stereo.rough(data, OrenNayar(variant="full"), start=lam, shadow=args.shadow,
+                         progress=show)
+    return stereo.coated(data, eta=args.eta, per_pixel=args.per_pixel, start=start,
+                         shadow=args.shadow, progress=show)
+
+
+def _coat_line(res) -> str:  # noqa: ANN001
+    """The coat's part of the summary line: α with its standard error (or its median per
+    pixel), or that no coat fits better than the bare base."""
+    import numpy as np
+
+    if not res.coat:
+        return " (no coat: a coat does not fit these images better than the bare base)"
+    if np.ndim(res.alpha):
+        alpha = f"per pixel, median {float(np.nanmedian(res.alpha)):.4g}"
+    else:
+        alpha = f"{float(res.alpha):.4g} ± {float(res.alpha_se):.2g}"
+    return f", coat α = {alpha} (η = {res.eta:g})"
+
+
+def _coat_params(res) -> dict:  # noqa: ANN001
+    """The coat's entry of params.json: α (one value with its standard error, or the median
+    of the per-pixel map), η, and the shadow rounds."""
+    import numpy as np
+
+    coat: dict = {"eta": res.eta, "base": res.base, "shadow_rounds": res.shadow_rounds,
+                  "coat_explains_the_images": res.coat}
+    if not res.coat:
+        coat["alpha"] = None
+    elif np.ndim(res.alpha):
+        coat["alpha"] = {"per_pixel": True, "median": float(np.nanmedian(res.alpha)),
+                         "median_standard_error": float(np.nanmedian(res.alpha_se))}
+    else:
+        coat["alpha"] = {"per_pixel": False, "value": float(res.alpha),
+                         "standard_error": float(res.alpha_se)}
+    return {"coat": coat}
 
 
 def _lambert_only(  # noqa: PLR0913

@@ -244,11 +244,27 @@ def _refracted(xp: Any, mu: Array, eta: Array) -> Array:
     return safe_sqrt(xp, 1.0 - (1.0 - mu * mu) / (eta * eta))
 
 
+def _with_node_axis(base: Model) -> Model:
+    """A grey base whose parameter arrays (ndim ≥ 1) get a trailing axis of length 1, to
+    broadcast against a rule's node axis as μ does (:func:`_node_axis`); a base with colour
+    channels, or with scalar parameters, as it is."""
+    if base.channels:
+        return base
+    extended = {
+        f: v[..., None]
+        for f in base.array_fields
+        if getattr(v := getattr(base, f), "ndim", 0) > 0
+    }
+    return dataclasses.replace(base, **extended) if extended else base
+
+
 def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
     """The base's directional albedo at cosine μ, ∫ f cos dω by a 32-point rule: μ'² by
     4 Gauss–Legendre nodes, the azimuth by 4 on each side of π/2 (the Oren–Nayar kink),
     with the symmetry φ → −φ; the nodes on one trailing axis that ``xp.sum`` adds up (before
-    the base's channel axis, if it has one). Exact for Lambert."""
+    the base's channel axis, if it has one). Exact for Lambert. A grey base's parameter
+    arrays (one value per pixel, say) broadcast against μ's leading axes."""
+    base = _with_node_axis(base)
     mu = _node_axis(xp, mu)
     sin = safe_sqrt(xp, 1.0 - mu * mu)
     m2 = asarray(xp, _BA_MU, dtype)
@@ -342,7 +358,7 @@ def _internal_sums(xp: Any, base: Model, eta: Array, tau: Array, alpha: Array,
         eta * eta) - xp.sum(cosine * r, axis=-1)
     missing = xp.where(alpha > 0, missing, 0.0 * missing)
     term = cosine * (r + _node_axis(xp, missing))
-    a = base_albedo(xp, base, mu, dtype)
+    a = base_albedo(xp, _with_node_axis(base), mu, dtype)
     if channels:
         term, mu = term[..., None], mu[..., None]
         a = a if base.channels else a[..., None]

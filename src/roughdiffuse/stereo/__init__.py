@@ -4,9 +4,11 @@ K ≥ 3 images of a still object, seen by an orthographic camera under known dis
 give per-pixel normals, albedo and roughness. Lambertian photometric stereo (Woodham 1980)
 is the baseline and the starting point; :func:`rough` then fits a rough-diffuse model of the
 registry (e.g. the full Oren–Nayar model) to every pixel, with the roughness global or per
-pixel, and :func:`integrate` turns the normals into a depth map. :func:`robust` holds the
-robust Lambertian solvers (L1, sparse Bayesian, RPCA), :data:`METHODS` every method by name,
-and :func:`run_benchmark` the DiLiGenT protocol.
+pixel;
+:func:`coated` fits a dielectric coat over such a base (glossy objects: highlights in the
+model, shadows found from it), and :func:`integrate` turns the normals into a depth map.
+:func:`robust` holds the robust Lambertian solvers (L1, sparse Bayesian, RPCA),
+:data:`METHODS` every method by name, and :func:`run_benchmark` the DiLiGenT protocol.
 
 >>> import numpy as np
 >>> import roughdiffuse as rd
@@ -19,6 +21,7 @@ and :func:`run_benchmark` the DiLiGenT protocol.
 """
 
 from .benchmark import run_benchmark, write_benchmark
+from .coated import CoatedResult, coated
 from .depth import gradients, integrate, write_ply
 from .inputs import StereoInput, load_images, read_diligent, read_lights, read_mask
 from .lambertian import LambertianResult, lambertian, observation_weights
@@ -30,10 +33,12 @@ from .synthetic import angular_error, default_lights, render_stereo, synthetic_s
 
 __all__ = [
     "METHODS",
+    "CoatedResult",
     "LambertianResult",
     "RoughResult",
     "StereoInput",
     "angular_error",
+    "coated",
     "default_lights",
     "gradients",
     "integrate",

@@ -1,12 +1,13 @@
 """Photometric-stereo images rendered by Mitsuba 3: a truth outside roughdiffuse's renderer.
 
-The object (a sphere, or the clay vase of :func:`roughdiffuse.render.clay_vase_profile` as a
-triangle mesh) is rendered by Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light
-and cast shadows, as photometric stereo models them), under each distant light in turn, seen
-by an orthographic camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is
-any Mitsuba BSDF, roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar",
-"variant": "full", "sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own
-``aov`` integrator (``sh_normal``), averaged over each pixel.
+The object (a sphere, the clay vase of :func:`roughdiffuse.render.clay_vase_profile` as a
+triangle mesh, or the lumpy blob of :func:`blob_mesh`, which shadows itself) is rendered by
+Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light and cast shadows, as
+photometric stereo models them), under each distant light in turn, seen by an orthographic
+camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is any Mitsuba BSDF,
+roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar", "variant": "full",
+"sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own ``aov`` integrator
+(``sh_normal``), averaged over each pixel.
 
 Mitsuba is an optional dependency: ``pip install mitsuba``. Its ``llvm`` variants need libLLVM
 (see :mod:`roughdiffuse.integrations.mitsuba`). The caller's variant is restored afterwards.
@@ -22,7 +23,7 @@ import numpy as np
 from .._validate import ParameterError
 from .inputs import StereoInput
 
-__all__ = ["render_mitsuba", "vase_mesh"]
+__all__ = ["blob_mesh", "render_mitsuba", "vase_mesh"]
 
 MARGIN = 0.04
 """Frame margin around the object, as :class:`roughdiffuse.render.OrthographicCamera`."""
@@ -74,13 +75,51 @@ def vase_mesh(heights: int = 96, around: int = 128) -> tuple[np.ndarray, np.ndar
     return np.vstack(parts_v), np.vstack(parts_n), np.vstack(parts_t)
 
 
+def blob_mesh(
+    heights: int = 96, around: int = 192
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A lumpy closed blob (a bunny's size of bumps and hollows, made here, not a scan):
+    the unit sphere with radius r(θ, φ) = 1 + 0.25 sin³θ cos 3φ + 0.15 cos 2θ
+    + 0.2 e^{−8 |ω − ω₁|²} + 0.2 e^{−8 |ω − ω₂|²} (two lobes leaning towards the camera, one
+    up-left and one right, that cast shadows on the body), scaled into the unit ball. Returns
+    vertices (N, 3), smooth vertex normals (N, 3; the area-weighted mean of the faces'
+    normals) and counter-clockwise triangles (M, 3), as :func:`vase_mesh`."""
+    theta = np.linspace(0.0, math.pi, heights)
+    phi = np.linspace(0.0, 2 * math.pi, around, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    u = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
+    r = 1.0 + 0.25 * np.sin(t) ** 3 * np.cos(3 * p) + 0.15 * np.cos(2 * t)
+    for lobe in ([-0.45, 0.55, 0.7], [0.7, -0.1, 0.7]):
+        w = np.asarray(lobe) / np.linalg.norm(lobe)
+        r = r + 0.2 * np.exp(-8.0 * np.sum((u - w) ** 2, axis=-1))
+    verts = (u * r[..., None]).reshape(-1, 3)
+    verts /= np.max(np.linalg.norm(verts, axis=1))
+    i, j = np.meshgrid(np.arange(heights - 1), np.arange(around), indexing="ij")
+    a = i * around + j
+    b = i * around + (j + 1) % around
+    # z = cos θ: θ grows downwards from the pole, so (a, a + around, b) turns outwards
+    tris = np.concatenate(
+        [
+            np.stack([a, a + around, b], -1).reshape(-1, 3),
+            np.stack([b, a + around, b + around], -1).reshape(-1, 3),
+        ]
+    )
+    cross = np.cross(verts[tris[:, 1]] - verts[tris[:, 0]], verts[tris[:, 2]] - verts[tris[:, 0]])
+    norms = np.zeros_like(verts)
+    for k in range(3):
+        np.add.at(norms, tris[:, k], cross)
+    norms /= np.maximum(np.linalg.norm(norms, axis=1, keepdims=True), 1e-30)
+    return verts, norms, tris
+
+
 def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
     if shape == "sphere":
         return {"type": "sphere", "bsdf": bsdf}
-    if shape != "vase":
-        raise ParameterError(f"shape must be 'sphere' or 'vase' (got {shape!r})")
-    v, n, t = vase_mesh()
-    mesh = mi.Mesh("vase", len(v), len(t), has_vertex_normals=True)
+    meshes = {"vase": vase_mesh, "blob": blob_mesh}
+    if shape not in meshes:
+        raise ParameterError(f"shape must be 'sphere', 'vase' or 'blob' (got {shape!r})")
+    v, n, t = meshes[shape]()
+    mesh = mi.Mesh(shape, len(v), len(t), has_vertex_normals=True)
     params = mi.traverse(mesh)
     params["vertex_positions"] = mi.Float(v.astype(np.float32).ravel())
     params["vertex_normals"] = mi.Float(n.astype(np.float32).ravel())
@@ -111,6 +150,13 @@ def _sensor(mi: Any, size: int, spp: int) -> dict[str, Any]:
     }
 
 
+def _light_frame(mi: Any, d: np.ndarray) -> Any:
+    """The directional emitter's frame: its local +z along −d (light travels away from the
+    direction towards the light), as Mitsuba builds it from ``direction``."""
+    up = [0.0, 1.0, 0.0] if abs(d[1]) < 0.9 else [1.0, 0.0, 0.0]
+    return mi.ScalarTransform4f().look_at(origin=[0, 0, 0], target=(-d).tolist(), up=up)
+
+
 def render_mitsuba(
     bsdf: dict,
     directions: Any,
@@ -129,8 +175,8 @@ def render_mitsuba(
         A Mitsuba BSDF description (roughdiffuse's plugins are registered first).
     directions : array (K, 3)
         Directions towards the lights (camera frame), irradiance 1 each.
-    shape : {"sphere", "vase"}
-        Unit sphere, or the clay vase (height 2) seen from its side.
+    shape : {"sphere", "vase", "blob"}
+        Unit sphere, the clay vase (height 2) seen from its side, or :func:`blob_mesh`.
     size : int
         Image side in pixels.
     spp : int
@@ -161,16 +207,20 @@ def render_mitsuba(
         sensor = _sensor(mi, size, spp)
         obj = _shape(mi, shape, bsdf)
         images = []
+        scene = mi.load_dict(
+            {
+                "type": "scene",
+                "integrator": {"type": "path", "max_depth": 2},
+                "sensor": sensor,
+                "light": {"type": "directional", "direction": [0, 0, -1], "irradiance": 1.0},
+                "object": obj,
+            }
+        )
+        # one scene, its light turned for each image: Dr.Jit reuses the compiled kernels
+        params = mi.traverse(scene)
         for k, d in enumerate(dirs):
-            scene = mi.load_dict(
-                {
-                    "type": "scene",
-                    "integrator": {"type": "path", "max_depth": 2},
-                    "sensor": sensor,
-                    "light": {"type": "directional", "direction": (-d).tolist(), "irradiance": 1.0},
-                    "object": obj,
-                }
-            )
+            params["light.to_world"] = _light_frame(mi, d)
+            params.update()
             images.append(np.array(mi.render(scene, seed=seed + k), dtype=np.float64).mean(axis=-1))
         aov = mi.load_dict(
             {

@@ -33,6 +33,7 @@ import contextlib
 import dataclasses
 import math
 import os
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -45,7 +46,15 @@ from ..progress import finish
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 
-__all__ = ["RoughResult", "roughness_parameter", "rough"]
+__all__ = [
+    "Family",
+    "PixelFit",
+    "RoughResult",
+    "fit_box",
+    "fit_pixels",
+    "roughness_parameter",
+    "rough",
+]
 
 CHUNK = 1 << 13
 """Pixels per compiled call. Small enough that a chunk's K × CHUNK arrays stay in the CPU's
@@ -149,28 +158,57 @@ def _cholesky_solve(xp: Any, a: Any, b: Any) -> Any:
     return xp.stack(x)
 
 
+@dataclass(frozen=True)
+class Family:
+    """The models a stereo fit varies: ``model`` with its albedo (per channel) and the
+    parameters ``names``, each in its box ``bounds`` (lower, upper); the others are kept.
+
+    :meth:`build` gives the model of one channel's albedo and the fitted values (arrays
+    over the pixels, or one value each for the object). A subclass changes where they go:
+    :class:`roughdiffuse.stereo.coated.CoatedFamily` puts the albedo and σ on the coat's
+    base and α on the coat.
+    """
+
+    model: Model
+    names: tuple[str, ...]
+    bounds: tuple[tuple[float, float], ...]
+
+    def build(self, albedo: Any, values: Sequence[Any]) -> Model:
+        """The model with this albedo and these values of :attr:`names`."""
+        return dataclasses.replace(
+            self.model, albedo=albedo, **dict(zip(self.names, values, strict=True))
+        )
+
+    def key(self) -> str:
+        """What the compiled steps depend on: the model with the fitted values at their
+        lower bounds (its kept parameters, e.g. the variant or the coat's η)."""
+        return repr(self.build(0.5, [lo for lo, _ in self.bounds]))
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.array([lo for lo, _ in self.bounds], dtype=np.float64)
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.array([hi for _, hi in self.bounds], dtype=np.float64)
+
+
 _STEPS: dict[Any, dict[str, Any]] = {}
 
 
-def _steps_for(
-    model: Model, name: str, channels: int, per_pixel: bool, hi: float, precision: str
-) -> dict[str, Any]:
-    """:func:`_make_steps`, compiled once per model class, fixed parameters and setting."""
-    fixed = tuple(
-        (f.name, repr(np.asarray(getattr(model, f.name)).tolist()))
-        for f in dataclasses.fields(model)
-        if f.name not in ("albedo", name)
-    )
-    key = (type(model), fixed, name, channels, per_pixel, hi, precision)
+def _steps_for(family: Family, channels: int, per_pixel: bool, precision: str) -> dict[str, Any]:
+    """:func:`_make_steps`, compiled once per family (model class and kept parameters) and
+    setting."""
+    key = (type(family), family.key(), family.names, family.bounds, channels, per_pixel, precision)
     if key not in _STEPS:
         if len(_STEPS) > 16:
             _STEPS.clear()
-        _STEPS[key] = _make_steps(model, name, channels, per_pixel, hi)
+        _STEPS[key] = _make_steps(family, channels, per_pixel)
     return _STEPS[key]
 
 
 class _Steps:
-    """Compiled steps over a chunk of pixels for one (model, roughness, channels) setting.
+    """Compiled steps over a chunk of pixels for one (family, channels, setting).
 
     Written on whole arrays, structure of arrays (each parameter a (P,) array, each image a
     (K, P) array), so that XLA runs large elementwise loops: the Jacobian column of each
@@ -178,26 +216,29 @@ class _Steps:
     products over the lights, and the small per-pixel systems are solved by
     :func:`_cholesky_solve` on (P,) arrays. :meth:`local` is a Levenberg–Marquardt step with
     its trial cost and acceptance (one pass over the data), :meth:`pieces` the pieces of the
-    Schur complement for the global roughness with the standard errors' diagonal. The methods
-    are plain Python traced by ``jax.jit`` (:func:`_make_steps`): splitting them costs nothing
-    at run time.
+    Schur complement for the G global parameters with the standard errors' diagonal. The
+    methods are plain Python traced by ``jax.jit`` (:func:`_make_steps`): splitting them
+    costs nothing at run time.
     """
 
-    def __init__(
-        self, model: Model, name: str, channels: int, per_pixel: bool, hi: float
-    ) -> None:
-        self.model, self.name, self.channels = model, name, channels
-        self.per_pixel, self.hi = per_pixel, hi
-        self.nu = 2 + channels + (1 if per_pixel else 0)
+    def __init__(self, family: Family, channels: int, per_pixel: bool) -> None:
+        self.family, self.channels, self.per_pixel = family, channels, per_pixel
+        self.g_count = len(family.names)
+        self.nu = 2 + channels + (self.g_count if per_pixel else 0)
 
     def resid(self, theta: Any, g: Any, n0: Any, l: Any, e: Any, obs: Any, w: Any) -> Any:
-        """Weighted residuals (K, C, P) for parameters ``theta`` (nu, P), normals n0 (3, P)."""
+        """Weighted residuals (K, C, P) for parameters ``theta`` (nu, P), normals n0 (3, P)
+        and the global values ``g`` (G,)."""
         import jax.numpy as jnp
 
         t1, t2 = _tangent_basis(jnp, n0.T)
         n = n0 + theta[0] * t1.T + theta[1] * t2.T  # (3, P)
         n = n / jnp.sqrt(jnp.sum(n * n, axis=0))
-        s = theta[-1][None, :] if self.per_pixel else g
+        first = 2 + self.channels
+        if self.per_pixel:
+            values = [theta[first + j][None, :] for j in range(self.g_count)]
+        else:
+            values = [g[j] for j in range(self.g_count)]
         mu_i = l[:, 0:1] * n[0] + l[:, 1:2] * n[1] + l[:, 2:3] * n[2]  # (K, P)
         # n·v depends on the pixel only and l·v on the light only: kept as (1, P) and (K, 1),
         # the model's broadcasting evaluates their terms (an arctangent) once per pixel/light
@@ -206,24 +247,27 @@ class _Steps:
         lit = jnp.maximum(mu_i, 0.0)
         out = []
         for c in range(self.channels):
-            m = dataclasses.replace(self.model, albedo=theta[2 + c][None, :], **{self.name: s})
+            m = self.family.build(theta[2 + c][None, :], values)
             f = m.brdf_cosines(mu_i, mu_o, cos_io)  # (K, P)
             out.append((e[:, c : c + 1] * f * lit - obs[:, :, c]) * w)  # w is 0 or 1
         return jnp.stack(out, axis=1)
 
     def jacobian(self, theta: Any, g: Any, *data: Any) -> tuple[Any, Any]:
         """Residuals and the Jacobian columns (nu, K, C, P) of the per-pixel parameters,
-        followed by the global roughness's column (nu + 1 in all) when it is fitted: one
+        followed by the global values' columns (nu + G in all) when they are fitted: one
         forward-mode pass with a batch of tangents, so the model's value (its arctangents
         and sines) is computed once for all the columns."""
         import jax
         import jax.numpy as jnp
 
         g = jnp.asarray(g, theta.dtype)
-        m = self.nu if self.per_pixel else self.nu + 1
-        eye = jnp.eye(m, dtype=theta.dtype)
-        tan_theta = eye[:, :self.nu, None] * jnp.ones_like(theta)[None]
-        tan_g = eye[:, self.nu] if not self.per_pixel else jnp.zeros((m,), theta.dtype)
+        count = self.nu if self.per_pixel else self.nu + self.g_count
+        eye = jnp.eye(count, dtype=theta.dtype)
+        tan_theta = eye[:, : self.nu, None] * jnp.ones_like(theta)[None]
+        if self.per_pixel:
+            tan_g = jnp.zeros((count, self.g_count), theta.dtype)
+        else:
+            tan_g = eye[:, self.nu :]
 
         def column(tt: Any, tg: Any) -> Any:
             return jax.jvp(lambda t, gg: self.resid(t, gg, *data), (theta, g), (tt, tg))
@@ -245,25 +289,44 @@ class _Steps:
         rows = [jnp.clip(theta[0], -0.5, 0.5), jnp.clip(theta[1], -0.5, 0.5)]  # ≤ ~27°/step
         rows += [jnp.maximum(theta[2 + c], 0.0) for c in range(self.channels)]
         if self.per_pixel:
-            rows.append(jnp.clip(theta[-1], 0.0, self.hi))
+            first = 2 + self.channels
+            rows += [
+                jnp.clip(theta[first + j], lo, hi) for j, (lo, hi) in enumerate(self.family.bounds)
+            ]
         return jnp.stack(rows)
 
     def reduced(self, cols: Any, r: Any, a: Any, grad: Any) -> tuple[Any, Any]:
-        """A pixel's terms of the reduced system for the global roughness (its Jacobian
-        column jg = ``cols[nu]``): jgᵀjg − bᵀA⁻¹b and jgᵀr − bᵀA⁻¹gu, with b = Jᵀjg."""
+        """A pixel's terms of the reduced system of the global values (their Jacobian
+        columns jg = ``cols[nu:]``): jgᵀjg − BᵀA⁻¹B (P, G·G) and jgᵀr − BᵀA⁻¹gu (P, G),
+        with B = Jᵀjg."""
         import jax.numpy as jnp
 
-        nu = self.nu
-        jg = cols[nu]
-        b = [jnp.sum(cols[i] * jg, axis=(0, 1)) for i in range(nu)]
-        a_inv_b = _cholesky_solve(jnp, a, b)
-        sch = jnp.sum(jg * jg, axis=(0, 1)) - sum(b[i] * a_inv_b[i] for i in range(nu))
-        rhs = jnp.sum(jg * r, axis=(0, 1)) - sum(grad[i] * a_inv_b[i] for i in range(nu))
-        return sch, rhs
+        nu, count = self.nu, self.g_count
+        jg = [cols[nu + j] for j in range(count)]
+        b = [[jnp.sum(cols[i] * jg[j], axis=(0, 1)) for i in range(nu)] for j in range(count)]
+        a_inv_b = [_cholesky_solve(jnp, a, b[j]) for j in range(count)]
+        sch = [
+            jnp.sum(jg[j] * jg[k], axis=(0, 1)) - sum(b[j][i] * a_inv_b[k][i] for i in range(nu))
+            for j in range(count)
+            for k in range(count)
+        ]
+        rhs = [
+            jnp.sum(jg[j] * r, axis=(0, 1)) - sum(grad[i] * a_inv_b[j][i] for i in range(nu))
+            for j in range(count)
+        ]
+        return jnp.stack(sch, axis=-1), jnp.stack(rhs, axis=-1)
+
+    def _no_reduced(self, cost: Any) -> tuple[Any, Any]:
+        import jax.numpy as jnp
+
+        g = self.g_count
+        return jnp.zeros(cost.shape + (g * g,), cost.dtype), jnp.zeros(
+            cost.shape + (g,), cost.dtype
+        )
 
     def step(self, theta, lam, n0, g, data):  # noqa: ANN001, ANN202
         """One LM step of every pixel ((nu, P) layout); also the pixel's terms of the reduced
-        system for the roughness at the starting point: jgᵀjg − bᵀA⁻¹b and jgᵀr − bᵀA⁻¹gu."""
+        system of the global values at the starting point (:meth:`reduced`)."""
         import jax.numpy as jnp
 
         nu = self.nu
@@ -286,11 +349,11 @@ class _Steps:
         n = n0 + theta[0] * t1.T + theta[1] * t2.T
         n = n / jnp.sqrt(jnp.sum(n * n, axis=0))
         theta = theta.at[:2].set(0.0)
+        cost = jnp.where(better, cost1, cost0)
         if self.per_pixel:
-            zero = jnp.zeros_like(cost0)
-            return theta, lam, n, jnp.where(better, cost1, cost0), zero, zero
+            return theta, lam, n, cost, *self._no_reduced(cost0)
         sch, rhs = self.reduced(cols, r, a, grad)
-        return theta, lam, n, jnp.where(better, cost1, cost0), sch, rhs
+        return theta, lam, n, cost, sch, rhs
 
     def local(self, theta, lam, g, n0, l, e, obs, w, count):  # noqa: ANN001, ANN202
         """``count`` LM steps of every pixel of the chunk in one compiled loop; returns the
@@ -308,8 +371,8 @@ class _Steps:
         return th.T, lm, nn.T, cost, sch, rhs
 
     def pieces(self, theta, g, n0, l, e, obs, w):  # noqa: ANN001, ANN202
-        """Per-pixel terms of the reduced system: jgᵀjg − bᵀA⁻¹b, jgᵀr − bᵀA⁻¹gu, the
-        cost, and the diagonal of A⁻¹ (for the standard errors)."""
+        """Per-pixel terms of the reduced system (:meth:`reduced`), the cost, and the
+        diagonal of A⁻¹ (for the standard errors)."""
         import jax.numpy as jnp
 
         nu = self.nu
@@ -326,19 +389,16 @@ class _Steps:
         a_inv_diag = jnp.stack([_cholesky_solve(jnp, a, eye[i])[i] for i in range(nu)], axis=-1)
         gu = [jnp.sum(cols[i] * r, axis=(0, 1)) for i in range(nu)]
         if self.per_pixel:
-            zero = jnp.zeros_like(cost0)
-            return zero, zero, cost0, a_inv_diag
+            return *self._no_reduced(cost0), cost0, a_inv_diag
         sch, rhs = self.reduced(cols, r, a, gu)
         return sch, rhs, cost0, a_inv_diag
 
 
-def _make_steps(
-    model: Model, name: str, channels: int, per_pixel: bool, hi: float
-) -> dict[str, Any]:
+def _make_steps(family: Family, channels: int, per_pixel: bool) -> dict[str, Any]:
     """The jitted ``local`` and ``pieces`` steps of :class:`_Steps` for this setting."""
     import jax
 
-    steps = _Steps(model, name, channels, per_pixel, hi)
+    steps = _Steps(family, channels, per_pixel)
     return {"local": jax.jit(steps.local), "pieces": jax.jit(steps.pieces)}
 
 
@@ -389,14 +449,32 @@ def rough(
     -------
     RoughResult
     """
-    name, hi, s0 = _check_arguments(model, roughness, precision, iterations, initial_roughness)
+    name, box, s0 = _check_arguments(model, roughness, precision, iterations, initial_roughness)
     start = lambertian(data, shadow=shadow) if start is None else start
-    setup = _Setup.of(data, start, shadow, s0, per_pixel)
-    g, done, (sch, costs, a_diag) = _solve(
-        data, model, name, hi, s0, setup, per_pixel, initial_roughness, iterations, precision,
-        progress,
+    fit = fit_pixels(
+        data,
+        Family(model, (name,), (box,)),
+        start=start,
+        weights=observation_weights(data, shadow),
+        initial=np.array([s0]),
+        per_pixel=per_pixel,
+        subset_start=initial_roughness is None,
+        iterations=iterations,
+        precision=precision,
+        progress=progress,
     )
-    return _result(setup, name, g, done, sch, costs, a_diag, per_pixel)
+    return RoughResult(
+        normals=fit.normals,
+        albedo=fit.albedo,
+        roughness=fit.values[:, 0] if per_pixel else float(fit.values[0]),
+        roughness_name=name,
+        roughness_se=fit.values_se[:, 0] if per_pixel else float(fit.values_se[0]),
+        normal_se=fit.normal_se,
+        albedo_se=fit.albedo_se,
+        residual=fit.residual,
+        weights=fit.weights,
+        iterations=fit.iterations,
+    )
 
 
 def _check_arguments(
@@ -405,29 +483,117 @@ def _check_arguments(
     precision: str,
     iterations: int,
     initial_roughness: float | None,
-) -> tuple[str, float, float]:
-    """Refuse bad arguments of :func:`rough`; (roughness name, its upper bound, its start)."""
+) -> tuple[str, tuple[float, float], float]:
+    """Refuse bad arguments of :func:`rough`; (roughness name, its fit box, its start)."""
     if not isinstance(model, Model):
         raise ParameterError(f"model must be a roughdiffuse Model (got {type(model).__name__})")
     name = roughness or roughness_parameter(model)
     if name not in model.array_fields:
         raise ParameterError(f"{type(model).__name__} has no numeric parameter {name!r}")
+    check_fit_options(precision, iterations)
+    box = fit_box(model, name)
+    hi = box[1]
+    s0 = float(initial_roughness) if initial_roughness is not None else min(0.3, 0.25 * hi)
+    if not 0.0 <= s0 <= hi:
+        raise ParameterError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
+    return name, box, s0
+
+
+def check_fit_options(precision: str, iterations: int) -> None:
+    """Refuse a precision other than single or double, and iterations that are not a
+    positive integer."""
     if precision not in ("single", "double"):
         raise ParameterError(f"precision must be 'single' or 'double' (got {precision!r})")
     if not isinstance(iterations, int) or iterations < 1:
         raise ParameterError(f"iterations must be a positive integer (got {iterations!r})")
-    hi = _upper_bound(model, name)
-    s0 = float(initial_roughness) if initial_roughness is not None else min(0.3, 0.25 * hi)
-    if not 0.0 <= s0 <= hi:
-        raise ParameterError(f"initial_roughness must be in [0, {hi:g}] (got {s0:g})")
-    return name, hi, s0
+
+
+@dataclass
+class PixelFit:
+    """What :func:`fit_pixels` returns, P object pixels, G fitted values besides the
+    normals and albedo (:attr:`Family.names`).
+
+    Attributes
+    ----------
+    values : array (G,) or (P, G)
+        The fitted values: one each for the object, or one per pixel.
+    values_se : array like ``values``
+        Their standard errors.
+
+    The others (normals, albedo, their standard errors, residual, weights, iterations) as
+    :class:`RoughResult`'s.
+    """
+
+    normals: np.ndarray
+    albedo: np.ndarray
+    values: np.ndarray
+    values_se: np.ndarray
+    normal_se: np.ndarray
+    albedo_se: np.ndarray
+    residual: np.ndarray
+    weights: np.ndarray
+    iterations: int
+
+
+def fit_pixels(
+    data: StereoInput,
+    family: Family,
+    *,
+    start: Any,
+    weights: np.ndarray,
+    initial: np.ndarray,
+    per_pixel: bool = False,
+    subset_start: bool = True,
+    iterations: int = 30,
+    precision: str = "single",
+    progress: bool = False,
+    label: str = "rough photometric stereo",
+) -> PixelFit:
+    """The batched per-pixel fit of :func:`rough` for any :class:`Family`.
+
+    Parameters
+    ----------
+    data : StereoInput
+    family : Family
+        The model and the parameters fitted besides the normals and albedo.
+    start : object with ``normals`` (P, 3) and ``albedo`` (P, C)
+        Starting normals and albedo (a :class:`LambertianResult`, a :class:`RoughResult`).
+    weights : array (K, P)
+        0/1 weights of the observations (shadows and invalid values 0).
+    initial : array (G,) or (P, G)
+        Starting values of :attr:`Family.names` (one per pixel only with ``per_pixel``).
+    per_pixel : bool
+        The values per pixel instead of one each for the object.
+    subset_start : bool
+        Start the global values from a fit to a random subset of the pixels (large objects).
+    iterations, precision, progress
+        As :func:`rough`.
+    label : str
+        The progress bar's text.
+    """
+    check_fit_options(precision, iterations)
+    setup = _Setup.of(data, start, weights, initial, per_pixel, len(family.names))
+    g0 = np.asarray(initial, dtype=np.float64)
+    g0 = g0 if g0.ndim == 1 else np.median(g0, axis=0)
+    g, done, (sch, costs, a_diag) = _solve(
+        data,
+        family,
+        g0,
+        setup,
+        per_pixel,
+        subset_start,
+        iterations,
+        precision,
+        _progress(iterations, progress, label),
+    )
+    return _result(setup, g, done, sch, costs, a_diag, per_pixel)
 
 
 @dataclass
 class _Setup:
     """The fit's data and starting point, pixels in mask order: observations ``obs``
     (K, P, C), weights ``wk`` (K, P; 0 for pixels left out), the pixels fitted ``ok``, the
-    per-pixel parameters ``theta`` (P, nu: two tangent offsets, C albedos, a roughness when
+    per-pixel parameters ``theta`` (P, nu: two tangent offsets, C albedos, the G values when
     per pixel) and normals ``n0`` (P, 3)."""
 
     obs: np.ndarray
@@ -440,95 +606,106 @@ class _Setup:
 
     @classmethod
     def of(
-        cls, data: StereoInput, start: LambertianResult, shadow: float, s0: float, per_pixel: bool
+        cls,
+        data: StereoInput,
+        start: Any,
+        w: np.ndarray,
+        initial: np.ndarray,
+        per_pixel: bool,
+        g_count: int,
     ) -> _Setup:
-        w = observation_weights(data, shadow)  # (K, P)
         obs = data.images[:, data.mask, :]  # (K, P, C)
         p_count, c = obs.shape[1], data.channels
+        if w.shape != obs.shape[:2]:
+            raise ParameterError(f"weights must have shape {obs.shape[:2]} (got {w.shape})")
         ok = np.all(np.isfinite(start.normals), axis=1) & (w.sum(axis=0) >= 3)
         n0 = np.where(ok[:, None], np.nan_to_num(start.normals), [0.0, 0.0, 1.0])
         n0[:, 2] = np.maximum(n0[:, 2], 1e-3)
         n0 /= np.linalg.norm(n0, axis=1, keepdims=True)
         rho = np.clip(np.nan_to_num(start.albedo, nan=0.5), 1e-3, None)
-        nu = 2 + c + (1 if per_pixel else 0)
+        nu = 2 + c + (g_count if per_pixel else 0)
         theta = np.zeros((p_count, nu))
         theta[:, 2 : 2 + c] = rho
         if per_pixel:
-            theta[:, -1] = s0
+            theta[:, 2 + c :] = np.nan_to_num(np.broadcast_to(initial, (p_count, g_count)))
         wk = np.where(ok[None, :], w, 0.0)
         return cls(obs=obs, wk=wk, ok=ok, theta=theta, n0=n0, channels=c, nu=nu)
 
 
 def _solve(
     data: StereoInput,
-    model: Model,
-    name: str,
-    hi: float,
-    s0: float,
+    family: Family,
+    g0: np.ndarray,
     setup: _Setup,
     per_pixel: bool,
-    initial_roughness: float | None,
+    subset_start: bool,
     iterations: int,
     precision: str,
-    progress: bool,
-) -> tuple[float, int, tuple[Any, Any, Any]]:
+    bar: Any,
+) -> tuple[np.ndarray, int, tuple[Any, Any, Any]]:
     """Run the fit in the chosen precision; ``setup.theta`` and ``setup.n0`` become the
-    fitted values. Returns the roughness, the iterations and the pieces of the error
+    fitted values. Returns the global values, the iterations and the pieces of the error
     estimates (Schur terms, costs, diagonal of A⁻¹) per pixel."""
     import jax.numpy as jnp
 
     from .._array import double_precision
 
     p_count, c, ok, obs, wk = setup.theta.shape[0], setup.channels, setup.ok, setup.obs, setup.wk
+    g_count = len(family.names)
     dt = jnp.float64 if precision == "double" else jnp.float32
     ctx = double_precision(jnp) if precision == "double" else contextlib.nullcontext()
     with ctx:
-        steps = _steps_for(model, name, c, per_pixel, hi, precision)
-        chunks = _Chunks(p_count, dt, data.directions, data.intensities, obs, wk)
+        steps = _steps_for(family, c, per_pixel, precision)
+        chunks = _Chunks(p_count, dt, data.directions, data.intensities, obs, wk, g_count)
         state = {
             "theta": setup.theta.astype(dt),
             "lam": np.full(p_count, 1e-3, dtype=dt),
             "n0": setup.n0.astype(dt),
         }
-        # convergence: relative change of σ and of the cost, near each format's rounding of
-        # a sum over many pixels (float32: ~1e-6)
+        # convergence: relative change of the values and of the cost, near each format's
+        # rounding of a sum over many pixels (float32: ~1e-6)
         tol = 1e-9 if precision == "double" else 1e-5
-        bar = _progress(iterations, progress)
+        g = g0
         if per_pixel:
-            g, done = s0, iterations
-            chunks.local(steps["local"], state, s0, 4 + 2 * (iterations - 1))
+            done = iterations
+            chunks.local(steps["local"], state, g, 4 + 2 * (iterations - 1))
             bar.update(iterations)
         else:
-            if initial_roughness is None and int(ok.sum()) > 4 * SUBSET:
-                # start σ from a fit to a random subset of the pixels (the same loop, a few
-                # percent of the work), so the whole object needs one or two σ steps
+            if subset_start and int(ok.sum()) > 4 * SUBSET:
+                # start from a fit to a random subset of the pixels (the same loop, a few
+                # percent of the work), so the whole object needs one or two global steps
                 pick = np.sort(np.random.default_rng(0).choice(np.flatnonzero(ok), SUBSET, False))
                 sub = _Chunks(
-                    SUBSET, dt, data.directions, data.intensities, obs[:, pick], wk[:, pick]
+                    SUBSET,
+                    dt,
+                    data.directions,
+                    data.intensities,
+                    obs[:, pick],
+                    wk[:, pick],
+                    g_count,
                 )
                 sub_state = {k: v[pick].copy() for k, v in state.items()}
-                s0, _ = _fit_roughness(sub, steps["local"], sub_state, s0, hi, tol, iterations)
-            g, done = _fit_roughness(chunks, steps["local"], state, s0, hi, tol, iterations, bar)
+                g, _ = _fit_globals(sub, steps["local"], sub_state, g, family, tol, iterations)
+            g, done = _fit_globals(chunks, steps["local"], state, g, family, tol, iterations, bar)
             if done < iterations:
                 finish(bar, f"converged after {done} of {iterations} iterations")
         bar.close()
         sch, _, costs, a_diag = chunks.pieces(steps["pieces"], state, g)
     setup.theta, setup.n0 = state["theta"].astype(np.float64), state["n0"].astype(np.float64)
-    return g, done, (sch, costs, a_diag)
+    return np.asarray(g, dtype=np.float64), done, (sch, costs, a_diag)
 
 
 def _result(
     setup: _Setup,
-    name: str,
-    g: float,
+    g: np.ndarray,
     done: int,
     sch: Any,
     costs: Any,
     a_diag: Any,
     per_pixel: bool,
-) -> RoughResult:
+) -> PixelFit:
     """The fitted values with their Gauss–Newton standard errors, s² (JᵀJ)⁻¹ per pixel, and
-    for a global roughness from the Schur complement with s² over all pixels."""
+    for the global values s² S⁻¹, S the Schur complement and s² over all pixels."""
     theta, n0, ok, wk, obs = setup.theta, setup.n0, setup.ok, setup.wk, setup.obs
     c, nu = setup.channels, setup.nu
     cost_p = costs.astype(np.float64)
@@ -538,23 +715,23 @@ def _result(
     normal_se = np.sqrt(np.maximum(var_local[:, 0] + var_local[:, 1], 0.0))
     albedo_se = np.sqrt(np.maximum(var_local[:, 2 : 2 + c], 0.0))
     if per_pixel:
-        rough_val: Any = theta[:, -1].copy()
-        rough_se: Any = np.sqrt(np.maximum(var_local[:, -1], 0.0))
+        values = np.where(ok[:, None], theta[:, 2 + c :], np.nan)
+        values_se = np.where(ok[:, None], np.sqrt(np.maximum(var_local[:, 2 + c :], 0.0)), np.nan)
     else:
-        schur = float(np.sum(sch[ok]))
-        dof = max(float(wk.sum() * c - ok.sum() * nu - 1), 1.0)
+        count = g.shape[0]
+        schur = np.sum(sch[ok].astype(np.float64), axis=0).reshape(count, count)
+        dof = max(float(wk.sum() * c - ok.sum() * nu - count), 1.0)
         s2 = float(np.sum(cost_p)) / dof
-        rough_val = g
-        rough_se = math.sqrt(s2 / schur) if schur > 0 else math.inf
+        values = g.copy()
+        values_se = np.sqrt(s2 * _inverse_diagonal(schur))
     kept = wk.sum(axis=0) * c
     mean = np.einsum("kp,kpc->p", wk, obs) / np.maximum(kept, 1)
     rel = np.sqrt(cost_p / np.maximum(kept, 1)) / np.maximum(mean, 1e-30)
-    return RoughResult(
+    return PixelFit(
         normals=np.where(ok[:, None], n0, np.nan),
         albedo=np.where(ok[:, None], theta[:, 2 : 2 + c], np.nan),
-        roughness=rough_val,
-        roughness_name=name,
-        roughness_se=rough_se,
+        values=values,
+        values_se=values_se,
         normal_se=np.where(ok, normal_se, np.nan),
         albedo_se=np.where(ok[:, None], albedo_se, np.nan),
         residual=np.where(ok, rel, np.nan),
@@ -563,27 +740,72 @@ def _result(
     )
 
 
-def _fit_roughness(
+def _inverse_diagonal(s: np.ndarray) -> np.ndarray:
+    """The diagonal of S⁻¹ for a symmetric S, over the values the images determine (those
+    whose diagonal entry is not ~0: e.g. σ of Oren–Nayar at σ = 0, where its derivative
+    vanishes); infinite for the others, and for all when the rest is not positive definite."""
+    d = np.diag(s)
+    out = np.full(s.shape[0], math.inf)
+    if not np.all(np.isfinite(s)):
+        return out
+    live = d > 1e-9 * max(float(d.max()), 1e-300)
+    sub = s[np.ix_(live, live)]
+    if live.any() and np.linalg.eigvalsh(sub).min() > 1e-12 * np.abs(sub).max():
+        out[live] = np.diag(np.linalg.inv(sub))
+    return out
+
+
+def _newton_step(
+    s: np.ndarray, rhs: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> np.ndarray:
+    """−S⁻¹ rhs on the directions where S is positive, for the values free to move: a value
+    at a bound of its box that the step would push out is held there and the step solved
+    for the others (a projected Gauss–Newton step)."""
+    step = np.zeros_like(rhs)
+    if not np.all(np.isfinite(s)) or not np.all(np.isfinite(rhs)):
+        return step
+    free = np.ones(rhs.shape[0], dtype=bool)
+    for _ in range(rhs.shape[0]):
+        step[:] = 0.0
+        sub = s[np.ix_(free, free)]
+        w, v = np.linalg.eigh(sub)
+        inv = np.where(w > 1e-9 * max(abs(w).max(), 1e-300), 1.0 / np.where(w > 0, w, 1.0), 0.0)
+        step[free] = -(v * inv) @ (v.T @ rhs[free])
+        blocked = free & (((g <= lo) & (step < 0)) | ((g >= hi) & (step > 0)))
+        if not blocked.any():
+            return step
+        free &= ~blocked
+        if not free.any():
+            break
+    return np.zeros_like(rhs)
+
+
+def _fit_globals(
     chunks: _Chunks,
     fn: Any,
     state: dict[str, np.ndarray],
-    g: float,
-    hi: float,
+    g: np.ndarray,
+    family: Family,
     tol: float,
     iterations: int,
     bar: Any = None,
-) -> tuple[float, int]:
-    """Alternate per-pixel LM steps and Schur-complement Gauss–Newton steps of one global
-    roughness (in a trust region), updating ``state`` in place; returns σ and the iterations.
+) -> tuple[np.ndarray, int]:
+    """Alternate per-pixel LM steps and Schur-complement Gauss–Newton steps of the global
+    values (in a box trust region), updating ``state`` in place; returns them and the
+    iterations.
 
-    Each iteration runs a few LM steps of every pixel at the current σ; the last of them also
-    returns the reduced system of σ, whose step gives the next σ. That σ is kept if the cost
-    after the next iteration's LM steps is not larger, else the state goes back and the trust
-    region shrinks. Converged when σ or the cost changes by less than ``tol`` (relative).
+    Each iteration runs a few LM steps of every pixel at the current values; the last of them
+    also returns the reduced system of the values, whose step gives the next ones. They are
+    kept if the cost after the next iteration's LM steps is not larger, else the state goes
+    back and the trust region shrinks. Converged when every value or the cost changes by less
+    than ``tol`` (relative).
     """
-    tr = 0.25 * hi
+    lo, hi = family.lower, family.upper
+    width = hi - lo
+    tr = 0.25 * width
     count = 4
-    best: tuple[dict[str, np.ndarray], float, float, float, float] | None = None
+    g = np.asarray(g, dtype=np.float64).copy()
+    best: tuple[dict[str, np.ndarray], np.ndarray, float, np.ndarray] | None = None
     done = 0
     for it in range(iterations):
         done = it + 1
@@ -592,57 +814,58 @@ def _fit_roughness(
         cost = float(np.sum(costs, dtype=np.float64))
         if bar is not None:
             bar.update(1)
-        if best is not None and not cost <= best[2]:  # the σ step made the fit worse
+        if best is not None and not cost <= best[2]:  # the step made the fit worse
             state.update({k: v.copy() for k, v in best[0].items()})
-            tr *= 0.25
-            if tr < 1e-7 * hi:
+            tr = tr * 0.25
+            if np.all(tr < 1e-7 * width):
                 g = best[1]
                 break
         else:
             converged = best is not None and (
-                abs(g - best[1]) < tol * max(hi, 1.0)
+                bool(np.all(np.abs(g - best[1]) < tol * np.maximum(width, 1.0)))
                 or best[2] - cost <= tol * max(best[2], 1e-300)
             )
             if best is not None:
-                tr = min(2.0 * tr, 0.25 * hi)
-            schur = float(np.sum(sch_p, dtype=np.float64))
-            step = -float(np.sum(rhs_p, dtype=np.float64)) / schur if schur > 0 else 0.0
-            best = ({k: v.copy() for k, v in state.items()}, g, cost, schur, step)
+                tr = np.minimum(2.0 * tr, 0.25 * width)
+            n = g.shape[0]
+            schur = np.sum(sch_p, axis=0, dtype=np.float64).reshape(n, n)
+            step = _newton_step(schur, np.sum(rhs_p, axis=0, dtype=np.float64), g, lo, hi)
+            best = ({k: v.copy() for k, v in state.items()}, g.copy(), cost, step)
             if converged:
                 break
-        g = float(np.clip(best[1] + float(np.clip(best[4], -tr, tr)), 0.0, hi))
+        g = np.clip(best[1] + np.clip(best[3], -tr, tr), lo, hi)
     else:
-        if best is not None and g != best[1]:  # out of iterations with an untried σ
+        if best is not None and np.any(g != best[1]):  # out of iterations with untried values
             state.update({k: v.copy() for k, v in best[0].items()})
             g = best[1]
     return g, done
 
 
-def _upper_bound(model: Model, name: str) -> float:
-    """Upper end of the parameter's fit box, as :mod:`roughdiffuse.fit` uses it
+def fit_box(model: Model, name: str) -> tuple[float, float]:
+    """The parameter's fit box, as :mod:`roughdiffuse.fit` uses it
     (:attr:`~roughdiffuse.models.declaration.Param.bounds`)."""
     box = next((p.bounds for p in model.params if p.name == name), None)
     if box is None:
         raise ParameterError(f"{type(model).__name__}.{name} has no bounded range to fit in")
-    return box[1]
+    return (float(box[0]), float(box[1]))
 
 
-def _progress(total: int, show: bool) -> Any:
+def _progress(total: int, show: bool, label: str) -> Any:
     from ..progress import progress
 
-    return progress(total, "rough photometric stereo", unit="it", enabled=show)
+    return progress(total, label, unit="it", enabled=show)
 
 
 class _Chunks:
     """The pixels cut into chunks of :data:`CHUNK` (the last one padded, so each function
     compiles once), with the per-chunk data already on the device."""
 
-    def __init__(self, p: int, dt: Any, l: Any, e: Any, obs: Any, w: Any) -> None:
+    def __init__(self, p: int, dt: Any, l: Any, e: Any, obs: Any, w: Any, g_count: int = 1) -> None:
         import jax.numpy as jnp
 
         from .._array import double_precision
 
-        self.p = p
+        self.p, self.g_count = p, g_count
         size = CHUNK if p > CHUNK else max(16, 1 << int(math.ceil(math.log2(max(p, 1)))))
         self.size = size
         self.slices = [slice(s, min(s + size, p)) for s in range(0, p, size)]
@@ -656,11 +879,13 @@ class _Chunks:
         self.workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
 
     def local(
-        self, fn: Any, state: dict[str, np.ndarray], g: float, count: int
+        self, fn: Any, state: dict[str, np.ndarray], g: Any, count: int
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``count`` LM steps of every pixel, in place in ``state``; returns the costs and
-        the pixels' terms of the roughness's reduced system."""
-        out = np.empty((3, self.p), dtype=state["theta"].dtype)
+        """``count`` LM steps of every pixel, in place in ``state``; returns the costs (P,)
+        and the pixels' terms of the global values' reduced system, (P, G·G) and (P, G)."""
+        dt = state["theta"].dtype
+        gc = self.g_count
+        out = [np.empty(self.p, dt), np.empty((self.p, gc * gc), dt), np.empty((self.p, gc), dt)]
 
         def run(k: int) -> None:
             sl = self.slices[k]
@@ -669,7 +894,7 @@ class _Chunks:
                 th, lam, nn, cost, sch, rhs = fn(
                     _pad(state["theta"][sl], self.size, 0),
                     _pad(state["lam"][sl], self.size, 0),
-                    g,
+                    np.asarray(g, dtype=dt),
                     _pad(state["n0"][sl], self.size, 0),
                     self.l,
                     self.e,
@@ -681,7 +906,7 @@ class _Chunks:
                 state["lam"][sl] = np.asarray(lam)[:n]
                 state["n0"][sl] = np.asarray(nn)[:n]
                 for i, v in enumerate((cost, sch, rhs)):
-                    out[i, sl] = np.asarray(v)[:n]
+                    out[i][sl] = np.asarray(v)[:n]
 
         self.map(run)
         return out[0], out[1], out[2]
@@ -704,7 +929,7 @@ class _Chunks:
         finally:
             pool.shutdown(wait=True, cancel_futures=True)  # on Ctrl-C too: no chunk left behind
 
-    def pieces(self, fn: Any, state: dict[str, np.ndarray], g: float) -> tuple[np.ndarray, ...]:
+    def pieces(self, fn: Any, state: dict[str, np.ndarray], g: Any) -> tuple[np.ndarray, ...]:
         """The reduced system's terms, the costs and the diagonal of A⁻¹ of every pixel."""
         parts: list[Any] = [None] * len(self.slices)
 
@@ -714,7 +939,7 @@ class _Chunks:
             with self.context():
                 out = fn(
                     _pad(state["theta"][sl], self.size, 0),
-                    g,
+                    np.asarray(g, dtype=state["theta"].dtype),
                     _pad(state["n0"][sl], self.size, 0),
                     self.l,
                     self.e,
