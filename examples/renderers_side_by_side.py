@@ -29,7 +29,7 @@ import roughdiffuse as rd  # noqa: E402
 from roughdiffuse.data import path  # noqa: E402
 from roughdiffuse.fit import fit, read_csv  # noqa: E402
 from roughdiffuse.io.atomic import atomic_write  # noqa: E402
-from roughdiffuse.materials.mitsuba import LIGHT, MARGIN, SIZE  # noqa: E402
+from roughdiffuse.exporters.mitsuba import LIGHT, MARGIN, SIZE  # noqa: E402
 from roughdiffuse.render import DistantLight, OrthographicCamera, Sphere, render  # noqa: E402
 
 
@@ -60,7 +60,7 @@ def blender(model: rd.Model, folder: Path) -> np.ndarray | None:
     """Cycles' render of the exported script: the sphere of the Blender check (a sun, an
     orthographic camera), averaged over each pixel as roughdiffuse's 16 samples are;
     ``None`` without Blender."""
-    from roughdiffuse.materials.blender_run import blender_command, run_scene
+    from roughdiffuse.exporters.blender_run import blender_command, run_scene
 
     if blender_command() is None:
         print("no Blender interpreter (make install-blender): its panel is left out")

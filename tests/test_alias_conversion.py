@@ -106,7 +106,7 @@ def test_unity_disney_diffuse_record_scales_the_colour():
     Burley's r as it is."""
     rec = {r["id"]: r for r in registry.to_json()}["unity-disney-diffuse"]["alias"]
     assert rec["base"] == "burley"
-    got = _run_javascript(rec["to_base"], {"roughness": 0.6, "albedo": 0.4})
+    got = _run_javascript(rec["javascript"], {"roughness": 0.6, "albedo": 0.4})
     assert got["roughness"] == pytest.approx(0.6, rel=1e-15)
     assert got["albedo"] == pytest.approx(0.4 / 1.03571, rel=1e-15)
 
@@ -114,7 +114,7 @@ def test_unity_disney_diffuse_record_scales_the_colour():
 def test_filament_lambert_record_is_lambert():
     rec = {r["id"]: r for r in registry.to_json()}["filament-lambert"]["alias"]
     assert rec["base"] == "lambert"
-    assert _run_javascript(rec["to_base"], {"albedo": 0.4}) == {"albedo": 0.4}
+    assert _run_javascript(rec["javascript"], {"albedo": 0.4}) == {"albedo": 0.4}
 
 
 def test_every_alias_has_a_record_and_nothing_else_does():

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from .._array import Array, clip, maximum
-from .alias import Alias, alias
+from .alias import alias
 from .base import Model, register_pytree
 from .burley import Burley
 from .chan import Chan
@@ -304,65 +304,40 @@ class OSLEON(MaterialXEON):
 ALPHA_MAX = SIGMA_MAX * math.sqrt(2.0)
 
 
-@register_pytree
-@dataclass(frozen=True)
-class Mitsuba06RoughDiffuse(Alias):
-    """Mitsuba 0.6 ``roughdiffuse``: Oren–Nayar with α, the Beckmann RMS slope, σ = α/√2;
-    the full model by default, the qualitative one with ``useFastApprox``."""
-
-    albedo: float | Array = 1.0
-    alpha: float | Array = 0.0
-    variant: str = "full"
-
-    params: ClassVar[tuple[Param, ...]] = (
-        _colour("reflectance ρ"),
-        _unit("alpha", "alpha = √2 σ (Beckmann RMS slope)", 0.5, ALPHA_MAX),
-        Param("variant", "full, or useFastApprox", choices=("full", "fast"), default="full"),
-    )
-    symbols: ClassVar[dict[str, str]] = {"albedo": r"\rho", "alpha": r"\alpha"}
-    formula: ClassVar[str | dict[str, str]] = r"""
-        ```{math}
-        f = f_{\mathrm{ON}}\Bigl(\rho, \sigma = \frac{\alpha}{\sqrt{2}}\Bigr)
-        ```
-
-        Full Oren–Nayar (`oren-nayar-full`), or the qualitative model for the fast variant,
-        with Mitsuba 0.6's α = √2 σ.
-        """
-    ids: ClassVar[dict[str, dict[str, Any]]] = {
-        "mitsuba06-roughdiffuse": {"variant": "full"},
-        "mitsuba06-roughdiffuse-fast": {"variant": "fast"},
-    }
-    labels: ClassVar[dict[str, str]] = {
-        "mitsuba06-roughdiffuse": "Mitsuba 0.6 roughdiffuse",
-        "mitsuba06-roughdiffuse-fast": "Mitsuba 0.6 roughdiffuse (useFastApprox)",
-    }
-    reference: ClassVar[str] = "Mitsuba 0.6, src/bsdfs/roughdiffuse.cpp, RoughDiffuse::eval"
-    order: ClassVar[int] = _ORDER + 40
-    base: ClassVar[type[Model]] = OrenNayar
-
-    def base_model(self) -> Model:
-        """``OrenNayar(ρ, α/√2, "full" or "qualitative")``."""
-        return OrenNayar(variant=self._base_variant(), **self.to_base(self.albedo, self.alpha))
-
-    def _base_variant(self) -> str:
-        return "full" if self.variant == "full" else "qualitative"
-
-    def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, **p: Array) -> Array:
-        shape = OrenNayar(variant=self._base_variant())
-        return shape._kernel(xp, mu_i, mu_o, cos_io, **self.to_base(**p))
-
-    @staticmethod
-    def to_base(albedo: Any, alpha: Any) -> dict[str, Any]:
-        """σ = α/√2."""
-        return {"albedo": albedo, "sigma": alpha * (1.0 / math.sqrt(2.0))}
-
-
 # ----------------------------------------------------------------------------- the table
 # The variants that are another model after a change of parameters, one row each: class
 # name, id and label (the renderer), the base model (and the categorical values it fixes),
 # the renderer's parameters, the conversion and its rule, the source (file, function), the
 # formula the model page shows, and the class docstring.
 _M = __name__
+
+Mitsuba06RoughDiffuse = alias(
+    "Mitsuba06RoughDiffuse", _M,
+    ids={"mitsuba06-roughdiffuse": {"variant": "full"},
+         "mitsuba06-roughdiffuse-fast": {"variant": "fast"}},
+    labels={"mitsuba06-roughdiffuse": "Mitsuba 0.6 roughdiffuse",
+            "mitsuba06-roughdiffuse-fast": "Mitsuba 0.6 roughdiffuse (useFastApprox)"},
+    base=OrenNayar,
+    base_choices={"variant": {"full": {"variant": "full"}, "fast": {"variant": "qualitative"}}},
+    params=(_colour("reflectance ρ"),
+            _unit("alpha", "alpha = √2 σ (Beckmann RMS slope)", 0.5, ALPHA_MAX),
+            Param("variant", "full, or useFastApprox", choices=("full", "fast"), default="full")),
+    to_base=lambda albedo, alpha: {"albedo": albedo, "sigma": alpha * (1.0 / math.sqrt(2.0))},
+    rule="σ = α/√2", order=_ORDER + 40,
+    reference="Mitsuba 0.6, src/bsdfs/roughdiffuse.cpp, RoughDiffuse::eval",
+    symbols={"albedo": r"\rho", "alpha": r"\alpha"},
+    formula=r"""
+        ```{math}
+        f = f_{\mathrm{ON}}\Bigl(\rho, \sigma = \frac{\alpha}{\sqrt{2}}\Bigr)
+        ```
+
+        Full Oren–Nayar (`oren-nayar-full`), or the qualitative model for the fast variant,
+        with Mitsuba 0.6's α = √2 σ.
+        """,
+    doc="""Mitsuba 0.6 ``roughdiffuse``: Oren–Nayar with α, the Beckmann RMS slope, σ = α/√2;
+    the full model by default, the qualitative one with ``useFastApprox``.""",
+)  # fmt: skip
+
 
 MaterialXOrenNayar = alias(
     "MaterialXOrenNayar", _M, model_id="materialx-oren-nayar",
