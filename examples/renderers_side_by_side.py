@@ -27,9 +27,9 @@ import numpy as np  # noqa: E402
 
 import roughdiffuse as rd  # noqa: E402
 from roughdiffuse.data import path  # noqa: E402
+from roughdiffuse.exporters.mitsuba import LIGHT, MARGIN, SIZE  # noqa: E402
 from roughdiffuse.fit import fit, read_csv  # noqa: E402
 from roughdiffuse.io.atomic import atomic_write  # noqa: E402
-from roughdiffuse.exporters.mitsuba import LIGHT, MARGIN, SIZE  # noqa: E402
 from roughdiffuse.render import DistantLight, OrthographicCamera, Sphere, render  # noqa: E402
 
 

@@ -10,7 +10,9 @@ model under another name:
 * the planetary photometric functions (:data:`roughdiffuse.planetary.disk.PHOTOMETRIC_MODELS`
   but Lambert): Hapke's opposition surges and single-particle phase functions, the
   Lommel–Seeliger and Minnaert laws and Lunar-Lambert's limb darkening;
-* glossy models (the registry's ``lobe`` ``"glossy"``: Torrance–Sparrow).
+* glossy models (the registry's ``lobe`` ``"glossy"``: Torrance–Sparrow) and the coated
+  model, whose specular coat a diffuse lobe cannot hold (fitted to ``coated``, EON's albedo
+  is off by more than 200 %).
 """
 
 from __future__ import annotations
@@ -20,6 +22,10 @@ from .._validate import ParameterError
 from ..models.base import Model
 
 __all__ = ["check_model", "converts"]
+
+COATED = "coated"
+"""The coated model's id: only the GLSL target writes it as it is (a Mitsuba scene cannot
+hold its base's parameters)."""
 
 
 def converts(target: str) -> bool:
@@ -36,6 +42,8 @@ def _not_rough_diffuse(model_id: str) -> str | None:
         return "a planetary photometric function"
     if registry.get(model_id).lobe == "glossy":
         return "a glossy model"
+    if model_id == COATED:
+        return "a specular coat over a base"
     return None
 
 
@@ -57,8 +65,10 @@ def check_model(model: Model, target: str) -> None:
     from . import TARGETS
 
     exact = [t for t, (_, computes) in TARGETS.items() if not computes]
+    if model_id == COATED:
+        exact = ["glsl"]
     raise ParameterError(
         f"cannot represent {model_id}, {kind}: {target} takes rough-diffuse BRDFs such as "
         f"eon, oren-nayar and burley (converted to {TARGETS[target][1]}); "
-        f"{' and '.join(exact)} write {model_id} as it is"
+        f"{' and '.join(exact)} {'writes' if len(exact) == 1 else 'write'} {model_id} as it is"
     )
