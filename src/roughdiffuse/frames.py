@@ -165,16 +165,21 @@ def angles_to_cosines(
     return mi, mo, mi * mo + xp.sin(ti) * xp.sin(tr) * xp.cos(dp)
 
 
-def check_cosines(mu_i: Any, mu_o: Any, cos_io: Any) -> None:
+def check_cosines(mu_i: Any, mu_o: Any, cos_io: Any, *, pairs: bool = True) -> None:
     """Refuse local cosines that no pair of unit directions has (:class:`ParameterError`).
+
+    With ``pairs=False`` only the range [−1, 1] of each cosine is checked: callers that clamp
+    μ at the horizon (a renderer's shading cosines, max(n·ω, 0)) pass triples off the
+    Gram condition on purpose, and every model takes them (its floors and clamps).
 
     mu_i and mu_o must lie in [−1, 1] (below 0: under the horizon, where a BRDF is 0), and
     cos_io = wi·wo = mu_i mu_o + sin θi sin θr cos Δφ within mu_i mu_o ± √((1 − mu_i²)(1 −
     mu_o²)): the Gram determinant of (n, wi, wo), 1 − mu_i² − mu_o² − cos_io² + 2 mu_i mu_o
     cos_io, is not negative. Each test allows the rounding of cosines computed in the inputs'
-    precision (32 ulp, at least 1e-6: float32 cosines of unit vectors stray by a few 1e-7,
-    and the determinant's derivatives are at most 4). Values with no concrete value (inside
-    ``jax.jit``, Dr.Jit, the fast path's symbols) and NaN (NoData) pass unchecked.
+    precision (32 ulp, at least 1e-5: float32 cosines of float32-normalised vectors stray by
+    up to about 1e-6, and the determinant's derivatives are at most 4). Values with no
+    concrete value (inside ``jax.jit``, Dr.Jit, the fast path's symbols) and NaN (NoData)
+    pass unchecked.
 
     >>> check_cosines(1.0, 1.0, 0.5)  # wi = wo = n, so wi·wo must be 1
     Traceback (most recent call last):
@@ -184,12 +189,14 @@ def check_cosines(mu_i: Any, mu_o: Any, cos_io: Any) -> None:
     arrays = [concrete(a) for a in (mu_i, mu_o, cos_io)]
     if any(a is None or a.dtype.kind not in "iuf" for a in arrays):
         return
-    tol = max([1e-6] + [32.0 * float(np.finfo(a.dtype).eps) for a in arrays if a.dtype.kind == "f"])
+    tol = max([1e-5] + [32.0 * float(np.finfo(a.dtype).eps) for a in arrays if a.dtype.kind == "f"])
     mi, mo, c = (a.astype(np.float64, copy=False) for a in arrays)
     for name, a in (("mu_i", mi), ("mu_o", mo), ("cos_io", c)):
         if np.any(np.abs(a) > 1.0 + tol):
             shown = float(a[np.abs(a) > 1.0 + tol].flat[0])
             raise ParameterError(f"{name} must be in [-1, 1], a cosine (got {shown:g})")
+    if not pairs:
+        return
     mi, mo, c = np.broadcast_arrays(mi, mo, c)
     gram = 1.0 - mi * mi - mo * mo - c * c + 2.0 * mi * mo * c
     bad = gram < -tol

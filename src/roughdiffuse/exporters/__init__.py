@@ -39,6 +39,7 @@ from .._validate import ParameterError
 from ..models.base import Model
 from .common import Export, material_for, model_record
 from .scope import check_model
+from .targets import TARGETS, suffixes
 
 __all__ = [
     "TARGETS",
@@ -50,25 +51,6 @@ __all__ = [
     "planned_files",
     "suffixes",
 ]
-
-TARGETS: dict[str, tuple[str, str]] = {
-    # target -> (file suffix, the registry id of what the renderer computes)
-    "mitsuba": (".xml", ""),
-    "materialx": (".mtlx", "materialx-eon"),
-    "blender": (".py", "cycles-diffuse"),
-    "glsl": (".glsl", ""),
-    "gltf": (".gltf", "eon"),
-}
-"""Export targets: their file suffix and the registry model the renderer evaluates ('' for
-Mitsuba and GLSL: the model itself)."""
-
-OTHER_SUFFIXES: dict[str, tuple[str, ...]] = {"gltf": (".glb",)}
-"""Suffixes a target also writes, each naming another form (glTF: ``.glb``, binary)."""
-
-
-def suffixes(target: str) -> tuple[str, ...]:
-    """The file suffixes ``target`` writes: its own first (:data:`TARGETS`), then others."""
-    return (TARGETS[target][0], *OTHER_SUFFIXES.get(target, ()))
 
 
 def _from_fit_json(data: dict[str, Any]) -> dict[str, Any]:

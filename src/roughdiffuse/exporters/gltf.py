@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
+from .._version import version
 from ..io.atomic import write_bytes
 from ..models.base import Model
 from .common import Export, error_lines, material_for, rgb_of
@@ -136,7 +136,7 @@ def asset(
     doc = {
         "asset": {
             "version": "2.0",
-            "generator": f"roughdiffuse {__version__}",
+            "generator": f"roughdiffuse {version()}",
             "extras": {"roughdiffuse": record},
         },
         "extensionsUsed": ["KHR_materials_diffuse_roughness", "KHR_materials_specular"],

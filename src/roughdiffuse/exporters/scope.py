@@ -20,6 +20,7 @@ from __future__ import annotations
 from .. import registry
 from .._validate import ParameterError
 from ..models.base import Model
+from .targets import TARGETS
 
 __all__ = ["check_model", "converts"]
 
@@ -30,8 +31,6 @@ hold its base's parameters)."""
 
 def converts(target: str) -> bool:
     """Whether ``target`` holds a rough-diffuse lobe that other models are converted to."""
-    from . import TARGETS
-
     return bool(TARGETS[target][1])
 
 
@@ -62,8 +61,6 @@ def check_model(model: Model, target: str) -> None:
     kind = _not_rough_diffuse(model_id)
     if kind is None:
         return
-    from . import TARGETS
-
     exact = [t for t, (_, computes) in TARGETS.items() if not computes]
     if model_id == COATED:
         exact = ["glsl"]

@@ -150,6 +150,30 @@ def _source_id(model: Model) -> str:
     return registry.id_of(model) or type(model).__name__
 
 
+def _target_entry(target: str) -> tuple[str, Any]:
+    """The registry entry of ``target`` (an engine's name gives its default variant); a model
+    that is not a closed form is refused."""
+    from ..models.renderers import engine_variant
+
+    target = engine_variant(target)
+    entry = registry.get(target)
+    if not getattr(entry.cls, "closed_form", True):
+        raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")
+    return target, entry
+
+
+def _check_inputs(source: Any, n: int, albedo_weight: float) -> None:
+    """Refuse, by name, a source that is not a model, ``n`` outside [1, ``N_MAX``] and an
+    ``albedo_weight`` that is not a finite number >= 0."""
+    if not isinstance(source, Model):
+        raise ParameterError(
+            f"source must be a roughdiffuse model, e.g. roughdiffuse.create('eon') "
+            f"(got a {type(source).__name__})"
+        )
+    check_range("n", n, 1, N_MAX)
+    check_range("albedo_weight", albedo_weight, 0.0, math.inf)
+
+
 def convert(
     source: Model,
     target: str = "eon",
@@ -191,19 +215,8 @@ def convert(
     """
     from scipy.optimize import least_squares
 
-    from ..models.renderers import engine_variant
-
-    if not isinstance(source, Model):
-        raise ParameterError(
-            f"source must be a roughdiffuse model, e.g. roughdiffuse.create('eon') "
-            f"(got a {type(source).__name__})"
-        )
-    check_range("n", n, 1, N_MAX)
-    check_range("albedo_weight", albedo_weight, 0.0, math.inf)
-    target = engine_variant(target)
-    entry = registry.get(target)
-    if not getattr(entry.cls, "closed_form", True):
-        raise ParameterError(f"target {target!r} is not a closed-form model; choose another target")
+    _check_inputs(source, n, albedo_weight)
+    target, entry = _target_entry(target)
     fixed = dict(fixed or {})
     # the numbers of the target's choices (fixed or default): Coated over EON fits r, not σ
     numeric = [p for p in entry.applicable(fixed) if not p.categorical and p.name not in fixed]

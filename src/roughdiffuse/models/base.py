@@ -286,10 +286,11 @@ class Model:
         This is the entry point of renderers and tables that already hold cosines. Output
         shape: the broadcast shape of the inputs, plus a channel axis for RGB albedo. Large
         NumPy inputs run compiled, on every core (:mod:`roughdiffuse.engine.dispatch`).
-        Cosines no pair of directions has (a cosine beyond ±1, cos_io outside what μi and μo
-        allow) are refused (:func:`~roughdiffuse.frames.check_cosines`).
+        A cosine beyond ±1 is refused (:func:`~roughdiffuse.frames.check_cosines`); a triple
+        off the Gram condition is not (renderers clamp μ at the horizon), and gives the
+        model's clamped value.
         """
-        check_cosines(mu_i, mu_o, cos_io)
+        check_cosines(mu_i, mu_o, cos_io, pairs=False)
         fast = compiled(self, "brdf_cosines", mu_i, mu_o, cos_io)
         if fast is not None:
             return fast

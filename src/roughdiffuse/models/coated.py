@@ -82,6 +82,10 @@ COAT_BASES: tuple[str, ...] = ("lambert", "oren-nayar", "oren-nayar-full", "fuji
 """The registry ids the registry's ``coated`` accepts as its ``base`` (the explorer's base
 menu; each has a GLSL copy). In Python, :class:`Coated` takes any closed-form model."""
 
+ALPHA_FLOOR = 1e-6
+"""The smallest rough α evaluated (a smaller one is evaluated here): the lobe of α = 1e-6 is
+a mirror's to float precision, and powers of a subnormal α overflow."""
+
 COAT_ETA_RANGE: tuple[float, float] = (1.0, 5.0)
 """The coat's relative index η accepted: a coat in air or in a less dense medium (η ≥ 1;
 η = 1 is no interface), up to 5, beyond the most refractive transparent materials (rutile
@@ -647,6 +651,9 @@ class Coated(Model):
     def evaluate(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, dtype: Any) -> Array:
         p = self.parameter_arrays(xp, dtype)
         eta, alpha, tau = p["eta"], p["roughness"], p["absorption"]
+        # a rough α below ALPHA_FLOOR is evaluated at the floor: its lobe is a mirror's to
+        # float precision, and powers of a subnormal α overflow (α = 0 stays smooth)
+        alpha = xp.where(alpha > 0, maximum(xp, alpha, ALPHA_FLOOR), alpha)
         above = (mu_i >= 0) & (mu_o >= 0)
         mi, mo = clip(xp, mu_i, 0.0, 1.0), clip(xp, mu_o, 0.0, 1.0)
         c = clip(xp, cos_io, -1.0, 1.0)
