@@ -244,8 +244,10 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
 
 
 def _refracted(xp: Any, mu: Array, eta: Array) -> Array:
-    """cos θ' of the direction refracted into the layer (sin θ' = sin θ / η)."""
-    return safe_sqrt(xp, 1.0 - (1.0 - mu * mu) / (eta * eta))
+    """cos θ' of the direction refracted into the layer (sin θ' = sin θ / η), written
+    √(μ² + η² − 1)/η: at η = 1 it is μ exactly in any precision (the form
+    √(1 − (1 − μ²)/η²) loses a grazing μ < 1e-4 to float32's cancellation)."""
+    return safe_sqrt(xp, mu * mu + (eta * eta - 1.0)) / eta
 
 
 def _with_node_axis(base: Model) -> Model:
@@ -659,7 +661,9 @@ class Coated(Model):
         c = clip(xp, cos_io, -1.0, 1.0)
         ri, ro = _refracted(xp, mi, eta), _refracted(xp, mo, eta)
         inv_eta2 = 1.0 / (eta * eta)
-        cos_in = clip(xp, ri * ro + (c - mi * mo) * inv_eta2, -1.0, 1.0)
+        # ri ro + (c − μi μo)/η², grouped so that η = 1 gives c plus a difference of equal
+        # products (float32: the form above loses c − μi μo at grazing to cancellation)
+        cos_in = clip(xp, c * inv_eta2 + (ri * ro - mi * mo * inv_eta2), -1.0, 1.0)
         dist = self.distribution
         # the rough interface's own energy: what it does not reflect enters (T = 1 − E, as
         # for a multiple-scattering microsurface, which loses nothing)

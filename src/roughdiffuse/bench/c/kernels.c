@@ -570,9 +570,10 @@ static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, r
 
 static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio) {
     real eta = s->eta, inv_eta2 = C(1) / (eta * eta);
-    real ri = sqrt(fmax(C(1) - (C(1) - mi * mi) * inv_eta2, C(0)));
-    real ro = sqrt(fmax(C(1) - (C(1) - mo * mo) * inv_eta2, C(0)));
-    real cos_in = RD_F(clamp)(ri * ro + (cio - mi * mo) * inv_eta2, C(-1), C(1));
+    /* cos of the refracted direction as sqrt(mu^2 + eta^2 - 1)/eta: exact at eta = 1 */
+    real ri = sqrt(fmax(mi * mi + (eta * eta - C(1)), C(0))) / eta;
+    real ro = sqrt(fmax(mo * mo + (eta * eta - C(1)), C(0))) / eta;
+    real cos_in = RD_F(clamp)(cio * inv_eta2 + (ri * ro - mi * mo * inv_eta2), C(-1), C(1));
     /* the interface's own energy: T = 1 - E, E the boosted lobe's albedo */
     real trans = (C(1) - RD_F(coat_reflectance)(s, mi, eta, 1))
                  * (C(1) - RD_F(coat_reflectance)(s, mo, eta, 1));
