@@ -20,7 +20,9 @@ examples:
       --lights data:lights.json -o stack/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json -o out/
   roughdiffuse stereo stack/*.npy --lights stack/lights.json --model lambert -o out-lambert/
-  roughdiffuse stereo --diligent pmsData/potPNG --model coated -o out-coated/   # glossy
+  roughdiffuse render --model coated --roughness 0.3 --size 24 --lights data:lights.json \\
+      -o gloss/                                 # a glossy sphere: a coat over Oren–Nayar
+  roughdiffuse stereo gloss/*.npy --lights gloss/lights.json --model coated -o out-coated/
   roughdiffuse stereo --demo -o demo/          # a rendered sphere with known truth
   roughdiffuse stereo --demo --method l1 -o demo-l1/
 

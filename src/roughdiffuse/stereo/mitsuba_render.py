@@ -80,7 +80,7 @@ def blob_mesh(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A lumpy closed blob (a bunny's size of bumps and hollows, made here, not a scan):
     the unit sphere with radius r(θ, φ) = 1 + 0.25 sin³θ cos 3φ + 0.15 cos 2θ
-    + 0.2 e^{−8 |ω − ω₁|²} + 0.2 e^{−8 |ω − ω₂|²} (two lobes leaning towards the camera, one
+    + 0.2 e^{−8 ‖ω − ω₁‖²} + 0.2 e^{−8 ‖ω − ω₂‖²} (two lobes leaning towards the camera, one
     up-left and one right, that cast shadows on the body), scaled into the unit ball. Returns
     vertices (N, 3), smooth vertex normals (N, 3; the area-weighted mean of the faces'
     normals) and counter-clockwise triangles (M, 3), as :func:`vase_mesh`."""

@@ -511,7 +511,8 @@ def check_fit_options(precision: str, iterations: int) -> None:
 @dataclass
 class PixelFit:
     """What :func:`fit_pixels` returns, P object pixels, G fitted values besides the
-    normals and albedo (:attr:`Family.names`).
+    normals and albedo (:attr:`Family.names`). The other attributes (normals, albedo,
+    their standard errors, residual, weights, iterations) are as :class:`RoughResult`'s.
 
     Attributes
     ----------
@@ -519,9 +520,6 @@ class PixelFit:
         The fitted values: one each for the object, or one per pixel.
     values_se : array like ``values``
         Their standard errors.
-
-    The others (normals, albedo, their standard errors, residual, weights, iterations) as
-    :class:`RoughResult`'s.
     """
 
     normals: np.ndarray
