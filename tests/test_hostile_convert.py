@@ -69,3 +69,15 @@ def test_convert_on_the_command_line_is_one_line(capsys):
     out, err = capsys.readouterr()
     assert status == 2 and len(err.strip().splitlines()) == 1, err
     assert "limb_darkening" in err and "1000" in err
+
+
+def test_a_coat_converts_to_itself():
+    """A model converted to itself is itself (the exact answer): the target's albedo range is
+    found with each colour parameter at either end, so a coat's absorption at its maximum
+    (a black coat) does not make ``coated`` look unable to reach its own albedo."""
+    source = rd.registry.create("coated", albedo=0.8, absorption=0.0)
+    shape = {"base": "oren-nayar-full", "distribution": "ggx", "eta": 1.5, "roughness": 0.0,
+             "sigma": source.base.sigma}  # fmt: skip
+    got = convert(source, "coated", n=6, fixed=shape)
+    assert got.params["albedo"] == pytest.approx(0.8, abs=1e-6)
+    assert np.all(np.asarray(got.params["absorption"]) < 1e-6)

@@ -25,6 +25,7 @@ and the RMS and largest relative difference of the directional albedo (each mode
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -359,19 +360,25 @@ def _check_albedo_range(
     if not colour:
         return
     src = float(np.max(np.sum((wmu * mu * 2.0)[:, None] * a_src.reshape(len(mu), -1), axis=0)))
-    top = {p.name: p.max for p in colour if p.max is not None}
+    # each colour parameter at either end (an albedo brightens at its maximum, a coat's
+    # absorption at its minimum), the others along one line through their ranges
+    bounded = [p for p in colour if p.max is not None]
+    ends = [
+        {p.name: (p.max if top else _lower_bound(p)) for p, top in zip(bounded, pick, strict=True)}
+        for pick in itertools.product((True, False), repeat=len(bounded))
+    ]
     shape = [p for p in entry.applicable(fixed) if not p.categorical and not p.channels]
     shape = [p for p in shape if p.name not in fixed]
     best = 0.0
     grid = np.linspace(0.0, 1.0, 11)
-    for t in grid if shape else [0.0]:
+    for t, colours in itertools.product(grid if shape else [0.0], ends):
         values = {
             p.name: _lower_bound(p) + t * (min(p.max, 1e3) - _lower_bound(p))
             for p in shape
             if p.min is not None and p.max is not None
         }
         with use_fastpath(False):
-            a = _albedos(entry.create(**fixed, **top, **values), mu)
+            a = _albedos(entry.create(**fixed, **colours, **values), mu)
         best = max(best, float(np.sum(wmu * mu * 2.0 * a)))
     if src > best * (1.0 + 1e-3):
         raise ParameterError(
