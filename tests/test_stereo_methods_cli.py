@@ -105,7 +105,10 @@ class _no_raise:  # noqa: N801 - used as a context manager beside pytest.raises
 def test_method_choices_are_the_method_table():
     """--method offers exactly the methods of roughdiffuse.stereo.methods (kept as a tuple in
     the command so that its parser does not import the solvers)."""
-    from roughdiffuse.commands.stereo import METHOD_CHOICES, ROBUST
+    from roughdiffuse.commands.stereo import DEFAULT_MODEL, METHOD_CHOICES, ROBUST
+    from roughdiffuse.stereo.methods import DEFAULT_ROUGH_MODEL
+
+    assert DEFAULT_MODEL == DEFAULT_ROUGH_MODEL  # the command's default is the method table's
     from roughdiffuse.stereo.methods import METHODS
     from roughdiffuse.stereo.robust import ROBUST_METHODS
 
