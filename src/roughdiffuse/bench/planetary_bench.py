@@ -259,10 +259,11 @@ def scale(folder: Path, lines: int, samples: int, chunk: int) -> list[str]:
 
 
 def _replace_section(path: Path, heading: str, text: str) -> None:
-    """Replace the section under ``heading`` (to the next ``## `` heading) of ``path`` by
-    ``text``, or add it at the end; written whole or not at all."""
+    """Replace the section under ``heading`` (to the next ``## `` heading, or the ``<!-- ``
+    marker of another benchmark's section) of ``path`` by ``text``, or add it at the end;
+    written whole or not at all."""
     old = path.read_text(encoding="utf-8") if path.exists() else "# Benchmarks\n\n"
-    pattern = re.compile(re.escape(heading) + r"\n.*?(?=\n## |\Z)", re.S)
+    pattern = re.compile(re.escape(heading) + r"\n.*?(?=\n## |\n<!-- |\Z)", re.S)
     new = (
         pattern.sub(lambda _: text.rstrip("\n") + "\n", old)
         if pattern.search(old)
