@@ -124,9 +124,37 @@ def test_empty_output_name_is_named_as_empty(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", ""]) == 2
     err = capsys.readouterr().err
-    assert "empty file name" in err and "'.'" not in err
+    assert "-o/--output: empty value" in err and "'.'" not in err
     with pytest.raises(ValueError, match="''"):
         write_text("", "x")
+
+
+EMPTY_VALUES = [
+    (["figures", "-o", ""], "-o/--output"),  # was: the figures drawn into the current folder
+    (["figures", "--output="], "-o/--output"),
+    (["albedo", "--model", "lambert", "--table", ""], "--table"),  # was: no table, exit 0
+    (["fit", "data:samples.csv", "--model", "lambert", "--report", ""], "--report"),
+    (["bench", "--output-dir", ""], "--output-dir"),  # was: the whole benchmark, then "."
+    (["simulate", "--table", " "], "--table"),  # was: a simulation without its table
+    (["photometry", "fit", "x.csv", "--report", ""], "--report"),  # a nested command
+    (["photometry", "correct", "x.npy", "-o", ""], "-o/--output"),
+    (["eval", "--param", ""], "--param"),
+    (["render", "--model", "lambert", "-o", "r.png", "--shape", ""], "--shape"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"), EMPTY_VALUES, ids=lambda v: " ".join(v) if isinstance(v, list) else v
+)
+def test_an_empty_value_of_any_option_is_refused_before_any_work(
+    tmp_path, capsys, monkeypatch, argv, flag
+):
+    """An empty option value is never read as "not given": refused by name, nothing written."""
+    monkeypatch.chdir(tmp_path)
+    assert run(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"argument {flag}: empty value" in err, err
+    assert os.listdir(tmp_path) == []
 
 
 def test_output_suffix_is_the_targets(tmp_path, capsys):
