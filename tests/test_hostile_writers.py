@@ -195,3 +195,56 @@ def test_a_table_with_a_254_character_name_is_written(tmp_path, capsys):
     assert load_table(path).values.shape[0] == 3
     lock = beside(path, ".lock")
     assert len(lock.name.encode()) <= 255 and lock != beside(tmp_path / ("t" * 251), ".lock")
+
+
+def _planes(tmp_path):
+    import numpy as np
+
+    for name, value in {"img": 0.1, "i": 30.0, "e": 20.0, "g": 40.0}.items():
+        np.save(tmp_path / f"{name}.npy", np.full((8, 8), value, np.float32))
+    rasterio = pytest.importorskip("rasterio")  # a DEM is a map: GDAL reads it
+    from rasterio.transform import from_origin
+
+    kw = {"crs": "EPSG:32633", "transform": from_origin(5e5, 4e6, 100.0, 100.0)}
+    with rasterio.open(tmp_path / "dem.tif", "w", driver="GTiff", width=8, height=8,
+                       count=1, dtype="float32", **kw) as dem:  # fmt: skip
+        dem.write(np.zeros((1, 8, 8), np.float32))
+    return ["--incidence", "i.npy", "--emission", "e.npy", "--phase", "g.npy"]
+
+
+PHOTOMETRY_WRITERS = [
+    pytest.param(["photometry", "correct", "img.npy", "PLANES", "-o", "out.npy"], ["out.npy"],
+                 id="correct"),
+    pytest.param(
+        ["photometry", "angles", "dem.tif", "--sun-vector", "0,0,1", "--observer-vector",
+         "0,0,1", "-o", "a.npy"],
+        ["a-incidence.npy", "a-emission.npy", "a-phase.npy", "a-slope.npy", "a-azimuth.npy"],
+        id="angles",
+    ),
+    pytest.param(  # the fit and its report's figures: about 4 s
+        ["photometry", "fit", "data.csv", "--model", "lommel-seeliger", "--report", "fit.html"],
+        ["fit.html"], marks=pytest.mark.slow, id="fit",
+    ),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("argv", "outputs"), PHOTOMETRY_WRITERS)
+def test_photometry_keeps_existing_outputs_without_force(
+    tmp_path, capsys, monkeypatch, argv, outputs
+):
+    """photometry correct, angles and fit --report follow every writer's rule: an existing
+    output is kept unless --force (they replaced it unasked)."""
+    monkeypatch.chdir(tmp_path)
+    planes = _planes(tmp_path)
+    argv = [a for word in argv for a in (planes if word == "PLANES" else [word])]
+    geometries = [(i, e, i + e - 5) for i in (20, 35, 50, 65) for e in (10, 30, 50)]
+    rows = ["incidence,emission,phase,iof", *(f"{i},{e},{g},0.1" for i, e, g in geometries)]
+    (tmp_path / "data.csv").write_text("\n".join(rows) + "\n")
+    (tmp_path / outputs[-1]).write_text("keep")
+    assert run(argv) == 2
+    err = capsys.readouterr().err
+    assert f"{outputs[-1]} exists; use --force" in err, err
+    assert (tmp_path / outputs[-1]).read_text() == "keep"
+    assert all(not (tmp_path / o).exists() for o in outputs[:-1])
+    assert run([*argv, "--force"]) == 0, capsys.readouterr().err
+    assert all((tmp_path / o).stat().st_size > 4 for o in outputs)
