@@ -105,8 +105,29 @@ def test_a_child_that_exits_0_and_writes_nothing_leaves_no_blend(tmp_path, capsy
     monkeypatch.setenv(blender_run.ENV, str(fake))
     code = run(["export", "--model", "eon", "--to", "blender", "-o", str(tmp_path / "m.py")])
     err = capsys.readouterr().err
-    assert code == 2 and "not a .blend" in err
+    assert code == 2 and "wrote no .blend" in err
     assert not (tmp_path / "m.blend").exists()
+
+
+def test_a_blend_writes_nothing_but_the_blend_beside_it(tmp_path, capsys, monkeypatch):
+    """Blender saving over an existing file also writes a backup NAME.blend1; a child doing
+    so leaves only m.py and m.blend in the output's folder (a 0-byte .blend1 was left)."""
+    fake = tmp_path / "bin" / "fake-blender-python"
+    fake.parent.mkdir()
+    fake.write_text(
+        f"#!{sys.executable}\nimport json, pathlib, sys\n"
+        "job = json.loads(pathlib.Path(sys.argv[-1]).read_text())['jobs'][0]\n"
+        "out = pathlib.Path(job['output'])\n"
+        "pathlib.Path(str(out) + '1').write_bytes(b'')\n"
+        "out.write_bytes(b'BLENDER-v500 a scene')\n"
+    )
+    fake.chmod(0o755)
+    monkeypatch.setenv(blender_run.ENV, str(fake))
+    out = tmp_path / "out"
+    out.mkdir()
+    assert run(["export", "--model", "eon", "--to", "blender", "-o", str(out / "m.py")]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["m.blend", "m.py"]
+    assert (out / "m.blend").read_bytes() == b"BLENDER-v500 a scene"
 
 
 def test_check_blend_accepts_the_three_headers_and_refuses_others(tmp_path):
