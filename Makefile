@@ -7,8 +7,10 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
-# libLLVM for Mitsuba's llvm variants (Debian's libllvm19); see scripts/system-deps.sh
-export DRJIT_LIBLLVM_PATH ?= $(firstword $(wildcard /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1*))
+# libLLVM for Mitsuba's llvm variants (Debian's libllvm19; see scripts/system-deps.sh), looked
+# up by the shell when `test` and `docs` run, after system-deps has installed it (make's own
+# $(wildcard) caches the folder as it was before), unless DRJIT_LIBLLVM_PATH is set
+WITH_LLVM = DRJIT_LIBLLVM_PATH="$${DRJIT_LIBLLVM_PATH:-$$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/*/libLLVM-19.so /usr/lib/*/libLLVM.so.1* 2>/dev/null | head -n 1)}"
 
 .PHONY: figures test docs install install-test install-js test-all install-docs install-blender system-deps lint bench clean
 
@@ -75,7 +77,7 @@ WORKERS ?= $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null ||
 SLOW ?=
 test: install-test system-deps install-js
 	$(PY) -m ruff check src tests $(wildcard bench examples)
-	$(PY) -m pytest -n $(WORKERS) --dist loadfile --no-loadscope-reorder $(if $(SLOW),,-m "not slow")
+	$(WITH_LLVM) $(PY) -m pytest -n $(WORKERS) --dist loadfile --no-loadscope-reorder $(if $(SLOW),,-m "not slow")
 
 test-all:
 	$(MAKE) test SLOW=1
@@ -84,7 +86,7 @@ test-all:
 # system packages are those of the tests: the Mitsuba example needs libLLVM 19 (with an older
 # one it renders with scalar_rgb, roughdiffuse.integrations.drjit_llvm)
 docs: install-docs system-deps
-	$(PY) -m sphinx -b html -W --keep-going docs docs/_build/html
+	$(WITH_LLVM) $(PY) -m sphinx -b html -W --keep-going docs docs/_build/html
 
 bench: install
 	$(PY) bench/run.py

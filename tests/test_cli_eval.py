@@ -40,6 +40,8 @@ def test_eval_prints_lecture_value():
         (["eval", "--albedo", "1.5"], "albedo must be in [0, 1]"),
         (["eval", "--albedo", "0.1,0.2"], "albedo must have 1 or 3 values"),
         (["eval", "--theta-i", "95"], "--theta-i must be in [0, 90] degrees"),
+        # a value just beyond the range is shown as given, not rounded into it
+        (["eval", "--theta-i", "90.0000001"], "(got 90.0000001)"),
         (["eval", "--model", "eon", "--roughness", "2"], "roughness must be in [0, 1]"),
         (["frobnicate"], "invalid choice"),
     ],

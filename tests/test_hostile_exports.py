@@ -67,15 +67,21 @@ def test_models_mitsuba_cannot_hold_are_refused_in_one_line(tmp_path, capsys, mo
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("channels", [2, 4])
 @pytest.mark.parametrize(("target", "suffix"), [("mitsuba", ".xml"), ("materialx", ".mtlx"),
-                                                ("blender", ".py"), ("gltf", ".glb")])  # fmt: skip
-def test_a_four_channel_albedo_is_refused_by_every_target(tmp_path, capsys, target, suffix):
+                                                ("blender", ".py"), ("gltf", ".glb"),
+                                                ("glsl", ".glsl")])  # fmt: skip
+def test_a_four_channel_albedo_is_refused_by_every_target(
+    tmp_path, capsys, target, suffix, channels
+):
+    """GLSL too: it wrote a vec3 of the first three channels of four."""
     record = tmp_path / "fit.json"
-    record.write_text(json.dumps({"model": "eon", "params": {"albedo": [0.1, 0.2, 0.3, 0.4],
+    albedo = [0.1, 0.2, 0.3, 0.4][:channels]
+    record.write_text(json.dumps({"model": "eon", "params": {"albedo": albedo,
                                                              "roughness": 0.3}}))  # fmt: skip
     out = tmp_path / f"m{suffix}"
     assert run(["export", "--from", str(record), "--to", target, "-o", str(out)]) == 2
-    assert "4 channels" in capsys.readouterr().err
+    assert f"albedo has {channels} channels" in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fit.json"]
 
 

@@ -72,3 +72,21 @@ def test_libllvm_15_refuses_the_plugins_and_stereo_renders_instead_of_aborting(t
     assert len(lines) == 2
     for line in lines:
         assert "DRJIT_LIBLLVM_PATH" in line and "15.0" in line and f"libLLVM {LLVM_NEEDED}" in line
+
+
+@pytest.mark.slow  # the gallery's render in scalar_rgb: about a minute of CPU
+@pytest.mark.skipif(not OLD_LLVM.is_file(), reason=f"no old libLLVM here ({OLD_LLVM})")
+def test_the_gallerys_mitsuba_example_builds_on_libllvm_15(tmp_path):
+    """`make docs` on a machine with only libLLVM 15: the one page that runs Mitsuba (the
+    gallery's scene) asks first, renders with scalar_rgb and ends normally (it aborted)."""
+    pytest.importorskip("mitsuba")
+    root = Path(__file__).resolve().parent.parent
+    env = {**os.environ, "DRJIT_LIBLLVM_PATH": str(OLD_LLVM), "PYTHONPATH": str(root / "src"),
+           "MPLBACKEND": "Agg"}  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-P", str(root / "docs" / "gallery" / "plot_mitsuba_scene.py")],
+        env=env, cwd=tmp_path, capture_output=True, text=True, timeout=900,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "variant scalar_rgb, image (64, 96)" in done.stdout
+    assert "DRJIT_LIBLLVM_PATH" in done.stdout.splitlines()[0]

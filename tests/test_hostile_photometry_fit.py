@@ -48,6 +48,22 @@ def test_iof_that_is_not_positive_and_finite_is_refused_by_its_line(tmp_path, ca
     assert "line 5" in err and "positive finite" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize(
+    ("i", "e", "g"), [("30", "20", "170"), ("30", "20", "5"), ("60", "10", "71")]
+)
+def test_an_impossible_geometry_is_refused_as_correct_refuses_it(tmp_path, capsys, i, e, g):
+    """g outside [|i − e|, i + e]: the one geometry check of `photometry fit` and `correct`
+    (correct clipped it silently); the message gives the three angles."""
+    data = rows()
+    data[3] = (data[3][0], i, e, g)
+    path = write_csv(tmp_path / "d.csv", data)
+    assert run(["photometry", "fit", str(path), "--model", "lunar-lambert"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "phase must be in [|incidence − emission|, incidence + emission]" in err
+    assert f"got phase {g}° with incidence {i}°, emission {e}°" in err
+
+
 def test_a_fit_with_no_finite_residual_is_refused_not_printed(tmp_path, capsys):
     """I/F of 1e300: the model cannot reach it; no 'RMS inf' or 'nan%' is printed."""
     path = write_csv(tmp_path / "d.csv", rows(scale=1e300))

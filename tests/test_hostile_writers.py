@@ -105,8 +105,29 @@ def test_a_child_that_exits_0_and_writes_nothing_leaves_no_blend(tmp_path, capsy
     monkeypatch.setenv(blender_run.ENV, str(fake))
     code = run(["export", "--model", "eon", "--to", "blender", "-o", str(tmp_path / "m.py")])
     err = capsys.readouterr().err
-    assert code == 2 and "not a .blend" in err
+    assert code == 2 and "wrote no .blend" in err
     assert not (tmp_path / "m.blend").exists()
+
+
+def test_a_blend_writes_nothing_but_the_blend_beside_it(tmp_path, capsys, monkeypatch):
+    """Blender saving over an existing file also writes a backup NAME.blend1; a child doing
+    so leaves only m.py and m.blend in the output's folder (a 0-byte .blend1 was left)."""
+    fake = tmp_path / "bin" / "fake-blender-python"
+    fake.parent.mkdir()
+    fake.write_text(
+        f"#!{sys.executable}\nimport json, pathlib, sys\n"
+        "job = json.loads(pathlib.Path(sys.argv[-1]).read_text())['jobs'][0]\n"
+        "out = pathlib.Path(job['output'])\n"
+        "pathlib.Path(str(out) + '1').write_bytes(b'')\n"
+        "out.write_bytes(b'BLENDER-v500 a scene')\n"
+    )
+    fake.chmod(0o755)
+    monkeypatch.setenv(blender_run.ENV, str(fake))
+    out = tmp_path / "out"
+    out.mkdir()
+    assert run(["export", "--model", "eon", "--to", "blender", "-o", str(out / "m.py")]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["m.blend", "m.py"]
+    assert (out / "m.blend").read_bytes() == b"BLENDER-v500 a scene"
 
 
 def test_check_blend_accepts_the_three_headers_and_refuses_others(tmp_path):
@@ -124,9 +145,37 @@ def test_empty_output_name_is_named_as_empty(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert run(["export", "--model", "eon", "--to", "mitsuba", "-o", ""]) == 2
     err = capsys.readouterr().err
-    assert "empty file name" in err and "'.'" not in err
+    assert "-o/--output: empty value" in err and "'.'" not in err
     with pytest.raises(ValueError, match="''"):
         write_text("", "x")
+
+
+EMPTY_VALUES = [
+    (["figures", "-o", ""], "-o/--output"),  # was: the figures drawn into the current folder
+    (["figures", "--output="], "-o/--output"),
+    (["albedo", "--model", "lambert", "--table", ""], "--table"),  # was: no table, exit 0
+    (["fit", "data:samples.csv", "--model", "lambert", "--report", ""], "--report"),
+    (["bench", "--output-dir", ""], "--output-dir"),  # was: the whole benchmark, then "."
+    (["simulate", "--table", " "], "--table"),  # was: a simulation without its table
+    (["photometry", "fit", "x.csv", "--report", ""], "--report"),  # a nested command
+    (["photometry", "correct", "x.npy", "-o", ""], "-o/--output"),
+    (["eval", "--param", ""], "--param"),
+    (["render", "--model", "lambert", "-o", "r.png", "--shape", ""], "--shape"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"), EMPTY_VALUES, ids=lambda v: " ".join(v) if isinstance(v, list) else v
+)
+def test_an_empty_value_of_any_option_is_refused_before_any_work(
+    tmp_path, capsys, monkeypatch, argv, flag
+):
+    """An empty option value is never read as "not given": refused by name, nothing written."""
+    monkeypatch.chdir(tmp_path)
+    assert run(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"argument {flag}: empty value" in err, err
+    assert os.listdir(tmp_path) == []
 
 
 def test_output_suffix_is_the_targets(tmp_path, capsys):
@@ -167,3 +216,56 @@ def test_a_table_with_a_254_character_name_is_written(tmp_path, capsys):
     assert load_table(path).values.shape[0] == 3
     lock = beside(path, ".lock")
     assert len(lock.name.encode()) <= 255 and lock != beside(tmp_path / ("t" * 251), ".lock")
+
+
+def _planes(tmp_path):
+    import numpy as np
+
+    for name, value in {"img": 0.1, "i": 30.0, "e": 20.0, "g": 40.0}.items():
+        np.save(tmp_path / f"{name}.npy", np.full((8, 8), value, np.float32))
+    rasterio = pytest.importorskip("rasterio")  # a DEM is a map: GDAL reads it
+    from rasterio.transform import from_origin
+
+    kw = {"crs": "EPSG:32633", "transform": from_origin(5e5, 4e6, 100.0, 100.0)}
+    with rasterio.open(tmp_path / "dem.tif", "w", driver="GTiff", width=8, height=8,
+                       count=1, dtype="float32", **kw) as dem:  # fmt: skip
+        dem.write(np.zeros((1, 8, 8), np.float32))
+    return ["--incidence", "i.npy", "--emission", "e.npy", "--phase", "g.npy"]
+
+
+PHOTOMETRY_WRITERS = [
+    pytest.param(["photometry", "correct", "img.npy", "PLANES", "-o", "out.npy"], ["out.npy"],
+                 id="correct"),
+    pytest.param(
+        ["photometry", "angles", "dem.tif", "--sun-vector", "0,0,1", "--observer-vector",
+         "0,0,1", "-o", "a.npy"],
+        ["a-incidence.npy", "a-emission.npy", "a-phase.npy", "a-slope.npy", "a-azimuth.npy"],
+        id="angles",
+    ),
+    pytest.param(  # the fit and its report's figures: about 4 s
+        ["photometry", "fit", "data.csv", "--model", "lommel-seeliger", "--report", "fit.html"],
+        ["fit.html"], marks=pytest.mark.slow, id="fit",
+    ),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("argv", "outputs"), PHOTOMETRY_WRITERS)
+def test_photometry_keeps_existing_outputs_without_force(
+    tmp_path, capsys, monkeypatch, argv, outputs
+):
+    """photometry correct, angles and fit --report follow every writer's rule: an existing
+    output is kept unless --force (they replaced it unasked)."""
+    monkeypatch.chdir(tmp_path)
+    planes = _planes(tmp_path)
+    argv = [a for word in argv for a in (planes if word == "PLANES" else [word])]
+    geometries = [(i, e, i + e - 5) for i in (20, 35, 50, 65) for e in (10, 30, 50)]
+    rows = ["incidence,emission,phase,iof", *(f"{i},{e},{g},0.1" for i, e, g in geometries)]
+    (tmp_path / "data.csv").write_text("\n".join(rows) + "\n")
+    (tmp_path / outputs[-1]).write_text("keep")
+    assert run(argv) == 2
+    err = capsys.readouterr().err
+    assert f"{outputs[-1]} exists; use --force" in err, err
+    assert (tmp_path / outputs[-1]).read_text() == "keep"
+    assert all(not (tmp_path / o).exists() for o in outputs[:-1])
+    assert run([*argv, "--force"]) == 0, capsys.readouterr().err
+    assert all((tmp_path / o).stat().st_size > 4 for o in outputs)

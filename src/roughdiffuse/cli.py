@@ -53,6 +53,14 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, status 2, no usage dump
         self.exit(2, clip_echo(f"{self.prog}: error: {message}") + "\n")
 
+    def _get_value(self, action: argparse.Action, arg_string: str) -> Any:
+        # every option's value passes here: an empty one (-o "", --report "") is refused,
+        # never taken as "not given" (an empty output name would write to the default place)
+        if action.option_strings and not arg_string.strip() and action.default != "":
+            what = action.metavar or action.dest.upper()
+            raise argparse.ArgumentError(action, f"empty value; give {what}")
+        return super()._get_value(action, arg_string)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered subcommand."""

@@ -131,7 +131,7 @@ def _groups(args: argparse.Namespace) -> dict[str, dict[str, object]]:
         known_id(n, registry.ids())
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
-            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:.15g})")
     if not 0.0 <= args.albedo <= 1.0:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     _typed_sweeps_apply(args, names)

@@ -57,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)
         if not 0.0 <= val <= 90.0:
-            raise UsageError(f"--{name.replace('_', '-')} must be in [0, 90] degrees (got {val:g})")
+            flag = "--" + name.replace("_", "-")
+            raise UsageError(f"{flag} must be in [0, 90] degrees (got {val:.15g})")
     model = model_from_args(args)
     wi = spherical_to_vector(math.radians(args.theta_i), 0.0)
     wo = spherical_to_vector(math.radians(args.theta_r), math.radians(args.delta_phi))

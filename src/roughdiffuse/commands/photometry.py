@@ -84,6 +84,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="noise model: a constant fraction of I/F, or constant (default: relative)",
     )
     f.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
+    f.add_argument("--force", action="store_true", help="replace an existing --report file")
     f.add_argument(
         "--samples",
         type=int,
@@ -136,7 +137,7 @@ def run_fit(args: argparse.Namespace) -> int:
     if args.report:
         if not args.report.lower().endswith((".html", ".htm")):
             raise UsageError(f"--report must name an .html file (got {args.report!r})")
-        output_file(args.report, option="--report", overwrite=True)
+        output_file(args.report, option="--report", force=args.force)
     if not os.path.isfile(args.data):
         raise UsageError(f"data file {args.data!r} does not exist")
     from .photometry_correct import check_geometry_options, refuse_unused

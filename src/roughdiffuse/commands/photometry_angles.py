@@ -39,6 +39,7 @@ def register_angles(inner: argparse._SubParsersAction) -> None:
     )
     a.add_argument("dem", metavar="DEM", help="heights in metres: .tif, .cub, .xml (PDS4)")
     a.add_argument("-o", "--output", required=True, metavar="OUT", help="e.g. angles.tif")
+    a.add_argument("--force", action="store_true", help="replace existing OUT-* files")
     a.add_argument("--subsolar", type=numbers_type(2, "LAT,LON in degrees"), metavar="LAT,LON")
     a.add_argument("--subobserver", type=numbers_type(2, "LAT,LON in degrees"), metavar="LAT,LON")
     add_dem_arguments(a)
@@ -75,7 +76,7 @@ def run_angles(args: argparse.Namespace) -> int:
     geometry = _dem_geometry(args, dem)  # the DEM on its own grid
     paths = outputs(args.output)
     for path in paths:
-        output_file(path, option="-o", overwrite=True)
+        output_file(path, option="-o", force=args.force)
         if os.path.exists(path) and os.path.samefile(path, args.dem):
             raise UsageError(f"-o: {str(path)!r} is the DEM; name another file")
     windows = blocks_of(dem.shape, (args.chunk, args.chunk))

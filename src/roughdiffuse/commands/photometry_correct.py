@@ -139,6 +139,7 @@ def register_correct(inner: argparse._SubParsersAction) -> None:
         "image", metavar="IMAGE", help="I/F image: .cub, .xml (PDS4), .tif, .fits, .npy, .exr"
     )
     c.add_argument("-o", "--output", required=True, metavar="OUT", help="the same formats")
+    c.add_argument("--force", action="store_true", help="replace an existing OUT")
     c.add_argument(
         "--format",
         choices=tuple(FORMATS),
@@ -427,7 +428,7 @@ def run_correct(args: argparse.Namespace) -> int:
         check_chunk(args.chunk, workers, available_memory())
     except ValueError as exc:
         raise UsageError(f"--chunk: {exc}") from None
-    output_file(args.output, option="-o", overwrite=True)
+    output_file(args.output, option="-o", force=args.force)
     correction = Correction(
         model,
         method=args.method,

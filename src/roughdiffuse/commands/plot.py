@@ -117,7 +117,7 @@ def _plane(args: argparse.Namespace) -> Any:
 
     for t in args.theta_i:
         if not 0.0 <= t <= 90.0:
-            raise UsageError(f"--theta-i must be in [0, 90] degrees (got {t:g})")
+            raise UsageError(f"--theta-i must be in [0, 90] degrees (got {t:.15g})")
     models = _models(args)
     polar = args.kind == "polar"
     n = len(args.theta_i)
@@ -172,7 +172,7 @@ def _roughness_series(args: argparse.Namespace, lights: Any, camera: Any) -> Any
         raise UsageError("roughness-series takes one --model")
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
-            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:.15g})")
 
     def make(sigma_rad: float):  # noqa: ANN202
         a = copy.copy(args)

@@ -165,7 +165,7 @@ def _check(args: argparse.Namespace) -> None:
         raise UsageError(f"--albedo must be in [0, 1] (got {args.albedo:g})")
     for s in args.sigma:
         if not 0.0 <= s <= 90.0:
-            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:g})")
+            raise UsageError(f"--sigma must be in [0, 90] degrees (got {s:.15g})")
     if len(set(args.sigma)) != len(args.sigma):
         twice = next(s for s in args.sigma if args.sigma.count(s) > 1)
         raise UsageError(f"--sigma gives {twice:g} more than once; give each value once")
@@ -242,7 +242,8 @@ def _run_single(args: argparse.Namespace, settings: Any) -> int:
     for name in ("theta_i", "theta_r"):
         val = getattr(args, name)
         if not 0.0 <= val <= 90.0:
-            raise UsageError(f"--{name.replace('_', '-')} must be in [0, 90] degrees (got {val:g})")
+            flag = "--" + name.replace("_", "-")
+            raise UsageError(f"{flag} must be in [0, 90] degrees (got {val:.15g})")
     if len(args.sigma) != 1:
         raise UsageError("give one --sigma for a single value (a list is for --table)")
     f, d = brdf(

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -177,8 +178,12 @@ def check_blend(path: Path) -> None:
     try:
         with open(path, "rb") as fh:
             head = fh.read(len(BLEND_MAGIC[0]))
-    except OSError as exc:
-        raise BlenderError(f"Blender wrote no .blend file ({exc.strerror or exc})") from None
+    except OSError as exc:  # raised outside: the writer must not take it for its own error
+        problem = exc.strerror or str(exc)
+    else:
+        problem = None
+    if problem is not None:
+        raise BlenderError(f"Blender exited normally but wrote no .blend file ({problem})")
     if not head.startswith(BLEND_MAGIC):
         found = "an empty file" if not head else f"a file starting {head!r}"
         raise BlenderError(f"Blender exited normally but wrote {found}, not a .blend file")
@@ -198,7 +203,12 @@ def write_blend(material: Path, path: Path) -> Path:
 
     def save(tmp: Path) -> None:
         job = {"kind": "blend", "shape": "sphere", "light": [-0.5, 0.5, 0.70710678]}
-        run_scene(material, [{**job, "size": 256, "samples": 64, "output": str(tmp.resolve())}])
-        check_blend(tmp)  # a child that exits 0 may still have written nothing
+        # Blender saves into a folder of its own: what else it writes there (a backup
+        # NAME.blend1 of a file it saves over) goes with the folder, never beside the target
+        with tempfile.TemporaryDirectory(prefix="roughdiffuse-blend-") as own:
+            saved = Path(own) / "scene.blend"
+            run_scene(material, [{**job, "size": 256, "samples": 64, "output": str(saved)}])
+            check_blend(saved)  # a child that exits 0 may still have written nothing
+            shutil.copyfile(saved, tmp)
 
     return atomic_write(path, save)

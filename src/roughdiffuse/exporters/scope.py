@@ -46,6 +46,15 @@ def _not_rough_diffuse(model_id: str) -> str | None:
     return None
 
 
+def _check_colour(model: Model) -> None:
+    """Every target writes a colour as RGB (GLSL a ``vec3``): a model with other than 1 or 3
+    channels is refused (GLSL kept the first three of four, silently)."""
+    n = model.channels
+    if n not in (0, 1, 3):
+        names = "/".join(type(model).channel_fields) or "the colour"
+        raise ParameterError(f"{names} has {n} channels; an RGB colour takes 1 or 3")
+
+
 def check_model(model: Model, target: str) -> None:
     """Refuse ``model`` for ``target`` where the target cannot represent it.
 
@@ -55,6 +64,7 @@ def check_model(model: Model, target: str) -> None:
         Naming the model, what it is, what the target takes and the targets that write the
         model as it is.
     """
+    _check_colour(model)
     model_id = registry.id_of(model)
     if not converts(target) or model_id is None:
         return

@@ -253,7 +253,7 @@ def check_real(arr: Any, what: str, *, bool_ok: bool = False) -> Any:
 
 
 def _shape_text(shape: tuple[int, ...]) -> str:
-    return "(" + ", ".join(str(n) for n in shape) + ")"
+    return str(tuple(shape))  # Python's own: (8,) for one axis
 
 
 def image_array(arr: Any, what: str, *, channels: tuple[int, ...] = (1, 3)) -> Any:
@@ -292,10 +292,14 @@ def image_array(arr: Any, what: str, *, channels: tuple[int, ...] = (1, 3)) -> A
         if arr.shape[2] == 1:
             arr = arr[..., 0]
     elif arr.ndim != 2:
-        raise ParameterError(f"{what} has shape {given}: {arr.ndim} axes; {how}")
+        axes = f"{arr.ndim} axis" if arr.ndim == 1 else f"{arr.ndim} axes"
+        raise ParameterError(f"{what} has shape {given}: {axes}; {how}")
     h, w = arr.shape[:2]
     if h < 2 or w < 2:
-        which = "one row" if h < 2 else "one column"
+        which = (
+            "no rows" if h == 0 else "no columns" if w == 0 else "one row" if h < 2
+            else "one column"
+        )  # fmt: skip
         raise ParameterError(
             f"{what} has shape {given}: {which}; an image needs at least 2 rows and 2 columns"
         )

@@ -41,7 +41,7 @@ from ..deprecation import renamed_parameter
 from .base import Model
 from .constraints import LEGENDRE_PHASE_NON_NEGATIVE, Constraint
 from .declaration import albedo_param, param
-from .photometry import brdf_from_radiance_factor
+from .photometry import HORIZON_FLOOR, brdf_from_radiance_factor
 
 __all__ = [
     "Hapke",
@@ -200,9 +200,9 @@ def hapke_sum(
     θ̄ = 0 is the smooth surface, bracket(μ0, μ)/(μ0 + μ). The caller multiplies by w/4 (and
     K, B_CB) to get I/F/μ0.
     """
-    smooth = bracket(mu_i, mu_o) / maximum(xp, mu_i + mu_o, _TINY)
+    smooth = bracket(mu_i, mu_o) / maximum(xp, mu_i + mu_o, HORIZON_FLOOR)
     mu0e, mue, s_over_mu0 = _rough(xp, mu_i, mu_o, cos_g, theta_bar)
-    rough = mu0e / maximum(xp, mu0e + mue, _TINY) * bracket(mu0e, mue) * s_over_mu0
+    rough = mu0e / maximum(xp, mu0e + mue, HORIZON_FLOOR) * bracket(mu0e, mue) * s_over_mu0
     return xp.where(theta_bar > 0, rough, smooth)
 
 
@@ -362,7 +362,8 @@ class Hapke(Model):
         backscatters), {math}`\mu_{0e}, \mu_e` the effective cosines and S the shadowing
         function of the macroscopic roughness θ̄ (θ̄ = 0: {math}`\mu_{0e}=\mu_i`,
         {math}`\mu_e=\mu_o`, S = 1); the 1981 H-function approximation (Eq. 8.55), as ISIS. μᵢ
-        cancels in closed form; tan θ̄ is floored at 10⁻⁶.
+        cancels in closed form; tan θ̄ and μ0e + μe (both directions on the horizon) are
+        floored at 10⁻⁶.
         """
 
     def _kernel(

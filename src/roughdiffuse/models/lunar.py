@@ -27,11 +27,10 @@ from typing import Any, ClassVar
 from .._array import Array, maximum, safe_div
 from .base import Model
 from .declaration import albedo_param, param
-from .photometry import brdf_from_radiance_factor
+from .photometry import HORIZON_FLOOR, brdf_from_radiance_factor
 
 __all__ = ["LommelSeeliger", "LunarLambert"]
 
-_SUM_FLOOR = 1e-6
 
 L_MAX = 1e3
 """Largest accepted L. ISIS's ``LunarLambert`` accepts any L (its unit test takes L = 2) and
@@ -72,7 +71,7 @@ class LommelSeeliger(Model):
 
     def _kernel(self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array) -> Array:
         # I/F = (w/4) μ0/(μ0 + μ)
-        return brdf_from_radiance_factor(albedo / (4.0 * maximum(xp, mu_i + mu_o, _SUM_FLOOR)))
+        return brdf_from_radiance_factor(albedo / (4.0 * maximum(xp, mu_i + mu_o, HORIZON_FLOOR)))
 
     def directional_albedo(self, wo: Array) -> Array:
         """Closed form (w/2)(1 − μo ln(1 + 1/μo)), 0 below the horizon."""
@@ -136,5 +135,5 @@ class LunarLambert(Model):
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, limb_darkening: Array
     ) -> Array:
         # I/F = ρ [(1 − L) μ0 + 2 L μ0/(μ0 + μ)]
-        ls = safe_div(xp, 2.0, maximum(xp, mu_i + mu_o, _SUM_FLOOR))
+        ls = safe_div(xp, 2.0, maximum(xp, mu_i + mu_o, HORIZON_FLOOR))
         return brdf_from_radiance_factor(albedo * ((1.0 - limb_darkening) + limb_darkening * ls))

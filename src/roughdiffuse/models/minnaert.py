@@ -19,12 +19,9 @@ from typing import Any, ClassVar
 from .._array import Array, maximum
 from .base import Model
 from .declaration import albedo_param, param
-from .photometry import brdf_from_radiance_factor
+from .photometry import HORIZON_FLOOR, brdf_from_radiance_factor
 
 __all__ = ["Minnaert"]
-
-_MU_FLOOR = 1e-6
-"""μ^(k−1) diverges at the limb for k < 1; μ is floored here so the value stays finite."""
 
 
 class Minnaert(Model):
@@ -82,7 +79,7 @@ class Minnaert(Model):
     def _kernel(
         self, xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, albedo: Array, k: Array
     ) -> Array:
-        mi, mo = maximum(xp, mu_i, _MU_FLOOR), maximum(xp, mu_o, _MU_FLOOR)
+        mi, mo = maximum(xp, mu_i, HORIZON_FLOOR), maximum(xp, mu_o, HORIZON_FLOOR)
         # I/F / μ0 = ρ μ0^(k−1) μ^(k−1)
         return brdf_from_radiance_factor(albedo * (mi * mo) ** (k - 1.0))
 
@@ -90,6 +87,6 @@ class Minnaert(Model):
         """Closed form 2ρ μo^(k−1)/(k + 1) (μo floored at 1e-6 as in the BRDF)."""
 
         def closed(xp: Any, mu: Array, albedo: Array, k: Array) -> Array:
-            return 2.0 * albedo * maximum(xp, mu, _MU_FLOOR) ** (k - 1.0) / (k + 1.0)
+            return 2.0 * albedo * maximum(xp, mu, HORIZON_FLOOR) ** (k - 1.0) / (k + 1.0)
 
         return self._closed_form_albedo(wo, closed)

@@ -30,7 +30,12 @@ import numpy as np
 from .._array import Array
 from ..frames import angles_to_cosines, photometric_to_local
 
-__all__ = ["brdf_from_radiance_factor", "radiance_factor"]
+__all__ = ["HORIZON_FLOOR", "brdf_from_radiance_factor", "radiance_factor"]
+
+HORIZON_FLOOR = 1e-6
+"""The least value of a cosine, or sum of cosines, that a photometric formula divides by or
+raises to a negative power (Lommel–Seeliger's and Hapke's μ0 + μ, Minnaert's μ^(k−1)): on the
+horizon (θ = 90°) such a formula diverges and is evaluated at this floor instead, finite."""
 
 
 def brdf_from_radiance_factor(radf_over_mu0: Array) -> Array:

@@ -386,7 +386,7 @@ static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real
     real pg = (C(1) - hg2) * RD_F(hg)(xi, cio) + hg2 * RD_F(hg)(-xi, cio);
     real lobe = (C(1) + surge) * pg - C(1);
     if (!(theta_bar > C(0)))
-        return w / C(4) * (lobe + RD_F(hapke_h)(mi, gamma) * RD_F(hapke_h)(mo, gamma)) / fmax(mi + mo, C(1e-12)) / PI;
+        return w / C(4) * (lobe + RD_F(hapke_h)(mi, gamma) * RD_F(hapke_h)(mo, gamma)) / fmax(mi + mo, C(1e-6)) / PI;
     real tan_t = fmax(sin(theta_bar) / cos(theta_bar), C(1e-6)), cot_t = C(1) / tan_t;
     real chi = C(1) / sqrt(C(1) + PI * tan_t * tan_t);
     real sin_i = sqrt(fmax(C(1) - mi * mi, C(0))), sin_e = sqrt(fmax(C(1) - mo * mo, C(0)));
@@ -406,7 +406,7 @@ static inline real RD_F(hapke)(real mi, real mo, real cio, real w, real b0, real
     real mue = i_le_e ? chi * (mo + sin_e * tan_t * (e2e - s2 * e2i) / den_a) : chi * (mo + sin_e * tan_t * (cphi * e2i + s2 * e2e) / den_b);
     real qq = i_le_e ? chi * mi / mu0e_0 : chi * mo / mue_0;
     real s_over = mue * chi / fmax(mue_0 * mu0e_0 * (C(1) - fphi + fphi * qq), C(1e-12));
-    return w / C(4) * mu0e / fmax(mu0e + mue, C(1e-12)) * (lobe + RD_F(hapke_h)(mu0e, gamma) * RD_F(hapke_h)(mue, gamma)) * s_over / PI;
+    return w / C(4) * mu0e / fmax(mu0e + mue, C(1e-6)) * (lobe + RD_F(hapke_h)(mu0e, gamma) * RD_F(hapke_h)(mue, gamma)) * s_over / PI;
 }
 
 
