@@ -21,7 +21,16 @@ from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
 from .common import Export, error_lines, params_of, rgb_of, write_files, xml_comment_text
 
-__all__ = ["LIGHT", "MARGIN", "SIZE", "bsdf_dict", "scene_dict", "scene_xml", "write"]
+__all__ = [
+    "LIGHT",
+    "MARGIN",
+    "SIZE",
+    "bsdf_dict",
+    "orthographic_sensor",
+    "scene_dict",
+    "scene_xml",
+    "write",
+]
 
 LIGHT = (50.0, 0.0)
 """Direction towards the light, (θ, φ) in degrees."""
@@ -93,6 +102,25 @@ def _direction(theta_deg: float, phi_deg: float) -> list[float]:
     return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
 
 
+def orthographic_sensor(to_world: Any, size: int, spp: int) -> dict[str, Any]:
+    """Mitsuba's ``orthographic`` sensor as a dict: placed by ``to_world`` (a 4×4 list, or
+    a ``mi.ScalarTransform4f``), a ``size`` × ``size`` RGB film with a box filter (each
+    pixel the mean over its own area, as roughdiffuse's renderer), ``spp`` independent
+    samples per pixel. The one sensor of every Mitsuba scene roughdiffuse builds."""
+    return {
+        "type": "orthographic",
+        "to_world": to_world,
+        "film": {
+            "type": "hdrfilm",
+            "width": size,
+            "height": size,
+            "rfilter": {"type": "box"},
+            "pixel_format": "rgb",
+        },
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+
+
 def scene_dict(bsdf: dict[str, Any], size: int = SIZE, spp: int = 256) -> dict[str, Any]:
     """The scene as a dict of plain values (``to_world`` as a 4×4 list), for ``mi.load_dict``
     after ``to_world`` is wrapped: :func:`load_dict` does it."""
@@ -104,18 +132,7 @@ def scene_dict(bsdf: dict[str, Any], size: int = SIZE, spp: int = 256) -> dict[s
     return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 2},
-        "sensor": {
-            "type": "orthographic",
-            "to_world": to_world,
-            "film": {
-                "type": "hdrfilm",
-                "width": size,
-                "height": size,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": orthographic_sensor(to_world, size, spp),
         "light": {"type": "directional", "direction": [-x for x in l], "irradiance": 1.0},
         "sphere": {"type": "sphere", "bsdf": bsdf},
     }
