@@ -11,6 +11,7 @@ whole box the parameter may take (e.g. Hapke's ``h`` at ± 3e28), is *not determ
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -72,11 +73,20 @@ def _finite(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
-def result_json(model_id: str, result: FitResult) -> dict[str, Any]:
-    """A fit as JSON-safe values (``None`` for non-finite numbers): the parameters, their
-    shown standard errors and notes (:func:`error_notes`), RMS, AIC, BIC and the noise model."""
+def result_json(
+    model_id: str, result: FitResult, choices: Mapping[str, str] | None = None
+) -> dict[str, Any]:
+    """A fit as JSON-safe values (``None`` for non-finite numbers): the registry id, the
+    choices it was fitted with (``{"base": "eon"}`` for one row of ``coated``; ``{}`` when
+    none was fixed) and the row's name (:func:`~roughdiffuse.fit.compare.row_name`), the
+    parameters, their shown standard errors and notes (:func:`error_notes`), RMS, AIC, BIC
+    and the noise model."""
+    from .compare import row_name
+
     return {
         "model": model_id,
+        "choices": dict(choices or {}),
+        "label": row_name(model_id, choices),
         "names": list(result.names),
         "values": [_finite(v) for v in result.values],
         "errors": shown_errors(result),
