@@ -84,6 +84,7 @@ import numpy as np
 
 from .._validate import ParameterError, check_range
 from .cavity import Bounces, check_bounces
+from .layered_formulas import MS_MAX_EVENTS
 from .layered_formulas import build as _build_interface
 from .smith import _check_engine, check_angles
 from .smith_formulas import numpy_formulas
@@ -130,10 +131,6 @@ _I = _build_interface(
                     sqrt=np.sqrt, exp=np.exp),
     _F.smith_lambda,
 )
-
-MS_MAX_EVENTS = 1_000_000
-"""Facet events one microsurface walk traces at most, as the compiled walk's
-(:data:`~.layered_walk_numba.MS_MAX_EVENTS`; a walk still on the surface then is lost)."""
 
 
 def fresnel_dielectric(cos_t: np.ndarray, eta: float) -> np.ndarray:
@@ -758,7 +755,7 @@ def interface_reflectance(
     from inside the coat, θ measured from the inward normal) that leaves on that side again,
     by counting the walks (:func:`~.layered_walk_numba.interface_sums`). Each walk leaves on
     one side or the other with weight 1, so the transmittance is T = 1 − R (a walk still on
-    the surface after :data:`~.layered_walk_numba.MS_MAX_EVENTS` facet events would count
+    the surface after :data:`~.layered_formulas.MS_MAX_EVENTS` facet events would count
     in neither; none does). From above, R is the coat's own directional albedo E_spec(μ);
     from below it is the internal reflectance.
 
