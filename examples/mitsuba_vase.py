@@ -27,7 +27,7 @@ ALBEDO = [0.72, 0.42, 0.26]  # terracotta
 def scene(mi, bsdf: dict, size: int, spp: int) -> dict:
     """The scene as a Mitsuba dict: vase mesh, floor, light, orthographic camera (the
     sensor of roughdiffuse's own Mitsuba scenes)."""
-    from roughdiffuse.exporters.mitsuba import orthographic_sensor
+    from roughdiffuse._mitsuba_scene import orthographic_sensor
 
     light = [math.sin(math.radians(35.0)), 0.3, math.cos(math.radians(35.0))]
     view = np.array([0.0, 0.35, 1.0])

@@ -13,7 +13,8 @@ import roughdiffuse as rd
 from roughdiffuse import registry
 from roughdiffuse.cli import main
 from roughdiffuse.fit import Measurements, compare_models
-from roughdiffuse.fit.compare import Comparison, fitted_row, row_name, rows
+from roughdiffuse.fit.compare import Comparison, fitted_row, rows
+from roughdiffuse.fit.summary import row_name
 from roughdiffuse.models.coated import COAT_BASES
 
 COATED_ROWS = [f"coated base={b}" for b in COAT_BASES]

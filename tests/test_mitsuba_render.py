@@ -19,7 +19,7 @@ import pytest
 
 import roughdiffuse as rd
 from mitsuba_setup import mitsuba_variant
-from roughdiffuse.exporters.mitsuba import orthographic_sensor
+from roughdiffuse._mitsuba_scene import orthographic_sensor
 from roughdiffuse.render import DistantLight, OrthographicCamera, Sphere, direction, render
 
 SIZE = 64

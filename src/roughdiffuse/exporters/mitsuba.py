@@ -16,6 +16,7 @@ from typing import Any
 from xml.sax.saxutils import quoteattr
 
 from .. import registry
+from .._mitsuba_scene import orthographic_sensor
 from .._validate import ParameterError
 from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
@@ -26,7 +27,6 @@ __all__ = [
     "MARGIN",
     "SIZE",
     "bsdf_dict",
-    "orthographic_sensor",
     "scene_dict",
     "scene_xml",
     "write",
@@ -100,25 +100,6 @@ def _categorical(model: Model, entry: registry.Entry) -> dict[str, str]:
 def _direction(theta_deg: float, phi_deg: float) -> list[float]:
     t, p = math.radians(theta_deg), math.radians(phi_deg)
     return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
-
-
-def orthographic_sensor(to_world: Any, size: int, spp: int) -> dict[str, Any]:
-    """Mitsuba's ``orthographic`` sensor as a dict: placed by ``to_world`` (a 4×4 list, or
-    a ``mi.ScalarTransform4f``), a ``size`` × ``size`` RGB film with a box filter (each
-    pixel the mean over its own area, as roughdiffuse's renderer), ``spp`` independent
-    samples per pixel. The one sensor of every Mitsuba scene roughdiffuse builds."""
-    return {
-        "type": "orthographic",
-        "to_world": to_world,
-        "film": {
-            "type": "hdrfilm",
-            "width": size,
-            "height": size,
-            "rfilter": {"type": "box"},
-            "pixel_format": "rgb",
-        },
-        "sampler": {"type": "independent", "sample_count": spp},
-    }
 
 
 def scene_dict(bsdf: dict[str, Any], size: int = SIZE, spp: int = 256) -> dict[str, Any]:

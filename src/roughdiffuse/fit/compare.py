@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from .._validate import ParameterError
 from .measurements import Measurements
+from .summary import row_name
 
 if TYPE_CHECKING:  # least_squares imports JAX and SciPy: only when fitting
     from ..models.base import Model
@@ -29,7 +30,7 @@ if TYPE_CHECKING:  # least_squares imports JAX and SciPy: only when fitting
     from ..registry import Entry
     from .least_squares import FitResult
 
-__all__ = ["CANDIDATES", "Comparison", "compare_models", "fitted_row", "row_name", "rows"]
+__all__ = ["CANDIDATES", "Comparison", "compare_models", "fitted_row", "rows"]
 
 
 @dataclass(frozen=True)
@@ -122,12 +123,6 @@ def fitted_row(model: Model) -> tuple[str, dict[str, str]] | None:
     return model_id, choices
 
 
-def row_name(model_id: str, choices: Mapping[str, str] | None = None) -> str:
-    """The name of a ranking's row: the registry id, then each choice it was fitted with, as
-    ``--model coated --param base=eon`` fits it alone (``"coated base=eon"``)."""
-    return " ".join([model_id, *(f"{k}={v}" for k, v in (choices or {}).items())])
-
-
 def _fittable_ids() -> list[str]:
     """Registry ids of the closed-form models that JAX can trace (a simulation or a table,
     ``closed_form = False``, has no parameters to differentiate; a model with ``traceable =
@@ -165,8 +160,9 @@ class Comparison:
     Attributes
     ----------
     names : tuple of str
-        Each row's name (:func:`row_name`): the registry id, with the choice it was fitted
-        with for a model ranked per choice (``"coated base=eon"``).
+        Each row's name (:func:`~roughdiffuse.fit.summary.row_name`): the registry id,
+        with the choice it was fitted with for a model ranked per choice
+        (``"coated base=eon"``).
     results : tuple of FitResult
     ids : tuple of str
         Each row's registry id.

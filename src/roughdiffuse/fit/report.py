@@ -22,9 +22,10 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.atomic import check_output_path, write_text
-from .compare import Comparison, fitted_row, row_name
+from .compare import Comparison, fitted_row
 from .least_squares import FitResult
 from .measurements import Measurements
+from .summary import row_name
 
 __all__ = ["model_heading", "plot_fit", "plot_plane_fit", "residual_image", "write_report"]
 
@@ -42,7 +43,7 @@ def _channel(a: np.ndarray) -> np.ndarray:
 def model_heading(result: FitResult) -> str:
     """``"oren-nayar-full (Oren–Nayar full)"``: the registry id and label of a fitted model,
     its ranking row's name for a model ranked per choice (``"coated base=eon (Coated: …)"``,
-    :func:`~roughdiffuse.fit.compare.row_name`); its class name when the registry does not
+    :func:`~roughdiffuse.fit.summary.row_name`); its class name when the registry does not
     describe it."""
     from .. import registry
 

@@ -132,7 +132,7 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
 def _sensor(mi: Any, size: int, spp: int) -> dict[str, Any]:
     """An orthographic camera on +z looking down at the origin, framing [−1, 1]² plus the
     margin, ``size`` × ``size`` pixels of ``spp`` independent samples each."""
-    from ..exporters.mitsuba import orthographic_sensor
+    from .._mitsuba_scene import orthographic_sensor
 
     half = 1.0 + 2.0 * MARGIN
     to_world = mi.ScalarTransform4f().look_at(
