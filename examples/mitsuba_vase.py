@@ -25,7 +25,10 @@ ALBEDO = [0.72, 0.42, 0.26]  # terracotta
 
 
 def scene(mi, bsdf: dict, size: int, spp: int) -> dict:
-    """The scene as a Mitsuba dict: vase mesh, floor, light, orthographic camera."""
+    """The scene as a Mitsuba dict: vase mesh, floor, light, orthographic camera (the
+    sensor of roughdiffuse's own Mitsuba scenes)."""
+    from roughdiffuse._mitsuba_scene import orthographic_sensor
+
     light = [math.sin(math.radians(35.0)), 0.3, math.cos(math.radians(35.0))]
     view = np.array([0.0, 0.35, 1.0])
     view /= np.linalg.norm(view)
@@ -35,12 +38,7 @@ def scene(mi, bsdf: dict, size: int, spp: int) -> dict:
     return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 4},
-        "sensor": {
-            "type": "orthographic",
-            "to_world": to_world,
-            "film": {"type": "hdrfilm", "width": size, "height": size, "pixel_format": "rgb"},
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": orthographic_sensor(to_world, size, spp),
         "sun": {"type": "directional", "direction": [-x for x in light], "irradiance": 2.6},
         "sky": {"type": "constant", "radiance": 0.08},
         "vase": {"type": "obj", "filename": str(HERE / "vase.obj"), "bsdf": bsdf},

@@ -113,3 +113,13 @@ def test_cli_engine_name_says_which_variant_and_a_misspelt_one_gets_did_you_mean
     assert main(["convert", "--model", "eon", "--to", "untiy"]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "did you mean unity?" in err
+
+
+def test_progress_bar_counts_the_starts_and_is_off_when_asked(capsys):
+    """A bar on standard error (a conversion to a coat takes minutes): one step per start of
+    the search; none without ``progress`` (the command's default off a terminal)."""
+    convert(rd.EON(0.8, 0.5), target="eon", progress=True)
+    err = capsys.readouterr().err
+    assert "convert to eon" in err and "start" in err and "evaluations" in err
+    convert(rd.EON(0.8, 0.5), target="eon")
+    assert capsys.readouterr().err == ""

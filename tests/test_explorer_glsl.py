@@ -111,7 +111,7 @@ def _cases():
                     continue
                 seen.append(record)
                 lobe = {"torrance-sparrow": "sigma", "torrance-sparrow-beckmann": "alpha",
-                        "mix": "sigma", "coated": "roughness"}.get(entry.id)
+                        "mix": "sigma", "coated": "coat_roughness"}.get(entry.id)
                 width = float(record[lobe]) if lobe in record else 1.0
                 narrow = width < NARROW and not (entry.id == "coated" and width == 0.0)
                 out.append((entry.id, {"model": entry.id, **record}, narrow))
@@ -232,7 +232,7 @@ def test_coated_base_menu_shows_the_chosen_base_sliders(page):
     s = p.evaluate("() => window.rdExplorer.state.a")
     ti = math.radians(p.evaluate("() => window.rdExplorer.state.light.theta"))
     assert s["base"] == "eon"
-    model = rd.Coated(rd.EON(s["albedo"][1], s["base_roughness"]), s["eta"], s["roughness"],
+    model = rd.Coated(rd.EON(s["albedo"][1], s["base_roughness"]), s["eta"], s["coat_roughness"],
                       s["distribution"])
     rows = [r for r in p.evaluate("() => window.rdExplorer.tables().plane.rows")
             if r[0].startswith("A") and r[1] in (-60, 0, 40)]

@@ -22,7 +22,7 @@ from roughdiffuse.explorer.layered_truth import layered_truth
 
 def test_invisible_coat_is_the_base_in_the_plane_of_incidence(explorer_url) -> None:  # noqa: F811
     q = {"model": "coated", "albedo": "0.5,0.7,0.9", "sigma": "0.35", "eta": "1.0",
-         "roughness": "0", "distribution": "ggx", "theta_i": "30"}
+         "coat_roughness": "0", "distribution": "ggx", "theta_i": "30"}
     with urllib.request.urlopen(explorer_url.rstrip("/") + "/api/layeredtruth.json?" +
                                 "&".join(f"{k}={v}" for k, v in q.items())) as r:
         out = json.loads(r.read())
@@ -49,7 +49,7 @@ def test_bad_query_named(key: str, value: str) -> None:
 def test_the_walk_runs_over_the_chosen_base() -> None:
     """Coated over EON (the page's base menu): the invisible coat's walk is EON itself."""
     q = {"model": "coated", "base": "eon", "albedo": "0.5,0.7,0.9", "base_roughness": "0.6",
-         "eta": "1.0", "roughness": "0", "distribution": "ggx", "theta_i": "30"}
+         "eta": "1.0", "coat_roughness": "0", "distribution": "ggx", "theta_i": "30"}
     out = layered_truth(q)
     tr = np.radians(np.abs(THETA_R_DEG))
     dp = np.where(np.asarray(THETA_R_DEG) >= 0, 0.0, math.pi)

@@ -147,8 +147,9 @@ def test_on_bound_flag() -> None:
     assert r.values[0] == pytest.approx(0.8)
 
 
-@pytest.mark.slow  # two fits of every fittable model, Coated's among them (about a minute);
-# the ranking of two models is checked fast by tests/test_explorer_data.py
+@pytest.mark.slow  # two fits of every fittable model, Coated over each of its five bases
+# among them (a few minutes); the ranking of two models is checked fast by
+# tests/test_explorer_data.py
 def test_compare_models_ranks_the_true_model_first() -> None:
     on = compare_models(_noisy(rd.OrenNayar(0.7, 0.5, "full"), seed=11), noise="relative")
     assert on.best == "oren-nayar-full"

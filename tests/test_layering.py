@@ -23,7 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "roughdiffuse"
 
 FLOORS: tuple[tuple[str, frozenset[str]], ...] = (
-    ("leaves", frozenset(("_array _env _figure _lazy _validate _version deprecation frames io "
+    ("leaves", frozenset(("_array _env _figure _lazy _mitsuba_scene _validate _version "
+                          "deprecation frames io "
                           "programs progress quadrature roughness user_config")
                          .split())),  # fmt: skip
     ("engine", frozenset({"engine"})),

@@ -19,6 +19,7 @@ import pytest
 
 import roughdiffuse as rd
 from mitsuba_setup import mitsuba_variant
+from roughdiffuse._mitsuba_scene import orthographic_sensor
 from roughdiffuse.render import DistantLight, OrthographicCamera, Sphere, direction, render
 
 SIZE = 64
@@ -45,18 +46,7 @@ def _mitsuba_image(mi, bsdf: dict, light: tuple, camera: tuple, spp: int = 256) 
         {
             "type": "scene",
             "integrator": {"type": "path", "max_depth": 2},
-            "sensor": {
-                "type": "orthographic",
-                "to_world": to_world,
-                "film": {
-                    "type": "hdrfilm",
-                    "width": SIZE,
-                    "height": SIZE,
-                    "rfilter": {"type": "box"},
-                    "pixel_format": "rgb",
-                },
-                "sampler": {"type": "independent", "sample_count": spp},
-            },
+            "sensor": orthographic_sensor(to_world, SIZE, spp),
             "light": {"type": "directional", "direction": (-l).tolist(), "irradiance": 1.0},
             "sphere": {"type": "sphere", "bsdf": bsdf},
         }

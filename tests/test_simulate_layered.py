@@ -112,7 +112,6 @@ def test_seeded() -> None:
         ({"roughness": -0.1}, "roughness"),
         ({"distribution": "phong"}, "distribution"),
         ({"interface": "double"}, "interface"),
-        ({"interface": "multiple", "roughness": 0.3, "engine": "numpy"}, "interface"),
         ({"base": rd.SmithDiffuse(0.5, 0.8)}, "base"),
         ({"base": "lambert"}, "base"),
     ],

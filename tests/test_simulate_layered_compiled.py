@@ -1,8 +1,9 @@
 """The compiled layered walk (Numba) against the NumPy walk, and the traced base functions.
 
-The NumPy walk has the single-scattering interface only (``interface="single"``), so the
-engines are compared with it; the multiple-scattering interface has its own anchors
-(tests/test_simulate_layered_multiple.py). The two engines draw different random numbers,
+Both interfaces are compared: the single-scattering one, and the multiple-scattering
+microsurface walk (the NumPy walk's on arrays of walks, the compiled one path by path; it
+also has its own anchors, tests/test_simulate_layered_multiple.py). The two engines draw
+different random numbers,
 so they agree within their standard errors (|z| below a bound whose odds of being exceeded
 by correct walks are below 1e-3). The traced base functions (roughdiffuse.engine.scalar)
 are checked against the models' own NumPy evaluation and sampler at random inputs, to
@@ -25,12 +26,12 @@ Z_MAX = 4.5
 """|z| bound per value: with up to 36 values, a 4.5σ excursion of correct walks has odds < 1e-3."""
 
 
-def _agree(base, **kw) -> None:
-    ti, tr, dp = random_geometries(6, seed=11)
+def _agree(base, interface="single", geometries=6, **kw) -> None:
+    ti, tr, dp = random_geometries(geometries, seed=11)
     fc, sc = layered.brdf(ti, tr, dp, base, samples=20_000, seed=1, return_stderr=True,
-                          engine="compiled", interface="single", **kw)
+                          engine="compiled", interface=interface, **kw)
     fn, sn = layered.brdf(ti, tr, dp, base, samples=4_000, seed=2, return_stderr=True,
-                          engine="numpy", interface="single", **kw)
+                          engine="numpy", interface=interface, **kw)
     z = (fc - fn) / np.hypot(sc, sn)
     assert np.all(sc > 0) and np.max(np.abs(z)) < Z_MAX, z
 
@@ -53,11 +54,46 @@ def test_compiled_agrees_other_bases(base, kw: dict) -> None:
     _agree(base, **kw)
 
 
-def test_compiled_directional_albedo_agrees() -> None:
-    """The albedo mode (ωo drawn per path) of the two engines, rough coat, white base."""
+def test_multiple_interface_engines_agree() -> None:
+    """The multiple-scattering interface on both engines: a rough GGX coat (α = 0.6, where
+    a third of the light takes a second facet event), absorbing, over Oren–Nayar."""
+    _agree(rd.OrenNayar(0.8, 0.4, "full"), "multiple", 4, eta=1.5, roughness=0.6,
+           absorption=[0.0, 0.5])
+
+
+@pytest.mark.slow
+def test_multiple_interface_engines_agree_beckmann_dense_coat() -> None:
+    _agree(rd.EON(0.9, 0.5), "multiple", 4, eta=2.5, roughness=1.0,
+           distribution="beckmann")
+
+
+def test_numpy_multiple_interface_white_furnace() -> None:
+    """The NumPy walk's exact interface conserves energy on its own: a white Lambertian
+    base under a rough coat reflects all the light (within 4 standard errors and 1 %)."""
+    a, se = layered.directional_albedo(np.radians([0.0, 45.0, 80.0]), rd.Lambert(1.0),
+                                       eta=1.5, roughness=0.6, samples=20_000, engine="numpy",
+                                       return_stderr=True)
+    assert np.all(np.abs(a - 1.0) < np.maximum(4 * se, 0.01)), (a, se)
+
+
+@pytest.mark.slow  # the V-cavity table is loaded (about 15 s)
+def test_a_table_base_gets_the_multiple_interface() -> None:
+    """A base the compiled walk cannot run (a table) has the exact interface on the NumPy
+    walk ("auto" falls back to it, same seed, same value) instead of being refused."""
+    base = rd.VCavity(0.3, 0.8)
+    kw = dict(roughness=0.3, interface="multiple", samples=20, seed=4)
+    auto = layered.brdf(0.3, 0.3, 0.0, base, engine="auto", **kw)
+    assert auto == layered.brdf(0.3, 0.3, 0.0, base, engine="numpy", **kw) > 0
+
+
+@pytest.mark.parametrize(("interface", "albedo", "alpha"),
+                         [("single", 1.0, 0.3), ("multiple", 0.7, 0.5)])
+def test_compiled_directional_albedo_agrees(interface: str, albedo: float, alpha: float) -> None:
+    """The albedo mode (ωo drawn per path) of the two engines, rough coat; with the multiple
+    interface its own reflection scores each walk that leaves upwards."""
     theta = np.array([0.2, 1.2])
-    base = rd.OrenNayar(1.0, 0.3, "full")
-    kw = dict(eta=1.5, roughness=0.3, samples=20_000, return_stderr=True, interface="single")
+    base = rd.OrenNayar(albedo, 0.3, "full")
+    kw = dict(eta=1.5, roughness=alpha, samples=20_000, return_stderr=True, interface=interface)
     a, se = layered.directional_albedo(theta, base, engine="compiled", **kw)
     b, sb = layered.directional_albedo(theta, base, engine="numpy", seed=3, **kw)
     assert np.all(np.abs(a - b) < Z_MAX * np.hypot(se, sb)), (a, b, se, sb)

@@ -41,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="target model id (e.g. eon), or an engine's name for its default (e.g. unity)",
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
 
@@ -63,11 +64,13 @@ def target_id(name: str) -> tuple[str, str | None]:
 
 def run(args: argparse.Namespace) -> int:
     from ..fit.between_models import convert
+    from ..progress import progress_enabled
 
     target, note = target_id(args.to)
     model = model_from_args(args)
-    try:
-        result = convert(model, target=target)
+    try:  # the bar on standard error, on a terminal (a coat's conversion takes minutes)
+        result = convert(model, target=target,
+                         progress=progress_enabled() and not args.no_progress)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     if args.json:

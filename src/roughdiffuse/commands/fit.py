@@ -80,7 +80,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="fix a choice the model leaves open, e.g. --model coated --param base=eon (its "
         "numeric parameters are fitted)",
     )
-    p.add_argument("--compare", action="store_true", help="fit every model and rank them (BIC)")
+    p.add_argument(
+        "--compare",
+        action="store_true",
+        help="fit every model and rank them (BIC); coated once over each of its bases",
+    )
     p.add_argument(
         "--models",
         metavar="ID,ID,...",
@@ -339,7 +343,7 @@ def run(args: argparse.Namespace) -> int:
     if problem is not None:  # never a quiet result: refused before anything is printed
         raise UsageError(problem)
     if args.json:
-        _print_json(data, results, comparison, args.model)
+        _print_json(data, results, comparison, args.model, dict(args.param))
     else:
         if comparison is not None:
             print("models ranked by BIC (lower is better):")
@@ -378,16 +382,20 @@ def _export(model: object, exports: dict, json_out: bool) -> None:
     export_model(model, exports, say)
 
 
-def _print_json(data, results, comparison, model_id: str) -> None:  # noqa: ANN001
-    """The fit (or the ranking, best first) as :func:`roughdiffuse.fit.summary.result_json`."""
+def _print_json(data, results, comparison, model_id: str, choices: dict) -> None:  # noqa: ANN001
+    """The fit (or the ranking, best first) as :func:`roughdiffuse.fit.summary.result_json`;
+    ``choices``: those ``--param`` fixed for ``--model``."""
     import json
 
     from ..fit.summary import result_json
 
-    ids = comparison.names if comparison is not None else (model_id,)
+    if comparison is not None:
+        rows = zip(comparison.ids, comparison.choices, results, strict=True)
+    else:
+        rows = zip((model_id,), (choices,), results, strict=True)
     out = {
         "data": data.source,
         "samples": int(data.size),
-        "fits": [result_json(n, r) for n, r in zip(ids, results, strict=True)],
+        "fits": [result_json(n, r, ch) for n, ch, r in rows],
     }
     print(json.dumps(out, indent=2, ensure_ascii=False, allow_nan=False))

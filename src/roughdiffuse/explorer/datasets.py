@@ -63,7 +63,8 @@ the same subset every time), with its three channels: 12 000 residuals. Model A'
 a few seconds (the first one also compiles)."""
 
 RANK_MODELS_AT_ONCE = 4
-"""Models one ranking request may fit (the page asks for one at a time, to show progress)."""
+"""Models one ranking request may fit (the page asks for one at a time, to show progress; a
+model ranked per choice, ``coated``, is fitted once over each of its bases in its request)."""
 
 FIT_LOCK = threading.Lock()
 """One fit at a time (the machine may have 2 cores): a second request gets :class:`Busy`."""
@@ -267,10 +268,11 @@ def _model_id(model: Any) -> str:
     return model
 
 
-def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
+def fit_model(ds: Dataset, model: Any, choices: Any = None) -> dict[str, Any]:
     """Fit one registry model to the dataset (:func:`roughdiffuse.fit.fit` with its default,
     relative noise, as ``roughdiffuse fit``; the model's declared parameters and bounds, as
-    :func:`roughdiffuse.fit.compare.candidate` gives them). The result is
+    :func:`roughdiffuse.fit.compare.candidate` gives them for ``choices``, the values of the
+    slot's menus: Coated over the base chosen, as ``--param base=eon``). The result is
     :func:`roughdiffuse.fit.summary.result_json`: no standard error at a bound or where it is
     not determined. Raises :class:`Busy` when another fit runs."""
     import warnings
@@ -280,7 +282,12 @@ def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
     from ..fit.summary import result_json
 
     model_id = _model_id(model)
-    c = candidate(model_id)
+    if choices is not None and not (
+        isinstance(choices, dict)
+        and all(isinstance(k, str) and isinstance(v, str) for k, v in choices.items())
+    ):
+        raise ParameterError(f"choices must map parameter names to choices (got {choices!r})")
+    c = candidate(model_id, choices)  # a choice the model does not have: refused by name
     if not FIT_LOCK.acquire(blocking=False):
         raise Busy("a fit is already running; try again when it has finished")
     try:
@@ -290,7 +297,7 @@ def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
             r = fit(c.model, ds.data, c.params, c.bounds, fixed=c.fixed)
     finally:
         FIT_LOCK.release()
-    out = result_json(model_id, r)
+    out = result_json(model_id, r, choices)
     out.update(dataset=ds.id, fit_samples=int(ds.data.size), samples=ds.total)
     return out
 
@@ -298,8 +305,8 @@ def fit_model(ds: Dataset, model: Any) -> dict[str, Any]:
 def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     """Fit ``models`` (registry ids, at most :data:`RANK_MODELS_AT_ONCE`) and rank them by
     BIC with :func:`roughdiffuse.fit.compare_models` (relative noise, its default, as
-    ``roughdiffuse fit --compare``). Raises :class:`Busy` when another fit
-    runs."""
+    ``roughdiffuse fit --compare``): one row per fit, ``coated`` one per base (each row's
+    ``choices`` and ``label`` say which). Raises :class:`Busy` when another fit runs."""
     from ..fit.compare import compare_models
     from ..fit.summary import result_json
 
@@ -317,5 +324,8 @@ def rank_models(ds: Dataset, models: Any) -> dict[str, Any]:
     return {
         "dataset": ds.id,
         "fit_samples": int(ds.data.size),
-        "ranking": [result_json(n, r) for n, r in zip(cmp.names, cmp.results, strict=True)],
+        "ranking": [
+            result_json(n, r, ch)
+            for n, ch, r in zip(cmp.ids, cmp.choices, cmp.results, strict=True)
+        ],
     }

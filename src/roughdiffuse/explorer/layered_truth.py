@@ -20,7 +20,10 @@ import numpy as np
 
 from .._validate import ParameterError
 from .backend import THETA_R_DEG, channel_values, number, params_from_query
-from .params import model_from_params
+from .params import DEFAULTS, MODEL_STATE_KEYS, model_from_params
+
+_ALPHA = MODEL_STATE_KEYS["coated"]["roughness"]
+"""The flat key of the coat's α (its own slider on the page)."""
 
 __all__ = [
     "CHUNKS",
@@ -102,7 +105,7 @@ def _plane_of_incidence(
     base_id, albedo, sigma, base_r, eta, roughness, distribution, absorption, theta_i_deg = key
     model = model_from_params({"model": "coated", "base": base_id, "albedo": [albedo] * 3,
                                "sigma": sigma, "base_roughness": base_r, "eta": eta,
-                               "roughness": roughness, "distribution": distribution,
+                               _ALPHA: roughness, "distribution": distribution,
                                "absorption": [absorption] * 3})
     base = model.base.channel(1) if model.base.channels else model.base
     tr = np.radians(np.abs(THETA_R_DEG))
@@ -150,7 +153,7 @@ def layered_truth(
         ``theta_r`` (degrees), ``brdf`` and its ``stderr`` (1/sr), ``radiance`` (f E0 cos θi
         with E0 = π, as on the page), the parameters and a ``note`` for the page.
     """
-    params = params_from_query(q)
+    params = {**DEFAULTS, **params_from_query(q)}  # the coat's α: absent means its default
     if params["model"] != "coated":
         raise ParameterError(f"model must be 'coated' for the layered truth (got "
                              f"{params['model']!r})")
@@ -163,7 +166,7 @@ def layered_truth(
     check_cost(params["eta"], params["albedo"][1])  # before the walk: η = 1000 runs for hours
     key = (params["base"], round(params["albedo"][1], 3), round(params["sigma"], 3),
            round(params["base_roughness"], 3), round(params["eta"], 3),
-           round(params["roughness"], 3), params["distribution"],
+           round(params[_ALPHA], 3), params["distribution"],
            round(params["absorption"][1], 3), min(round(theta_i, 1), 89.9))
     f, se = _plane_of_incidence(key, still_wanted)
     base = {"lambert": "Lambert", "fujii": f"Fujii r = {key[3]:g}", "eon": f"EON r = {key[3]:g}"}

@@ -18,11 +18,25 @@ from .. import registry
 from .._validate import ParameterError
 from ..models import Model
 
-__all__ = ["DEFAULTS", "STATE_KEYS", "explorer_entries", "flat_key", "model_from_params"]
+__all__ = [
+    "DEFAULTS",
+    "MODEL_STATE_KEYS",
+    "STATE_KEYS",
+    "explorer_entries",
+    "flat_key",
+    "model_from_params",
+    "state_keys",
+]
 
 STATE_KEYS: dict[str, str] = {"limb_darkening": "limb"}
 """Declared parameter name -> the page's key for it, where the two differ (the key in the
 page's state, its URLs and the vase's query; published as ``state_keys`` in ``/api/models``)."""
+
+MODEL_STATE_KEYS: dict[str, dict[str, str]] = {"coated": {"roughness": "coat_roughness"}}
+"""Registry id -> its parameters whose name other models use for another quantity, and the
+page's key for each: a key of its own is a slider of its own, with the range, start and
+words of this model's declaration (Coated's ``roughness`` is the coat's α, not a diffuse
+base's r as EON's ``roughness`` is)."""
 
 
 def explorer_entries() -> list[registry.Entry]:
@@ -32,9 +46,17 @@ def explorer_entries() -> list[registry.Entry]:
 
 
 def flat_key(entry: registry.Entry, name: str) -> str:
-    """The key of parameter ``name`` of ``entry`` in the flat record: :data:`STATE_KEYS`,
-    else the parameter's name."""
-    return STATE_KEYS.get(name, name)
+    """The key of parameter ``name`` of ``entry`` in the flat record: the model's own
+    (:data:`MODEL_STATE_KEYS`), else :data:`STATE_KEYS`, else the parameter's name."""
+    own = MODEL_STATE_KEYS.get(entry.id, {})
+    return own[name] if name in own else STATE_KEYS.get(name, name)
+
+
+def state_keys(entry: registry.Entry) -> dict[str, str]:
+    """The keys of ``entry``'s parameters that differ from their names (``state_keys`` in
+    ``/api/models``)."""
+    keys = {p.name: flat_key(entry, p.name) for p in entry.parameters}
+    return {n: k for n, k in keys.items() if n != k}
 
 
 def _flat_defaults() -> dict[str, Any]:
@@ -59,10 +81,11 @@ def model_from_params(params: Mapping[str, Any]) -> Model:
     ----------
     params : mapping
         ``model`` (a registry id the page offers, :func:`explorer_entries`), then the model's
-        declared parameters (see ``roughdiffuse models``) under their flat keys: ``albedo``
-        (three numbers in [0, 1]), ``sigma`` (radians), ``roughness``, ``eta``, ``weight``
-        (Mix), ``limb`` (Lunar-Lambert L), ``alpha`` (Beckmann), ``distribution``, ``base``
-        and ``base_roughness`` (Coated); an alias takes its own parameters (``sigma_deg`` for
+        declared parameters (see ``roughdiffuse models``) under their flat keys
+        (:func:`flat_key`): ``albedo`` (three numbers in [0, 1]), ``sigma`` (radians),
+        ``roughness``, ``eta``, ``weight`` (Mix), ``limb`` (Lunar-Lambert L), ``alpha``
+        (Beckmann), ``distribution``, ``base``, ``base_roughness`` and ``coat_roughness``
+        (Coated's α); an alias takes its own parameters (``sigma_deg`` for
         ``pbrt3-oren-nayar``). Keys the model does not take, or does not take with the
         menus' values (Coated over EON: ``sigma``), are ignored (the page sends every
         slider); missing keys take

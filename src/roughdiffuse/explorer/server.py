@@ -30,7 +30,8 @@ and, for measured data (:mod:`roughdiffuse.explorer.datasets`; JSON answers, err
 * ``GET /api/data/slice?id=…&theta_i=…&delta_phi=…``: a MERL dataset's BRDF (RGB) along
   θr = −89°…89° at azimuth Δφ (θr > 0) and Δφ + 180° (θr < 0) from the light (the old
   name ``dphi=`` is read too).
-* ``POST /api/fit`` with ``{"dataset": id, "model": registry id}``: the fit of that model
+* ``POST /api/fit`` with ``{"dataset": id, "model": registry id, "choices": {name: value}}``
+  (``choices`` optional: the slot's menus, e.g. Coated's base): the fit of that model
   (values, standard errors, RMS, BIC) on at most
   :data:`~roughdiffuse.explorer.datasets.FIT_SAMPLES` samples.
 * ``POST /api/rank`` with ``{"dataset": id, "models": [ids]}``: those models (at most
@@ -364,7 +365,7 @@ class ExplorerHandler(BaseHTTPRequestHandler):
             return
         try:
             if path == "/api/fit":
-                out = datasets.fit_model(ds, req.get("model"))
+                out = datasets.fit_model(ds, req.get("model"), req.get("choices"))
             else:
                 out = datasets.rank_models(ds, req.get("models"))
         except datasets.Busy as exc:
@@ -470,14 +471,13 @@ def models_json() -> list[dict[str, Any]]:
     printed shader (``shader``, :func:`.shaders.shader_records`) and the page's keys of the
     parameters whose key differs from their name (``state_keys``)."""
     from .. import registry
-    from .params import STATE_KEYS
+    from .params import state_keys
     from .shaders import shader_records, with_glsl_fields
 
     shaders = shader_records()
     out = []
     for record in with_glsl_fields(registry.to_json()):
-        keys = {n: k for n, k in STATE_KEYS.items()
-                if any(p["name"] == n for p in record["parameters"])}
+        keys = state_keys(registry.get(record["id"]))
         out.append({**record, "shader": shaders.get(record["id"]), "state_keys": keys})
     return out
 

@@ -16,12 +16,21 @@ from typing import Any
 from xml.sax.saxutils import quoteattr
 
 from .. import registry
+from .._mitsuba_scene import orthographic_sensor
 from .._validate import ParameterError
 from ..integrations.mitsuba import plugin_name
 from ..models.base import Model
 from .common import Export, error_lines, params_of, rgb_of, write_files, xml_comment_text
 
-__all__ = ["LIGHT", "MARGIN", "SIZE", "bsdf_dict", "scene_dict", "scene_xml", "write"]
+__all__ = [
+    "LIGHT",
+    "MARGIN",
+    "SIZE",
+    "bsdf_dict",
+    "scene_dict",
+    "scene_xml",
+    "write",
+]
 
 LIGHT = (50.0, 0.0)
 """Direction towards the light, (θ, φ) in degrees."""
@@ -104,18 +113,7 @@ def scene_dict(bsdf: dict[str, Any], size: int = SIZE, spp: int = 256) -> dict[s
     return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 2},
-        "sensor": {
-            "type": "orthographic",
-            "to_world": to_world,
-            "film": {
-                "type": "hdrfilm",
-                "width": size,
-                "height": size,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": orthographic_sensor(to_world, size, spp),
         "light": {"type": "directional", "direction": [-x for x in l], "irradiance": 1.0},
         "sphere": {"type": "sphere", "bsdf": bsdf},
     }

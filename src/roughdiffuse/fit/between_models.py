@@ -182,6 +182,7 @@ def convert(
     n: int = 12,
     albedo_weight: float = 1.0,
     fixed: Mapping[str, Any] | None = None,
+    progress: bool = False,
 ) -> Conversion:
     """The parameters of ``target`` that best reproduce ``source``, and the difference left.
 
@@ -200,6 +201,9 @@ def convert(
         Weight of the directional-albedo residuals against those of f cos θi.
     fixed : mapping, optional
         Target parameters held at given values (not fitted).
+    progress : bool
+        Show a progress bar on standard error (:func:`roughdiffuse.progress.progress`): one
+        step per start of the least-squares search, the target's evaluations counted.
 
     Returns
     -------
@@ -215,6 +219,8 @@ def convert(
         source's), with the two values. Anything else the solver raises is a bug.
     """
     from scipy.optimize import least_squares
+
+    from ..progress import progress as progress_bar
 
     _check_inputs(source, n, albedo_weight)
     target, entry = _target_entry(target)
@@ -247,7 +253,11 @@ def convert(
 
     y_a = grid_albedo(y if channels else y[:, None])
 
+    evaluations = [0]
+
     def residual(x: np.ndarray) -> np.ndarray:
+        evaluations[0] += 1
+        bar.set_postfix_str(f"{evaluations[0]} evaluations", refresh=False)
         m = entry.create(**fixed, **unpack(x))
         with use_fastpath(False):
             f = np.asarray(m.brdf_cosines(mi, mo, cio), dtype=np.float64)
@@ -264,13 +274,15 @@ def convert(
     params_list = [p for p in colour for _ in range(reps)] + shape
     lo = np.array([_lower_bound(p) for p in params_list], dtype=float)
     hi = np.array([p.max if p.max is not None else 1e6 for p in params_list], dtype=float)
-    best = min(
-        (
-            least_squares(residual, x0, bounds=(lo, hi), xtol=1e-15, ftol=1e-15, gtol=1e-15)
-            for x0 in _starts(params_list, lo, hi)
-        ),
-        key=lambda res: res.cost,
-    )
+    starts = _starts(params_list, lo, hi)
+    fits = []
+    with progress_bar(len(starts), f"convert to {target}", unit="start",
+                      enabled=progress) as bar:
+        for x0 in starts:
+            fits.append(least_squares(residual, x0, bounds=(lo, hi), xtol=1e-15, ftol=1e-15,
+                                      gtol=1e-15))
+            bar.update(1)
+    best = min(fits, key=lambda res: res.cost)
     params = unpack(best.x)
     params = {p.name: params[p.name] for p in numeric}
     model = entry.create(**fixed, **params)

@@ -22,9 +22,10 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.atomic import check_output_path, write_text
-from .compare import Comparison
+from .compare import Comparison, fitted_row
 from .least_squares import FitResult
 from .measurements import Measurements
+from .summary import row_name
 
 __all__ = ["model_heading", "plot_fit", "plot_plane_fit", "residual_image", "write_report"]
 
@@ -40,15 +41,18 @@ def _channel(a: np.ndarray) -> np.ndarray:
 
 
 def model_heading(result: FitResult) -> str:
-    """``"oren-nayar-full (Oren–Nayar full)"``: the registry id and label of a fitted model
-    (its class name when the registry does not describe it)."""
+    """``"oren-nayar-full (Oren–Nayar full)"``: the registry id and label of a fitted model,
+    its ranking row's name for a model ranked per choice (``"coated base=eon (Coated: …)"``,
+    :func:`~roughdiffuse.fit.summary.row_name`); its class name when the registry does not
+    describe it."""
     from .. import registry
 
-    model_id = registry.id_of(result.model)
-    if model_id is None:
+    row = fitted_row(result.model)
+    if row is None:
         return result.model_name or type(result.model).__name__
-    label = registry.get(model_id).label
-    return model_id if label == model_id else f"{model_id} ({label})"
+    label = registry.get(row[0]).label
+    name = row_name(*row)
+    return name if label == row[0] else f"{name} ({label})"
 
 
 def residual_image(data: Measurements, result: FitResult) -> np.ndarray:

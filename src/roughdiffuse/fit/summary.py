@@ -11,6 +11,7 @@ whole box the parameter may take (e.g. Hapke's ``h`` at ± 3e28), is *not determ
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -25,6 +26,7 @@ __all__ = [
     "at_bound",
     "error_notes",
     "result_json",
+    "row_name",
     "shown_errors",
 ]
 
@@ -72,11 +74,23 @@ def _finite(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
-def result_json(model_id: str, result: FitResult) -> dict[str, Any]:
-    """A fit as JSON-safe values (``None`` for non-finite numbers): the parameters, their
-    shown standard errors and notes (:func:`error_notes`), RMS, AIC, BIC and the noise model."""
+def row_name(model_id: str, choices: Mapping[str, str] | None = None) -> str:
+    """The name of a fit's row in a ranking: the registry id, then each choice it was fitted
+    with, as ``--model coated --param base=eon`` fits it alone (``"coated base=eon"``)."""
+    return " ".join([model_id, *(f"{k}={v}" for k, v in (choices or {}).items())])
+
+
+def result_json(
+    model_id: str, result: FitResult, choices: Mapping[str, str] | None = None
+) -> dict[str, Any]:
+    """A fit as JSON-safe values (``None`` for non-finite numbers): the registry id, the
+    choices it was fitted with (``{"base": "eon"}`` for one row of ``coated``; ``{}`` when
+    none was fixed) and the row's name (:func:`row_name`), the parameters, their shown
+    standard errors and notes (:func:`error_notes`), RMS, AIC, BIC and the noise model."""
     return {
         "model": model_id,
+        "choices": dict(choices or {}),
+        "label": row_name(model_id, choices),
         "names": list(result.names),
         "values": [_finite(v) for v in result.values],
         "errors": shown_errors(result),

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .._mitsuba_scene import orthographic_sensor
 from ..io.atomic import atomic_open
 
 __all__ = ["render_grooves", "render_lambertian_mesh", "write_groove_ply"]
@@ -117,18 +118,7 @@ def render_lambertian_mesh(
         {
             "type": "scene",
             "integrator": {"type": "path", "max_depth": int(max_depth)},
-            "sensor": {
-                "type": "orthographic",
-                "to_world": to_world,
-                "film": {
-                    "type": "hdrfilm",
-                    "width": res,
-                    "height": res,
-                    "rfilter": {"type": "box"},
-                    "pixel_format": "rgb",
-                },
-                "sampler": {"type": "independent", "sample_count": spp},
-            },
+            "sensor": orthographic_sensor(to_world, res, spp),
             "emitter": {
                 "type": "directional",
                 "direction": (-np.asarray(wi, dtype=float)).tolist(),

@@ -46,8 +46,10 @@ towards ωo score the interface's own reflection, with the masking at the event'
 the next events' exit direction is the end of a walk from ωo that reaches the dielectric
 (weight 1, with the 1/η² above); the internal reflection is a walk from below that ends in
 the dielectric again (weight 1; a walk that leaves upwards ends the path, its light counted
-by the next events). No light is lost: the white furnace gives 1 for any α. It runs on the
-compiled walk; the NumPy walk has the single interface.
+by the next events). No light is lost: the white furnace gives 1 for any α. Both engines
+run it: the compiled walk path by path, the NumPy walk (:func:`_ms_walk`) on arrays of
+walks, with the same formulas (:mod:`.layered_formulas`, :mod:`.smith_formulas`), so that
+each checks the other and a base the compiled walk cannot run has the exact interface too.
 
 β is the irradiance on the base per unit irradiance on the layer (no lateral spreading, so
 power fractions are irradiance fractions). Every vertex's estimate is an unbiased estimate of
@@ -82,8 +84,10 @@ import numpy as np
 
 from .._validate import ParameterError, check_range
 from .cavity import Bounces, check_bounces
+from .layered_formulas import MS_MAX_EVENTS
 from .layered_formulas import build as _build_interface
 from .smith import _check_engine, check_angles
+from .smith_formulas import numpy_formulas
 from .smith_slopes import sample_visible_normals, smith_lambda
 
 __all__ = [
@@ -121,9 +125,11 @@ Mitsuba 3's ``roughdielectric``, kept to compare with them. The same for a smoot
 
 _BATCH = 1 << 16
 
+_F = numpy_formulas()
 _I = _build_interface(
     SimpleNamespace(jit=lambda f: f, where=np.where, maximum=np.maximum, minimum=np.minimum,
-                    sqrt=np.sqrt)
+                    sqrt=np.sqrt, exp=np.exp),
+    _F.smith_lambda,
 )
 
 
@@ -285,6 +291,74 @@ def _reflect_inside(w: np.ndarray, eta: float, alpha: float, dist: str, rng):
     return r / np.linalg.norm(r, axis=-1, keepdims=True), weight
 
 
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def _other_side(h: np.ndarray) -> np.ndarray:
+    """ln C1 on the other side of the surface, ln(1 − e^h) (floored at −700)."""
+    with np.errstate(divide="ignore"):
+        return np.maximum(np.log1p(-np.exp(h)), -700.0)
+
+
+def _ms_walk(w: np.ndarray, outside: bool, eta: float, alpha: float, dist: str, rng,
+             o: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """The random walk on the dielectric microsurface of Heitz, Hanika, d'Eon and
+    Dachsbacher 2016 (Sec. 5) for rays travelling along ``w`` (N, 3), all arriving from the
+    air side (``outside``) or all from the dielectric: the NumPy twin of the compiled walk's
+    :func:`~.layered_walk_numba._ms_walk`, step for step on the arrays of walks still on the
+    surface, with the same formulas (:func:`~.smith_formulas.build`'s ``height_step``,
+    the visible normals, :mod:`.layered_formulas`' ``refract_in`` and ``phase_out``).
+
+    Returns (the directions the walks leave along (N, 3), whether each leaves on the air
+    side, whether it is lost (still on the surface after :data:`MS_MAX_EVENTS` events),
+    the next-event sums (N,) towards ``o`` (N, 3, above the surface; zeros without ``o``),
+    the facet events traced).
+    """
+    n = w.shape[0]
+    ggx = dist == "ggx"
+    w = w.copy()
+    side = np.full(n, bool(outside))
+    h = np.zeros(n)
+    total = np.zeros(n)
+    lam_o = None if o is None else _F.smith_lambda(ggx, o[:, 2], alpha)
+    idx = np.arange(n)
+    events = 0
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
+        for _ in range(MS_MAX_EVENTS):
+            if idx.size == 0:
+                break
+            wa, sa = w[idx], side[idx]
+            sz = np.where(sa, wa[:, 2], -wa[:, 2])
+            escape, hn = _F.height_step(h[idx], _F.smith_lambda(ggx, sz, alpha), sz,
+                                        rng.random(idx.size))
+            h[idx] = hn
+            stay = ~escape
+            idx, wa, sa, ha = idx[stay], wa[stay], sa[stay], hn[stay]
+            if idx.size == 0:
+                break
+            events += idx.size
+            # the facet met: a visible normal of −ω on the ray's side (negated below)
+            m = sample_visible_normals(dist, np.where(sa[:, None], -wa, wa), alpha, rng)
+            m = np.where(sa[:, None], m, -m)
+            if o is not None:
+                h_air = np.where(sa, ha, _other_side(ha))
+                g1 = np.where(h_air < 0.0, np.exp(lam_o[idx] * np.minimum(h_air, 0.0)), 1.0)
+                oa = o[idx]
+                total[idx] += _I.phase_out(ggx, sa, *(-wa).T, *oa.T, eta, alpha) * g1
+            rel = np.where(sa, eta, 1.0 / eta)
+            tx, ty, tz, trans = _I.refract_in(*(-wa).T, *m.T, rel)
+            through = rng.random(idx.size) < trans
+            refl = wa - 2.0 * np.sum(wa * m, axis=-1, keepdims=True) * m
+            t = np.stack([tx, ty, tz], axis=-1)
+            w[idx] = _unit(np.where(through[:, None], t, refl))
+            side[idx] = sa ^ through
+            h[idx] = np.where(through, _other_side(ha), ha)
+    lost = np.zeros(n, dtype=bool)
+    lost[idx] = True
+    return w, side, lost, total, events
+
+
 # ---------------------------------------------------------------------------- the walk
 def _as_channels(x: Any, n: int) -> np.ndarray:
     x = np.asarray(x, dtype=np.float64)
@@ -311,20 +385,47 @@ def _base_sample(base: Any, strategy: Any, params: dict, u: np.ndarray, wo: np.n
     return w, f * ratio[:, None]
 
 
+def _ms_down(w: np.ndarray, outside: bool, eta: float, alpha: float, dist: str, rng,
+             o: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """A walk on the multiple-scattering interface (:func:`_ms_walk`) whose path goes on
+    only if it ends in the dielectric, going down (entering from above, or reflected from
+    below): (the direction, weight 1 if it does and 0 if it leaves on the air side or is
+    lost (its direction then straight down), whether it left on the air side, the
+    next-event sums, the facet events). The light of a walk that leaves upwards from below
+    is counted by the next events."""
+    d, air, lost, nee, events = _ms_walk(w, outside, eta, alpha, dist, rng, o)
+    inside = ~air & ~lost
+    d[~inside] = (0.0, 0.0, -1.0)
+    return d, inside.astype(np.float64), air & ~lost, nee, events
+
+
 def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, dist: str,
-          tau: np.ndarray, max_k: int, rng) -> tuple[np.ndarray, int]:
+          tau: np.ndarray, max_k: int, rng, ms: bool = False,
+          albedo: bool = False) -> tuple[np.ndarray, int]:
     """Per-path sums of the next-event scores (P, C) for paths with directions wi, wo (P, 3);
-    and the number of path segments (arrivals on the base) traced."""
-    d, beta = _enter(wi, eta, alpha, dist, rng)
+    and the number of path segments (arrivals on the base, and facet events with ``ms``)
+    traced. ``ms``: the multiple-scattering interface, its own reflection included (its next
+    events towards ωo, or with ``albedo`` (ωo cosine-distributed, scored π f) 1/π for a walk
+    that leaves upwards)."""
     c = max(tau.size, base.channels, 1)  # an RGB base under a grey layer: three channels
+    segments = 0
+    if ms:
+        d, beta, up, nee, ev = _ms_down(-wi, True, eta, alpha, dist, rng,
+                                         None if albedo else wo)
+        spec = up / math.pi if albedo else nee / wo[:, 2]
+        # the next events' exit: ω' (down, inside) of a walk from ωo, one per path
+        t_exit, w_exit_all, _, _, ev_exit = _ms_down(-wo, True, eta, alpha, dist, rng)
+        segments += ev + ev_exit
+    else:
+        d, beta = _enter(wi, eta, alpha, dist, rng)
+        spec = np.zeros(wi.shape[0])
+        # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
+        t_exit, w_exit_all = _enter(wo, eta, alpha, dist, rng)
     beta = beta[:, None] * np.exp(-tau[None, :] / np.abs(d[:, 2:3])) * np.ones(c)
-    # the next events' exit: ω' (up, inside) for the view ωo, one facet per path
-    t_exit, w_exit_all = _enter(wo, eta, alpha, dist, rng)
-    score = np.zeros_like(beta)
+    score = np.zeros_like(beta) + spec[:, None]
     strategy = base.sampling_strategy()
     params = base.parameter_arrays(np, np.float64)
     alive = np.flatnonzero(np.any(beta > BETA_CUT, axis=1))
-    segments = 0
     inv_eta2 = 1.0 / (eta * eta)
     for _ in range(max_k):
         if alive.size == 0:
@@ -338,7 +439,11 @@ def _walk(base: Any, wi: np.ndarray, wo: np.ndarray, eta: float, alpha: float, d
         score[alive] += b * (w_exit * inv_eta2)[:, None] * f * att
         # continue: sample the base (its own strategy), go up, reflect inside, come down
         w, wgt = _base_sample(base, strategy, params, rng.random((2, alive.size)), up_in)
-        r, refl = _reflect_inside(w, eta, alpha, dist, rng)
+        if ms:
+            r, refl, _, _, ev = _ms_down(w, False, eta, alpha, dist, rng)
+            segments += ev
+        else:
+            r, refl = _reflect_inside(w, eta, alpha, dist, rng)
         b = b * wgt * refl[:, None] * np.exp(-tau[None, :] / w[:, 2:3])
         b = b * np.exp(-tau[None, :] / np.abs(r[:, 2:3]))
         beta[alive], d[alive] = b, r
@@ -361,11 +466,11 @@ def _run(base, wi, wo, eta, alpha, dist, tau, bounces, samples, seed, engine,
     sums = None
     if engine != "numpy":
         sums = _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
-                             per_geometry_wo, required=engine == "compiled" or ms or scatters,
+                             per_geometry_wo, required=engine == "compiled" or scatters,
                              ms=ms, medium=(omega, g))
     if sums is None:
         sums = _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c,
-                          per_geometry_wo)
+                          per_geometry_wo, ms)
     sum1, sum2, segments = sums
     mean = sum1 / samples
     var = np.maximum(sum2 / samples - mean * mean, 0.0)
@@ -397,17 +502,14 @@ def _run_compiled(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, 
         raise ParameterError(
             f"a scattering medium (medium_albedo > 0) runs on the compiled walk, which cannot "
             f"run base {type(base).__name__}: {why}")
-    if required and ms:
-        raise ParameterError(
-            f"interface='multiple' runs on the compiled walk, which cannot run base "
-            f"{type(base).__name__}: {why}; use interface='single' (engine 'numpy')")
     if required:
         raise ParameterError(
             f"engine='compiled' cannot run base {type(base).__name__}: {why}; use 'numpy'")
     return None
 
 
-def _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per_geometry_wo):
+def _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per_geometry_wo,
+               ms=False):
     g = wi.shape[0]
     sum1 = np.zeros((g, c))
     sum2 = np.zeros((g, c))
@@ -425,7 +527,8 @@ def _run_numpy(base, wi, wo, eta, alpha, dist, tau, max_k, samples, seed, c, per
             o = np.stack([r * np.cos(2 * np.pi * u[:, 1]), r * np.sin(2 * np.pi * u[:, 1]),
                           np.sqrt(np.maximum(1.0 - u[:, 0], 1e-24))], axis=-1)
             scale = math.pi
-        sc, seg = _walk(base, wi[gi], o, eta, alpha, dist, tau, max_k, rng)
+        sc, seg = _walk(base, wi[gi], o, eta, alpha, dist, tau, max_k, rng, ms,
+                        not per_geometry_wo)
         segments += seg
         sc = np.broadcast_to(sc, (gi.size, c)) * scale
         for ch in range(c):
@@ -495,7 +598,7 @@ def brdf(
         multiple-scattering microsurface of Heitz et al. 2016, its own reflection estimated
         by the walk's next events (standard error included); "single", one facet event per
         crossing, its reflection Walter's eq. 20 in closed form. Alike for a smooth coat.
-        "multiple" runs on the compiled walk only (a base it can compile).
+        Both engines run both.
     samples, seed : int
         Paths per geometry and the generator's seed.
     return_stderr : bool
@@ -556,10 +659,6 @@ def _checked(base, eta, roughness, distribution, absorption, bounces, samples, e
     if interface not in INTERFACES:
         raise ParameterError(f"interface must be one of {INTERFACES} (got {interface!r})")
     ms = interface == "multiple" and alpha > 0.0
-    if ms and engine == "numpy":
-        raise ParameterError(
-            "interface='multiple' (a rough coat) runs on the compiled walk: use engine "
-            "'auto' or 'compiled', or interface='single' with engine 'numpy'")
     tau = _check_absorption(absorption)
     medium = _check_medium(medium_albedo, medium_g)
     if np.any(medium[0] > 0) and np.any(tau > 0) and engine == "numpy":
@@ -656,7 +755,7 @@ def interface_reflectance(
     from inside the coat, θ measured from the inward normal) that leaves on that side again,
     by counting the walks (:func:`~.layered_walk_numba.interface_sums`). Each walk leaves on
     one side or the other with weight 1, so the transmittance is T = 1 − R (a walk still on
-    the surface after :data:`~.layered_walk_numba.MS_MAX_EVENTS` facet events would count
+    the surface after :data:`~.layered_formulas.MS_MAX_EVENTS` facet events would count
     in neither; none does). From above, R is the coat's own directional albedo E_spec(μ);
     from below it is the internal reflectance.
 

@@ -36,7 +36,12 @@ from __future__ import annotations
 from types import SimpleNamespace
 from typing import Any
 
-__all__ = ["build"]
+__all__ = ["MS_MAX_EVENTS", "build"]
+
+MS_MAX_EVENTS = 1_000_000
+"""Facet events one walk on the microsurface traces at most, in either engine (a walk still
+on the surface then is lost: at η = 2.5, α = 1 a walk has a few events on average; none
+reaches this)."""
 
 
 def build(p: Any, smith_lambda: Any = None) -> SimpleNamespace:

@@ -40,6 +40,7 @@ from numba import prange
 
 from ..engine.numba_random import path_key, uniform
 from ..engine.scalar import PRELUDE, scalar_sources
+from .layered_formulas import MS_MAX_EVENTS
 from .layered_formulas import build as build_interface
 from .smith_walk_numba import BLOCK, FORMULAS, PRIMITIVES, visible_normal
 
@@ -56,9 +57,6 @@ _phase_out = _I.phase_out
 _smith_g1 = FORMULAS.smith_g1
 _smith_lambda = FORMULAS.smith_lambda
 _height_step = FORMULAS.height_step
-MS_MAX_EVENTS = 1_000_000
-"""Facet events one microsurface walk traces at most (a path still on the surface then is
-dropped: at η = 2.5, α = 1 a walk has a few events on average; none reaches this)."""
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 _FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}

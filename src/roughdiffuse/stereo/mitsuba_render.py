@@ -132,22 +132,13 @@ def _shape(mi: Any, shape: str, bsdf: Any) -> dict:
 def _sensor(mi: Any, size: int, spp: int) -> dict[str, Any]:
     """An orthographic camera on +z looking down at the origin, framing [−1, 1]² plus the
     margin, ``size`` × ``size`` pixels of ``spp`` independent samples each."""
+    from .._mitsuba_scene import orthographic_sensor
+
     half = 1.0 + 2.0 * MARGIN
-    return {
-        "type": "orthographic",
-        "to_world": mi.ScalarTransform4f().look_at(
-            origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
-        )
-        @ mi.ScalarTransform4f().scale([half, half, 1.0]),
-        "film": {
-            "type": "hdrfilm",
-            "width": size,
-            "height": size,
-            "rfilter": {"type": "box"},
-            "pixel_format": "rgb",
-        },
-        "sampler": {"type": "independent", "sample_count": spp},
-    }
+    to_world = mi.ScalarTransform4f().look_at(
+        origin=[0, 0, 10], target=[0, 0, 0], up=[0, 1, 0]
+    ) @ mi.ScalarTransform4f().scale([half, half, 1.0])
+    return orthographic_sensor(to_world, size, spp)
 
 
 def _light_frame(mi: Any, d: np.ndarray) -> Any:

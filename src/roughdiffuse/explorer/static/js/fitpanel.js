@@ -1,9 +1,11 @@
 // Fitting from the page: model A fitted to the loaded data on the server (POST api/fit, with
 // roughdiffuse.fit.fit), its sliders moved to the result; every registry model ranked by BIC
 // (POST api/rank, roughdiffuse.fit.compare_models), one model per request so that the table
-// grows as the fits finish and no request holds the server for long.
+// grows as the fits finish and no request holds the server for long (Coated's request fits it
+// over each of its bases: one row per base, labelled "coated base=eon").
 //
-// Interface: setupFit(hooks) with hooks {modelA() -> registry id, applyToA(updates)};
+// Interface: setupFit(hooks) with hooks {modelA() -> registry id, choicesA() -> the values of
+// its menus (Coated's base), applyToA(updates)};
 // fitA() and rank(models) return promises (the tests call them through window.rdData).
 
 import { dataset, onDataset } from "./data.js";
@@ -36,9 +38,9 @@ const fmt = (v) => (v === null ? "∞" : Math.abs(v) >= 1e4 || (Math.abs(v) < 1e
 
 /** "σ", "albedo R"… and the value in the slider's unit (degrees for an angle); no standard
  * error at a bound or where it is not determined (note from roughdiffuse.fit.summary). */
-function describe(name, value, error, note = "") {
+function describe(model, name, value, error, note = "") {
   const m = name.match(/^(\w+)(?:\[(\d)\])?$/);
-  const key = flatKey(m[1]);
+  const key = flatKey(m[1], model);
   const chan = m[2] === undefined ? "" : ` ${"RGB"[Number(m[2])]}`;
   const q = PARAMS[key];
   const deg = q && q.unit === "radians" && value !== null;
@@ -54,7 +56,7 @@ export function updatesFor(result) {
     const v = result.values[k];
     if (v === null) return;
     const m = name.match(/^(\w+)(?:\[(\d)\])?$/);
-    const key = flatKey(m[1]);
+    const key = flatKey(m[1], result.model);
     const q = PARAMS[key];
     if (!q) return;
     if (q.channels) {
@@ -76,7 +78,7 @@ export async function fitA() {
   setStatus(`fitting ${BY_KEY[model]?.short ?? model} to ${dataset.fit_samples} samples of ${dataset.name} on the server…`);
   let r;
   try {
-    r = await post("api/fit", { dataset: dataset.id, model });
+    r = await post("api/fit", { dataset: dataset.id, model, choices: hooks.choicesA() }); // the slot's menus: Coated's base
   } catch (err) {
     if (gen === generation) {
       setStatus(`no fit: ${err.message}`, true);
@@ -87,7 +89,7 @@ export async function fitA() {
   if (gen !== generation) return null;
   const rows = r.names.map((n, k) => {
     const note = r.error_notes[k];
-    const d = describe(n, r.values[k], r.errors[k], note);
+    const d = describe(r.model, n, r.values[k], r.errors[k], note);
     return `<tr data-note="${note}"><td>${d.label}</td><td>${d.text}</td><td>${note}</td></tr>`;
   });
   $("fit-table").innerHTML = `<caption>${BY_KEY[model]?.short ?? model}, fitted (± standard error, ${r.noise} noise)</caption>` + rows.join("");
@@ -112,8 +114,8 @@ export async function rank(models = null) {
     done.sort((a, b) => (a.bic ?? Infinity) - (b.bic ?? Infinity));
     const best = done.length ? done[0].bic : 0;
     table.innerHTML = "<caption>models ranked by BIC (lower is better)</caption><tr><th>#</th><th>model</th><th>ΔBIC</th><th>RMS %</th><th>parameters</th></tr>" +
-      done.map((r, k) => `<tr data-model="${r.model}"><td>${k + 1}</td><td>${r.model}</td><td>${r.bic === null ? "–" : (r.bic - best).toFixed(1)}</td>` +
-        `<td>${(100 * r.rms_relative).toPrecision(3)}</td><td>${r.names.map((n, j) => describe(n, r.values[j], r.errors[j], r.error_notes[j])).map((d) => `${d.label} ${d.text}`).join("; ")}</td></tr>`).join("");
+      done.map((r, k) => `<tr data-model="${r.model}" data-label="${r.label}"><td>${k + 1}</td><td>${r.label}</td><td>${r.bic === null ? "–" : (r.bic - best).toFixed(1)}</td>` +
+        `<td>${(100 * r.rms_relative).toPrecision(3)}</td><td>${r.names.map((n, j) => describe(r.model, n, r.values[j], r.errors[j], r.error_notes[j])).map((d) => `${d.label} ${d.text}`).join("; ")}</td></tr>`).join("");
   };
   for (const [k, id] of ids.entries()) {
     if (gen !== generation) return null;
@@ -129,15 +131,15 @@ export async function rank(models = null) {
       return null;
     }
     if (gen !== generation) return null;
-    done.push(r.ranking[0]);
+    done.push(...r.ranking); // coated: one row per base
     show();
   }
-  setStatus(`${done.length} models ranked by BIC on ${dataset.fit_samples} samples; best: ${done[0].model}.`, false, "rank-status");
+  setStatus(`${done.length} models ranked by BIC on ${dataset.fit_samples} samples; best: ${done[0].label}.`, false, "rank-status");
   document.body.dataset.rank = "done";
-  return done.map((r) => r.model);
+  return done.map((r) => r.label);
 }
 
-/** Wire the buttons; hooks: {modelA() -> id, applyToA(updates)}. */
+/** Wire the buttons; hooks: {modelA() -> id, choicesA() -> menus, applyToA(updates)}. */
 export function setupFit(h) {
   hooks = h;
   window.rdData = { ...(window.rdData ?? {}), fitA, rank };

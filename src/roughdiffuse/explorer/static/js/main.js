@@ -4,7 +4,7 @@
 import { channelValue, dataSeries, drawScatterOf, onLight, selection, setSelection, setupData, sliceCosines, sliceLabel } from "./data.js";
 import { setupFit } from "./fitpanel.js";
 import { Evaluator, SphereView, loadSources } from "./gl.js";
-import { BY_KEY, LEFT_OUT, MODELS, PARAMS, applies, baseState, defaultState, gpuParams, loadModels } from "./models.js";
+import { BY_KEY, LEFT_OUT, MODELS, PARAMS, applies, baseState, choicesOf, defaultState, gpuParams, loadModels } from "./models.js";
 import { drawCartesian, drawPolar, drawScatter } from "./plot.js";
 import { canvasBlob, download, toCsv } from "./export.js";
 import { svgCanvas } from "./svgcanvas.js";
@@ -664,6 +664,7 @@ async function start() {
   if (restored?.view) setSelection({ deltaPhi: restored.view.deltaPhi ?? restored.view.dphi, channel: restored.view.channel });
   setupFit({
     modelA: () => state.a.model,
+    choicesA: () => choicesOf(BY_KEY[state.a.model], state.a),
     applyToA: (updates) => { Object.assign(state.a, updates); writePanel("a"); refresh(); gtSoon(); },
   });
   document.addEventListener("input", gtSoon);

@@ -5,12 +5,11 @@
 // generated models.glsl and the JavaScript prepass that computes the model's parameter-only
 // values (the uniform array RDParams.h); or `server: true` (the server traces the model for
 // each parameter set and sends its GLSL: /api/shader); or `left_out` (why the page cannot
-// draw it). `state_keys`: the page's key of each parameter whose key differs from its name.
+// draw it). `state_keys`: the page's key of each parameter whose key differs from its name
+// (roughdiffuse.explorer.params.flat_key: Coated's α is `coat_roughness`, its own slider).
 
-/** Declared parameter name -> key of the page's state, where they differ (the union of the
- * models' published state_keys). */
-const FLAT_KEY = {};
-export const flatKey = (name) => FLAT_KEY[name] ?? name;
+/** The page's key of declared parameter `name` of model `model` (its published state_keys). */
+export const flatKey = (name, model) => BY_KEY[model]?.keys[name] ?? name;
 
 /** Every model of the registry the page can draw:
  * {key, label, short, uses, params, fixed, alias, shader}. */
@@ -42,8 +41,6 @@ export function setModels(records) {
   LEFT_OUT.length = 0;
   for (const k of Object.keys(BY_KEY)) delete BY_KEY[k];
   for (const k of Object.keys(PARAMS)) delete PARAMS[k];
-  for (const k of Object.keys(FLAT_KEY)) delete FLAT_KEY[k];
-  for (const r of records) Object.assign(FLAT_KEY, r.state_keys ?? {});
   for (const r of records) {
     const reason = leftOutReason(r);
     if (reason !== null) {
@@ -51,9 +48,10 @@ export function setModels(records) {
       continue;
     }
     const params = {};
-    for (const p of r.parameters) params[flatKey(p.name)] = p;
+    const keys = r.state_keys ?? {};
+    for (const p of r.parameters) params[keys[p.name] ?? p.name] = p;
     const shader = withPrepass(r.shader);
-    const m = { key: r.id, label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, fixed: r.fixed ?? {}, alias: r.alias ?? null, shader };
+    const m = { key: r.id, label: r.label, short: r.label.replace(/ \(.*\)$/, ""), uses: Object.keys(params), params, keys, fixed: r.fixed ?? {}, alias: r.alias ?? null, shader };
     MODELS.push(m);
     BY_KEY[m.key] = m;
     for (const [k, p] of Object.entries(params)) {
@@ -122,7 +120,7 @@ function valueOf(p, k, s) {
 
 /** The menus' values of state `s` for model m (its fixed ones, else the state's, else the
  * declared default). */
-function choicesOf(m, s) {
+export function choicesOf(m, s) {
   const out = {};
   for (const [k, p] of Object.entries(m.params)) {
     if (p.choices === null) continue;
@@ -185,7 +183,7 @@ export function gpuParams(s) {
 /** Whether parameter `p` of a model applies with the slot state `s`: its declaration's
  * `when` (e.g. Coated's sigma only over an Oren–Nayar base) holds for the state's menus. */
 export function applies(p, s) {
-  return !p?.when || Object.entries(p.when).every(([k, vs]) => vs.includes(s[flatKey(k)]));
+  return !p?.when || Object.entries(p.when).every(([k, vs]) => vs.includes(s[flatKey(k, s.model)]));
 }
 
 /** An alias's state (UI state or a record with radians) as its base model's record: the
@@ -211,7 +209,8 @@ export function baseState(s) {
   const declared = BY_KEY[m.alias.base].params;
   for (const name of Object.keys(out[0])) {
     const vs = out.map((o) => o[name]);
-    base[flatKey(name)] = declared[flatKey(name)]?.channels ? (vs.length === 3 ? vs : [vs[0], vs[0], vs[0]]) : vs[0];
+    const key = flatKey(name, m.alias.base);
+    base[key] = declared[key]?.channels ? (vs.length === 3 ? vs : [vs[0], vs[0], vs[0]]) : vs[0];
   }
   return base;
 }
