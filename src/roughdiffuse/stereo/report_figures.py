@@ -171,18 +171,51 @@ def single_figure(image: np.ndarray, what: str, unit: str, cmap: str = "viridis"
     return fig
 
 
+PARAMETER_UNITS = {"sigma": "radians", "alpha": "GGX α, dimensionless"}
+"""The unit of each fitted parameter's map (others: "model units")."""
+
+
+def value_and_error_figure(value: np.ndarray, se: np.ndarray | None, what: str,
+                           unit: str) -> Any:
+    """A parameter's per-pixel map and, beside it, its standard error's (each with its own
+    colour bar; the error's scale ends at its 99th percentile, so a few pixels the images
+    barely determine do not wash out the rest)."""
+    from .._figure import figure
+
+    fig = figure(figsize=(9.0, 3.6), layout="constrained")
+    axes = fig.subplots(1, 2)
+    im = axes[0].imshow(_grey(value), cmap="viridis")
+    fig.colorbar(im, ax=axes[0], label=f"{what} ({unit})")
+    axes[0].set_title(what, fontsize=9)
+    _pixel_axes(axes[0])
+    if se is None:
+        axes[1].set_axis_off()
+        return fig
+    e = _grey(se)
+    finite = e[np.isfinite(e)]
+    top = float(np.percentile(finite, 99)) if finite.size else 1.0
+    im = axes[1].imshow(np.where(np.isfinite(e), e, np.nan), cmap="magma", vmin=0.0,
+                        vmax=top if top > 0 else 1.0)
+    fig.colorbar(im, ax=axes[1], label=f"standard error of {what} ({unit})")
+    axes[1].set_title(f"standard error of {what}", fontsize=9)
+    _pixel_axes(axes[1])
+    return fig
+
+
 def report_pngs(
     data: StereoInput,
     maps: dict[str, np.ndarray],
     lambert_maps: dict[str, np.ndarray] | None,
     depth: np.ndarray,
     rough_label: str,
-    roughness_name: str | None,
+    per_pixel: list[str] | None,
 ) -> dict[str, bytes]:
     """Every picture of the report, as PNG bytes, by caption.
 
     With ``lambert_maps=None``, ``maps`` is Lambertian photometric stereo alone: each map
-    is drawn once, with no rough model beside it.
+    is drawn once, with no rough model beside it. ``per_pixel`` names the parameters fitted
+    per pixel (``sigma``, ``alpha``...): each is drawn beside its standard error
+    (``maps[name + "_se"]``).
     """
     from .._figure import release
 
@@ -201,10 +234,10 @@ def report_pngs(
         figs["relative RMS residual (one scale for both)"] = pair_figure(
             maps["residual"], lambert_maps["residual"], "relative RMS residual",
             "fraction of the data", rough_label, cmap="magma")
-    if roughness_name and roughness_name in maps:
-        unit = "radians" if roughness_name in ("sigma", "alpha") else "model units"
-        figs[f"{roughness_name} per pixel"] = single_figure(maps[roughness_name],
-                                                            roughness_name, unit)
+    for name in per_pixel or ():
+        if name in maps:
+            figs[f"{name} per pixel, with its standard error"] = value_and_error_figure(
+                maps[name], maps.get(f"{name}_se"), name, PARAMETER_UNITS.get(name, "model units"))
     if "normal_se_deg" in maps:
         figs["normal standard error"] = single_figure(maps["normal_se_deg"],
                                                       "normal standard error", "degrees", "magma")
