@@ -191,6 +191,8 @@ def run_benchmark(
 
     names = list(METHODS) if methods is None else list(methods)
     objects = benchmark_objects(folder)
+    if "coated" in names:
+        _check_coated_lights(objects)
     errors: dict[str, dict[str, float]] = {m: {} for m in names}
     failed: dict[str, dict[str, int]] = {m: {} for m in names}
     result = BenchmarkResult([o for o, _ in objects], names, errors, failed)
@@ -218,6 +220,22 @@ def run_benchmark(
             if keep_details:
                 result.details[obj] = (data, truth, results)
     return result
+
+
+def _check_coated_lights(objects: list[tuple[str, Path]]) -> None:
+    """Refuse, before any work, an object with fewer images (lines of ``filenames.txt``) than
+    the coated model's parameters per pixel (:func:`.coated.parameter_count`)."""
+    from .coated import parameter_count
+
+    need = parameter_count()
+    for name, path in objects:
+        lines = (path / "filenames.txt").read_text(errors="replace").splitlines()
+        count = sum(1 for line in lines if line.strip())
+        if count < need:
+            raise ParameterError(
+                f"--benchmark: the coated method fits {need} parameters per pixel (normal 2, "
+                f"albedo, σ, coat α): object {name} has {count} images, it needs at least {need}"
+            )
 
 
 def write_benchmark(folder: str | os.PathLike[str], result: BenchmarkResult) -> None:
