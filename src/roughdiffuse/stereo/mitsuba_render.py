@@ -2,12 +2,22 @@
 
 The object (a sphere, the clay vase of :func:`roughdiffuse.render.clay_vase_profile` as a
 triangle mesh, or the lumpy blob of :func:`blob_mesh`, which shadows itself) is rendered by
-Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light and cast shadows, as
-photometric stereo models them), under each distant light in turn, seen by an orthographic
-camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is any Mitsuba BSDF,
-roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar", "variant": "full",
-"sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own ``aov`` integrator
-(``sh_normal``), averaged over each pixel.
+Mitsuba's ``direct`` integrator (direct light and cast shadows, as photometric stereo models
+them: one shadow ray towards the light per sample; no BSDF sampling, which can never reach a
+distant light, a delta: the images are those of the ``path`` integrator with ``max_depth`` 2),
+under each distant light in turn, seen by an orthographic camera along −z (x right, y up,
+the frame of :mod:`.inputs`).
+
+One scene serves every light: the light's transform is a scene parameter, changed by
+``mi.traverse`` between images, so Dr.Jit compiles the render's kernel once and finds it in
+its cache for the other lights. A BSDF written in Python (roughdiffuse's plugins) is traced
+again by each ``mi.render`` call, and that tracing is most of an image's time for a large
+model such as the coated one (``bench/RESULTS.md``, "Mitsuba renders of the coated plugin").
+
+Its BSDF is any Mitsuba BSDF, roughdiffuse's plugins included
+(``{"type": "roughdiffuse_oren_nayar", "variant": "full", "sigma": 0.3, "albedo": 0.7}``).
+The true normals come from Mitsuba's own ``aov`` integrator (``sh_normal``), averaged over
+each pixel.
 
 Mitsuba is an optional dependency: ``pip install mitsuba``. Its ``llvm`` variants need libLLVM
 (see :mod:`roughdiffuse.integrations.mitsuba`). The caller's variant is restored afterwards.
@@ -166,6 +176,7 @@ def render_mitsuba(
     spp: int = 64,
     variant: str = "llvm_ad_rgb",
     seed: int = 0,
+    progress: bool | None = None,
 ) -> tuple[StereoInput, np.ndarray]:
     """Render ``shape`` under each light of ``directions`` with Mitsuba 3.
 
@@ -183,6 +194,10 @@ def render_mitsuba(
         Samples per pixel (Monte Carlo noise falls as 1/√spp).
     variant : str
         Mitsuba variant.
+    seed : int
+        Seed of the first image's samples (image k: ``seed + k``).
+    progress : bool, optional
+        A progress bar over the lights (default: when standard error is a terminal).
 
     Returns
     -------
@@ -196,6 +211,7 @@ def render_mitsuba(
 
     from ..integrations.drjit_llvm import require_llvm
     from ..integrations.mitsuba import register
+    from ..progress import progress as bar
 
     require_llvm(variant)  # before any kernel: an old libLLVM aborts the process there
     previous = mi.variant()
@@ -210,7 +226,7 @@ def render_mitsuba(
         scene = mi.load_dict(
             {
                 "type": "scene",
-                "integrator": {"type": "path", "max_depth": 2},
+                "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
                 "sensor": sensor,
                 "light": {"type": "directional", "direction": [0, 0, -1], "irradiance": 1.0},
                 "object": obj,
@@ -218,10 +234,13 @@ def render_mitsuba(
         )
         # one scene, its light turned for each image: Dr.Jit reuses the compiled kernels
         params = mi.traverse(scene)
-        for k, d in enumerate(dirs):
-            params["light.to_world"] = _light_frame(mi, d)
-            params.update()
-            images.append(np.array(mi.render(scene, seed=seed + k), dtype=np.float64).mean(axis=-1))
+        with bar(len(dirs), "Mitsuba renders", unit="image", enabled=progress) as b:
+            for k, d in enumerate(dirs):
+                params["light.to_world"] = _light_frame(mi, d)
+                params.update()
+                image = mi.render(scene, seed=seed + k)
+                images.append(np.array(image, dtype=np.float64).mean(axis=-1))
+                b.update(1)
         aov = mi.load_dict(
             {
                 "type": "scene",
