@@ -4,8 +4,8 @@ Every object folder ``<renders>/pmsData/<shape>-<material>PNG`` written by
 ``scripts/stereo_renders.py`` (a sphere, a lumpy blob and a vase; full Oren–Nayar ρ 0.6,
 σ 0.4, bare (``matte``), under a coat of η 1.5 and GGX α 0.1 or 0.3 (``coat01``,
 ``coat03``), or with an aluminium GGX lobe (``metal``); 96 lights, 1 % noise, 12 bits) is
-solved by Lambertian least squares, by the robust Lambertian solvers when
-:mod:`roughdiffuse.stereo.robust` is there, by the rough fit (full Oren–Nayar, one σ) and by
+solved by Lambertian least squares, by the robust Lambertian solvers (``l1``, ``sparse``,
+``rpca`` of :mod:`roughdiffuse.stereo.robust`), by the rough fit (full Oren–Nayar, one σ) and by
 the coated fit (its start, the rough fit, included in its time). The table gives the mean
 angular error against ``Normal_gt.mat`` and the fitted σ and α with their standard errors;
 speed is seconds per megapixel of object pixels with 96 lights, warm (a second call on the
@@ -16,9 +16,8 @@ first coated object), as a ratio to the Lambertian solve timed in the same run. 
     python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders [--write FILE]
     python bench/stereo_coated.py --renders /tmp/renders [--write]  # bench/RESULTS.md
 
-The coats are Mitsuba's ``roughplastic`` (Lambertian base, σ = 0): the roughdiffuse plugin
-of ``Coated`` renders too slowly for 96 lights (see the script). Targets: coated ≤ 1.0° on
-the α = 0.3 sphere and ≤ 2° on the α = 0.3 mesh (blob), below every
+The coats are roughdiffuse's coated Oren–Nayar (its Mitsuba plugin; base σ 0.4). Targets:
+coated ≤ 1.0° on the α = 0.3 sphere and ≤ 2° on the α = 0.3 mesh (blob), below every
 Lambertian solver and the rough fit on the coated objects, no worse than the rough fit on the
 matte ones, σ within its error bars, ≤ 60 s per megapixel on 2 cores.
 """
@@ -42,9 +41,9 @@ END = "<!-- stereo-coated:end -->"
 HEADING = "## Coated photometric stereo"
 
 ROBUST = ("l1", "sparse", "rpca")
-TRUE_SIGMA = {"matte": 0.4, "coat01": 0.0, "coat03": 0.0}
-"""σ of each material's base: full Oren–Nayar for ``matte``; the coats (Mitsuba's
-``roughplastic``) have a Lambertian base. The ``metal`` blend has no σ."""
+TRUE_SIGMA = {"matte": 0.4, "coat01": 0.4, "coat03": 0.4}
+"""σ of each material's base: full Oren–Nayar, bare (``matte``) or under the coats
+(roughdiffuse's ``roughdiffuse_coated`` plugin). The ``metal`` blend has no σ."""
 TRUE_ALPHA = {"coat01": 0.1, "coat03": 0.3}
 
 
@@ -202,7 +201,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         f"{load:.1f}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}): Mitsuba renders "
         f"of `scripts/stereo_renders.py`, {data.count} lights, {data.images.shape[2]}² pixels; "
         "mean angular error against the true normals; σ and α with their standard errors "
-        "(truth: σ 0.4 for matte, 0 for the coats' Lambertian base; α in brackets; α nan: "
+        "(truth: σ 0.4, the base of every material but metal; α in brackets; α nan: "
         "the coat did not lower the residual and the result is the rough fit's). "
         + ("" if robust else "The robust solvers (`roughdiffuse.stereo.robust`) were absent."),
         "",
