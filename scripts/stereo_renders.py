@@ -4,7 +4,8 @@ Three shapes (a sphere, the lumpy blob of :func:`roughdiffuse.stereo.mitsuba_ren
 which shadows itself, the clay vase) in four materials, each under the 96 lights of
 :func:`roughdiffuse.stereo.diligent.diligent_lights` (DiLiGenT's pattern, approximated),
 1 % signal-relative noise and 12-bit quantisation (:func:`roughdiffuse.stereo.diligent.
-write_diligent`), one ``pmsData/<shape>-<material>PNG/`` folder each:
+write_diligent`), one ``pmsData/<shape>-<material>PNG/`` folder each, the materials of
+:data:`roughdiffuse.stereo.mitsuba_render.MATERIALS`:
 
 * ``matte``: full Oren–Nayar, ρ = 0.6, σ = 0.4 (roughdiffuse's Mitsuba plugin);
 * ``coat01`` and ``coat03``: the coated Oren–Nayar of ``--model coated`` itself
@@ -36,24 +37,6 @@ from pathlib import Path
 
 SHAPES = ("sphere", "blob", "vase")
 
-BASE = {"albedo": 0.6, "sigma": 0.4}
-"""The matte material (full Oren–Nayar); the coats' and the metal's bases have its albedo."""
-
-MATERIALS: dict[str, dict] = {
-    "matte": {"type": "roughdiffuse_oren_nayar", "variant": "full", **BASE},
-    "coat01": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **BASE, "eta": 1.5,
-               "roughness": 0.1, "distribution": "ggx"},
-    "coat03": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **BASE, "eta": 1.5,
-               "roughness": 0.3, "distribution": "ggx"},
-    "metal": {
-        "type": "blendbsdf",
-        "weight": 0.25,
-        "bsdf_0": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.6}},
-        "bsdf_1": {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2, "material": "Al"},
-    },
-}
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", help="folder to write pmsData/ into")
@@ -62,7 +45,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--only", help="comma-separated <shape>-<material> names")
     args = parser.parse_args(argv)
     from roughdiffuse.stereo.diligent import diligent_lights, write_diligent
-    from roughdiffuse.stereo.mitsuba_render import render_mitsuba
+    from roughdiffuse.stereo.mitsuba_render import MATERIALS, render_mitsuba
 
     wanted = set(args.only.split(",")) if args.only else None
     lights = diligent_lights()

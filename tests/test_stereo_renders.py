@@ -1,5 +1,6 @@
 """The photometric-stereo renders of ``scripts/stereo_renders.py``: a coated sphere rendered by
-Mitsuba 3 holds, in each pixel, the coated model's value averaged over the pixel's footprint.
+Mitsuba 3 in its ``coat03`` material holds, in each pixel, the coated model's value averaged
+over the pixel's footprint.
 
 The reference is made here without Mitsuba: the orthographic camera's framing
 (:data:`roughdiffuse.stereo.mitsuba_render.MARGIN`) places each pixel on the unit sphere, a
@@ -11,9 +12,6 @@ deviation of the values over the pixel divided by √spp.
 
 from __future__ import annotations
 
-import runpy
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -22,7 +20,6 @@ import roughdiffuse as rd
 pytest.importorskip("mitsuba", reason="Mitsuba 3 is an optional extra (pip install mitsuba)")
 from mitsuba_setup import mitsuba_variant  # noqa: E402
 
-SCRIPT = Path(__file__).resolve().parent.parent / "scripts" / "stereo_renders.py"
 SIZE, SPP, GRID = 12, 64, 24
 
 
@@ -46,11 +43,10 @@ def _reference(model, light: np.ndarray, size: int) -> tuple[np.ndarray, np.ndar
 
 @pytest.mark.slow
 def test_coated_render_holds_the_coated_model():
-    from roughdiffuse.stereo.mitsuba_render import render_mitsuba
+    from roughdiffuse.stereo.mitsuba_render import MATERIALS, render_mitsuba
 
     mitsuba_variant("llvm_ad_rgb")
-    materials = runpy.run_path(str(SCRIPT))["MATERIALS"]
-    spec = dict(materials["coat03"])
+    spec = dict(MATERIALS["coat03"])
     truth = rd.Coated(rd.OrenNayar(0.6, 0.4, "full"), 1.5, 0.3)  # the script's coat03
     assert spec["type"] == "roughdiffuse_coated" and spec["sigma"] == 0.4
     lights = np.array([[0.0, 0.0, 1.0], [0.5, 0.3, 0.81], [-0.6, 0.2, 0.77]])

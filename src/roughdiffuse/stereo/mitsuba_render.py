@@ -33,10 +33,39 @@ import numpy as np
 from .._validate import ParameterError
 from .inputs import StereoInput
 
-__all__ = ["blob_mesh", "render_mitsuba", "vase_mesh"]
+__all__ = ["MATERIALS", "RENDER_BASE", "blob_mesh", "render_mitsuba", "vase_mesh"]
+
+INTEGRATORS: dict[str, dict[str, Any]] = {
+    "direct": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
+    "path": {"type": "path", "max_depth": 2},
+}
+"""The Mitsuba integrators :func:`render_mitsuba` takes: both give the direct light of one
+distant light with cast shadows."""
 
 MARGIN = 0.04
 """Frame margin around the object, as :class:`roughdiffuse.render.OrthographicCamera`."""
+
+
+RENDER_BASE = {"albedo": 0.6, "sigma": 0.4}
+"""The matte material (full Oren–Nayar); the coats' and the metal's bases have its albedo."""
+
+MATERIALS: dict[str, dict[str, Any]] = {
+    "matte": {"type": "roughdiffuse_oren_nayar", "variant": "full", **RENDER_BASE},
+    "coat01": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **RENDER_BASE,
+               "eta": 1.5, "roughness": 0.1, "distribution": "ggx"},
+    "coat03": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **RENDER_BASE,
+               "eta": 1.5, "roughness": 0.3, "distribution": "ggx"},
+    "metal": {
+        "type": "blendbsdf",
+        "weight": 0.25,
+        "bsdf_0": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.6}},
+        "bsdf_1": {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2, "material": "Al"},
+    },
+}
+"""The materials of ``scripts/stereo_renders.py`` (Mitsuba BSDF descriptions by name):
+``matte`` the full Oren–Nayar plugin; ``coat01`` and ``coat03`` the coated plugin, a coat of
+η 1.5 and GGX α 0.1 or 0.3 over the matte material; ``metal`` Mitsuba's blend of a
+Lambertian ``diffuse`` (weight 0.75) and an aluminium GGX ``roughconductor`` (α 0.2)."""
 
 
 def vase_mesh(heights: int = 96, around: int = 128) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -177,6 +206,7 @@ def render_mitsuba(
     variant: str = "llvm_ad_rgb",
     seed: int = 0,
     progress: bool | None = None,
+    integrator: str = "direct",
 ) -> tuple[StereoInput, np.ndarray]:
     """Render ``shape`` under each light of ``directions`` with Mitsuba 3.
 
@@ -198,6 +228,10 @@ def render_mitsuba(
         Seed of the first image's samples (image k: ``seed + k``).
     progress : bool, optional
         A progress bar over the lights (default: when standard error is a terminal).
+    integrator : {"direct", "path"}
+        Mitsuba's ``direct`` integrator without BSDF sampling, or its ``path`` integrator
+        with ``max_depth`` 2, which also samples the BSDF (it can never reach the light):
+        the same images by other random numbers, the BSDF traced and run twice.
 
     Returns
     -------
@@ -213,6 +247,10 @@ def render_mitsuba(
     from ..integrations.mitsuba import register
     from ..progress import progress as bar
 
+    if integrator not in INTEGRATORS:
+        raise ParameterError(
+            f"integrator must be one of {', '.join(map(repr, INTEGRATORS))} (got {integrator!r})"
+        )
     require_llvm(variant)  # before any kernel: an old libLLVM aborts the process there
     previous = mi.variant()
     mi.set_variant(variant)
@@ -226,7 +264,7 @@ def render_mitsuba(
         scene = mi.load_dict(
             {
                 "type": "scene",
-                "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
+                "integrator": INTEGRATORS[integrator],
                 "sensor": sensor,
                 "light": {"type": "directional", "direction": [0, 0, -1], "irradiance": 1.0},
                 "object": obj,
