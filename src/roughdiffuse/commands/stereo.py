@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
     from ..io import atomic_folder
 
     model_id = args.model or DEFAULT_MODEL
-    key = "rough" if model_id == DEFAULT_MODEL else f"rough ({model_id})"
+    key = {DEFAULT_MODEL: "rough", COATED: "coated"}.get(model_id, f"rough ({model_id})")
     methods = {"lambertian": lam, key: res, **methods}
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
         params = stereo.write_outputs(

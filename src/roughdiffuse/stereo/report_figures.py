@@ -133,7 +133,7 @@ def normals_figure(rough: np.ndarray, lambert: np.ndarray, rough_label: str) -> 
     angle = np.where(valid, np.degrees(np.arccos(dot)), np.nan)
     im = axes[3].imshow(angle, cmap="magma", vmin=0.0)
     fig.colorbar(im, ax=axes[3], label="angle between the two (degrees)")
-    axes[3].set_title("rough against Lambertian normals", fontsize=9)
+    axes[3].set_title(f"{rough_label} against Lambertian normals", fontsize=9)
     _pixel_axes(axes[3])
     return fig
 
@@ -230,7 +230,7 @@ def report_pngs(
         figs["normals"] = normals_figure(maps["normals"], lambert_maps["normals"], rough_label)
         figs["albedo (one scale for both)"] = pair_figure(
             maps["albedo"], lambert_maps["albedo"], "albedo", "fraction", rough_label,
-            cmap="gray")
+            cmap="gray", top=1.0)  # a fraction: an even albedo is grey, not the scale's end
         figs["relative RMS residual (one scale for both)"] = pair_figure(
             maps["residual"], lambert_maps["residual"], "relative RMS residual",
             "fraction of the data", rough_label, cmap="magma")
