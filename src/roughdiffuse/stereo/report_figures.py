@@ -178,8 +178,9 @@ PARAMETER_UNITS = {"sigma": "radians", "alpha": "GGX α, dimensionless"}
 def value_and_error_figure(value: np.ndarray, se: np.ndarray | None, what: str,
                            unit: str) -> Any:
     """A parameter's per-pixel map and, beside it, its standard error's (each with its own
-    colour bar; the error's scale ends at its 99th percentile, so a few pixels the images
-    barely determine do not wash out the rest)."""
+    colour bar; the error's scale ends at its 99th percentile or 10 times its median,
+    whichever is lower, so the pixels the images barely determine, whose errors can be
+    10¹² times the others', do not wash out the rest: they show at the scale's end)."""
     from .._figure import figure
 
     fig = figure(figsize=(9.0, 3.6), layout="constrained")
@@ -193,10 +194,12 @@ def value_and_error_figure(value: np.ndarray, se: np.ndarray | None, what: str,
         return fig
     e = _grey(se)
     finite = e[np.isfinite(e)]
-    top = float(np.percentile(finite, 99)) if finite.size else 1.0
-    im = axes[1].imshow(np.where(np.isfinite(e), e, np.nan), cmap="magma", vmin=0.0,
-                        vmax=top if top > 0 else 1.0)
-    fig.colorbar(im, ax=axes[1], label=f"standard error of {what} ({unit})")
+    top = (min(float(np.percentile(finite, 99)), 10.0 * float(np.median(finite)))
+           if finite.size else 1.0)
+    top = top if top > 0 else 1.0
+    shown = np.where(np.isnan(e), np.nan, np.minimum(e, 2.0 * top))  # ∞: the scale's end
+    im = axes[1].imshow(shown, cmap="magma", vmin=0.0, vmax=top)
+    fig.colorbar(im, ax=axes[1], label=f"standard error of {what} ({unit})", extend="max")
     axes[1].set_title(f"standard error of {what}", fontsize=9)
     _pixel_axes(axes[1])
     return fig
