@@ -4,23 +4,23 @@ Three shapes (a sphere, the lumpy blob of :func:`roughdiffuse.stereo.mitsuba_ren
 which shadows itself, the clay vase) in four materials, each under the 96 lights of
 :func:`roughdiffuse.stereo.diligent.diligent_lights` (DiLiGenT's pattern, approximated),
 1 % signal-relative noise and 12-bit quantisation (:func:`roughdiffuse.stereo.diligent.
-write_diligent`), one ``pmsData/<shape>-<material>PNG/`` folder each:
+write_diligent`), one ``pmsData/<shape>-<material>PNG/`` folder each, the materials of
+:data:`roughdiffuse.stereo.mitsuba_render.MATERIALS`:
 
 * ``matte``: full Oren–Nayar, ρ = 0.6, σ = 0.4 (roughdiffuse's Mitsuba plugin);
-* ``coat01`` and ``coat03``: Mitsuba's own ``roughplastic`` (a dielectric coat of η = 1.5 and
-  GGX α = 0.1 or 0.3 over a Lambertian base of ρ = 0.6, its internal reflections included,
-  ``nonlinear``). roughdiffuse's ``roughdiffuse_coated`` plugin renders the model that
-  ``--model coated`` fits, but as a Python plugin traced by Dr.Jit it took 10–30 s per image
-  here (its kernel, with the coat's quadrature rules, is large), hours for the set;
-  ``roughplastic`` is compiled C++, and a coat that is not roughdiffuse's formula. Its base
-  is Lambertian: the fitted σ should be 0;
+* ``coat01`` and ``coat03``: the coated Oren–Nayar of ``--model coated`` itself
+  (roughdiffuse's ``roughdiffuse_coated`` plugin): a dielectric coat of η = 1.5 and GGX
+  α = 0.1 or 0.3 over the matte material (full Oren–Nayar, ρ = 0.6, σ = 0.4), so the fit's
+  σ and α have a truth (its speed: ``bench/RESULTS.md``, "Mitsuba renders of the coated
+  plugin");
 * ``metal``: Mitsuba's own ``blendbsdf`` of a Lambertian ``diffuse`` (ρ = 0.6, weight 0.75)
   and a GGX ``roughconductor`` (aluminium, α = 0.2, weight 0.25): a specular lobe that no
   roughdiffuse model is, for every fit.
 
 Mitsuba's ``llvm_ad_rgb`` variant on the CPU (its ``scalar_rgb`` cannot build the meshes from
-arrays); 4 samples per pixel (a directional light is sampled exactly: the samples only
-average over a pixel's footprint). The renders are generated, never committed::
+arrays), its ``direct`` integrator (:func:`roughdiffuse.stereo.mitsuba_render.render_mitsuba`);
+4 samples per pixel (a directional light is sampled exactly: the samples only average over
+a pixel's footprint). The renders are generated, never committed::
 
     python scripts/stereo_renders.py OUT [--size 128] [--only sphere-coat03,...]
 
@@ -37,26 +37,6 @@ from pathlib import Path
 
 SHAPES = ("sphere", "blob", "vase")
 
-BASE = {"albedo": 0.6, "sigma": 0.4}
-"""The matte material (full Oren–Nayar); the coats' and the metal's bases have its albedo."""
-
-MATERIALS: dict[str, dict] = {
-    "matte": {"type": "roughdiffuse_oren_nayar", "variant": "full", **BASE},
-    "coat01": {"type": "roughplastic", "distribution": "ggx", "alpha": 0.1, "int_ior": 1.5,
-               "ext_ior": 1.0, "nonlinear": True,
-               "diffuse_reflectance": {"type": "rgb", "value": BASE["albedo"]}},
-    "coat03": {"type": "roughplastic", "distribution": "ggx", "alpha": 0.3, "int_ior": 1.5,
-               "ext_ior": 1.0, "nonlinear": True,
-               "diffuse_reflectance": {"type": "rgb", "value": BASE["albedo"]}},
-    "metal": {
-        "type": "blendbsdf",
-        "weight": 0.25,
-        "bsdf_0": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.6}},
-        "bsdf_1": {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2, "material": "Al"},
-    },
-}
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", help="folder to write pmsData/ into")
@@ -65,7 +45,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--only", help="comma-separated <shape>-<material> names")
     args = parser.parse_args(argv)
     from roughdiffuse.stereo.diligent import diligent_lights, write_diligent
-    from roughdiffuse.stereo.mitsuba_render import render_mitsuba
+    from roughdiffuse.stereo.mitsuba_render import MATERIALS, render_mitsuba
 
     wanted = set(args.only.split(",")) if args.only else None
     lights = diligent_lights()

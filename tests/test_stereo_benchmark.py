@@ -189,3 +189,12 @@ def test_a_mask_of_another_size(tmp_path):
     Image.fromarray(np.full((9, 8), 255, np.uint8)).save(
         tmp_path / "pmsData" / "ballPNG" / "mask.png")
     _refused(tmp_path, tmp_path, "mask.png", "8x9", "8x8")
+
+
+def test_fewer_lights_than_the_coated_parameters(tmp_path):
+    write_folder(tmp_path, {"ball": (8, 8, 0.5)})
+    d = tmp_path / "pmsData" / "ballPNG"
+    (d / "filenames.txt").write_text("001.png\n002.png\n003.png\n004.png\n")
+    np.savetxt(d / "light_directions.txt", LIGHTS[:4])
+    np.savetxt(d / "light_intensities.txt", E0[:4])
+    _refused(tmp_path, tmp_path, "coated", "ball has 4 images", "at least 5")

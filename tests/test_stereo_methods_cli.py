@@ -74,6 +74,8 @@ def test_method_l1_writes_the_robust_normals_and_its_rejections(scene, tmp_path,
         (["--method", "l1", "--model", "oren-nayar-full"], "--model applies only to"),
         (["--method", "sparse", "--per-pixel"], "--per-pixel applies only to --method rough"),
         (["--model", "lambert", "--method", "rpca"], "--model lambert is --method lambertian"),
+        (["--method", "coated", "--model", "oren-nayar-full"],
+         "--method coated fits the coated model"),
         (["--method", "l2"], "invalid choice"),
     ],
 )

@@ -155,7 +155,11 @@ RULES: dict[str, tuple[Conflict | AppliesOnly, ...]] = {
         Conflict("--benchmark", "--mask", "a DiLiGenT folder holds its own masks"),
         Conflict("--benchmark", "--method", "--benchmark runs every method"),
         Conflict("--benchmark", "--model", "--benchmark runs every method"),
-        AppliesOnly(("--per-pixel",), lambda a: a.method in (None, "rough"), "--method rough"),
+        AppliesOnly(
+            ("--per-pixel",),
+            lambda a: a.method in (None, "rough", "coated"),
+            "--method rough or coated",
+        ),
     ),
     "figures": (),
 }

@@ -35,7 +35,8 @@ leaves dark observations out before their fit. --benchmark DIR runs every method
 object of a DiLiGenT-format folder (pmsData/<object>PNG/ with Normal_gt.mat) and writes the
 mean angular error table (benchmark.md, .csv, .json) and report.html.
 --model coated fits a dielectric coat (index --eta, fitted roughness α) over a full Oren–Nayar
-base: highlights are modelled, shadows found from the fitted shape; it needs at least 5 lights.
+base: highlights are modelled, shadows found from the fitted shape; it needs at least 5 lights
+(--method coated is the same).
 
 lights.json: {"directions": [[x, y, z], ...], "intensities": [E0 or [R, G, B], ...]}, one entry
 per image in image order; directions point towards the lights in the camera frame (x right,
@@ -91,8 +92,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--method",
         choices=tuple(METHOD_CHOICES),
-        help="lambertian, rough (default: the rough fit of --model), or a robust Lambertian "
-        "solver: l1, sparse, rpca",
+        help="lambertian, rough (default: the rough fit of --model), a robust Lambertian "
+        "solver: l1, sparse, rpca, or coated (as --model coated)",
     )
     p.add_argument(
         "--model",
@@ -127,7 +128,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 DEFAULT_MODEL = "oren-nayar-full"
 """The model of the rough fit when --model is not given."""
 
-METHOD_CHOICES = ("lambertian", "rough", "l1", "sparse", "rpca")
+METHOD_CHOICES = ("lambertian", "rough", "l1", "sparse", "rpca", "coated")
 """``--method``: the names of :data:`roughdiffuse.stereo.methods.METHODS`."""
 
 ROBUST = ("l1", "sparse", "rpca")
@@ -206,13 +207,13 @@ def run(args: argparse.Namespace) -> int:
     normals = np.full(data.mask.shape + (3,), np.nan)
     normals[data.mask] = res.normals
     depth = stereo.integrate(normals, data.mask & np.all(np.isfinite(normals), axis=-1), args.depth)
-    extra = _coat_params(res) if args.model == COATED else {}
+    extra = {}  # a coated result's coat: write_outputs adds it (params["coat"])
     if args.demo:  # the report states the truth beside the fit
         extra["truth"] = {"model": "oren-nayar-full", "albedo": 0.7, "sigma": DEMO_SIGMA}
     from ..io import atomic_folder
 
     model_id = args.model or DEFAULT_MODEL
-    key = "rough" if model_id == DEFAULT_MODEL else f"rough ({model_id})"
+    key = {DEFAULT_MODEL: "rough", COATED: "coated"}.get(model_id, f"rough ({model_id})")
     methods = {"lambertian": lam, key: res, **methods}
     with atomic_folder(out, replace=args.force, marker=RESULT_MARKER) as tmp:
         params = stereo.write_outputs(
@@ -269,7 +270,13 @@ def _read_input(args: argparse.Namespace):  # noqa: ANN202
 
 
 def _method(args: argparse.Namespace) -> str:
-    """The method to run: --method, or the one --model implies (lambert: lambertian)."""
+    """The method to run: --method, or the one --model implies (lambert: lambertian);
+    --method coated is --model coated (``args.model`` set so), the rough fit's branch."""
+    if args.method == COATED:
+        if args.model not in (None, COATED):
+            raise UsageError(f"--method coated fits the coated model, not --model {args.model}")
+        args.model = COATED
+        return "rough"
     if args.model == LAMBERT:
         if args.method not in (None, "lambertian"):
             raise UsageError(f"--model lambert is --method lambertian, not {args.method}")
@@ -346,24 +353,6 @@ def _coat_line(res) -> str:  # noqa: ANN001
     else:
         alpha = f"{float(res.alpha):.4g} ± {float(res.alpha_se):.2g}"
     return f", coat α = {alpha} (η = {res.eta:g})"
-
-
-def _coat_params(res) -> dict:  # noqa: ANN001
-    """The coat's entry of params.json: α (one value with its standard error, or the median
-    of the per-pixel map), η, and the shadow rounds."""
-    import numpy as np
-
-    coat: dict = {"eta": res.eta, "base": res.base, "shadow_rounds": res.shadow_rounds,
-                  "coat_explains_the_images": res.coat}
-    if not res.coat:
-        coat["alpha"] = None
-    elif np.ndim(res.alpha):
-        coat["alpha"] = {"per_pixel": True, "median": float(np.nanmedian(res.alpha)),
-                         "median_standard_error": float(np.nanmedian(res.alpha_se))}
-    else:
-        coat["alpha"] = {"per_pixel": False, "value": float(res.alpha),
-                         "standard_error": float(res.alpha_se)}
-    return {"coat": coat}
 
 
 def _lambert_only(  # noqa: PLR0913

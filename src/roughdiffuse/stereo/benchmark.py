@@ -103,6 +103,10 @@ class BenchmarkResult:
     """method -> object -> mean angular error over the mask (pixels with a normal)."""
     failed: dict[str, dict[str, int]]
     """method -> object -> mask pixels the method gave no normal."""
+    fitted: dict[str, dict[str, dict[str, tuple[float, float]]]] = field(default_factory=dict)
+    """method -> object -> parameter -> (value, standard error), for the methods that fit
+    more than normals and albedo (:func:`.outputs.fitted_values`: the rough fit's σ, the
+    coated fit's σ and α; a per-pixel value by its median and its median error)."""
     details: dict[str, tuple[StereoInput, np.ndarray, dict[str, Any]]] = field(
         default_factory=dict, repr=False
     )
@@ -146,7 +150,30 @@ class BenchmarkResult:
             "errors": self.errors,
             "average": {m: self.average(m) for m in self.methods},
             "pixels_without_normal": self.failed,
+            "fitted": {
+                m: {o: {k: {"value": v, "standard_error": se} for k, (v, se) in p.items()}
+                    for o, p in by_object.items()}
+                for m, by_object in self.fitted.items()
+            },
         }
+
+    def fitted_rows(self) -> list[list[str]]:
+        """The fitted parameters as a table: one row per method and parameter, the objects
+        as columns, each cell "value ± standard error" (3 decimals; "–" where the method
+        fitted no such parameter, e.g. no coat explains a matte object)."""
+        names = [
+            (m, k)
+            for m in self.methods
+            for k in dict.fromkeys(k for p in self.fitted.get(m, {}).values() for k in p)
+        ]
+        rows = [["method", "parameter", *self.objects]]
+        for m, k in names:
+            cells = []
+            for o in self.objects:
+                v = self.fitted[m].get(o, {}).get(k)
+                cells.append("–" if v is None else f"{v[0]:.3f} ± {v[1]:.3f}")
+            rows.append([m, k, *cells])
+        return rows if len(rows) > 1 else []
 
 
 def run_benchmark(
@@ -159,10 +186,13 @@ def run_benchmark(
     """Run every method (default: all of :data:`.methods.METHODS`) on every object."""
     from ..progress import progress as bar
     from .methods import METHODS, run_method
+    from .outputs import fitted_values
     from .synthetic import angular_error
 
     names = list(METHODS) if methods is None else list(methods)
     objects = benchmark_objects(folder)
+    if "coated" in names:
+        _check_coated_lights(objects)
     errors: dict[str, dict[str, float]] = {m: {} for m in names}
     failed: dict[str, dict[str, int]] = {m: {} for m in names}
     result = BenchmarkResult([o for o, _ in objects], names, errors, failed)
@@ -179,11 +209,33 @@ def run_benchmark(
                 fine = np.isfinite(err)
                 errors[m][obj] = float(err[fine].mean()) if fine.any() else math.nan
                 failed[m][obj] = int(np.sum(~fine))
+                values = {
+                    name: (float(np.nanmedian(v)), float(np.nanmedian(se)))
+                    for name, v, se in fitted_values(r)
+                }
+                if values:
+                    result.fitted.setdefault(m, {})[obj] = values
                 results[m] = r
                 b.update(1)
             if keep_details:
                 result.details[obj] = (data, truth, results)
     return result
+
+
+def _check_coated_lights(objects: list[tuple[str, Path]]) -> None:
+    """Refuse, before any work, an object with fewer images (lines of ``filenames.txt``) than
+    the coated model's parameters per pixel (:func:`.coated.parameter_count`)."""
+    from .coated import parameter_count
+
+    need = parameter_count()
+    for name, path in objects:
+        lines = (path / "filenames.txt").read_text(errors="replace").splitlines()
+        count = sum(1 for line in lines if line.strip())
+        if count < need:
+            raise ParameterError(
+                f"--benchmark: the coated method fits {need} parameters per pixel (normal 2, "
+                f"albedo, σ, coat α): object {name} has {count} images, it needs at least {need}"
+            )
 
 
 def write_benchmark(folder: str | os.PathLike[str], result: BenchmarkResult) -> None:
@@ -207,6 +259,18 @@ def write_benchmark(folder: str | os.PathLike[str], result: BenchmarkResult) -> 
         table += f"<tr><td>{html.escape(r[0])}</td>" + "".join(
             f"<td class=num>{c}</td>" for c in r[1:]) + "</tr>"
     table += "</table>"
+    fitted = result.fitted_rows()
+    if fitted:
+        table += (
+            "<h2>Fitted parameters</h2><p>One value for each object, ± its standard error "
+            "(σ: the base's roughness in radians; α: the coat's GGX roughness; – : none "
+            "fitted, e.g. no coat fits a matte object better than the bare base).</p><table><tr>"
+            + "".join(f"<th>{html.escape(c)}</th>" for c in fitted[0]) + "</tr>"
+        )
+        for r in fitted[1:]:
+            table += (f"<tr><td>{html.escape(r[0])}</td><td>{html.escape(r[1])}</td>"
+                      + "".join(f"<td class=num>{c}</td>" for c in r[2:]) + "</tr>")
+        table += "</table>"
     parts = [
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>"
         f"<title>roughdiffuse stereo benchmark</title><style>{REPORT_STYLE}</style></head><body>",

@@ -2,7 +2,9 @@
 
 Each entry of :data:`METHODS` is a callable ``(data, *, progress=False) -> result`` whose
 result has ``normals`` (P, 3) and ``weights`` (K, P) (1 = observation used, 0 = left out or
-rejected as a shadow or an outlier), for the P object pixels of ``data``.
+rejected as a shadow or an outlier), for the P object pixels of ``data``. ``coated`` is
+:func:`.coated.coated` (η 1.5, one σ and one α for the object) from the ``rough`` method's
+result; its result also holds σ and α with their standard errors.
 """
 
 from __future__ import annotations
@@ -31,6 +33,12 @@ def _rough(data: StereoInput, *, progress: bool = False) -> Any:
     return rough(data, create(DEFAULT_ROUGH_MODEL), start=lambertian(data), progress=progress)
 
 
+def _coated(data: StereoInput, *, progress: bool = False) -> Any:
+    from .coated import coated
+
+    return coated(data, start=_rough(data, progress=progress), progress=progress)
+
+
 def _robust(method: str) -> Callable[..., Any]:
     def run(data: StereoInput, *, progress: bool = False) -> Any:
         return robust(data, method, progress=progress)
@@ -46,6 +54,7 @@ METHODS: dict[str, Callable[..., Any]] = {
     "l1": _robust("l1"),
     "sparse": _robust("sparse"),
     "rpca": _robust("rpca"),
+    "coated": _coated,
 }
 """Method name -> callable(StereoInput, progress=False) -> result (normals, weights)."""
 
@@ -55,6 +64,7 @@ METHOD_LABELS = {
     "l1": "L1 residual (Ikehata et al. 2012)",
     "sparse": "sparse Bayesian (Ikehata et al. 2014)",
     "rpca": "RPCA (Wu et al. 2010)",
+    "coated": f"coated fit (a coat of η 1.5 over {DEFAULT_ROUGH_MODEL})",
 }
 """What each method is, for tables and reports."""
 

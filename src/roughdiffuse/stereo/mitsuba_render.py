@@ -2,12 +2,22 @@
 
 The object (a sphere, the clay vase of :func:`roughdiffuse.render.clay_vase_profile` as a
 triangle mesh, or the lumpy blob of :func:`blob_mesh`, which shadows itself) is rendered by
-Mitsuba's ``path`` integrator with ``max_depth`` 2 (direct light and cast shadows, as
-photometric stereo models them), under each distant light in turn, seen by an orthographic
-camera along −z (x right, y up, the frame of :mod:`.inputs`). Its BSDF is any Mitsuba BSDF,
-roughdiffuse's plugins included (``{"type": "roughdiffuse_oren_nayar", "variant": "full",
-"sigma": 0.3, "albedo": 0.7}``). The true normals come from Mitsuba's own ``aov`` integrator
-(``sh_normal``), averaged over each pixel.
+Mitsuba's ``direct`` integrator (direct light and cast shadows, as photometric stereo models
+them: one shadow ray towards the light per sample; no BSDF sampling, which can never reach a
+distant light, a delta: the images are those of the ``path`` integrator with ``max_depth`` 2),
+under each distant light in turn, seen by an orthographic camera along −z (x right, y up,
+the frame of :mod:`.inputs`).
+
+One scene serves every light: the light's transform is a scene parameter, changed by
+``mi.traverse`` between images, so Dr.Jit compiles the render's kernel once and finds it in
+its cache for the other lights. A BSDF written in Python (roughdiffuse's plugins) is traced
+again by each ``mi.render`` call, and that tracing is most of an image's time for a large
+model such as the coated one (``bench/RESULTS.md``, "Mitsuba renders of the coated plugin").
+
+Its BSDF is any Mitsuba BSDF, roughdiffuse's plugins included
+(``{"type": "roughdiffuse_oren_nayar", "variant": "full", "sigma": 0.3, "albedo": 0.7}``).
+The true normals come from Mitsuba's own ``aov`` integrator (``sh_normal``), averaged over
+each pixel.
 
 Mitsuba is an optional dependency: ``pip install mitsuba``. Its ``llvm`` variants need libLLVM
 (see :mod:`roughdiffuse.integrations.mitsuba`). The caller's variant is restored afterwards.
@@ -23,10 +33,39 @@ import numpy as np
 from .._validate import ParameterError
 from .inputs import StereoInput
 
-__all__ = ["blob_mesh", "render_mitsuba", "vase_mesh"]
+__all__ = ["MATERIALS", "RENDER_BASE", "blob_mesh", "render_mitsuba", "vase_mesh"]
+
+INTEGRATORS: dict[str, dict[str, Any]] = {
+    "direct": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
+    "path": {"type": "path", "max_depth": 2},
+}
+"""The Mitsuba integrators :func:`render_mitsuba` takes: both give the direct light of one
+distant light with cast shadows."""
 
 MARGIN = 0.04
 """Frame margin around the object, as :class:`roughdiffuse.render.OrthographicCamera`."""
+
+
+RENDER_BASE = {"albedo": 0.6, "sigma": 0.4}
+"""The matte material (full Oren–Nayar); the coats' and the metal's bases have its albedo."""
+
+MATERIALS: dict[str, dict[str, Any]] = {
+    "matte": {"type": "roughdiffuse_oren_nayar", "variant": "full", **RENDER_BASE},
+    "coat01": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **RENDER_BASE,
+               "eta": 1.5, "roughness": 0.1, "distribution": "ggx"},
+    "coat03": {"type": "roughdiffuse_coated", "base": "oren-nayar-full", **RENDER_BASE,
+               "eta": 1.5, "roughness": 0.3, "distribution": "ggx"},
+    "metal": {
+        "type": "blendbsdf",
+        "weight": 0.25,
+        "bsdf_0": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.6}},
+        "bsdf_1": {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2, "material": "Al"},
+    },
+}
+"""The materials of ``scripts/stereo_renders.py`` (Mitsuba BSDF descriptions by name):
+``matte`` the full Oren–Nayar plugin; ``coat01`` and ``coat03`` the coated plugin, a coat of
+η 1.5 and GGX α 0.1 or 0.3 over the matte material; ``metal`` Mitsuba's blend of a
+Lambertian ``diffuse`` (weight 0.75) and an aluminium GGX ``roughconductor`` (α 0.2)."""
 
 
 def vase_mesh(heights: int = 96, around: int = 128) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -157,6 +196,8 @@ def render_mitsuba(
     spp: int = 64,
     variant: str = "llvm_ad_rgb",
     seed: int = 0,
+    progress: bool | None = None,
+    integrator: str = "direct",
 ) -> tuple[StereoInput, np.ndarray]:
     """Render ``shape`` under each light of ``directions`` with Mitsuba 3.
 
@@ -174,6 +215,14 @@ def render_mitsuba(
         Samples per pixel (Monte Carlo noise falls as 1/√spp).
     variant : str
         Mitsuba variant.
+    seed : int
+        Seed of the first image's samples (image k: ``seed + k``).
+    progress : bool, optional
+        A progress bar over the lights (default: when standard error is a terminal).
+    integrator : {"direct", "path"}
+        Mitsuba's ``direct`` integrator without BSDF sampling, or its ``path`` integrator
+        with ``max_depth`` 2, which also samples the BSDF (it can never reach the light):
+        the same images by other random numbers, the BSDF traced and run twice.
 
     Returns
     -------
@@ -187,7 +236,12 @@ def render_mitsuba(
 
     from ..integrations.drjit_llvm import require_llvm
     from ..integrations.mitsuba import register
+    from ..progress import progress as bar
 
+    if integrator not in INTEGRATORS:
+        raise ParameterError(
+            f"integrator must be one of {', '.join(map(repr, INTEGRATORS))} (got {integrator!r})"
+        )
     require_llvm(variant)  # before any kernel: an old libLLVM aborts the process there
     previous = mi.variant()
     mi.set_variant(variant)
@@ -201,7 +255,7 @@ def render_mitsuba(
         scene = mi.load_dict(
             {
                 "type": "scene",
-                "integrator": {"type": "path", "max_depth": 2},
+                "integrator": INTEGRATORS[integrator],
                 "sensor": sensor,
                 "light": {"type": "directional", "direction": [0, 0, -1], "irradiance": 1.0},
                 "object": obj,
@@ -209,10 +263,13 @@ def render_mitsuba(
         )
         # one scene, its light turned for each image: Dr.Jit reuses the compiled kernels
         params = mi.traverse(scene)
-        for k, d in enumerate(dirs):
-            params["light.to_world"] = _light_frame(mi, d)
-            params.update()
-            images.append(np.array(mi.render(scene, seed=seed + k), dtype=np.float64).mean(axis=-1))
+        with bar(len(dirs), "Mitsuba renders", unit="image", enabled=progress) as b:
+            for k, d in enumerate(dirs):
+                params["light.to_world"] = _light_frame(mi, d)
+                params.update()
+                image = mi.render(scene, seed=seed + k)
+                images.append(np.array(image, dtype=np.float64).mean(axis=-1))
+                b.update(1)
         aov = mi.load_dict(
             {
                 "type": "scene",

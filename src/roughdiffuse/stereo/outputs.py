@@ -30,7 +30,15 @@ from .lambertian import LambertianResult
 from .report_figures import NORMAL_KEY, report_pngs
 from .rough import RoughResult
 
-__all__ = ["figure_html", "method_stats", "methods_table_html", "result_maps", "write_outputs"]
+__all__ = [
+    "coat_params",
+    "figure_html",
+    "fitted_values",
+    "method_stats",
+    "methods_table_html",
+    "result_maps",
+    "write_outputs",
+]
 
 
 def _scatter(mask: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -50,9 +58,46 @@ def result_maps(data: StereoInput, result: RoughResult | LambertianResult) -> di
     }
     if isinstance(result, RoughResult):
         maps["normal_se_deg"] = _scatter(m, np.degrees(result.normal_se))
-        if np.ndim(result.roughness):
-            maps[result.roughness_name] = _scatter(m, result.roughness)
+    for name, value, se in fitted_values(result):
+        if np.ndim(value):  # one per pixel: its map and its standard error's
+            maps[name] = _scatter(m, value)
+            maps[f"{name}_se"] = _scatter(m, se)
     return maps
+
+
+def coat_params(result: Any) -> dict[str, Any]:
+    """The coat's entry of params.json (a coated result: :class:`.coated.CoatedResult`): α
+    (one value with its standard error, or the median of the per-pixel map), η, the base,
+    the shadow rounds, and whether the coat explains the images (α ``None`` if not)."""
+    coat: dict[str, Any] = {
+        "eta": float(result.eta),
+        "base": getattr(result, "base", None),
+        "shadow_rounds": getattr(result, "shadow_rounds", None),
+        "coat_explains_the_images": bool(result.coat),
+    }
+    if not result.coat:
+        coat["alpha"] = None
+    elif np.ndim(result.alpha):
+        coat["alpha"] = {"per_pixel": True, "median": float(np.nanmedian(result.alpha)),
+                         "median_standard_error": float(np.nanmedian(result.alpha_se))}
+    else:
+        coat["alpha"] = {"per_pixel": False, "value": float(result.alpha),
+                         "standard_error": float(result.alpha_se)}
+    return coat
+
+
+def fitted_values(result: Any) -> list[tuple[str, Any, Any]]:
+    """The fitted parameters of a rough or coated result besides its normals and albedo, as
+    (name, value, standard error): the base's roughness (``sigma``...) and, for a coated
+    fit whose coat explains the images, the coat's ``alpha``; each a number or an array (P,)
+    of one per pixel. A Lambertian result has none."""
+    if not hasattr(result, "roughness"):  # by its fields: a Lambertian result has none
+        return []
+    name = getattr(result, "roughness_name", "sigma")
+    out = [(name, result.roughness, result.roughness_se)]
+    if getattr(result, "coat", False):
+        out.append(("alpha", result.alpha, result.alpha_se))
+    return out
 
 
 def _stats(values: np.ndarray) -> dict[str, float]:
@@ -129,7 +174,7 @@ def write_outputs(
         shown.update(_methods_pngs(m, methods, truth_normals))  # keys: METHODS_PREFIX
         return _write_params(out, data, lambert, shown, model_id, truth_normals, extra)
     shown = report_pngs(data, maps, lmaps, depth, model_id,
-                        rough.roughness_name if np.ndim(rough.roughness) else None)
+                        [name for name, value, _ in fitted_values(rough) if np.ndim(value)])
     shown.update(_methods_pngs(m, methods, truth_normals))
     rough_val = rough.roughness
     params: dict[str, Any] = {
@@ -158,6 +203,8 @@ def write_outputs(
         params["roughness"].update(
             {"value": float(rough_val), "standard_error": float(rough.roughness_se)}
         )
+    if hasattr(rough, "coat"):  # a coated fit: its coat's α and η
+        params["coat"] = coat_params(rough)
     if truth_normals is not None:
         t = truth_normals[m]
         params["rough"]["angular_error_deg"] = _stats(angular_error(rough.normals, t))
@@ -274,6 +321,23 @@ def figure_html(caption: str, png: bytes, alt: str | None = None) -> str:
     )
 
 
+def _coat_text(coat: dict[str, Any] | None) -> str:
+    """The coat's part of the report's summary (``params["coat"]``): α with its standard
+    error, or the median of its per-pixel map, and η; or that no coat fits."""
+    if not coat:
+        return ""
+    a = coat.get("alpha")
+    if a is None:
+        return ("; no coat: a coat does not fit these images better than the bare base (the "
+                "result is the rough fit's)")
+    if a["per_pixel"]:
+        text = (f"; coat α per pixel: median {a['median']:.4g} (median standard error "
+                f"{a['median_standard_error']:.2g})")
+    else:
+        text = f"; coat α = {a['value']:.4g} ± {a['standard_error']:.2g} (one for the object)"
+    return text + f", η = {coat['eta']:g} (fixed)"
+
+
 def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
     def img(name: str) -> str:
         return figure_html(name + (f" ({NORMAL_KEY})" if name == "normals" else ""),
@@ -299,9 +363,11 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
         if not r["per_pixel"] and r["standard_error"] > 0:
             off = abs(r["value"] - true_value) / r["standard_error"]
             rline += f" ({off:.1f} standard errors away)"
+    rline += _coat_text(params.get("coat"))
+    fitted = "coated model" if params.get("coat") else "rough model"
     rows = []
     lam_label = "Lambertian" if r is not None or params["model"] == "lambert" else params["model"]
-    for label, key in (("rough model", "rough"), (lam_label, "lambertian")):
+    for label, key in ((fitted, "rough"), (lam_label, "lambertian")):
         if key not in params:
             continue
         s = params[key]
@@ -336,7 +402,7 @@ def _report_html(params: dict[str, Any], images: dict[str, bytes]) -> str:
            else "")
         + "</tr>" + "".join(rows) + "</table>"
     )
-    buf.write("<h2>The rough model beside Lambertian photometric stereo</h2>" if r is not None
+    buf.write(f"<h2>The {fitted} beside Lambertian photometric stereo</h2>" if r is not None
               else "<h2>Lambertian photometric stereo</h2>")
     for name in images:
         if not name.startswith(METHODS_PREFIX):

@@ -133,7 +133,7 @@ def normals_figure(rough: np.ndarray, lambert: np.ndarray, rough_label: str) -> 
     angle = np.where(valid, np.degrees(np.arccos(dot)), np.nan)
     im = axes[3].imshow(angle, cmap="magma", vmin=0.0)
     fig.colorbar(im, ax=axes[3], label="angle between the two (degrees)")
-    axes[3].set_title("rough against Lambertian normals", fontsize=9)
+    axes[3].set_title(f"{rough_label} against Lambertian normals", fontsize=9)
     _pixel_axes(axes[3])
     return fig
 
@@ -171,18 +171,54 @@ def single_figure(image: np.ndarray, what: str, unit: str, cmap: str = "viridis"
     return fig
 
 
+PARAMETER_UNITS = {"sigma": "radians", "alpha": "GGX α, dimensionless"}
+"""The unit of each fitted parameter's map (others: "model units")."""
+
+
+def value_and_error_figure(value: np.ndarray, se: np.ndarray | None, what: str,
+                           unit: str) -> Any:
+    """A parameter's per-pixel map and, beside it, its standard error's (each with its own
+    colour bar; the error's scale ends at its 99th percentile or 10 times its median,
+    whichever is lower, so the pixels the images barely determine, whose errors can be
+    10¹² times the others', do not wash out the rest: they show at the scale's end)."""
+    from .._figure import figure
+
+    fig = figure(figsize=(9.0, 3.6), layout="constrained")
+    axes = fig.subplots(1, 2)
+    im = axes[0].imshow(_grey(value), cmap="viridis")
+    fig.colorbar(im, ax=axes[0], label=f"{what} ({unit})")
+    axes[0].set_title(what, fontsize=9)
+    _pixel_axes(axes[0])
+    if se is None:
+        axes[1].set_axis_off()
+        return fig
+    e = _grey(se)
+    finite = e[np.isfinite(e)]
+    top = (min(float(np.percentile(finite, 99)), 10.0 * float(np.median(finite)))
+           if finite.size else 1.0)
+    top = top if top > 0 else 1.0
+    shown = np.where(np.isnan(e), np.nan, np.minimum(e, 2.0 * top))  # ∞: the scale's end
+    im = axes[1].imshow(shown, cmap="magma", vmin=0.0, vmax=top)
+    fig.colorbar(im, ax=axes[1], label=f"standard error of {what} ({unit})", extend="max")
+    axes[1].set_title(f"standard error of {what}", fontsize=9)
+    _pixel_axes(axes[1])
+    return fig
+
+
 def report_pngs(
     data: StereoInput,
     maps: dict[str, np.ndarray],
     lambert_maps: dict[str, np.ndarray] | None,
     depth: np.ndarray,
     rough_label: str,
-    roughness_name: str | None,
+    per_pixel: list[str] | None,
 ) -> dict[str, bytes]:
     """Every picture of the report, as PNG bytes, by caption.
 
     With ``lambert_maps=None``, ``maps`` is Lambertian photometric stereo alone: each map
-    is drawn once, with no rough model beside it.
+    is drawn once, with no rough model beside it. ``per_pixel`` names the parameters fitted
+    per pixel (``sigma``, ``alpha``...): each is drawn beside its standard error
+    (``maps[name + "_se"]``).
     """
     from .._figure import release
 
@@ -197,14 +233,14 @@ def report_pngs(
         figs["normals"] = normals_figure(maps["normals"], lambert_maps["normals"], rough_label)
         figs["albedo (one scale for both)"] = pair_figure(
             maps["albedo"], lambert_maps["albedo"], "albedo", "fraction", rough_label,
-            cmap="gray")
+            cmap="gray", top=1.0)  # a fraction: an even albedo is grey, not the scale's end
         figs["relative RMS residual (one scale for both)"] = pair_figure(
             maps["residual"], lambert_maps["residual"], "relative RMS residual",
             "fraction of the data", rough_label, cmap="magma")
-    if roughness_name and roughness_name in maps:
-        unit = "radians" if roughness_name in ("sigma", "alpha") else "model units"
-        figs[f"{roughness_name} per pixel"] = single_figure(maps[roughness_name],
-                                                            roughness_name, unit)
+    for name in per_pixel or ():
+        if name in maps:
+            figs[f"{name} per pixel, with its standard error"] = value_and_error_figure(
+                maps[name], maps.get(f"{name}_se"), name, PARAMETER_UNITS.get(name, "model units"))
     if "normal_se_deg" in maps:
         figs["normal standard error"] = single_figure(maps["normal_se_deg"],
                                                       "normal standard error", "degrees", "magma")
