@@ -81,13 +81,52 @@ def measure(folder: Path, robust: Any) -> dict[str, Any]:
     rough, t_rough, c_rough = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
     row["rough"] = _error(rough.normals, truth)
     row["sigma_rough"] = (float(rough.roughness), float(rough.roughness_se))
-    res, t_coat, c_coat = _timed(lambda: stereo.coated(data, start=rough))
+    res, t_coat, c_coat = _timed(lambda: stereo.coated(data))
     row["coated"] = _error(res.normals, truth)
     row["sigma"] = (float(res.sigma), float(res.sigma_se))
     row["alpha"] = (float(res.alpha), float(res.alpha_se))
-    row["t_coated"], row["c_coated"] = t_rough + t_coat, c_rough + c_coat
-    row["data"], row["rough_result"] = data, rough
+    row["table_error"] = float(res.table_error)
+    row["t_coated"], row["c_coated"] = t_coat, c_coat
+    scaled = stereo.coated(data, light_scale=True)
+    row["coated_s"] = _error(scaled.normals, truth)
+    row["scale"] = (float(scaled.light_scale), float(scaled.light_scale_se))
+    row["alpha_s"] = (float(scaled.alpha), float(scaled.alpha_se))
+    row["sigma_s"] = (float(scaled.sigma), float(scaled.sigma_se))
+    row["data"] = data
     return row
+
+
+def _speed(folder: Path) -> dict[str, Any]:
+    """Warm times of one object: the Lambertian solve, the rough fit, the shadows of the
+    model (:func:`roughdiffuse.stereo.coated.model_weights`, cast shadows included) and the
+    coated fit (table solver, from its own Lambertian start; wall and CPU seconds)."""
+    import roughdiffuse as rd
+    from roughdiffuse.stereo.coated import model_weights
+
+    data = stereo.read_diligent(folder)
+    stereo.coated(data, shadow_rounds=0)  # compile whatever this size needs
+    out: dict[str, Any] = {"name": folder.name[:-3], "mpx": int(data.mask.sum()) / 1e6}
+    lam, out["lambertian"], _ = _timed(lambda: stereo.lambertian(data))
+    _, out["weights"], _ = _timed(lambda: model_weights(data, lam.normals))
+    _, out["rough"], _ = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
+    res, out["coated"], out["coated_cpu"] = _timed(lambda: stereo.coated(data))
+    out["rounds"] = res.shadow_rounds
+    return out
+
+
+def _speed_line(sp: dict[str, Any]) -> str:
+    mpx = sp["mpx"]
+    lam = sp["lambertian"] / mpx
+    coat = sp["coated"] / mpx
+    return (
+        f"Speed on {sp['name']} ({mpx * 1e6:.0f} pixels, 96 lights, warm): Lambertian "
+        f"{lam:.1f} s/Mpx; rough fit {sp['rough'] / mpx:.0f} s/Mpx; the model's shadows "
+        f"(cast shadows marched over the integrated surface, once per round) "
+        f"{sp['weights'] / mpx:.0f} s/Mpx each; coated fit (table solver, its Lambertian "
+        f"start and {sp['rounds']} shadow rounds included) {coat:.0f} s/Mpx "
+        f"({sp['coated_cpu'] / mpx:.0f} CPU s/Mpx), {coat / max(lam, 1e-9):.0f}× the "
+        "Lambertian solve."
+    )
 
 
 def _pm(v: tuple[float, float]) -> str:
@@ -95,16 +134,20 @@ def _pm(v: tuple[float, float]) -> str:
 
 
 def _table(rows: list[dict[str, Any]], robust: bool) -> list[str]:
-    methods = ["lambertian", *(ROBUST if robust else ()), "rough", "coated"]
-    head = "| object | pixels | " + " | ".join(methods) + " | σ rough | σ coated | α coated |"
-    lines = [head, "| --- | ---: | " + " | ".join("---:" for _ in methods) + " | --- | --- | --- |"]
+    methods = ["lambertian", *(ROBUST if robust else ()), "rough", "coated", "coated_s"]
+    names = [m if m != "coated_s" else "coated, light scale" for m in methods]
+    head = ("| object | pixels | " + " | ".join(names)
+            + " | σ rough | σ coated | α coated | σ, light scale | α, light scale | light scale |")
+    lines = [head, "| --- | ---: | " + " | ".join("---:" for _ in methods)
+             + " | --- | --- | --- | --- | --- | --- |"]
     for r in rows:
         material = r["name"].split("-")[-1]
-        alpha = _pm(r["alpha"]) + (f" ({TRUE_ALPHA[material]})" if material in TRUE_ALPHA else "")
+        truth = f" ({TRUE_ALPHA[material]})" if material in TRUE_ALPHA else ""
         errs = " | ".join(f"{r[m]:.2f}°" for m in methods)
         lines.append(
             f"| {r['name']} | {r['pixels']} | {errs} | {_pm(r['sigma_rough'])} | "
-            f"{_pm(r['sigma'])} | {alpha} |"
+            f"{_pm(r['sigma'])} | {_pm(r['alpha'])}{truth} | {_pm(r['sigma_s'])} | "
+            f"{_pm(r['alpha_s'])}{truth} | {_pm(r['scale'])} |"
         )
     return lines
 
@@ -155,6 +198,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     parser.add_argument("--renders", required=True, help="folder holding pmsData/")
     parser.add_argument("--only", help="comma-separated object names (<shape>-<material>)")
     parser.add_argument("--write", metavar="RESULTS.md", help="rewrite this table's section there")
+    parser.add_argument("--speed", metavar="FOLDER",
+                        help="object folder timed for speed (default: the first object); "
+                        "a large render gives the per-megapixel figure without fixed costs")
     args = parser.parse_args(argv)
     robust = None
     if importlib.util.find_spec("roughdiffuse.stereo.robust") is not None:
@@ -171,16 +217,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         rows.append(measure(folder, robust))
         load = max(load, os.getloadavg()[0])
         print(rows[-1]["name"], {k: v for k, v in rows[-1].items() if k in ("coated", "rough")})
-    # speed, warm: the first object again (its kernels compiled by now), with 96 lights
-    first = rows[0]
-    data = first["data"]
-    _, t_lam, _ = _timed(lambda: stereo.lambertian(data))
-    _, t_coat, c_coat = _timed(lambda: stereo.coated(data, start=first["rough_result"]))
-    import roughdiffuse as rd
-
-    _, t_rough, c_rough = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
-    mpx = first["pixels"] / 1e6
-    per_mpx = (t_coat + t_rough) / mpx
+    # speed, warm (the kernels compiled by now), with 96 lights
+    speed = _speed(Path(args.speed) if args.speed else folders[0])
+    load = max(load, os.getloadavg()[0])
+    data = rows[0]["data"]
+    per_mpx = speed["coated"] / speed["mpx"]
     cores = len(os.sched_getaffinity(0))
     lines = [
         BEGIN,
@@ -196,10 +237,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         "",
         *_table(rows, robust is not None),
         "",
-        f"Speed on {first['name']} ({first['pixels']} pixels, warm): Lambertian "
-        f"{t_lam / mpx:.2f} s/Mpx; rough fit {t_rough / mpx:.0f} s/Mpx; coated fit with its "
-        f"rough start {per_mpx:.0f} s/Mpx ({(c_coat + c_rough) / mpx:.0f} CPU s/Mpx), "
-        f"{per_mpx / max(t_lam / mpx, 1e-9):.0f}× the Lambertian solve.",
+        _speed_line(speed),
         "",
         "Targets:",
         "",
