@@ -22,6 +22,13 @@ parts outside the mask, which the integrated surface does not hold). The fit sta
 the rough fit's normals, and the shadows are found again after each fit, ``shadow_rounds``
 times.
 
+Two solvers. ``"table"`` (the default): σ and α (and, with ``light_scale``, one factor on
+every light's intensity) by the direct fit of a subsample of well-lit pixels, then every
+pixel's normal and albedo by a compiled Levenberg–Marquardt on the model tabulated per
+light from its own evaluation (:mod:`.coated_table`); each shadow round refits the
+subsample and the pixels. ``"direct"``: every pixel on the model itself by
+:func:`.rough.fit_pixels` (σ and α by the Schur complement, or per pixel).
+
 A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
 When the coated fit's mean squared relative residual is not below the rough fit's, the
 result is the rough fit's (``CoatedResult.coat`` False, α NaN): a choice between the two
@@ -201,55 +208,22 @@ def cast_shadows(
     more than ``tolerance``. The surface is sampled by bilinear interpolation between the
     four nearest pixels (below a convex surface, never above it), or the nearest pixel where
     one of the four lies outside the object. Pixels outside the object do not occlude.
+    Compiled (Numba), parallel over the lights and pixels; each ray stops at its first
+    occluder.
     """
+    from .coated_kernels import march_shadows
+
     z = np.asarray(depth, dtype=np.float64)
     m = np.asarray(mask, dtype=bool)
-    h, w = m.shape
     rows, cols = np.nonzero(m)
     z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
-    top = float(np.nanmax(z))
     height = np.where(np.isfinite(z), z, -np.inf)
-    shadow = np.zeros((len(directions), rows.size), dtype=bool)
-    for k, (lx, ly, lz) in enumerate(np.asarray(directions, dtype=np.float64)):
-        across = math.hypot(lx, ly)
-        if across < 1e-9:
-            continue  # a light on the view axis: a height field casts no shadow
-        dx, dy, rise = lx / across, ly / across, lz / across
-        idx = np.flatnonzero(np.isfinite(z0))
-        for s in range(1, int(math.hypot(h, w)) + 1):
-            ray = z0[idx] + s * rise
-            keep = ray < top - tolerance
-            idx, ray = idx[keep], ray[keep]
-            rf, cf = rows[idx] - s * dy, cols[idx] + s * dx
-            inside = (rf > -0.5) & (rf < h - 0.5) & (cf > -0.5) & (cf < w - 0.5)
-            idx, ray, rf, cf = idx[inside], ray[inside], rf[inside], cf[inside]
-            if idx.size == 0:
-                break
-            hit = _surface(height, rf, cf) > ray + tolerance
-            shadow[k, idx[hit]] = True
-            idx = idx[~hit]
+    shadow = np.zeros((len(directions), rows.size), dtype=np.bool_)
+    march_shadows(height, rows.astype(np.float64), cols.astype(np.float64),
+                  np.ascontiguousarray(z0, dtype=np.float64),
+                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance),
+                  float(np.nanmax(z)), shadow)
     return shadow
-
-
-def _surface(height: np.ndarray, rf: np.ndarray, cf: np.ndarray) -> np.ndarray:
-    """The height map at fractional (row, column): bilinear between the four nearest pixels,
-    the nearest pixel's value where one of them is −∞ (outside the object)."""
-    h, w = height.shape
-    r0 = np.clip(np.floor(rf).astype(np.int64), 0, h - 1)
-    c0 = np.clip(np.floor(cf).astype(np.int64), 0, w - 1)
-    r1, c1 = np.minimum(r0 + 1, h - 1), np.minimum(c0 + 1, w - 1)
-    fr, fc = np.clip(rf - r0, 0.0, 1.0), np.clip(cf - c0, 0.0, 1.0)
-    corners = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
-    whole = np.all(np.isfinite(corners), axis=0)
-    safe = [np.where(whole, v, 0.0) for v in corners]
-    bilinear = (safe[0] * (1 - fc) + safe[1] * fc) * (1 - fr) + (
-        safe[2] * (1 - fc) + safe[3] * fc
-    ) * fr
-    nearest = height[
-        np.clip(np.rint(rf).astype(np.int64), 0, h - 1),
-        np.clip(np.rint(cf).astype(np.int64), 0, w - 1),
-    ]
-    return np.where(whole, bilinear, nearest)
 
 
 def model_weights(

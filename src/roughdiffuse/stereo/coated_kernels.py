@@ -264,3 +264,49 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
                 a_inv_out[p, i] = step[i]
             else:
                 a_inv_out[p, i] = np.inf
+
+
+@_jit(nogil=True, error_model="numpy")
+def _surface(height, rf, cf):  # noqa: ANN001, ANN202
+    """The height map at fractional (row, column): bilinear between the four nearest pixels,
+    the nearest pixel's value where one of them is −∞ (outside the object)."""
+    h, w = height.shape
+    r0 = min(max(int(math.floor(rf)), 0), h - 1)
+    c0 = min(max(int(math.floor(cf)), 0), w - 1)
+    r1, c1 = min(r0 + 1, h - 1), min(c0 + 1, w - 1)
+    fr = min(max(rf - r0, 0.0), 1.0)
+    fc = min(max(cf - c0, 0.0), 1.0)
+    a, b, c, d = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
+    if np.isfinite(a) and np.isfinite(b) and np.isfinite(c) and np.isfinite(d):
+        return (a * (1.0 - fc) + b * fc) * (1.0 - fr) + (c * (1.0 - fc) + d * fc) * fr
+    rn = min(max(int(np.rint(rf)), 0), h - 1)
+    cn = min(max(int(np.rint(cf)), 0), w - 1)
+    return height[rn, cn]
+
+
+@_jit(parallel=True, nogil=True, error_model="numpy")
+def march_shadows(height, rows, cols, z0, directions, tolerance, top, out):  # noqa: ANN001, ANN201
+    """``out[k, p]``: the ray from pixel p (row, column, start height z0) towards light k,
+    marched one pixel at a time, meets the surface ``height`` (−∞ outside the object) more
+    than ``tolerance`` above it before leaving the image or rising above ``top − tolerance``
+    (see :func:`roughdiffuse.stereo.coated.cast_shadows`)."""
+    h, w = height.shape
+    kk, pp = directions.shape[0], rows.shape[0]
+    longest = int(math.hypot(h, w))
+    for i in numba.prange(kk * pp):
+        k, p = i // pp, i % pp
+        lx, ly, lz = directions[k, 0], directions[k, 1], directions[k, 2]
+        across = math.hypot(lx, ly)
+        if across < 1e-9 or not np.isfinite(z0[p]):
+            continue  # a light on the view axis: a height field casts no shadow
+        dx, dy, rise = lx / across, ly / across, lz / across
+        for s in range(1, longest + 1):
+            ray = z0[p] + s * rise
+            if not ray < top - tolerance:
+                break
+            rf, cf = rows[p] - s * dy, cols[p] + s * dx
+            if not (rf > -0.5 and rf < h - 0.5 and cf > -0.5 and cf < w - 0.5):
+                break
+            if _surface(height, rf, cf) > ray + tolerance:
+                out[k, p] = True
+                break
