@@ -6,14 +6,19 @@ Every object folder ``<renders>/pmsData/<shape>-<material>PNG`` written by
 ``coat03``), or with an aluminium GGX lobe (``metal``); 96 lights, 1 % noise, 12 bits) is
 solved by Lambertian least squares, by the robust Lambertian solvers when
 :mod:`roughdiffuse.stereo.robust` is there, by the rough fit (full Oren–Nayar, one σ) and by
-the coated fit (its start, the rough fit, included in its time). The table gives the mean
-angular error against ``Normal_gt.mat`` and the fitted σ and α with their standard errors;
-speed is seconds per megapixel of object pixels with 96 lights, warm (a second call on the
-first coated object), as a ratio to the Lambertian solve timed in the same run. With
-``--write RESULTS.md`` the section "Coated photometric stereo" there is rewritten::
+the coated fit (its table solver from its own Lambertian start; once with the light
+intensities as given and once with a fitted light scale). The table gives the mean angular
+error against ``Normal_gt.mat`` and the fitted σ, α and light scale with their standard
+errors; speed is seconds per megapixel of object pixels with 96 lights, warm, on the first
+object or on ``--speed FOLDER`` (a large render, where the fixed costs of a fit, the
+subsample's direct fit and the table, weigh what they would on a real image), as a ratio to
+the Lambertian solve timed in the same run. With ``--write RESULTS.md`` the section "Coated
+photometric stereo" there is rewritten::
 
     python scripts/stereo_renders.py /tmp/renders
-    python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders [--write FILE]
+    python scripts/stereo_renders.py /tmp/big --size 512 --only sphere-coat03
+    python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders \
+        --speed /tmp/big/pmsData/sphere-coat03PNG [--write FILE]
     python bench/stereo_coated.py --renders /tmp/renders [--write]  # bench/RESULTS.md
 
 The coats are Mitsuba's ``roughplastic`` (Lambertian base, σ = 0): the roughdiffuse plugin

@@ -79,6 +79,14 @@ SOLVERS = ("table", "direct")
 """``solver`` of :func:`coated`: the table of the model with the object's values fitted on a
 subsample (:mod:`.coated_table`), or the direct fit of every pixel on the model itself."""
 
+SETTLED = 1e-3
+"""The table solver's shadow rounds stop when fewer than this fraction of the observations
+changed from shadowed to kept or back."""
+
+RETABLE = 0.25
+"""A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
+by less than this fraction of their standard errors (below what the images determine)."""
+
 DEPTH_TOLERANCE = 1.0
 """Height (pixel units) by which the integrated surface must stand above a ray towards the
 light to cast a shadow: the integration's own error, and a pixel's extent, stay below it."""
@@ -476,8 +484,10 @@ def _table_fit(
     """The table solver of :func:`coated`: the object's values from the direct fit of a
     subsample of well-lit pixels, then every pixel on the model's table; the shadows found
     again from the fitted normals after each round, and the subsample's fit redone with
-    them. A matte object (the coat does not lower the subsample's residual) gets the rough
-    fit of every pixel."""
+    them (the table kept when they moved by less than :data:`RETABLE` of their standard
+    errors; the rounds stop when fewer than :data:`SETTLED` of the observations changed). A
+    matte object (the coat does not lower the subsample's residual) gets the rough fit of
+    every pixel."""
     from .coated_table import coated_table, solve_pixels
 
     first = lambertian(data, shadow=shadow) if start is None else start
@@ -492,7 +502,7 @@ def _table_fit(
     obs = data.images[:, data.mask, :]
     normals, albedo = first.normals, None
     done = 0
-    fit, sub_fit = None, None
+    fit, sub_fit, table, tabled = None, None, None, None
     for round_ in range(shadow_rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
         if sub_fit is None:
@@ -511,8 +521,10 @@ def _table_fit(
             return CoatedResult(**fields, alpha=math.nan, alpha_se=math.nan, coat=False,
                                 shadow_rounds=0, **coat)
         values = sub_fit.values
-        table = coated_table(lambda rho, v=values: family.build(rho, v), float(values[1]),
-                             data.directions)
+        if table is None or not _close(values, tabled, sub_fit.values_se):
+            table = coated_table(lambda rho, v=values: family.build(rho, v), float(values[1]),
+                                 data.directions)
+            tabled = values
         if albedo is None:
             albedo = _start_albedo(family, np.asarray(first.albedo), float(values[0]))
             albedo = albedo / family.scale(values)
@@ -522,7 +534,7 @@ def _table_fit(
         if round_ == shadow_rounds:
             break
         again = model_weights(data, fit["normals"], depth_method, shadow)
-        if np.array_equal(again, weights):
+        if np.mean(again != weights) < SETTLED:
             break
         weights, normals, albedo = again, fit["normals"], fit["albedo"]
         sub_fit = dataclasses.replace(
@@ -530,6 +542,13 @@ def _table_fit(
     assert fit is not None and sub_fit is not None
     return _table_result(fit, sub_fit, family, weights, obs, table.error,
                          {**coat, "shadow_rounds": done})
+
+
+def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
+    """Whether the object's values moved by less than :data:`RETABLE` of their standard
+    errors since the table was made of ``tabled`` (then it is kept)."""
+    step = np.abs(np.asarray(values) - np.asarray(tabled))
+    return bool(np.all(step <= RETABLE * np.nan_to_num(se, nan=0.0, posinf=0.0)))
 
 
 def _coat_helps(fit: PixelFit, start: RoughResult) -> bool:
