@@ -19,8 +19,8 @@ integrated from the current normals (:func:`.depth.integrate`), stands between t
 the light (cast; :func:`cast_shadows` marches from each pixel towards each light over the
 depth map); observations darker than the rough fit's threshold stay out too (shadows of
 parts outside the mask, which the integrated surface does not hold). The fit starts from
-the rough fit's normals, and the shadows are found again after each fit, ``shadow_rounds``
-times.
+Lambertian photometric stereo (the table solver) or the rough fit (the direct one), and the
+shadows are found again after each fit, ``shadow_rounds`` times.
 
 Two solvers. ``"table"`` (the default): σ and α (and, with ``light_scale``, one factor on
 every light's intensity) by the direct fit of a subsample of well-lit pixels, then every
@@ -72,7 +72,7 @@ ALPHA_START = 0.2
 SCALE_BOX = (0.01, 100.0)
 """The fit box of the light scale s (intensities off by up to a factor 100 either way)."""
 
-SUBSAMPLE = 1024
+SUBSAMPLE = 512
 """Pixels of the subsample on which the table solver fits σ, α and the light scale."""
 
 SOLVERS = ("table", "direct")
@@ -487,7 +487,8 @@ def _table_fit(
     them (the table kept when they moved by less than :data:`RETABLE` of their standard
     errors; the rounds stop when fewer than :data:`SETTLED` of the observations changed). A
     matte object (the coat does not lower the subsample's residual) gets the rough fit of
-    every pixel."""
+    every pixel. With the table kept, a round solves again only the pixels whose
+    observations changed."""
     from .coated_table import coated_table, solve_pixels
 
     first = lambertian(data, shadow=shadow) if start is None else start
@@ -502,7 +503,7 @@ def _table_fit(
     obs = data.images[:, data.mask, :]
     normals, albedo = first.normals, None
     done = 0
-    fit, sub_fit, table, tabled = None, None, None, None
+    fit, sub_fit, table, tabled, redo = None, None, None, None, None
     for round_ in range(shadow_rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
         if sub_fit is None:
@@ -524,18 +525,28 @@ def _table_fit(
         if table is None or not _close(values, tabled, sub_fit.values_se):
             table = coated_table(lambda rho, v=values: family.build(rho, v), float(values[1]),
                                  data.directions)
-            tabled = values
+            tabled, redo = values, None
         if albedo is None:
             albedo = _start_albedo(family, np.asarray(first.albedo), float(values[0]))
             albedo = albedo / family.scale(values)
-        fit = solve_pixels(table, data.intensities * family.scale(values), obs, weights,
-                           normals, albedo, iterations=iterations)
+        light = data.intensities * family.scale(tabled)
+        if redo is None or fit is None:
+            fit = solve_pixels(table, light, obs, weights, normals, albedo,
+                               iterations=iterations)
+        else:
+            # same table: only the pixels whose observations changed move
+            part = solve_pixels(table, light, obs[:, redo], weights[:, redo], normals[redo],
+                                albedo[redo], iterations=iterations)
+            for key, value in part.items():
+                fit[key] = fit[key].copy()
+                fit[key][redo] = value
         done = round_
         if round_ == shadow_rounds:
             break
         again = model_weights(data, fit["normals"], depth_method, shadow)
         if np.mean(again != weights) < SETTLED:
             break
+        redo = np.any(again != weights, axis=0)
         weights, normals, albedo = again, fit["normals"], fit["albedo"]
         sub_fit = dataclasses.replace(
             sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick])

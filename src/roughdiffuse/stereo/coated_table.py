@@ -211,7 +211,7 @@ def evaluate(table: CoatedTable, lights: np.ndarray, normals: np.ndarray,
 
 def solve_pixels(table: CoatedTable, intensities: np.ndarray, obs: np.ndarray,
                  weights: np.ndarray, normals: np.ndarray, albedo: np.ndarray, *,
-                 iterations: int = 20, tolerance: float = 1e-7) -> dict[str, np.ndarray]:
+                 iterations: int = 20, tolerance: float = 1e-6) -> dict[str, np.ndarray]:
     """Levenberg–Marquardt of every pixel's normal and albedo on the table.
 
     Parameters
