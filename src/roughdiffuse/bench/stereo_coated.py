@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import math
 import os
 import time
 from pathlib import Path
@@ -92,11 +93,14 @@ def measure(folder: Path, robust: Any) -> dict[str, Any]:
     row["alpha"] = (float(res.alpha), float(res.alpha_se))
     row["table_error"] = float(res.table_error)
     row["t_coated"], row["c_coated"] = t_coat, c_coat
-    scaled = stereo.coated(data, light_scale=True)
-    row["coated_s"] = _error(scaled.normals, truth)
-    row["scale"] = (float(scaled.light_scale), float(scaled.light_scale_se))
-    row["alpha_s"] = (float(scaled.alpha), float(scaled.alpha_se))
-    row["sigma_s"] = (float(scaled.sigma), float(scaled.sigma_se))
+    nan = (math.nan, math.nan)
+    row["coated_s"], row["scale"], row["alpha_s"], row["sigma_s"] = math.nan, nan, nan, nan
+    if "coat" in row["name"].split("-")[-1]:  # a matte object: the rough fit, no scale
+        scaled = stereo.coated(data, light_scale=True)
+        row["coated_s"] = _error(scaled.normals, truth)
+        row["scale"] = (float(scaled.light_scale), float(scaled.light_scale_se))
+        row["alpha_s"] = (float(scaled.alpha), float(scaled.alpha_se))
+        row["sigma_s"] = (float(scaled.sigma), float(scaled.sigma_se))
     row["data"] = data
     return row
 
@@ -201,7 +205,8 @@ def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[s
 def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     parser = argparse.ArgumentParser(prog=prog, description=__doc__.splitlines()[0])
     parser.add_argument("--renders", required=True, help="folder holding pmsData/")
-    parser.add_argument("--only", help="comma-separated object names (<shape>-<material>)")
+    parser.add_argument("--only", help="comma-separated object names (<shape>-<material>) "
+                        "or shapes")
     parser.add_argument("--write", metavar="RESULTS.md", help="rewrite this table's section there")
     parser.add_argument("--speed", metavar="FOLDER",
                         help="object folder timed for speed (default: the first object); "
@@ -213,7 +218,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     folders = sorted((Path(args.renders) / "pmsData").glob("*PNG"))
     if args.only:
         keep = set(args.only.split(","))
-        folders = [f for f in folders if f.name[:-3] in keep]
+        folders = [f for f in folders if f.name[:-3] in keep or f.name.split("-")[0] in keep]
     if not folders:
         raise SystemExit(f"no <object>PNG folder under {args.renders}/pmsData")
     load = os.getloadavg()[0]

@@ -383,16 +383,15 @@ def coated(
     if not isinstance(shadow_rounds, int) or shadow_rounds < 0:
         raise ParameterError(f"shadow_rounds must be an integer ≥ 0 (got {shadow_rounds!r})")
     coat = {"eta": float(eta), "base": base, "solver": solver}
+    opts = _Options(shadow, shadow_rounds, depth_method, iterations, precision, progress)
     if solver == "table" and not per_pixel:
-        return _table_fit(data, family, start, shadow, shadow_rounds, depth_method,
-                          iterations, precision, progress, subsample, coat)
+        return _table_fit(data, family, start, opts, subsample, coat)
     if not isinstance(start, RoughResult):
         start = rough(
             data, family.model.base, shadow=shadow, precision=precision, progress=progress,
             start=start,
         )
-    fit, done = _direct_fit(data, family, start, shadow, shadow_rounds, depth_method,
-                            iterations, precision, progress, per_pixel)
+    fit, done = _direct_fit(data, family, start, opts, per_pixel)
     return _result(fit, start, family, per_pixel, {**coat, "shadow_rounds": done})
 
 
@@ -406,16 +405,23 @@ def _initial(family: CoatedFamily, start: RoughResult) -> tuple[np.ndarray, Any]
     return np.array(initial), current
 
 
+@dataclass(frozen=True)
+class _Options:
+    """The options of :func:`coated` that both solvers follow."""
+
+    shadow: float
+    rounds: int
+    depth_method: str
+    iterations: int
+    precision: str
+    progress: bool
+
+
 def _direct_fit(
     data: StereoInput,
     family: CoatedFamily,
     start: RoughResult,
-    shadow: float,
-    shadow_rounds: int,
-    depth_method: str,
-    iterations: int,
-    precision: str,
-    progress: bool,
+    opts: _Options,
     per_pixel: bool,
     weights: np.ndarray | None = None,
 ) -> tuple[PixelFit, int]:
@@ -423,10 +429,11 @@ def _direct_fit(
     the shadows found again after each fit ``shadow_rounds`` times; the fit and the rounds
     done. ``weights`` (K, P): the first round's, instead of those of the start's normals."""
     initial, current = _initial(family, start)
+    shadow, depth_method = opts.shadow, opts.depth_method
     if weights is None:
         weights = model_weights(data, start.normals, depth_method, shadow)
     done = 0
-    for round_ in range(shadow_rounds + 1):
+    for round_ in range(opts.rounds + 1):
         fit = fit_pixels(
             data,
             family,
@@ -435,13 +442,13 @@ def _direct_fit(
             initial=initial,
             per_pixel=per_pixel,
             subset_start=round_ == 0,
-            iterations=iterations,
-            precision=precision,
-            progress=progress,
+            iterations=opts.iterations,
+            precision=opts.precision,
+            progress=opts.progress,
             label="coated photometric stereo",
         )
         done = round_
-        if round_ == shadow_rounds:
+        if round_ == opts.rounds:
             break
         again = model_weights(data, fit.normals, depth_method, shadow)
         if np.array_equal(again, weights):
@@ -472,12 +479,7 @@ def _table_fit(
     data: StereoInput,
     family: CoatedFamily,
     start: RoughResult | LambertianResult | None,
-    shadow: float,
-    shadow_rounds: int,
-    depth_method: str,
-    iterations: int,
-    precision: str,
-    progress: bool,
+    opts: _Options,
     subsample: int,
     coat: dict[str, Any],
 ) -> CoatedResult:
@@ -491,6 +493,8 @@ def _table_fit(
     observations changed."""
     from .coated_table import coated_table, solve_pixels
 
+    shadow, depth_method = opts.shadow, opts.depth_method
+    iterations, precision = opts.iterations, opts.precision
     first = lambertian(data, shadow=shadow) if start is None else start
     weights = model_weights(data, first.normals, depth_method, shadow)
     ok = np.all(np.isfinite(first.normals), axis=1) & (weights.sum(axis=0) >= 3)
@@ -504,11 +508,11 @@ def _table_fit(
     normals, albedo = first.normals, None
     done = 0
     fit, sub_fit, table, tabled, redo = None, None, None, None, None
-    for round_ in range(shadow_rounds + 1):
+    for round_ in range(opts.rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
         if sub_fit is None:
-            sub_fit, _ = _direct_fit(sub, family, sub_start, shadow, 0, depth_method,
-                                     iterations, precision, False, False,
+            sub_fit, _ = _direct_fit(sub, family, sub_start,
+                                     dataclasses.replace(opts, rounds=0, progress=False), False,
                                      weights=weights[:, pick])
         else:
             sub_fit = fit_pixels(sub, family, start=sub_fit, weights=weights[:, pick],
@@ -516,7 +520,7 @@ def _table_fit(
                                  iterations=iterations, precision=precision)
         if round_ == 0 and not _coat_helps(sub_fit, sub_start):
             full = first if isinstance(first, RoughResult) else rough(
-                data, base_model, shadow=shadow, precision=precision, progress=progress,
+                data, base_model, shadow=shadow, precision=precision, progress=opts.progress,
                 start=first)
             fields = {f.name: getattr(full, f.name) for f in dataclasses.fields(RoughResult)}
             return CoatedResult(**fields, alpha=math.nan, alpha_se=math.nan, coat=False,
@@ -541,7 +545,7 @@ def _table_fit(
                 fit[key] = fit[key].copy()
                 fit[key][redo] = value
         done = round_
-        if round_ == shadow_rounds:
+        if round_ == opts.rounds:
             break
         again = model_weights(data, fit["normals"], depth_method, shadow)
         if np.mean(again != weights) < SETTLED:
