@@ -5,15 +5,20 @@ Every object folder ``<renders>/pmsData/<shape>-<material>PNG`` written by
 σ 0.4, bare (``matte``), under a coat of η 1.5 and GGX α 0.1 or 0.3 (``coat01``,
 ``coat03``), or with an aluminium GGX lobe (``metal``); 96 lights, 1 % noise, 12 bits) is
 solved by Lambertian least squares, by the robust Lambertian solvers (``l1``, ``sparse``,
-``rpca`` of :mod:`roughdiffuse.stereo.robust`), by the rough fit (full Oren–Nayar, one σ) and by
-the coated fit (its start, the rough fit, included in its time). The table gives the mean
-angular error against ``Normal_gt.mat`` and the fitted σ and α with their standard errors;
-speed is seconds per megapixel of object pixels with 96 lights, warm (a second call on the
-first coated object), as a ratio to the Lambertian solve timed in the same run. With
-``--write RESULTS.md`` the section "Coated photometric stereo" there is rewritten::
+``rpca`` of :mod:`roughdiffuse.stereo.robust`), by the rough fit (full Oren–Nayar, one σ) and
+by the coated fit (its table solver from its own Lambertian start; once with the light
+intensities as given and once with a fitted light scale). The table gives the mean angular
+error against ``Normal_gt.mat`` and the fitted σ, α and light scale with their standard
+errors; speed is seconds per megapixel of object pixels with 96 lights, warm, on the first
+object or on ``--speed FOLDER`` (a large render, where the fixed costs of a fit, the
+subsample's direct fit and the table, weigh what they would on a real image), as a ratio to
+the Lambertian solve timed in the same run. With ``--write RESULTS.md`` the section "Coated
+photometric stereo" there is rewritten::
 
     python scripts/stereo_renders.py /tmp/renders
-    python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders [--write FILE]
+    python scripts/stereo_renders.py /tmp/big --size 512 --only sphere-coat03
+    python -m roughdiffuse.bench.stereo_coated --renders /tmp/renders \
+        --speed /tmp/big/pmsData/sphere-coat03PNG [--write FILE]
     python bench/stereo_coated.py --renders /tmp/renders [--write]  # bench/RESULTS.md
 
 The coats are roughdiffuse's coated Oren–Nayar (its Mitsuba plugin; base σ 0.4). Targets:
@@ -25,6 +30,7 @@ matte ones, σ within its error bars, ≤ 60 s per megapixel on 2 cores.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import time
 from pathlib import Path
@@ -87,13 +93,55 @@ def measure(folder: Path, robust: Any) -> dict[str, Any]:
     rough, t_rough, c_rough = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
     row["rough"] = _error(rough.normals, truth)
     row["sigma_rough"] = (float(rough.roughness), float(rough.roughness_se))
-    res, t_coat, c_coat = _timed(lambda: stereo.coated(data, start=rough))
+    res, t_coat, c_coat = _timed(lambda: stereo.coated(data))
     row["coated"] = _error(res.normals, truth)
     row["sigma"] = (float(res.sigma), float(res.sigma_se))
     row["alpha"] = (float(res.alpha), float(res.alpha_se))
-    row["t_coated"], row["c_coated"] = t_rough + t_coat, c_rough + c_coat
-    row["data"], row["rough_result"] = data, rough
+    row["table_error"] = float(res.table_error)
+    row["t_coated"], row["c_coated"] = t_coat, c_coat
+    nan = (math.nan, math.nan)
+    row["coated_s"], row["scale"], row["alpha_s"], row["sigma_s"] = math.nan, nan, nan, nan
+    if "coat" in row["name"].split("-")[-1]:  # a matte object: the rough fit, no scale
+        scaled = stereo.coated(data, light_scale=True)
+        row["coated_s"] = _error(scaled.normals, truth)
+        row["scale"] = (float(scaled.light_scale), float(scaled.light_scale_se))
+        row["alpha_s"] = (float(scaled.alpha), float(scaled.alpha_se))
+        row["sigma_s"] = (float(scaled.sigma), float(scaled.sigma_se))
+    row["data"] = data
     return row
+
+
+def _speed(folder: Path) -> dict[str, Any]:
+    """Warm times of one object: the Lambertian solve, the rough fit, the shadows of the
+    model (:func:`roughdiffuse.stereo.coated.model_weights`, cast shadows included) and the
+    coated fit (table solver, from its own Lambertian start; wall and CPU seconds)."""
+    import roughdiffuse as rd
+    from roughdiffuse.stereo.coated import model_weights
+
+    data = stereo.read_diligent(folder)
+    stereo.coated(data, shadow_rounds=0)  # compile whatever this size needs
+    out: dict[str, Any] = {"name": folder.name[:-3], "mpx": int(data.mask.sum()) / 1e6}
+    lam, out["lambertian"], _ = _timed(lambda: stereo.lambertian(data))
+    _, out["weights"], _ = _timed(lambda: model_weights(data, lam.normals))
+    _, out["rough"], _ = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
+    res, out["coated"], out["coated_cpu"] = _timed(lambda: stereo.coated(data))
+    out["rounds"] = res.shadow_rounds
+    return out
+
+
+def _speed_line(sp: dict[str, Any]) -> str:
+    mpx = sp["mpx"]
+    lam = sp["lambertian"] / mpx
+    coat = sp["coated"] / mpx
+    return (
+        f"Speed on {sp['name']} ({mpx * 1e6:.0f} pixels, 96 lights, warm): Lambertian "
+        f"{lam:.1f} s/Mpx; rough fit {sp['rough'] / mpx:.0f} s/Mpx; the model's shadows "
+        f"(cast shadows marched over the integrated surface, once per round) "
+        f"{sp['weights'] / mpx:.0f} s/Mpx each; coated fit (table solver, its Lambertian "
+        f"start and {sp['rounds']} shadow rounds included) {coat:.0f} s/Mpx "
+        f"({sp['coated_cpu'] / mpx:.0f} CPU s/Mpx), {coat / max(lam, 1e-9):.0f}× the "
+        "Lambertian solve."
+    )
 
 
 def _pm(v: tuple[float, float]) -> str:
@@ -101,16 +149,20 @@ def _pm(v: tuple[float, float]) -> str:
 
 
 def _table(rows: list[dict[str, Any]], robust: bool) -> list[str]:
-    methods = ["lambertian", *(ROBUST if robust else ()), "rough", "coated"]
-    head = "| object | pixels | " + " | ".join(methods) + " | σ rough | σ coated | α coated |"
-    lines = [head, "| --- | ---: | " + " | ".join("---:" for _ in methods) + " | --- | --- | --- |"]
+    methods = ["lambertian", *(ROBUST if robust else ()), "rough", "coated", "coated_s"]
+    names = [m if m != "coated_s" else "coated, light scale" for m in methods]
+    head = ("| object | pixels | " + " | ".join(names)
+            + " | σ rough | σ coated | α coated | σ, light scale | α, light scale | light scale |")
+    lines = [head, "| --- | ---: | " + " | ".join("---:" for _ in methods)
+             + " | --- | --- | --- | --- | --- | --- |"]
     for r in rows:
         material = r["name"].split("-")[-1]
-        alpha = _pm(r["alpha"]) + (f" ({TRUE_ALPHA[material]})" if material in TRUE_ALPHA else "")
+        truth = f" ({TRUE_ALPHA[material]})" if material in TRUE_ALPHA else ""
         errs = " | ".join(f"{r[m]:.2f}°" for m in methods)
         lines.append(
             f"| {r['name']} | {r['pixels']} | {errs} | {_pm(r['sigma_rough'])} | "
-            f"{_pm(r['sigma'])} | {alpha} |"
+            f"{_pm(r['sigma'])} | {_pm(r['alpha'])}{truth} | {_pm(r['sigma_s'])} | "
+            f"{_pm(r['alpha_s'])}{truth} | {_pm(r['scale'])} |"
         )
     return lines
 
@@ -166,14 +218,18 @@ def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[s
 def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     parser = argparse.ArgumentParser(prog=prog, description=__doc__.splitlines()[0])
     parser.add_argument("--renders", required=True, help="folder holding pmsData/")
-    parser.add_argument("--only", help="comma-separated object names (<shape>-<material>)")
+    parser.add_argument("--only", help="comma-separated object names (<shape>-<material>) "
+                        "or shapes")
     parser.add_argument("--write", metavar="RESULTS.md", help="rewrite this table's section there")
+    parser.add_argument("--speed", metavar="FOLDER",
+                        help="object folder timed for speed (default: the first object); "
+                        "a large render gives the per-megapixel figure without fixed costs")
     args = parser.parse_args(argv)
     robust = True  # the robust solvers' rows (robust_errors)
     folders = sorted((Path(args.renders) / "pmsData").glob("*PNG"))
     if args.only:
         keep = set(args.only.split(","))
-        folders = [f for f in folders if f.name[:-3] in keep]
+        folders = [f for f in folders if f.name[:-3] in keep or f.name.split("-")[0] in keep]
     if not folders:
         raise SystemExit(f"no <object>PNG folder under {args.renders}/pmsData")
     load = os.getloadavg()[0]
@@ -182,16 +238,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         rows.append(measure(folder, robust))
         load = max(load, os.getloadavg()[0])
         print(rows[-1]["name"], {k: v for k, v in rows[-1].items() if k in ("coated", "rough")})
-    # speed, warm: the first object again (its kernels compiled by now), with 96 lights
-    first = rows[0]
-    data = first["data"]
-    _, t_lam, _ = _timed(lambda: stereo.lambertian(data))
-    _, t_coat, c_coat = _timed(lambda: stereo.coated(data, start=first["rough_result"]))
-    import roughdiffuse as rd
-
-    _, t_rough, c_rough = _timed(lambda: stereo.rough(data, rd.OrenNayar(variant="full")))
-    mpx = first["pixels"] / 1e6
-    per_mpx = (t_coat + t_rough) / mpx
+    # speed, warm (the kernels compiled by now), with 96 lights
+    speed = _speed(Path(args.speed) if args.speed else folders[0])
+    load = max(load, os.getloadavg()[0])
+    data = rows[0]["data"]
+    per_mpx = speed["coated"] / speed["mpx"]
     cores = len(os.sched_getaffinity(0))
     lines = [
         BEGIN,
@@ -207,10 +258,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         "",
         *_table(rows, robust is not None),
         "",
-        f"Speed on {first['name']} ({first['pixels']} pixels, warm): Lambertian "
-        f"{t_lam / mpx:.2f} s/Mpx; rough fit {t_rough / mpx:.0f} s/Mpx; coated fit with its "
-        f"rough start {per_mpx:.0f} s/Mpx ({(c_coat + c_rough) / mpx:.0f} CPU s/Mpx), "
-        f"{per_mpx / max(t_lam / mpx, 1e-9):.0f}× the Lambertian solve.",
+        _speed_line(speed),
         "",
         "Targets:",
         "",

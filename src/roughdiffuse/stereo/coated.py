@@ -19,8 +19,15 @@ integrated from the current normals (:func:`.depth.integrate`), stands between t
 the light (cast; :func:`cast_shadows` marches from each pixel towards each light over the
 depth map); observations darker than the rough fit's threshold stay out too (shadows of
 parts outside the mask, which the integrated surface does not hold). The fit starts from
-the rough fit's normals, and the shadows are found again after each fit, ``shadow_rounds``
-times.
+Lambertian photometric stereo (the table solver) or the rough fit (the direct one), and the
+shadows are found again after each fit, ``shadow_rounds`` times.
+
+Two solvers. ``"table"`` (the default): σ and α (and, with ``light_scale``, one factor on
+every light's intensity) by the direct fit of a subsample of well-lit pixels, then every
+pixel's normal and albedo by a compiled Levenberg–Marquardt on the model tabulated per
+light from its own evaluation (:mod:`.coated_table`); each shadow round refits the
+subsample and the pixels. ``"direct"``: every pixel on the model itself by
+:func:`.rough.fit_pixels` (σ and α by the Schur complement, or per pixel).
 
 A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
 When the coated fit's mean squared relative residual is not below the rough fit's, the
@@ -46,7 +53,7 @@ from ..models.base import Model
 from ..models.coated import Coated
 from .depth import integrate
 from .inputs import StereoInput
-from .lambertian import observation_weights
+from .lambertian import LambertianResult, lambertian, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
 
 __all__ = ["CoatedFamily", "CoatedResult", "cast_shadows", "coated", "parameter_count"]
@@ -61,6 +68,24 @@ BASES: dict[str, str] = {
 
 ALPHA_START = 0.2
 """Starting coat roughness α of a fit for one α (GGX; glazes and plastics span 0.05–0.4)."""
+
+SCALE_BOX = (0.01, 100.0)
+"""The fit box of the light scale s (intensities off by up to a factor 100 either way)."""
+
+SUBSAMPLE = 512
+"""Pixels of the subsample on which the table solver fits σ, α and the light scale."""
+
+SOLVERS = ("table", "direct")
+"""``solver`` of :func:`coated`: the table of the model with the object's values fitted on a
+subsample (:mod:`.coated_table`), or the direct fit of every pixel on the model itself."""
+
+SETTLED = 1e-3
+"""The table solver's shadow rounds stop when fewer than this fraction of the observations
+changed from shadowed to kept or back."""
+
+RETABLE = 0.25
+"""A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
+by less than this fraction of their standard errors (below what the images determine)."""
 
 DEPTH_TOLERANCE = 1.0
 """Height (pixel units) by which the integrated surface must stand above a ray towards the
@@ -79,17 +104,24 @@ def parameter_count(channels: int = 1) -> int:
 class CoatedFamily(Family):
     """The coated models of a fit: the base's albedo and roughness (``base_param``, e.g.
     ``"sigma"``) and the coat's α vary; η, the distribution and the absorption are kept.
-    :attr:`names` are ``(base_param, "roughness")``."""
+    :attr:`names` are ``(base_param, "roughness")``, then ``"light_scale"`` with
+    :attr:`light_scale`: one factor s on every light's intensity (:meth:`scale`), for
+    intensities known only relative to each other."""
 
     base_param: str = "sigma"
+    light_scale: bool = False
 
     def build(self, albedo: Any, values: Sequence[Any]) -> Model:
         """The coat with its base's albedo and roughness, and its α, set to these values."""
-        base_value, alpha = values
+        base_value, alpha = values[0], values[1]
         model = self.model
         assert isinstance(model, Coated)
         base = dataclasses.replace(model.base, albedo=albedo, **{self.base_param: base_value})
         return dataclasses.replace(model, base=base, roughness=alpha)
+
+    def scale(self, values: Sequence[Any]) -> Any:
+        """The light scale s (the third value) when :attr:`light_scale`, else 1."""
+        return values[2] if self.light_scale else 1.0
 
 
 @dataclass
@@ -114,6 +146,14 @@ class CoatedResult(RoughResult):
         relative residual is not below the rough fit's (a matte object: a coat of η > 1
         cannot vanish, and the fit runs to its bounds); the normals, albedo and σ are then
         the rough fit's, and α is NaN.
+    light_scale, light_scale_se : float
+        The factor fitted on every light's intensity, with its standard error (1 and 0
+        when not fitted).
+    solver : str
+        ``"table"`` or ``"direct"`` (see :func:`coated`).
+    table_error : float
+        The table solver's measured table error, relative to each light's brightest value
+        (:attr:`.coated_table.CoatedTable.error`); NaN for the direct solver.
     """
 
     alpha: Any = 0.0
@@ -122,6 +162,10 @@ class CoatedResult(RoughResult):
     base: str = "oren-nayar-full"
     shadow_rounds: int = 0
     coat: bool = True
+    light_scale: float = 1.0
+    light_scale_se: float = 0.0
+    solver: str = "direct"
+    table_error: float = math.nan
 
     @property
     def sigma(self) -> Any:
@@ -133,9 +177,10 @@ class CoatedResult(RoughResult):
         return self.roughness_se
 
 
-def _family(base: str, eta: float, distribution: str) -> CoatedFamily:
+def _family(base: str, eta: float, distribution: str, light_scale: bool = False) -> CoatedFamily:
     """The coated models over the registry's ``base``: its albedo and roughness, and the
-    coat's α, fitted in their declared boxes; η and the distribution kept."""
+    coat's α, fitted in their declared boxes (and the light scale in :data:`SCALE_BOX`);
+    η and the distribution kept."""
     from .. import registry
 
     if base not in BASES:
@@ -146,12 +191,11 @@ def _family(base: str, eta: float, distribution: str) -> CoatedFamily:
     base_model = registry.create(base)
     name = BASES[base]
     model = Coated(base_model, eta, ALPHA_START, distribution)
-    return CoatedFamily(
-        model,
-        (name, "roughness"),
-        (fit_box(base_model, name), fit_box(model, "roughness")),
-        base_param=name,
-    )
+    names: tuple[str, ...] = (name, "roughness")
+    bounds = (fit_box(base_model, name), fit_box(model, "roughness"))
+    if light_scale:
+        names, bounds = (*names, "light_scale"), (*bounds, SCALE_BOX)
+    return CoatedFamily(model, names, bounds, base_param=name, light_scale=light_scale)
 
 
 def cast_shadows(
@@ -172,55 +216,22 @@ def cast_shadows(
     more than ``tolerance``. The surface is sampled by bilinear interpolation between the
     four nearest pixels (below a convex surface, never above it), or the nearest pixel where
     one of the four lies outside the object. Pixels outside the object do not occlude.
+    Compiled (Numba), parallel over the lights and pixels; each ray stops at its first
+    occluder.
     """
+    from .coated_kernels import march_shadows
+
     z = np.asarray(depth, dtype=np.float64)
     m = np.asarray(mask, dtype=bool)
-    h, w = m.shape
     rows, cols = np.nonzero(m)
     z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
-    top = float(np.nanmax(z))
     height = np.where(np.isfinite(z), z, -np.inf)
-    shadow = np.zeros((len(directions), rows.size), dtype=bool)
-    for k, (lx, ly, lz) in enumerate(np.asarray(directions, dtype=np.float64)):
-        across = math.hypot(lx, ly)
-        if across < 1e-9:
-            continue  # a light on the view axis: a height field casts no shadow
-        dx, dy, rise = lx / across, ly / across, lz / across
-        idx = np.flatnonzero(np.isfinite(z0))
-        for s in range(1, int(math.hypot(h, w)) + 1):
-            ray = z0[idx] + s * rise
-            keep = ray < top - tolerance
-            idx, ray = idx[keep], ray[keep]
-            rf, cf = rows[idx] - s * dy, cols[idx] + s * dx
-            inside = (rf > -0.5) & (rf < h - 0.5) & (cf > -0.5) & (cf < w - 0.5)
-            idx, ray, rf, cf = idx[inside], ray[inside], rf[inside], cf[inside]
-            if idx.size == 0:
-                break
-            hit = _surface(height, rf, cf) > ray + tolerance
-            shadow[k, idx[hit]] = True
-            idx = idx[~hit]
+    shadow = np.zeros((len(directions), rows.size), dtype=np.bool_)
+    march_shadows(height, rows.astype(np.float64), cols.astype(np.float64),
+                  np.ascontiguousarray(z0, dtype=np.float64),
+                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance),
+                  float(np.nanmax(z)), shadow)
     return shadow
-
-
-def _surface(height: np.ndarray, rf: np.ndarray, cf: np.ndarray) -> np.ndarray:
-    """The height map at fractional (row, column): bilinear between the four nearest pixels,
-    the nearest pixel's value where one of them is −∞ (outside the object)."""
-    h, w = height.shape
-    r0 = np.clip(np.floor(rf).astype(np.int64), 0, h - 1)
-    c0 = np.clip(np.floor(cf).astype(np.int64), 0, w - 1)
-    r1, c1 = np.minimum(r0 + 1, h - 1), np.minimum(c0 + 1, w - 1)
-    fr, fc = np.clip(rf - r0, 0.0, 1.0), np.clip(cf - c0, 0.0, 1.0)
-    corners = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
-    whole = np.all(np.isfinite(corners), axis=0)
-    safe = [np.where(whole, v, 0.0) for v in corners]
-    bilinear = (safe[0] * (1 - fc) + safe[1] * fc) * (1 - fr) + (
-        safe[2] * (1 - fc) + safe[3] * fc
-    ) * fr
-    nearest = height[
-        np.clip(np.rint(rf).astype(np.int64), 0, h - 1),
-        np.clip(np.rint(cf).astype(np.int64), 0, w - 1),
-    ]
-    return np.where(whole, bilinear, nearest)
 
 
 def model_weights(
@@ -287,13 +298,16 @@ def coated(
     eta: float = 1.5,
     distribution: str = "ggx",
     per_pixel: bool = False,
-    start: RoughResult | None = None,
+    start: RoughResult | LambertianResult | None = None,
     shadow: float = 0.02,
     shadow_rounds: int = 2,
     depth_method: str = "poisson",
     iterations: int = 30,
     precision: str = "single",
     progress: bool = False,
+    light_scale: bool = False,
+    solver: str = "table",
+    subsample: int = SUBSAMPLE,
 ) -> CoatedResult:
     """Fit normals, base albedo and roughness, and the coat's α, of a coated object.
 
@@ -308,20 +322,36 @@ def coated(
     distribution : {"ggx", "beckmann"}
         The coat's facet distribution.
     per_pixel : bool
-        σ and α per pixel instead of one each for the object.
-    start : RoughResult, optional
-        Starting normals, albedo and σ (default: :func:`.rough` with the base model and the
-        threshold ``shadow``).
+        σ and α per pixel instead of one each for the object (the direct solver; no light
+        scale).
+    start : RoughResult or LambertianResult, optional
+        Starting normals and albedo (and σ, from a rough fit). Default: Lambertian
+        photometric stereo with the threshold ``shadow`` for the table solver, the rough
+        fit (:func:`.rough`) of the base for the direct one.
     shadow : float
         Observations darker than this fraction of the pixel's brightest are left out, as
-        by the rough fit (its start), besides the shadows found from the model.
+        by the rough fit, besides the shadows found from the model.
     shadow_rounds : int
         Times the shadows are found again from the fitted normals, each followed by a fit
         (0: the start's normals only).
     depth_method : {"poisson", "frankot-chellappa"}
         Integration of the normals for the cast shadows.
     iterations, precision, progress
-        As :func:`.rough`.
+        As :func:`.rough` (the direct fits; the table solver's per-pixel steps are at most
+        ``iterations`` too).
+    light_scale : bool
+        Fit one factor s on every light's intensity (an object-wide unknown, e.g.
+        DiLiGenT's intensities, which are relative): the highlight's height against the
+        base's light fixes it; the albedo alone cannot absorb it (ρ enters the coated model
+        nonlinearly, and the coat's reflection not at all).
+    solver : {"table", "direct"}
+        ``"table"`` (default): σ, α (and s) fitted by the direct fit on a subsample of
+        ``subsample`` well-lit pixels, then every pixel's normal and albedo by a compiled
+        Levenberg–Marquardt on the model tabulated per light (:mod:`.coated_table`; its
+        measured error is :attr:`CoatedResult.table_error`). ``"direct"``: every pixel
+        fitted on the model itself (slow: the coat's quadrature rules per light and pixel).
+    subsample : int
+        Pixels of the table solver's subsample (all pixels when there are fewer).
 
     Returns
     -------
@@ -337,7 +367,12 @@ def coated(
     >>> round(float(res.alpha), 2), round(float(res.sigma), 2)
     (0.3, 0.4)
     """
-    family = _family(base, eta, distribution)
+    if solver not in SOLVERS:
+        raise ParameterError(f"solver must be one of {', '.join(map(repr, SOLVERS))} "
+                             f"(got {solver!r})")
+    if not isinstance(subsample, int) or subsample < 16:
+        raise ParameterError(f"subsample must be an integer ≥ 16 (got {subsample!r})")
+    family = _family(base, eta, distribution, light_scale and not per_pixel)
     name = family.base_param
     if data.count < parameter_count(data.channels):
         raise ParameterError(
@@ -347,18 +382,58 @@ def coated(
         )
     if not isinstance(shadow_rounds, int) or shadow_rounds < 0:
         raise ParameterError(f"shadow_rounds must be an integer ≥ 0 (got {shadow_rounds!r})")
-    if start is None:
+    coat = {"eta": float(eta), "base": base, "solver": solver}
+    opts = _Options(shadow, shadow_rounds, depth_method, iterations, precision, progress)
+    if solver == "table" and not per_pixel:
+        return _table_fit(data, family, start, opts, subsample, coat)
+    if not isinstance(start, RoughResult):
         start = rough(
-            data, family.model.base, shadow=shadow, precision=precision, progress=progress
+            data, family.model.base, shadow=shadow, precision=precision, progress=progress,
+            start=start,
         )
+    fit, done = _direct_fit(data, family, start, opts, per_pixel)
+    return _result(fit, start, family, per_pixel, {**coat, "shadow_rounds": done})
+
+
+def _initial(family: CoatedFamily, start: RoughResult) -> tuple[np.ndarray, Any]:
+    """The starting σ, α (and light scale 1) of a fit from the rough fit ``start``, and the
+    start with its albedo converted to the coated model's (:func:`_start_albedo`)."""
     lo, hi = family.bounds[0]
     base0 = float(np.clip(np.nanmedian(start.roughness), lo + 0.02 * (hi - lo), 0.8 * hi))
-    current: Any = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
-    initial = np.array([base0, ALPHA_START])
-    weights = model_weights(data, start.normals, depth_method, shadow)
-    label = "coated photometric stereo"
+    current = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
+    initial = [base0, ALPHA_START] + ([1.0] if family.light_scale else [])
+    return np.array(initial), current
+
+
+@dataclass(frozen=True)
+class _Options:
+    """The options of :func:`coated` that both solvers follow."""
+
+    shadow: float
+    rounds: int
+    depth_method: str
+    iterations: int
+    precision: str
+    progress: bool
+
+
+def _direct_fit(
+    data: StereoInput,
+    family: CoatedFamily,
+    start: RoughResult,
+    opts: _Options,
+    per_pixel: bool,
+    weights: np.ndarray | None = None,
+) -> tuple[PixelFit, int]:
+    """The fit of every pixel of ``data`` on the model itself (:func:`.rough.fit_pixels`),
+    the shadows found again after each fit ``shadow_rounds`` times; the fit and the rounds
+    done. ``weights`` (K, P): the first round's, instead of those of the start's normals."""
+    initial, current = _initial(family, start)
+    shadow, depth_method = opts.shadow, opts.depth_method
+    if weights is None:
+        weights = model_weights(data, start.normals, depth_method, shadow)
     done = 0
-    for round_ in range(shadow_rounds + 1):
+    for round_ in range(opts.rounds + 1):
         fit = fit_pixels(
             data,
             family,
@@ -367,40 +442,204 @@ def coated(
             initial=initial,
             per_pixel=per_pixel,
             subset_start=round_ == 0,
-            iterations=iterations,
-            precision=precision,
-            progress=progress,
-            label=label,
+            iterations=opts.iterations,
+            precision=opts.precision,
+            progress=opts.progress,
+            label="coated photometric stereo",
         )
         done = round_
-        if round_ == shadow_rounds:
+        if round_ == opts.rounds:
             break
         again = model_weights(data, fit.normals, depth_method, shadow)
         if np.array_equal(again, weights):
             break
         weights, current, initial = again, fit, fit.values
-    coat = {"eta": float(eta), "base": base, "shadow_rounds": done}
-    return _result(fit, start, family.base_param, per_pixel, coat)
+    return fit, done
+
+
+def _well_lit(weights: np.ndarray, ok: np.ndarray, count: int) -> np.ndarray:
+    """Up to ``count`` pixels (sorted indices) drawn at random among those with at least
+    the median number of kept observations: their highlights and shading are seen."""
+    kept = weights.sum(axis=0)
+    pool = np.flatnonzero(ok & (kept >= max(np.median(kept[ok]) if ok.any() else 0, 3)))
+    if pool.size <= count:
+        return pool
+    return np.sort(np.random.default_rng(0).choice(pool, count, replace=False))
+
+
+def _pixels(data: StereoInput, pick: np.ndarray) -> StereoInput:
+    """``data`` with the mask reduced to the object pixels ``pick`` (indices in mask order)."""
+    rows, cols = np.nonzero(data.mask)
+    mask = np.zeros_like(data.mask)
+    mask[rows[pick], cols[pick]] = True
+    return dataclasses.replace(data, mask=mask)
+
+
+def _table_fit(
+    data: StereoInput,
+    family: CoatedFamily,
+    start: RoughResult | LambertianResult | None,
+    opts: _Options,
+    subsample: int,
+    coat: dict[str, Any],
+) -> CoatedResult:
+    """The table solver of :func:`coated`: the object's values from the direct fit of a
+    subsample of well-lit pixels, then every pixel on the model's table; the shadows found
+    again from the fitted normals after each round, and the subsample's fit redone with
+    them (the table kept when they moved by less than :data:`RETABLE` of their standard
+    errors; the rounds stop when fewer than :data:`SETTLED` of the observations changed). A
+    matte object (the coat does not lower the subsample's residual) gets the rough fit of
+    every pixel. With the table kept, a round solves again only the pixels whose
+    observations changed."""
+    from .coated_table import coated_table, solve_pixels
+
+    shadow, depth_method = opts.shadow, opts.depth_method
+    iterations, precision = opts.iterations, opts.precision
+    first = lambertian(data, shadow=shadow) if start is None else start
+    weights = model_weights(data, first.normals, depth_method, shadow)
+    ok = np.all(np.isfinite(first.normals), axis=1) & (weights.sum(axis=0) >= 3)
+    pick = _well_lit(weights, ok, subsample)
+    sub = _pixels(data, pick)
+    base_model = family.model.base
+    sub_start = _restricted(first, pick)
+    if not isinstance(first, RoughResult):
+        sub_start = rough(sub, base_model, shadow=shadow, precision=precision, start=sub_start)
+    obs = data.images[:, data.mask, :]
+    normals, albedo = first.normals, None
+    done = 0
+    fit, sub_fit, table, tabled, redo = None, None, None, None, None
+    for round_ in range(opts.rounds + 1):
+        # the object's values: the direct fit of the subsample (from the last round's)
+        if sub_fit is None:
+            sub_fit, _ = _direct_fit(sub, family, sub_start,
+                                     dataclasses.replace(opts, rounds=0, progress=False), False,
+                                     weights=weights[:, pick])
+        else:
+            sub_fit = fit_pixels(sub, family, start=sub_fit, weights=weights[:, pick],
+                                 initial=sub_fit.values, subset_start=False,
+                                 iterations=iterations, precision=precision)
+        if round_ == 0 and not _coat_helps(sub_fit, sub_start):
+            full = first if isinstance(first, RoughResult) else rough(
+                data, base_model, shadow=shadow, precision=precision, progress=opts.progress,
+                start=first)
+            fields = {f.name: getattr(full, f.name) for f in dataclasses.fields(RoughResult)}
+            return CoatedResult(**fields, alpha=math.nan, alpha_se=math.nan, coat=False,
+                                shadow_rounds=0, **coat)
+        values = sub_fit.values
+        if table is None or not _close(values, tabled, sub_fit.values_se):
+            table = coated_table(lambda rho, v=values: family.build(rho, v), float(values[1]),
+                                 data.directions)
+            tabled, redo = values, None
+        if albedo is None:
+            albedo = _start_albedo(family, np.asarray(first.albedo), float(values[0]))
+            albedo = albedo / family.scale(values)
+        light = data.intensities * family.scale(tabled)
+        if redo is None or fit is None:
+            fit = solve_pixels(table, light, obs, weights, normals, albedo,
+                               iterations=iterations)
+        else:
+            # same table: only the pixels whose observations changed move
+            part = solve_pixels(table, light, obs[:, redo], weights[:, redo], normals[redo],
+                                albedo[redo], iterations=iterations)
+            for key, value in part.items():
+                fit[key] = fit[key].copy()
+                fit[key][redo] = value
+        done = round_
+        if round_ == opts.rounds:
+            break
+        again = model_weights(data, fit["normals"], depth_method, shadow)
+        if np.mean(again != weights) < SETTLED:
+            break
+        redo = np.any(again != weights, axis=0)
+        weights, normals, albedo = again, fit["normals"], fit["albedo"]
+        sub_fit = dataclasses.replace(
+            sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick])
+    assert fit is not None and sub_fit is not None
+    return _table_result(fit, sub_fit, family, weights, obs, table.error,
+                         {**coat, "shadow_rounds": done})
+
+
+def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
+    """Whether the object's values moved by less than :data:`RETABLE` of their standard
+    errors since the table was made of ``tabled`` (then it is kept)."""
+    step = np.abs(np.asarray(values) - np.asarray(tabled))
+    return bool(np.all(step <= RETABLE * np.nan_to_num(se, nan=0.0, posinf=0.0)))
+
+
+def _coat_helps(fit: PixelFit, start: RoughResult) -> bool:
+    """Whether the coated fit's mean squared relative residual is below the rough fit's."""
+    return bool(np.nanmean(fit.residual**2) < np.nanmean(np.asarray(start.residual) ** 2))
+
+
+def _restricted(result: Any, pick: np.ndarray) -> Any:
+    """A start (rough or Lambertian result) restricted to the pixels ``pick``."""
+    if isinstance(result, RoughResult):
+        per = {f.name: getattr(result, f.name) for f in dataclasses.fields(RoughResult)}
+        for key in ("normals", "albedo", "normal_se", "albedo_se", "residual"):
+            per[key] = np.asarray(per[key])[pick]
+        per["weights"] = np.asarray(per["weights"])[:, pick]
+        if np.ndim(per["roughness"]) == 1:
+            per["roughness"] = per["roughness"][pick]
+            per["roughness_se"] = per["roughness_se"][pick]
+        return RoughResult(**per)
+    return LambertianResult(result.normals[pick], result.albedo[pick],
+                            result.residual[pick], result.weights[:, pick])
+
+
+def _table_result(fit: dict[str, np.ndarray], sub_fit: PixelFit, family: CoatedFamily,
+                  weights: np.ndarray, obs: np.ndarray, table_error: float,
+                  coat: dict[str, Any]) -> CoatedResult:
+    """The table solver's pixels with their Gauss–Newton standard errors (s² (JᵀJ)⁻¹, s²
+    the pixel's residual variance) and the object's values from the subsample's fit."""
+    ok = fit["ok"]
+    c = obs.shape[2]
+    kept = weights.sum(axis=0) * c
+    s2 = fit["cost"] / np.maximum(kept - (2 + c), 1)
+    var = fit["a_inv_diag"] * s2[:, None]
+    mean = np.einsum("kp,kpc->p", weights, obs) / np.maximum(kept, 1)
+    rel = np.sqrt(fit["cost"] / np.maximum(kept, 1)) / np.maximum(mean, 1e-30)
+    values, se = sub_fit.values, sub_fit.values_se
+    scaled = family.light_scale
+    return CoatedResult(
+        normals=fit["normals"],
+        albedo=fit["albedo"],
+        roughness=float(values[0]),
+        roughness_name=family.base_param,
+        roughness_se=float(se[0]),
+        normal_se=np.where(ok, np.sqrt(np.maximum(var[:, 0] + var[:, 1], 0.0)), np.nan),
+        albedo_se=np.where(ok[:, None], np.sqrt(np.maximum(var[:, 2:], 0.0)), np.nan),
+        residual=np.where(ok, rel, np.nan),
+        weights=np.where(ok[None, :], weights, 0.0),
+        iterations=int(np.max(fit["steps"], initial=0)),
+        alpha=float(values[1]),
+        alpha_se=float(se[1]),
+        light_scale=float(values[2]) if scaled else 1.0,
+        light_scale_se=float(se[2]) if scaled else 0.0,
+        table_error=float(table_error),
+        **coat,
+    )
 
 
 def _result(
-    fit: PixelFit, start: RoughResult, name: str, per_pixel: bool, coat: dict[str, Any]
+    fit: PixelFit, start: RoughResult, family: CoatedFamily, per_pixel: bool,
+    coat: dict[str, Any]
 ) -> CoatedResult:
-    """The coated fit as a :class:`CoatedResult` (``coat``: η, base id, shadow rounds), or
-    the rough start's result when the coat does not lower the mean squared relative
-    residual (``coat=False``, α NaN)."""
+    """The coated fit as a :class:`CoatedResult` (``coat``: η, base id, solver, shadow
+    rounds), or the rough start's result when the coat does not lower the mean squared
+    relative residual (``coat=False``, α NaN)."""
     values, se = fit.values, fit.values_se
     pick = (lambda a, j: a[:, j]) if per_pixel else (lambda a, j: float(a[j]))
-    if not np.nanmean(fit.residual**2) < np.nanmean(np.asarray(start.residual) ** 2):
+    if not _coat_helps(fit, start):
         # the coat does not explain the images better than the bare base: keep the base
         fields = {f.name: getattr(start, f.name) for f in dataclasses.fields(RoughResult)}
         nan = np.full_like(values[:, 1], np.nan) if per_pixel else math.nan
         return CoatedResult(**fields, alpha=nan, alpha_se=nan, coat=False, **coat)
+    scaled = family.light_scale
     return CoatedResult(
         normals=fit.normals,
         albedo=fit.albedo,
         roughness=pick(values, 0),
-        roughness_name=name,
+        roughness_name=family.base_param,
         roughness_se=pick(se, 0),
         normal_se=fit.normal_se,
         albedo_se=fit.albedo_se,
@@ -409,5 +648,7 @@ def _result(
         iterations=fit.iterations,
         alpha=pick(values, 1),
         alpha_se=pick(se, 1),
+        light_scale=float(values[2]) if scaled else 1.0,
+        light_scale_se=float(se[2]) if scaled else 0.0,
         **coat,
     )

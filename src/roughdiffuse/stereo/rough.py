@@ -166,7 +166,8 @@ class Family:
     :meth:`build` gives the model of one channel's albedo and the fitted values (arrays
     over the pixels, or one value each for the object). A subclass changes where they go:
     :class:`roughdiffuse.stereo.coated.CoatedFamily` puts the albedo and σ on the coat's
-    base and α on the coat.
+    base and α on the coat, and may fit one factor on every light's intensity
+    (:meth:`scale`).
     """
 
     model: Model
@@ -178,6 +179,12 @@ class Family:
         return dataclasses.replace(
             self.model, albedo=albedo, **dict(zip(self.names, values, strict=True))
         )
+
+    def scale(self, values: Sequence[Any]) -> Any:
+        """The factor on every light's intensity for these values: 1 (the intensities are
+        absolute); :class:`roughdiffuse.stereo.coated.CoatedFamily` may fit one."""
+        del values
+        return 1.0
 
     def key(self) -> str:
         """What the compiled steps depend on: the model with the fitted values at their
@@ -244,7 +251,7 @@ class _Steps:
         # the model's broadcasting evaluates their terms (an arctangent) once per pixel/light
         mu_o = n[2][None, :]
         cos_io = l[:, 2:3]
-        lit = jnp.maximum(mu_i, 0.0)
+        lit = jnp.maximum(mu_i, 0.0) * self.family.scale(values)
         out = []
         for c in range(self.channels):
             m = self.family.build(theta[2 + c][None, :], values)

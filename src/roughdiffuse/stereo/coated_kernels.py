@@ -1,0 +1,312 @@
+"""Numba kernels of :mod:`roughdiffuse.stereo.coated_table`: the table's value with its
+derivatives, and the per-pixel Levenberg–Marquardt over it (parallel over the pixels).
+
+Imported on first use (it imports Numba); compiled once and cached on disk in the fast
+path's private cache folder (:func:`roughdiffuse.engine.cache.private_cache_dir`), in memory
+without one.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numba
+import numpy as np
+
+from ..engine.cache import private_cache_dir
+
+__all__ = ["solve", "table_value"]
+
+
+def _jit(**flags: Any) -> Any:
+    """``numba.njit`` with ``flags``, cached in the private cache folder when there is one."""
+    directory = private_cache_dir()
+
+    def wrap(fn: Any) -> Any:
+        if directory is None:
+            return numba.njit(**flags)(fn)
+        old = numba.config.CACHE_DIR
+        numba.config.CACHE_DIR = str(directory / "stereo_coated_table")
+        try:  # Numba reads the folder when the dispatcher is made
+            return numba.njit(cache=True, **flags)(fn)
+        finally:
+            numba.config.CACHE_DIR = old
+
+    return wrap
+
+
+@_jit(nogil=True, error_model="numpy")
+def _cell(frames, a2, nu, nt, k, n0, n1, n2):  # noqa: ANN001, ANN202
+    """The table cell of normal n for light k: indices and weights in (u, t), and the
+    gradients du/dn, dt/dn (3 each; 0 outside the lit side, z ≤ 0)."""
+    h0, h1, h2 = frames[k, 0], frames[k, 1], frames[k, 2]
+    b0, b1, b2 = frames[k, 3], frames[k, 4], frames[k, 5]
+    z = n0 * h0 + n1 * h1 + n2 * h2
+    x = n0 * b0 + n1 * b1 + n2 * b2
+    if z <= 1e-9:
+        return -1, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    s2 = max(1.0 - z * z, 0.0)
+    s = math.sqrt(s2)
+    t = 0.0
+    if s > 1e-12:
+        t = min(max(x / s, -1.0), 1.0)
+    den = s2 + a2 * z * z
+    u = 0.5 * (1.0 - z) + 0.5 * s2 / den
+    dudz = -0.5 - z * a2 / (den * den)
+    fu = u * (nu - 1)
+    iu = min(max(int(fu), 0), nu - 2)
+    wu = fu - iu
+    ft = (t + 1.0) * 0.5 * (nt - 1)
+    it = min(max(int(ft), 0), nt - 2)
+    wt = ft - it
+    # t = x / s, s = √(1 − z²): dt/dn = b / s + t z h / s² (0 where t is clipped)
+    gt0 = gt1 = gt2 = 0.0
+    if s > 1e-9 and abs(x) < s:
+        gt0 = b0 / s + t * z * h0 / s2
+        gt1 = b1 / s + t * z * h1 / s2
+        gt2 = b2 / s + t * z * h2 / s2
+    return iu, wu, it, wt, dudz * h0, dudz * h1, dudz * h2, gt0, gt1, gt2
+
+
+@_jit(nogil=True, error_model="numpy")
+def _poly(values, k, iu, it, rho):  # noqa: ANN001, ANN202
+    """The polynomial in ρ at node (iu, it) of light k and its derivative (Horner)."""
+    d = values.shape[3] - 1
+    p = values[k, iu, it, d]
+    dp = 0.0
+    for j in range(d - 1, -1, -1):
+        dp = dp * rho + p
+        p = p * rho + values[k, iu, it, j]
+    return p, dp
+
+
+@_jit(nogil=True, error_model="numpy")
+def _interp(values, k, iu, wu, it, wt, rho):  # noqa: ANN001, ANN202
+    """Bilinear value F, its slopes along u and t (per unit of u and t), and dF/dρ."""
+    nu, nt = values.shape[1], values.shape[2]
+    p00, d00 = _poly(values, k, iu, it, rho)
+    p01, d01 = _poly(values, k, iu, it + 1, rho)
+    p10, d10 = _poly(values, k, iu + 1, it, rho)
+    p11, d11 = _poly(values, k, iu + 1, it + 1, rho)
+    f = (1.0 - wu) * ((1.0 - wt) * p00 + wt * p01) + wu * ((1.0 - wt) * p10 + wt * p11)
+    fu = ((1.0 - wt) * (p10 - p00) + wt * (p11 - p01)) * (nu - 1)
+    ft = ((1.0 - wu) * (p01 - p00) + wu * (p11 - p10)) * (nt - 1) * 0.5
+    fr = (1.0 - wu) * ((1.0 - wt) * d00 + wt * d01) + wu * ((1.0 - wt) * d10 + wt * d11)
+    return f, fu, ft, fr
+
+
+@_jit(nogil=True, error_model="numpy")
+def table_value(values, frames, a2, k, n0, n1, n2, rho):  # noqa: ANN001, ANN201
+    """The table's F of light k at the unit normal n and albedo ρ."""
+    iu, wu, it, wt, _, _, _, _, _, _ = _cell(frames, a2, values.shape[1], values.shape[2], k,
+                                             n0, n1, n2)
+    if iu < 0:
+        return 0.0
+    return _interp(values, k, iu, wu, it, wt, rho)[0]
+
+
+@_jit(nogil=True, error_model="numpy")
+def _basis(n0, n1, n2):  # noqa: ANN001, ANN202
+    """Orthonormal t1, t2 ⟂ n (Duff et al., JCGT 6(1), 2017, Listing 3; as
+    :func:`roughdiffuse.stereo.rough._tangent_basis`)."""
+    sgn = 1.0 if n2 >= 0 else -1.0
+    a = -1.0 / (sgn + n2)
+    b = n0 * n1 * a
+    return (1.0 + sgn * n0 * n0 * a, sgn * b, -sgn * n0, b, sgn + n1 * n1 * a, -n1)
+
+
+@_jit(nogil=True, error_model="numpy")
+def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202
+    """Cost Σ r² of pixel p at normal n (3,) and albedos ρ (C,), with JᵀJ in ``amat`` and
+    Jᵀr in ``grad`` (tangent offsets first, then the albedos)."""
+    kk, c_count = obs.shape[0], obs.shape[2]
+    m = 2 + c_count
+    nu, nt = values.shape[1], values.shape[2]
+    for i in range(m):
+        grad[i] = 0.0
+        for j in range(m):
+            amat[i, j] = 0.0
+    t10, t11, t12, t20, t21, t22 = _basis(n[0], n[1], n[2])
+    cost = 0.0
+    for k in range(kk):
+        if w[k, p] == 0.0:
+            continue
+        iu, wu, it, wt, gu0, gu1, gu2, gt0, gt1, gt2 = _cell(frames, a2, nu, nt, k, n[0], n[1],
+                                                             n[2])
+        for c in range(c_count):
+            if iu < 0:
+                r = -obs[k, p, c]
+                cost += r * r
+                continue
+            f, fu, ft, fr = _interp(values, k, iu, wu, it, wt, rho[c])
+            g0 = fu * gu0 + ft * gt0
+            g1 = fu * gu1 + ft * gt1
+            g2 = fu * gu2 + ft * gt2
+            ek = e[k, c]
+            ja = ek * (g0 * t10 + g1 * t11 + g2 * t12)
+            jb = ek * (g0 * t20 + g1 * t21 + g2 * t22)
+            jr = ek * fr
+            r = ek * f - obs[k, p, c]
+            cost += r * r
+            amat[0, 0] += ja * ja
+            amat[0, 1] += ja * jb
+            amat[1, 1] += jb * jb
+            amat[0, 2 + c] += ja * jr
+            amat[1, 2 + c] += jb * jr
+            amat[2 + c, 2 + c] += jr * jr
+            grad[0] += ja * r
+            grad[1] += jb * r
+            grad[2 + c] += jr * r
+    for i in range(m):
+        for j in range(i):
+            amat[i, j] = amat[j, i]
+    return cost
+
+
+@_jit(nogil=True, error_model="numpy")
+def _cholesky_solve(a, b, lam, x, low):  # noqa: ANN001, ANN202
+    """Solve (A + λ diag(A)) x = b for a small symmetric A (in place in ``x``; ``low``
+    scratch); False when the damped matrix is not positive definite."""
+    m = b.shape[0]
+    for i in range(m):
+        for j in range(i + 1):
+            acc = a[i, j] + (lam * max(a[i, i], 1e-30) if i == j else 0.0)
+            for q in range(j):
+                acc -= low[i, q] * low[j, q]
+            if i == j:
+                if acc <= 0.0:
+                    return False
+                low[i, i] = math.sqrt(acc)
+            else:
+                low[i, j] = acc / low[j, j]
+    for i in range(m):
+        acc = b[i]
+        for q in range(i):
+            acc -= low[i, q] * x[q]
+        x[i] = acc / low[i, i]
+    for i in range(m - 1, -1, -1):
+        acc = x[i]
+        for q in range(i + 1, m):
+            acc -= low[q, i] * x[q]
+        x[i] = acc / low[i, i]
+    return True
+
+
+@_jit(parallel=True, nogil=True, error_model="numpy")
+def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, cost_out,  # noqa: ANN001, ANN201, PLR0913
+          a_inv_out, steps_out):
+    """Levenberg–Marquardt per pixel (see :func:`.coated_table.solve_pixels`), in place in
+    ``normals`` and ``albedo``."""
+    p_count, c_count = obs.shape[1], obs.shape[2]
+    m = 2 + c_count
+    for p in numba.prange(p_count):
+        if not ok[p]:
+            continue
+        amat = np.zeros((m, m))
+        grad = np.zeros(m)
+        trial_a = np.zeros((m, m))
+        trial_g = np.zeros(m)
+        low = np.zeros((m, m))
+        step = np.zeros(m)
+        n = normals[p].copy()
+        rho = albedo[p].copy()
+        trial_n = np.zeros(3)
+        trial_rho = np.zeros(c_count)
+        cost = _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad)
+        lam = 1e-3
+        taken = 0
+        for _ in range(iterations):
+            taken += 1
+            if not _cholesky_solve(amat, grad, lam, step, low):
+                lam *= 10.0
+                if lam > 1e9:
+                    break
+                continue
+            da = min(max(-step[0], -0.5), 0.5)
+            db = min(max(-step[1], -0.5), 0.5)
+            t10, t11, t12, t20, t21, t22 = _basis(n[0], n[1], n[2])
+            trial_n[0] = n[0] + da * t10 + db * t20
+            trial_n[1] = n[1] + da * t11 + db * t21
+            trial_n[2] = n[2] + da * t12 + db * t22
+            norm = math.sqrt(trial_n[0] ** 2 + trial_n[1] ** 2 + trial_n[2] ** 2)
+            for i in range(3):
+                trial_n[i] /= norm
+            size = max(abs(da), abs(db))
+            for c in range(c_count):
+                trial_rho[c] = min(max(rho[c] - step[2 + c], 0.0), 1.0)
+                size = max(size, abs(trial_rho[c] - rho[c]))
+            trial = _system(values, frames, a2, e, obs, w, p, trial_n, trial_rho, trial_a,
+                            trial_g)
+            if trial < cost:
+                cost = trial
+                n[:] = trial_n
+                rho[:] = trial_rho
+                amat[:, :] = trial_a
+                grad[:] = trial_g
+                lam = max(lam * 0.3, 1e-9)
+                if size < tol:
+                    break
+            else:
+                lam *= 10.0
+                if lam > 1e9:
+                    break
+        normals[p] = n
+        albedo[p] = rho
+        cost_out[p] = cost
+        steps_out[p] = taken
+        # the diagonal of (JᵀJ)⁻¹, column by column
+        unit = np.zeros(m)
+        for i in range(m):
+            unit[:] = 0.0
+            unit[i] = 1.0
+            if _cholesky_solve(amat, unit, 0.0, step, low):
+                a_inv_out[p, i] = step[i]
+            else:
+                a_inv_out[p, i] = np.inf
+
+
+@_jit(nogil=True, error_model="numpy")
+def _surface(height, rf, cf):  # noqa: ANN001, ANN202
+    """The height map at fractional (row, column): bilinear between the four nearest pixels,
+    the nearest pixel's value where one of them is −∞ (outside the object)."""
+    h, w = height.shape
+    r0 = min(max(int(math.floor(rf)), 0), h - 1)
+    c0 = min(max(int(math.floor(cf)), 0), w - 1)
+    r1, c1 = min(r0 + 1, h - 1), min(c0 + 1, w - 1)
+    fr = min(max(rf - r0, 0.0), 1.0)
+    fc = min(max(cf - c0, 0.0), 1.0)
+    a, b, c, d = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
+    if np.isfinite(a) and np.isfinite(b) and np.isfinite(c) and np.isfinite(d):
+        return (a * (1.0 - fc) + b * fc) * (1.0 - fr) + (c * (1.0 - fc) + d * fc) * fr
+    rn = min(max(int(np.rint(rf)), 0), h - 1)
+    cn = min(max(int(np.rint(cf)), 0), w - 1)
+    return height[rn, cn]
+
+
+@_jit(parallel=True, nogil=True, error_model="numpy")
+def march_shadows(height, rows, cols, z0, directions, tolerance, top, out):  # noqa: ANN001, ANN201
+    """``out[k, p]``: the ray from pixel p (row, column, start height z0) towards light k,
+    marched one pixel at a time, meets the surface ``height`` (−∞ outside the object) more
+    than ``tolerance`` above it before leaving the image or rising above ``top − tolerance``
+    (see :func:`roughdiffuse.stereo.coated.cast_shadows`)."""
+    h, w = height.shape
+    kk, pp = directions.shape[0], rows.shape[0]
+    longest = int(math.hypot(h, w))
+    for i in numba.prange(kk * pp):
+        k, p = i // pp, i % pp
+        lx, ly, lz = directions[k, 0], directions[k, 1], directions[k, 2]
+        across = math.hypot(lx, ly)
+        if across < 1e-9 or not np.isfinite(z0[p]):
+            continue  # a light on the view axis: a height field casts no shadow
+        dx, dy, rise = lx / across, ly / across, lz / across
+        for s in range(1, longest + 1):
+            ray = z0[p] + s * rise
+            if not ray < top - tolerance:
+                break
+            rf, cf = rows[p] - s * dy, cols[p] + s * dx
+            if not (rf > -0.5 and rf < h - 0.5 and cf > -0.5 and cf < w - 0.5):
+                break
+            if _surface(height, rf, cf) > ray + tolerance:
+                out[k, p] = True
+                break
