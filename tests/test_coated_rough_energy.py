@@ -18,7 +18,8 @@ from roughdiffuse.simulate import layered
 
 @pytest.mark.parametrize(
     ("distribution", "eta", "alpha"),
-    [("ggx", 1.5, 0.3), ("ggx", 2.5, 1.0), ("beckmann", 1.1, 0.6), ("beckmann", 1.5, 0.1)],
+    [("ggx", 1.5, 0.3), ("ggx", 2.5, 1.0), ("beckmann", 1.1, 0.6), ("beckmann", 1.5, 0.1),
+     ("beckmann", 1.5, 0.3)],
 )
 def test_rough_coat_conserves_energy(distribution: str, eta: float, alpha: float) -> None:
     theta = np.radians([0.0, 30.0, 60.0, 75.0, 85.0])
