@@ -2,30 +2,32 @@
 
 The truth is :func:`roughdiffuse.simulate.layered.brdf` (position-free Monte Carlo through
 the coat, its rough interface the exact multiple-scattering microsurface of Heitz et al.
-2016). Scored against it, on a grid of geometries, for Lambertian, Oren–Nayar, EON and
-V-cavity bases (a table: the NumPy walk, which has the exact interface too) under a smooth
-and a rough coat:
+2016). Scored against it, on a grid of geometries, for Lambertian, Oren–Nayar and EON bases
+under a smooth and a rough coat, and a V-cavity base (a table, run by the NumPy walk, which
+has the exact interface too but is about four times slower) under the smooth coat:
 
 * :class:`~roughdiffuse.models.coated.Coated`, the closed form;
 * :class:`~roughdiffuse.models.mix.Mix` of the base and a Torrance–Sparrow (Beckmann) lobe of
   the coat's roughness, at its best-fitting weight (least squares in the relative error);
-* Mitsuba 3's own ``plastic`` (smooth, ``nonlinear=true``) and ``roughplastic`` (GGX,
-  ``nonlinear=true``) for the Lambertian base, when Mitsuba is installed;
+* Mitsuba 3's own ``plastic`` (smooth, ``nonlinear=true``) and ``roughplastic`` (GGX or
+  Beckmann, ``nonlinear=true``) for the Lambertian base, when Mitsuba is installed;
 * the walk with the single-scattering interface (``interface="single"``, the behaviour of
   pbrt-v4's ``LayeredBxDF`` and of Mitsuba's ``roughdielectric``), rough coats.
 
 Beside the table, the white furnace (:func:`furnace_figure`): the directional albedo of a
-white Lambertian base under the rough coat, by each of them.
+white Lambertian base under the rough coat (GGX and Beckmann side by side), by each of them.
 
 Errors are relative, |f − f_truth| / f_truth, RMS and maximum over the grid; the walk's own
 relative standard error is listed beside them (an error below about twice it is noise).
 
-Run ``python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md`` to write the
-page (several CPU-minutes: the V-cavity rows run on the NumPy walk).
+Run ``python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md [SAMPLES]
+[CACHE]`` to write the page (about ten CPU-minutes at 40,000 paths; the walks' results are
+kept in the folder CACHE, if given, and read from it when run again).
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 import sys
 from dataclasses import dataclass
@@ -45,18 +47,21 @@ ETA = 1.5
 ALBEDO = 0.8
 ROUGH = 0.3
 ROUGHS = (0.1, 0.3, 0.5)
-"""The rough coats scored (GGX); :data:`ROUGH` is the furnace figure's."""
+"""The rough coats scored; :data:`ROUGH` is the furnace figure's."""
+DISTRIBUTIONS = ("ggx", "beckmann")
+"""The rough coats' facet distributions scored."""
 _ANGLES = np.radians([0.0, 20.0, 40.0, 60.0, 75.0])
 _PHIS = np.radians([0.0, 90.0, 180.0])
 
 
 @dataclass(frozen=True)
 class Case:
-    """One configuration: a label, the base, the coat's roughness α (GGX)."""
+    """One configuration: a label, the base, the coat's roughness α and distribution."""
 
     label: str
     base: Model
     roughness: float
+    distribution: str = "ggx"
 
 
 def _cases() -> list[Case]:
@@ -66,8 +71,12 @@ def _cases() -> list[Case]:
         ("EON ρ = 0.8, r = 0.5", EON(ALBEDO, 0.5)),
         ("V-cavity ρ = 0.8, σ = 0.3", VCavity(ALBEDO, 0.3)),
     ]
-    return [Case(f"{name}, {'smooth' if a == 0 else f'α = {a}'} coat", base, a)
-            for a in (0.0, *ROUGHS) for name, base in bases]
+    smooth = [Case(f"{name}, smooth coat", base, 0.0) for name, base in bases]
+    rough = [Case(f"{name}, {d.upper() if d == 'ggx' else d.capitalize()} α = {a} coat", base,
+                  a, d)
+             for d in DISTRIBUTIONS for a in ROUGHS for name, base in bases
+             if not isinstance(base, VCavity)]
+    return smooth + rough
 
 
 def _grid() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -115,7 +124,8 @@ def _mitsuba(case: Case, ti, tr, dp) -> np.ndarray | None:
     spec: dict[str, Any] = {"int_ior": ETA, "ext_ior": 1.0, "nonlinear": True,
                             "diffuse_reflectance": {"type": "rgb", "value": [ALBEDO] * 3}}
     if case.roughness > 0:
-        spec.update(type="roughplastic", distribution="ggx", alpha=case.roughness)
+        spec.update(type="roughplastic", distribution=case.distribution,
+                    alpha=case.roughness)
     else:
         spec.update(type="plastic")
     bsdf = mi.load_dict(spec)
@@ -128,14 +138,37 @@ def _mitsuba(case: Case, ti, tr, dp) -> np.ndarray | None:
     return np.array(out)
 
 
-def score_case(case: Case, samples: int = 20_000, seed: int = 0) -> dict[str, Any]:
-    """The errors of Coated, the best Mix and Mitsuba's plugin against the walk."""
+def _walk(case: Case, samples: int, seed: int, interface: str,
+          cache: Path | None) -> tuple[np.ndarray, np.ndarray]:
+    """The walk's f and standard error on the grid, read from ``cache`` if it holds them
+    (a file named by the case, its base's parameters, the paths, the seed, the interface)."""
+    key = repr((case.label, case.base, case.roughness, case.distribution, samples, seed,
+                interface, ETA, tuple(_ANGLES), tuple(_PHIS)))
+    path = None
+    if cache is not None:
+        path = cache / f"layered_{hashlib.sha1(key.encode()).hexdigest()[:16]}.npy"
+        if path.exists():
+            f, se = np.load(path)
+            return f, se
     ti, tr, dp = _grid()
-    truth, se = layered.brdf(ti, tr, dp, case.base, eta=ETA, roughness=case.roughness,
-                             samples=samples, seed=seed, return_stderr=True)
+    f, se = layered.brdf(ti, tr, dp, case.base, eta=ETA, roughness=case.roughness,
+                         distribution=case.distribution, samples=samples, seed=seed,
+                         interface=interface, return_stderr=True)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.save(path, np.stack([f, se]))
+    return f, se
+
+
+def score_case(case: Case, samples: int = 40_000, seed: int = 0,
+               cache: Path | None = None) -> dict[str, Any]:
+    """The errors of Coated, the best Mix, Mitsuba's plugin and the single-scattering walk
+    against the walk with the exact interface (the walks' results kept in ``cache``)."""
+    ti, tr, dp = _grid()
+    truth, se = _walk(case, samples, seed, "multiple", cache)
     wi, wo = _dirs(ti, tr, dp)
     out: dict[str, Any] = {"case": case.label, "noise": float(np.sqrt(np.mean((se / truth) ** 2)))}
-    coated = Coated(case.base, ETA, case.roughness)
+    coated = Coated(case.base, ETA, case.roughness, case.distribution)
     out["coated"] = _errors(coated.brdf(wi, wo), truth)
     w, f_mix = _best_mix(case, wi, wo, truth)
     out["mix_weight"] = w
@@ -144,13 +177,13 @@ def score_case(case: Case, samples: int = 20_000, seed: int = 0) -> dict[str, An
     out["mitsuba"] = None if mits is None else _errors(mits, truth)
     out["single"] = None
     if case.roughness > 0:
-        single = layered.brdf(ti, tr, dp, case.base, eta=ETA, roughness=case.roughness,
-                              samples=samples, seed=seed + 1, interface="single")
+        single, _ = _walk(case, samples, seed + 1, "single", cache)
         out["single"] = _errors(single, truth)
     return out
 
 
-def _mitsuba_albedo(theta: np.ndarray, roughness: float, n: int = 24) -> np.ndarray | None:
+def _mitsuba_albedo(theta: np.ndarray, roughness: float, distribution: str = "ggx",
+                    n: int = 24) -> np.ndarray | None:
     """Directional albedo of Mitsuba's ``roughplastic`` over a white base (Gauss–Legendre
     in μ and φ of its ``eval``, which includes the cosine), or None without Mitsuba."""
     try:
@@ -161,8 +194,8 @@ def _mitsuba_albedo(theta: np.ndarray, roughness: float, n: int = 24) -> np.ndar
         return None
     from ..quadrature import gauss_legendre
 
-    bsdf = mi.load_dict({"type": "roughplastic", "distribution": "ggx", "alpha": roughness,
-                         "int_ior": ETA, "ext_ior": 1.0, "nonlinear": True,
+    bsdf = mi.load_dict({"type": "roughplastic", "distribution": distribution,
+                         "alpha": roughness, "int_ior": ETA, "ext_ior": 1.0, "nonlinear": True,
                          "diffuse_reflectance": {"type": "rgb", "value": [1.0] * 3}})
     mu, wmu = gauss_legendre(n)
     phi, wphi = gauss_legendre(2 * n)
@@ -182,11 +215,59 @@ def _mitsuba_albedo(theta: np.ndarray, roughness: float, n: int = 24) -> np.ndar
     return np.array(out)
 
 
-def furnace_figure(path: Path, samples: int = 200_000, mix_weight: float | None = None) -> None:
-    """The white furnace (Lambert ρ = 1, no absorption, η = 1.5, GGX α = :data:`ROUGH`):
-    directional albedo against θi by the walk with the exact interface, the walk with the
-    single-scattering one, ``Coated``, Mitsuba's ``roughplastic`` and the ``Mix`` at the
-    weight it takes for the Lambert case; written to ``path`` (PNG)."""
+def _walk_albedo(theta: np.ndarray, distribution: str, samples: int, seed: int, interface: str,
+                 cache: Path | None) -> tuple[np.ndarray, np.ndarray]:
+    """The walk's directional albedo of a white Lambertian base under the furnace's coat,
+    with its standard error, read from ``cache`` if it holds it."""
+    key = repr((tuple(theta), distribution, samples, seed, interface, ETA, ROUGH))
+    path = None
+    if cache is not None:
+        path = cache / f"furnace_{hashlib.sha1(key.encode()).hexdigest()[:16]}.npy"
+        if path.exists():
+            a, se = np.load(path)
+            return a, se
+    a, se = layered.directional_albedo(theta, Lambert(1.0), eta=ETA, roughness=ROUGH,
+                                       distribution=distribution, samples=samples, seed=seed,
+                                       interface=interface, return_stderr=True)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.save(path, np.stack([a, se]))
+    return a, se
+
+
+def furnace_curves(samples: int = 200_000, mix_weights: dict[str, float] | None = None,
+                   cache: Path | None = None) -> dict[str, dict[str, np.ndarray]]:
+    """The white furnace (Lambert ρ = 1, no absorption, η = 1.5, α = :data:`ROUGH`) under a
+    GGX and a Beckmann coat: for each distribution, θi (degrees) and the directional albedo by
+    the walk with the exact interface (and its standard error), the walk with the
+    single-scattering one, ``Coated``, Mitsuba's ``roughplastic`` (if installed) and the
+    ``Mix`` at the weight it takes for the Lambert case (if given)."""
+    theta = np.radians(np.arange(0.0, 86.0, 5.0))
+    white = Lambert(1.0)
+    wo = np.stack([np.sin(theta), 0 * theta, np.cos(theta)], -1)
+    curves: dict[str, dict[str, np.ndarray]] = {}
+    for dist in DISTRIBUTIONS:
+        exact, se = _walk_albedo(theta, dist, samples, 0, "multiple", cache)
+        single, _ = _walk_albedo(theta, dist, samples // 4, 1, "single", cache)
+        c: dict[str, np.ndarray] = {"theta": np.degrees(theta), "exact": exact, "stderr": se,
+                                    "single": single}
+        c["coated"] = np.asarray(Coated(white, ETA, ROUGH, dist).directional_albedo(wo))
+        mits = _mitsuba_albedo(theta, ROUGH, dist)
+        if mits is not None:
+            c["mitsuba"] = mits
+        if mix_weights is not None:
+            w = mix_weights[dist]
+            mix = Mix([(1.0 - w, white),
+                       (w, TorranceSparrow(ETA, None, "beckmann", alpha=ROUGH))])
+            c["mix"] = np.asarray(mix.directional_albedo(wo))
+            c["mix_weight"] = np.array(w)
+        curves[dist] = c
+    return curves
+
+
+def furnace_figure(path: Path, curves: dict[str, dict[str, np.ndarray]]) -> None:
+    """The white furnace curves of :func:`furnace_curves`, one panel per distribution side by
+    side, written to ``path`` (PNG)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -194,34 +275,34 @@ def furnace_figure(path: Path, samples: int = 200_000, mix_weight: float | None 
 
     from ..io.atomic import atomic_write
 
-    theta = np.radians(np.arange(0.0, 86.0, 5.0))
-    white = Lambert(1.0)
-    kw = dict(eta=ETA, roughness=ROUGH, return_stderr=True)
-    exact, se = layered.directional_albedo(theta, white, samples=samples, **kw)
-    single, _ = layered.directional_albedo(theta, white, samples=samples // 4, seed=1,
-                                           interface="single", **kw)
-    wo = np.stack([np.sin(theta), 0 * theta, np.cos(theta)], -1)
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    deg = np.degrees(theta)
-    ax.errorbar(deg, exact, yerr=4 * se, fmt="o-", ms=3, color="k",
-                label="walk, exact interface (±4 s.e.)")
-    ax.plot(deg, single, "s--", ms=3, label="walk, single-scattering interface (pbrt-v4)")
-    ax.plot(deg, np.asarray(Coated(white, ETA, ROUGH).directional_albedo(wo)), "-",
-            label="Coated")
-    mits = _mitsuba_albedo(theta, ROUGH)
-    if mits is not None:
-        ax.plot(deg, mits, ":", label="Mitsuba 3 roughplastic")
-    if mix_weight is not None:
-        mix = Mix([(1.0 - mix_weight, white),
-                   (mix_weight, TorranceSparrow(ETA, None, "beckmann", alpha=ROUGH))])
-        ax.plot(deg, np.asarray(mix.directional_albedo(wo)), "-.",
-                label=f"Mix, w = {mix_weight:.3f}")
-    ax.axhline(1.0, color="0.6", lw=0.8)
-    ax.set_xlabel("θi (degrees)")
-    ax.set_ylabel("directional albedo")
-    ax.set_title(f"White furnace: Lambert ρ = 1 under GGX α = {ROUGH}, η = {ETA}")
-    ax.set_ylim(0.0, 1.1)
-    ax.legend(fontsize=8, loc="lower left")
+    fig, axes = plt.subplots(2, len(curves), figsize=(11.0, 7.0), sharey="row",
+                             gridspec_kw={"height_ratios": [3, 2]}, squeeze=False)
+    for ax, zoom, (dist, c) in zip(axes[0], axes[1], curves.items(), strict=True):
+        deg = c["theta"]
+        zoom.errorbar(deg, 100 * (c["exact"] - 1), yerr=400 * c["stderr"], fmt="o-", ms=3,
+                      color="k", label="walk, exact interface (±4 s.e.)")
+        zoom.plot(deg, 100 * (c["coated"] - 1), "-", color="C1", label="Coated")
+        zoom.axhline(0.0, color="0.6", lw=0.8)
+        zoom.set_xlabel("θi (degrees)")
+        zoom.set_ylim(-3.0, 3.0)
+        zoom.legend(fontsize=8, loc="lower left")
+        ax.errorbar(deg, c["exact"], yerr=4 * c["stderr"], fmt="o-", ms=3, color="k",
+                    label="walk, exact interface (±4 s.e.)")
+        ax.plot(deg, c["single"], "s--", ms=3, color="C0",
+                label="walk, single-scattering interface (pbrt-v4)")
+        ax.plot(deg, c["coated"], "-", color="C1", label="Coated")
+        if "mitsuba" in c:
+            ax.plot(deg, c["mitsuba"], ":", color="C2", label="Mitsuba 3 roughplastic")
+        if "mix" in c:
+            ax.plot(deg, c["mix"], "-.", color="C3", label=f"Mix, w = {float(c['mix_weight']):.3f}")
+        ax.axhline(1.0, color="0.6", lw=0.8)
+        name = "GGX" if dist == "ggx" else "Beckmann"
+        ax.set_title(f"Lambert ρ = 1 under {name} α = {ROUGH}, η = {ETA}")
+        ax.set_ylim(0.0, 1.1)
+        ax.legend(fontsize=8, loc="lower left")
+    axes[0, 0].set_ylabel("directional albedo A")
+    axes[1, 0].set_ylabel("A − 1 (%)")
+    fig.suptitle("White furnace (below: the departure from 1, enlarged)")
     fig.tight_layout()
     atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     plt.close(fig)
@@ -231,14 +312,36 @@ def _pct(e: tuple[float, float] | None) -> str:
     return "–" if e is None else f"{100 * e[0]:.1f} % / {100 * e[1]:.1f} %"
 
 
-def layered_lines(samples: int = 20_000, figure: Path | None = None) -> list[str]:
+def _furnace_rows(curves: dict[str, dict[str, np.ndarray]]) -> list[str]:
+    """The furnace curves as a table: for each distribution, the walk's largest |A − 1| and
+    the range of A over θi by each of the others."""
+    lines = ["| coat | walk, exact: max abs(A − 1) (4 s.e.) | `Coated`: max abs(A − 1) "
+             "| `Mix` | Mitsuba 3 `roughplastic` | single-scattering walk |",
+             "|---|---|---|---|---|---|"]
+    def span(c: dict[str, np.ndarray], k: str) -> str:
+        return f"{np.min(c[k]):.3f} – {np.max(c[k]):.3f}" if k in c else "–"
+
+    for dist, c in curves.items():
+        name = "GGX" if dist == "ggx" else "Beckmann"
+        lines.append(
+            f"| {name} α = {ROUGH} | {100 * np.max(np.abs(c['exact'] - 1)):.2f} % "
+            f"({400 * np.max(c['stderr']):.2f} %) | "
+            f"{100 * np.max(np.abs(c['coated'] - 1)):.2f} % | {span(c, 'mix')} | "
+            f"{span(c, 'mitsuba')} | {span(c, 'single')} |")
+    return lines
+
+
+def layered_lines(samples: int = 40_000, figure: Path | None = None,
+                  cache: Path | None = None) -> list[str]:
     """The Markdown of the layered section (and the furnace figure, written to ``figure``
-    if given)."""
-    rows = [score_case(c, samples) for c in _cases()]
+    if given); the walks' results kept in ``cache`` (a folder) if given."""
+    rows = [score_case(c, samples, cache=cache) for c in _cases()]
+    weights = {d: next(r["mix_weight"] for r in rows if r["case"].startswith("Lambert")
+                       and f"{d.upper() if d == 'ggx' else d.capitalize()} α = {ROUGH}"
+                       in r["case"]) for d in DISTRIBUTIONS}
+    curves = furnace_curves(mix_weights=weights, cache=cache)
     if figure is not None:
-        weight = next(r["mix_weight"] for r in rows if r["case"].startswith("Lambert")
-                      and f"α = {ROUGH}" in r["case"])
-        furnace_figure(figure, mix_weight=weight)
+        furnace_figure(figure, curves)
     lines = [
         "# A coat over a rough-diffuse base: closed forms against the layered walk",
         "",
@@ -247,17 +350,35 @@ def layered_lines(samples: int = 20_000, figure: Path | None = None) -> list[str
         "interface is the exact multiple-scattering dielectric microsurface of Heitz, Hanika,",
         "d'Eon and Dachsbacher 2016 (a random walk on the Smith microsurface, reflection or",
         "refraction at each facet event, from above and from below): it loses no light.",
-        "What is exact: the walk is the exact BRDF of this layer (a Smith microsurface over the",
-        "base, no lateral extent) up to its Monte Carlo noise; it matches Mitsuba 3's own",
-        "`plastic` for a smooth coat, the white furnace gives 1 within 0.2 % up to α = 1 for",
-        "GGX and Beckmann (`bench/coat_furnace.py`), and it is reciprocal, tends to the",
-        "smooth walk as α → 0 and to the base as η → 1 (`tests/test_simulate_layered*.py`).",
+        "",
+        "What is exact, and what is not:",
+        "",
+        "* The walk is the exact BRDF of this layer (a Smith microsurface over the base, no",
+        "  lateral extent) up to its Monte Carlo noise: it matches Mitsuba 3's own `plastic`",
+        "  for a smooth coat, the white furnace gives 1 within 0.2 % up to α = 1 for GGX and",
+        "  Beckmann (`bench/coat_furnace.py`), and it is reciprocal, tends to the smooth walk",
+        "  as α → 0 and to the base as η → 1 (`tests/test_simulate_layered*.py`).",
+        "* `Coated` is a closed form fitted in part to that walk. Exact: a smooth coat over a",
+        "  Lambertian base (Mitsuba's `plastic`, `nonlinear=true`), and, for any coat, its",
+        "  single-scattering lobe (Walter et al. 2007 with height-correlated masking) and the",
+        "  sum of the internal reflections given the coat's energy. Fitted to the walk's",
+        "  interface alone (a black base): its directional reflectance with multiple",
+        "  scattering, E(μ) = E_ss (1 + c(μ)) (`models.coated.ms_ratio`, from",
+        "  `data/coat_interface.npz`), whose complement is the light that enters, and the",
+        "  reflection by two or more facet events resolved in direction, a sum of",
+        "  single-scattering lobes of roughness 0.7 α, α and 2 α with weights polynomial in",
+        "  η and the two cosines, piecewise linear in α (`models.coated.ms_lobe`, from",
+        "  `data/coat_lobe.npz`,",
+        "  `scripts/coat_lobe_tables.py`). Approximate: a non-Lambertian base is evaluated",
+        "  at the directions refracted by a smooth interface, and the light it receives",
+        "  after an internal reflection is taken as diffuse.",
+        "",
         "Grid: θi, θr in {0, 20, 40, 60, 75}°, Δφ in {0, 90, 180}° (75 geometries), "
-        f"{samples} paths per geometry. Errors relative, RMS / max over the grid. The rough",
-        f"coats are GGX with α in {ROUGHS}. The walk runs compiled (`engine=\"auto\"`:",
-        "`simulate/layered_walk_numba.py`); the V-cavity base (a table) runs on the NumPy",
-        "walk, with the same exact interface (the engines agree within their errors).",
-        "The last column is the walk with the single-scattering interface",
+        f"{samples:,} paths per geometry. Errors relative, RMS / max over the grid. The rough",
+        f"coats are GGX and Beckmann with α in {ROUGHS}. The walk runs compiled",
+        "(`engine=\"auto\"`: `simulate/layered_walk_numba.py`); the V-cavity base (a table) runs",
+        "on the NumPy walk, about four times slower, so it is scored under the smooth coat. The",
+        "last column is the walk with the single-scattering interface",
         "(`interface=\"single\"`: pbrt-v4's `LayeredBxDF`, Mitsuba's `roughdielectric`).",
         "",
         "| case | walk noise | `Coated` | `Mix`, best weight (w) | Mitsuba 3 (Lambert only) "
@@ -272,24 +393,28 @@ def layered_lines(samples: int = 20_000, figure: Path | None = None) -> list[str
         )
     lines += [
         "",
-        "![White furnace](layered_furnace.png)",
+        "![White furnace under a GGX and a Beckmann coat](layered_furnace.png)",
         "",
-        f"The white furnace (Lambert ρ = 1, no absorption, GGX α = {ROUGH}, η = {ETA}): the",
-        "walk with the exact interface gives 1; the single-scattering walk and Mitsuba's",
-        "`roughplastic` lose a quarter to a third of the light (the light a second facet",
-        "event would return); `Coated` gives 1 within 1 % (its transmittance is the",
-        "interface's own energy 1 − E(μ), its internal reflectance 1 − (1 − Ē)/η², and the",
-        "light the interface reflects after two or more facet events a fit to the walk's",
-        "interface, `models.coated.ms_boost`). Its largest errors are at the grazing",
-        "specular peak (θi = θr = 75°, Δφ = 180°), where that fit is least accurate.",
+        f"The white furnace (Lambert ρ = 1, no absorption, α = {ROUGH}, η = {ETA}), θi from 0",
+        "to 85° in steps of 5°, the directional albedo A by each:",
         "",
-        "Mitsuba 3: `plastic` for the smooth coat and `roughplastic` (GGX, `nonlinear=true`)",
-        "for the rough one, their `eval` divided by the cosine. `Mix` is (1 − w) × base +",
-        "w × Torrance–Sparrow (Beckmann, α of the coat, η = 1.5); under a smooth coat its",
-        "specular lobe is a delta, so it is (1 − w) × base, the tuned weight standing in for",
-        "the Fresnel transmittances and the internal reflections.",
+        *_furnace_rows(curves),
         "",
-        "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md`.",
+        "The walk with the exact interface gives 1; the single-scattering walk and Mitsuba's",
+        "`roughplastic` lose the light a second facet event would return; `Coated`'s",
+        "transmittance is the interface's own energy 1 − E(μ) and its internal reflectance",
+        "1 − (1 − Ē)/η² (exact for a lossless interface), so it departs from 1 only by what its",
+        "fitted multiple-scattering lobe integrates to beyond E_ss c(μ).",
+        "",
+        "Mitsuba 3: `plastic` for the smooth coat and `roughplastic` (`nonlinear=true`, the",
+        "coat's distribution) for the rough one, their `eval` divided by the cosine. `Mix` is",
+        "(1 − w) × base + w × Torrance–Sparrow (Beckmann, α of the coat, η = 1.5); under a",
+        "smooth coat its specular lobe is a delta, so it is (1 − w) × base, the tuned weight",
+        "standing in for the Fresnel transmittances and the internal reflections.",
+        "",
+        "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md",
+        "40000 /tmp/layered_cache` (the last argument, a folder for the walks' results, is",
+        "optional).",
         "",
         "Note on Mitsuba's `plastic`: with `nonlinear=false` (its default) its diffuse part is",
         "ρ (1 − F_i)(1 − F_o) / (π η² (1 − F_dr)), which keeps the texture's colour but is not the",
@@ -302,11 +427,14 @@ def layered_lines(samples: int = 20_000, figure: Path | None = None) -> list[str
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Write the layered page to the path given (default docs/accuracy/layered.md)."""
+    """Write the layered page to the path given (default docs/accuracy/layered.md), with the
+    paths per geometry (default 40,000) and a folder for the walks' results (optional)."""
     args = sys.argv[1:] if argv is None else argv
     path = Path(args[0] if args else "docs/accuracy/layered.md")
-    samples = int(args[1]) if len(args) > 1 else 20_000
-    text = "\n".join(layered_lines(samples, figure=path.with_name("layered_furnace.png")))
+    samples = int(args[1]) if len(args) > 1 else 40_000
+    cache = Path(args[2]) if len(args) > 2 else None
+    text = "\n".join(layered_lines(samples, figure=path.with_name("layered_furnace.png"),
+                                   cache=cache))
     write_text(path, text)
     print(text)
     return 0

@@ -10,9 +10,10 @@
    (``--walk-only``: this part alone).
 2. ``Coated`` over Lambert with a rough GGX and a rough Beckmann coat: the default call
    ``model.brdf(wi, wo)`` (compiled fast path) against the C loop of the same formula
-   (``rd_coated_lambert_*`` of ``c/kernels.c``, the same node rules and fitted boost, compiled as
-   :func:`.run.build_c` compiles it), interleaved, on float64 (N, 3) arrays; the ratio
-   default/C is what counts on a shared machine (``--coated-only``: this part alone).
+   (``rd_coated_lambert_*`` of ``c/kernels.c``, the same node rules and fitted multiple
+   scattering, compiled as :func:`.run.build_c` compiles it), interleaved, on float64 (N, 3)
+   arrays; the ratio default/C is what counts on a shared machine (``--coated-only``: this
+   part alone).
 
 Prints Markdown for ``RESULTS.md``; ``--write RESULTS.md`` replaces each table's marked
 section there. Usage::
@@ -218,7 +219,7 @@ def coated_markdown(rows_log2: int, repeat: int) -> str:
         "with a rough coat: the default call `model.brdf(wi, wo)` (the compiled fast path, "
         f"{numba.config.NUMBA_NUM_THREADS} threads) against a C loop of the same formula "
         "(`rd_coated_lambert_*` of roughdiffuse/bench/c/kernels.c, the same node rules and "
-        "fitted multiple-scattering boost, "
+        "fitted multiple scattering (its directional ratio and its lobes), "
         "gcc -O3 -march=native -fopenmp -ffast-math, every core), interleaved, "
         f"the median of {repeat} calls each on float64 (N, 3) arrays (wall time: both use "
         "every core); default/C is the ratio of the rates:",

@@ -100,19 +100,24 @@ def _c_torrance_sparrow(model: Any) -> tuple[str, tuple[float, ...]]:
 def _c_coated(model: Any) -> tuple[str | None, tuple[Any, ...]]:
     """The registry's ``coated`` over the full Oren–Nayar model (its default base) or over
     Lambert (σ passed as 0, unused); the C file has no other base. The last argument is the
-    array of the boost's fitted coefficients (:func:`~roughdiffuse.models.coated.ms_fit`)."""
+    array of the fitted coefficients of the coat's multiple scattering: its ratio's
+    (:func:`~roughdiffuse.models.coated.ms_fit`), the lobes' widths
+    (:data:`~roughdiffuse.models.coated.LOBE_WIDTHS`), the number of α nodes, the nodes and
+    the lobes' coefficients (:func:`~roughdiffuse.models.coated.lobe_fit`)."""
     from roughdiffuse import registry
 
     base, base_id = model.base, registry.id_of(model.base)
     if base_id not in ("oren-nayar-full", "lambert"):
         return None, ()
-    from roughdiffuse.models.coated import ms_fit
+    from roughdiffuse.models.coated import LOBE_WIDTHS, lobe_fit, ms_fit
 
     sigma = base.sigma if base_id == "oren-nayar-full" else 0.0
     args = (base.albedo, sigma, model.eta, model.roughness, model.absorption)
     name = "rd_coated_" + ("lambert_" if base_id == "lambert" else "") + model.distribution
-    # the fitted coefficients of the coat's multiple-scattering boost: data, not formula
-    coef = np.asarray(ms_fit(model.distribution), np.float64)
+    # the fitted coefficients of the coat's multiple scattering: data, not formula
+    nodes, lobe = lobe_fit(model.distribution)
+    coef = np.asarray([*ms_fit(model.distribution), *LOBE_WIDTHS, len(nodes), *nodes, *lobe],
+                      np.float64)
     return name, (*(float(a) for a in args), coef)
 
 

@@ -32,11 +32,16 @@ OpenPBR's coat, Autodesk Standard Surface and Mitsuba 3's ``plastic``/``roughpla
   not reflect enters, T(μ) = 1 − E(μ) in both directions, E its directional reflectance
   (:func:`interface_albedo`), and the reciprocity of a dielectric interface,
   η² T̄_below = T̄_above, gives its internal diffuse reflectance without absorption exactly,
-  K = 1 − (1 − Ē)/η² (:func:`_internal_sums`). The light the interface reflects after two
-  or more facet events (a few per cent of its reflection, most of it near grazing) is
-  added to f_coat as the lobe times b(μi) b(μo), b = √(1 + ΔE/E_ss) fitted to the walk's
-  interface (:func:`ms_boost`, from ``data/coat_interface.npz``), and E is that lobe's
-  albedo integrated as the lobe is, so the white furnace stays 1 (within 0.6 %). How far
+  K = 1 − (1 − Ē)/η² (:func:`_internal_sums`). E is the single-scattering reflectance
+  E_ss (the lobe's albedo by a node rule) times 1 + c(μ), c = ΔE/E_ss the walk's
+  directional reflectance by two or more facet events relative to it (:func:`ms_ratio`,
+  fitted to ``data/coat_interface.npz``). That light (a few per cent of the coat's
+  reflection, most of it near grazing) is added to f_coat resolved in direction,
+  f_ms = Σ_s f_ss(s α) p_s(η, α, μi, μo) (:func:`ms_lobe`): single-scattering lobes of
+  roughness 0.7 α, α and 2 α (Beckmann's second reflections gather closer to the mirror
+  direction than its first, GGX's spread wider) with symmetric polynomial weights fitted to
+  the walk's interface alone (``data/coat_lobe.npz``, :func:`lobe_fit`); its albedo is
+  E_ss c(μ) to the fit's accuracy, so the white furnace stays 1 (within 1 %). How far
   this is from the truth is measured against the layered walk with the exact interface
   (:mod:`roughdiffuse.simulate.layered`) on the accuracy page.
 * τ: the optical depth of the layer (thickness × absorption coefficient), Beer–Lambert along
@@ -203,8 +208,8 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     masking of :func:`coat_reflection`, G2/G1(ω) = (1 + Λ(ω))/(1 + Λ(ω) + Λ(ω_r))) and
     T = E_m[(1 − F(ω·m, η)) G1(ω_t)] (separable), ω_r, ω_t the reflected and refracted
     directions (a reflection below the horizon counts as lost). With ``boosted``, E of the
-    coat's reflection with its multiple scattering, the lobe times b(μ) b(μ_r)
-    (:func:`ms_boost`). ``Coated`` takes E only (its transmittance is 1 − E). The visible
+    coat's reflection with its multiple scattering, E_ss (1 + c(μ)) (:func:`ms_ratio`, fitted
+    to the walk's interface). ``Coated`` takes E only (its transmittance is 1 − E). The visible
     normals are reached from D cos θh dωh, 6 nodes in its fraction u (``_IF_TAN2``) and
     2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh), the 48 nodes on one trailing axis
     that ``xp.sum`` adds up. α = 0 gives F(μ, η) and 1 − F(μ, η) exactly (the smooth
@@ -212,7 +217,7 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     lam_i = _smith_lambda(xp, mu, alpha, distribution)
     g_o = 1.0 / (1.0 + lam_i)
     if boosted:
-        g_o = g_o * ms_boost(xp, mu, eta, alpha, distribution)
+        g_o = g_o * (1.0 + ms_ratio(xp, mu, eta, alpha, distribution))
     mu, eta, alpha = _node_axis(xp, mu), _node_axis(xp, eta), _node_axis(xp, alpha)
     lam_i = _node_axis(xp, lam_i)
     dtype = getattr(mu, "dtype", None)
@@ -235,8 +240,6 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
         # G2 / G1(ω) = (1 + Λ(ω)) / (1 + Λ(ω) + Λ(ω_r)), height-correlated as
         # coat_reflection
         val = f * (1.0 + lam_i) / (1.0 + lam_i + _smith_lambda(xp, mu_r, alpha, distribution))
-        if boosted:
-            val = val * ms_boost(xp, mu_r, eta, alpha, distribution)
         ok = (mu_r > 0) & (dot > 0)
     val = val * dot / (mu_s * cos_h)
     term = xp.where(ok, val, xp.zeros_like(val)) * asarray(xp, _IF_W, dtype)
@@ -283,15 +286,43 @@ def base_albedo(xp: Any, base: Model, mu: Array, dtype: Any) -> Array:
 
 
 _EB_NODES, _EB_WEIGHTS = gauss_legendre(8)
-_TABLE = Path(__file__).resolve().parent.parent / "data" / "coat_interface.npz"
+_DATA = Path(__file__).resolve().parent.parent / "data"
+_TABLE = _DATA / "coat_interface.npz"
+_LOBE_TABLE = _DATA / "coat_lobe.npz"
 _FIT_POWERS = tuple((i, j, k) for i in range(1, 4) for j in range(1, 4) for k in range(4))
 """Monomials x^i α^j (1 − μ)^k of the fitted multiple-scattering reflection (x = 1 − 1/η:
 0 at η = 1, where nothing is reflected; α^j: 0 for a smooth coat)."""
 
 
+def _monomials(xp: Any, eta: Array, alpha: Array) -> tuple[list[Any], list[Any]]:
+    """[1, x, x², x³] and [1, a, a², a³], x = 1 − 1/η clamped to [0, 2/3] (η in [1, 3]), a = α
+    clamped to [0, 1]: the variables of the fitted polynomials (:func:`ms_fit`,
+    :func:`lobe_fit`), held at the ends of the fitted range beyond it."""
+    x = clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0)
+    a = clip(xp, alpha, 0.0, 1.0)
+    return [1.0, x, x * x, x * x * x], [1.0, a, a * a, a * a * a]
+
+
+def _alpha_hats(xp: Any, alpha: Array, nodes: tuple[float, ...]) -> list[Any]:
+    """The piecewise-linear interpolation weights of α (clamped to [0, 1]) between the nodes
+    (increasing, the last 1): the hat of node k rises from the node before it (0 for the
+    first: the weights vanish with α) and falls to the one after, written with ``clip``
+    alone, clip(up) + clip(down) − 1."""
+    a = clip(xp, alpha, 0.0, 1.0)
+    hats = []
+    for k, node in enumerate(nodes):
+        left = nodes[k - 1] if k else 0.0
+        up = clip(xp, (a - left) / (node - left), 0.0, 1.0)
+        if k + 1 < len(nodes):
+            right = nodes[k + 1]
+            up = up + clip(xp, (right - a) / (right - node), 0.0, 1.0) - 1.0
+        hats.append(up)
+    return hats
+
+
 @functools.lru_cache(maxsize=2)
 def ms_fit(distribution: str) -> tuple[float, ...]:
-    """The coefficients of :func:`ms_boost`: least squares (weight √μ E_ss, the reflectance
+    """The coefficients of :func:`ms_ratio`: least squares (weight √μ E_ss, the reflectance
     each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
     reflectance from above (the multiple-scattering microsurface) minus the
     single-scattering E_ss (:func:`interface_albedo`), over the table
@@ -309,22 +340,134 @@ def ms_fit(distribution: str) -> tuple[float, ...]:
     return tuple(float(c) for c in coef)
 
 
-def ms_boost(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str) -> Array:
-    """b(μ) = √(1 + c(μ)), c = ΔE/E_ss ≥ 0 the rough coat's reflection by more than one facet
+def ms_ratio(xp: Any, mu: Array, eta: Array, alpha: Array, distribution: str) -> Array:
+    """c(μ) = ΔE/E_ss ≥ 0: the rough coat's directional reflectance by more than one facet
     event relative to its single scattering (light from above at cosine μ), a polynomial
-    fitted to the walk (:func:`ms_fit`; arithmetic only; η clamped to [1, 3], α to
-    [0, 1]; c = 0 at η = 1 and α = 0). The coat's lobe times b(μi) b(μo) is reciprocal and,
-    where it is narrow, reflects E_ss (1 + c) = E_ss + ΔE."""
+    fitted to the walk (:func:`ms_fit`; arithmetic only; η clamped to [1, 3], α to [0, 1];
+    c = 0 at η = 1 and α = 0). The coat reflects E = E_ss (1 + c) and transmits 1 − E."""
     coef = ms_fit(distribution)
-    x = clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0)
-    a = clip(xp, alpha, 0.0, 1.0)
+    xs, as_ = _monomials(xp, eta, alpha)
     u = 1.0 - clip(xp, mu, 0.0, 1.0)
-    xs, as_, us = [1.0, x, x * x, x * x * x], [1.0, a, a * a, a * a * a], [1.0, u, u * u,
-                                                                           u * u * u]
+    us = [1.0, u, u * u, u * u * u]
     total = 0.0 * u
     for c, (i, j, k) in zip(coef, _FIT_POWERS, strict=True):
         total = total + c * (xs[i] * as_[j] * us[k])
-    return xp.sqrt(1.0 + maximum(xp, total, 0.0))
+    return maximum(xp, total, 0.0)
+
+
+LOBE_WIDTHS: tuple[float, ...] = (0.7, 1.0, 2.0)
+"""The multiple-scattering lobe is a sum of single-scattering lobes of roughness s α for
+these s (:func:`ms_lobe`): Beckmann's second reflections gather closer to the mirror
+direction than its first (s < 1), GGX's spread wider (s > 1)."""
+
+
+_LOBE_MU_MIN = math.cos(math.radians(75.0))
+"""The most grazing cosine at which the weights of :func:`ms_lobe` are evaluated (cos 75°;
+the fit takes the table's every cosine, to 85°): beyond it the table's six azimuths do not
+resolve the narrow lobes' sides, and the fitted weights overshoot the interface's own
+reflectance (the white furnace 8 % above 1 at 85° for Beckmann α = 0.1, η = 1.5; with the
+weights held at 75°, 0.9 %)."""
+
+
+def _lobe_terms(xp: Any, mu_i: Array, mu_o: Array, mu_min: float = 0.0) -> list[Any]:
+    """The symmetric polynomials of degree up to 4 in v = 1 − μ (0 along the normal, 1 at
+    grazing), 1, vi + vo, vi² + vo², vi vo, vi³ + vo³, vi vo (vi + vo), vi⁴ + vo⁴,
+    vi vo (vi² + vo²), vi² vo²: the angular weights of each lobe of :func:`ms_lobe`
+    (symmetric, so that it stays reciprocal). μ is clamped to [``mu_min``, 1] (the fit
+    takes every cosine, :func:`ms_lobe` holds the weights beyond :data:`_LOBE_MU_MIN`)."""
+    vi = 1.0 - clip(xp, mu_i, mu_min, 1.0)
+    vo = 1.0 - clip(xp, mu_o, mu_min, 1.0)
+    s1, p = vi + vo, vi * vo
+    s2 = vi * vi + vo * vo
+    return [1.0 + 0.0 * p, s1, s2, p, vi * vi * vi + vo * vo * vo, p * s1,
+            vi * vi * vi * vi + vo * vo * vo * vo, p * s2, p * p]
+
+
+def _lobe_columns(mu_i: np.ndarray, mu_o: np.ndarray, cos_io: np.ndarray, eta: np.ndarray,
+                  alpha: np.ndarray, distribution: str, nodes: tuple[float, ...]) -> np.ndarray:
+    """The design matrix of :func:`lobe_fit` (..., coefficients), NumPy: each width's lobe
+    times each angular weight times x^i (i = 1..3) times each α node's hat, in
+    :func:`ms_lobe`'s order."""
+    xs, _ = _monomials(np, eta, alpha)
+    hats = _alpha_hats(np, alpha, nodes)
+    cols = []
+    for s in LOBE_WIDTHS:
+        lobe = coat_reflection(np, mu_i, mu_o, cos_io, eta, alpha * s, distribution)
+        for t in _lobe_terms(np, mu_i, mu_o):
+            cols += [lobe * t * xs[i] * h for i in (1, 2, 3) for h in hats]
+    return np.stack(cols, axis=-1)
+
+
+LOBE_FLOOR = 0.05
+"""The diffuse reflectance (1/sr) added to the coat's reflection in the weights of
+:func:`lobe_fit`: each residual counts relative to the coat's reflection plus a base's
+light (a Lambertian base of albedo 0.8 under η = 1.5 gives about 0.17 /sr)."""
+
+
+@functools.lru_cache(maxsize=2)
+def lobe_fit(distribution: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The α nodes and the coefficients of :func:`ms_lobe`: weighted least squares of the
+    walk's f_ms over ``data/coat_lobe.npz`` (η in [1.2, 3], α in [0.05, 1], 270 geometries;
+    made by ``scripts/coat_lobe_tables.py``), each residual relative to f_ss + f_ms +
+    :data:`LOBE_FLOOR` and weighted by 1/√(s.e.² + (0.003 × that)²), the walk's noise with a
+    floor of 0.3 % of it. The nodes are the table's α."""
+    with np.load(_LOBE_TABLE) as t:
+        d = COAT_DISTRIBUTIONS.index(distribution)
+        f_ms = np.asarray(t["f_ms"], np.float64)[d]
+        se = np.asarray(t["stderr"], np.float64)[d]
+        ti, tr, dp = t["theta_i"], t["theta_r"], t["delta_phi"]
+        etas, alphas = t["etas"], t["alphas"]
+    nodes = tuple(float(a) for a in alphas)
+    e, a = (g[..., None] for g in np.meshgrid(etas, alphas, indexing="ij"))
+    mi, mo = np.cos(ti), np.cos(tr)
+    cio = mi * mo + np.sin(ti) * np.sin(tr) * np.cos(dp)
+    f_ss = coat_reflection(np, mi, mo, cio, e, a, distribution)
+    w = 1.0 / np.sqrt(se**2 + (0.003 * (f_ss + f_ms + LOBE_FLOOR)) ** 2)
+    cols = _lobe_columns(mi + 0 * e, mo + 0 * e, cio + 0 * e, e + 0 * mi, a + 0 * mi,
+                         distribution, nodes)
+    n = cols.shape[-1]
+    coef = np.linalg.lstsq((cols * w[..., None]).reshape(-1, n), (f_ms * w).ravel(),
+                           rcond=None)[0]
+    return nodes, tuple(float(c) for c in coef)
+
+
+def ms_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha: Array,
+            distribution: str) -> Array:
+    """f_ms: the rough coat's reflection by two or more facet events (the multiple-scattering
+    dielectric microsurface of Heitz, Hanika, d'Eon and Dachsbacher 2016), as
+    Σ_s f_ss(s α) Σ_t p_st(x, α) w_t(μi, μo): single-scattering lobes
+    (:func:`coat_reflection`) of the widths :data:`LOBE_WIDTHS` times the symmetric angular
+    weights w_t (:func:`_lobe_terms`), p_st cubic in x = 1 − 1/η (no constant term) and
+    piecewise linear in α between the table's nodes (:func:`_alpha_hats`; 0 at α = 0),
+    fitted to the walk (:func:`lobe_fit`; arithmetic only). Reciprocal; 0 at η = 1 and
+    α = 0."""
+    nodes, coef = lobe_fit(distribution)
+    xs, _ = _monomials(xp, eta, alpha)
+    hats = _alpha_hats(xp, alpha, nodes)
+    terms = _lobe_terms(xp, mu_i, mu_o, _LOBE_MU_MIN)
+    total = 0.0 * terms[0]
+    k = 0
+    for s in LOBE_WIDTHS:
+        weight = 0.0 * terms[0]
+        for t in terms:
+            p = 0.0 * hats[0]
+            for i in (1, 2, 3):
+                for h in hats:
+                    p = p + coef[k] * (xs[i] * h)
+                    k += 1
+            weight = weight + p * t
+        total = total + weight * coat_reflection(xp, mu_i, mu_o, cos_io, eta, alpha * s,
+                                                 distribution)
+    return total
+
+
+def coat_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha: Array,
+              distribution: str) -> Array:
+    """The rough coat's whole reflection, f_ss + f_ms (:func:`coat_reflection`,
+    :func:`ms_lobe`), floored at 0; 0 for α = 0."""
+    f = coat_reflection(xp, mu_i, mu_o, cos_io, eta, alpha, distribution) + ms_lobe(
+        xp, mu_i, mu_o, cos_io, eta, alpha, distribution)
+    return maximum(xp, f, 0.0)
 
 
 def _mean_reflectance(xp: Any, eta: Array, alpha: Array, distribution: str,
@@ -533,8 +676,9 @@ class Coated(Model):
         {math}`a` the base's directional albedo, {math}`K = 1 - (1 - \bar E_\alpha)/\eta^2`
         the coat's internal diffuse reflectance (exact for a lossless interface, without
         absorption), {math}`\tau` the layer's optical depth; {math}`f_{\text{coat}}` has
-        the height-correlated masking of the Smith microsurface and its multiple scattering
-        fitted to the exact interface (within 0.6 % of the white furnace). The truth is
+        the height-correlated masking of the Smith microsurface and its multiple scattering,
+        a sum of lobes of roughness 0.7 α, α and 2 α fitted to the exact interface (within
+        1 % of the white furnace). The truth is
         {mod}`roughdiffuse.simulate.layered`, whose rough interface is the exact
         multiple-scattering microsurface of Heitz, Hanika, d'Eon and Dachsbacher (2016).
         """
@@ -666,19 +810,17 @@ class Coated(Model):
         cos_in = clip(xp, c * inv_eta2 + (ri * ro - mi * mo * inv_eta2), -1.0, 1.0)
         dist = self.distribution
         # the rough interface's own energy: what it does not reflect enters (T = 1 − E, as
-        # for a multiple-scattering microsurface, which loses nothing)
-        # E: the albedo of the coat's lobe with its multiple scattering (the lobe times
-        # b(μi) b(μo), ms_boost), integrated exactly as the lobe is: T = 1 − E conserves
+        # for a multiple-scattering microsurface, which loses nothing); E = E_ss (1 + c),
+        # its reflectance with the multiple scattering (ms_ratio, fitted to the walk)
         trans = (1.0 - interface_albedo(xp, mi, eta, alpha, dist, boosted=True)) * (
             1.0 - interface_albedo(xp, mo, eta, alpha, dist, boosted=True))
-        boost = ms_boost(xp, mi, eta, alpha, dist) * ms_boost(xp, mo, eta, alpha, dist)
         single = self.base.evaluate(xp, ri, ro, cos_in, dtype)
         chan = self.channels > 0
         k, ak = _internal_sums(xp, self.base, eta, tau, alpha, dist, dtype, chan)
         a_i = base_albedo(xp, self.base, ri, dtype)
         a_o = base_albedo(xp, self.base, ro, dtype)
         weight = trans * inv_eta2
-        spec = coat_reflection(xp, mi, mo, c, eta, alpha, self.distribution) * boost
+        spec = coat_lobe(xp, mi, mo, c, eta, alpha, dist)
         if chan:
             weight, spec, above = weight[..., None], spec[..., None], above[..., None]
             ri, ro = ri[..., None], ro[..., None]
@@ -740,16 +882,17 @@ def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
 
 
 def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
-    """∫ f_coat cos θi dωi over the half vector (Gauss–Legendre in θh to atan(10 α) and in
-    φh over [0, π], doubled), NumPy; f_coat with its multiple scattering (:func:`ms_boost`)."""
+    """∫ f_coat cos θi dωi over the half vector (Gauss–Legendre in θh to atan(10 s α)
+    (Beckmann) or atan(100 s α) (GGX), s the widest of :data:`LOBE_WIDTHS`, and in φh over
+    [0, π], doubled), NumPy; f_coat with its multiple scattering (:func:`coat_lobe`)."""
     from ..frames import unit_components
 
     _, _, z = unit_components(np, np.asarray(wo, dtype=np.float64), "wo")
     mu_o = np.clip(z, 0.0, 1.0)[..., None, None]
     sin_o = np.sqrt(1.0 - mu_o * mu_o)
     alpha = float(model.roughness)
-    theta_max = math.atan(10.0 * alpha) if model.distribution == "beckmann" else math.atan(
-        100.0 * alpha)
+    reach = (10.0 if model.distribution == "beckmann" else 100.0) * max(LOBE_WIDTHS)
+    theta_max = math.atan(reach * alpha)
     t, w = gauss_legendre(n)
     th = theta_max * t[:, None]
     ph = math.pi * t[None, :]
@@ -757,10 +900,8 @@ def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
     mu_i = 2.0 * cos_oh * np.cos(th) - mu_o
     cos_io = 2.0 * cos_oh * cos_oh - 1.0
     eta = float(model.eta)
-    f = coat_reflection(np, np.clip(mu_i, 0, 1), mu_o + 0 * mu_i, cos_io, eta, alpha,
-                        model.distribution) * ms_boost(
-        np, np.clip(mu_i, 0, 1), eta, alpha, model.distribution) * ms_boost(
-        np, mu_o + 0 * mu_i, eta, alpha, model.distribution)
+    f = coat_lobe(np, np.clip(mu_i, 0, 1), mu_o + 0 * mu_i, cos_io, eta, alpha,
+                  model.distribution)
     jac = 4.0 * np.maximum(cos_oh, 0.0) * np.sin(th)
     weights = (theta_max * w)[:, None] * (2.0 * math.pi * w)[None, :]
     val = np.sum(f * np.maximum(mu_i, 0.0) * jac * weights * (mu_i > 0), axis=(-2, -1))

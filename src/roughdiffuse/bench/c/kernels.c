@@ -41,6 +41,9 @@ static const double GL8_W[8] = {0.05061426814518853, 0.11119051722668721, 0.1568
                                 0.11119051722668721, 0.05061426814518853};
 #define COAT_IF 48 /* interface rule: 6 nodes in the facet-area fraction u x 2 x 4 in azimuth */
 #define COAT_BA 32 /* base albedo rule: 4 nodes in mu^2 x 2 x 4 in azimuth */
+#define COAT_LOBES 3 /* the multiple-scattering lobes (coated.py LOBE_WIDTHS) */
+#define COAT_TERMS 9 /* their angular weights (coated.py _lobe_terms) */
+#define COAT_MAX_NODES 32 /* the most alpha nodes of their weights (coated.py lobe_fit) */
 #define ALPHA_FLOOR_BECKMANN (1.4142135623730951 * 1e-4)
 
 #define RD_REAL float
@@ -135,10 +138,10 @@ MODEL(hapke, P6(float), P6(double), (mi, mo, cio, p0, p1, p2, p3, p4, p5))
 /* A dielectric coat over the full Oren-Nayar base (rd_coated_ggx, rd_coated_beckmann: the
  * registry's "coated") or over Lambert (rd_coated_lambert_ggx, ..._beckmann; sigma unused), as
  * src/roughdiffuse/models/coated.py: the parameter-only quantities (the coat's internal sums
- * K and a K, the rules' facet nodes, the boost's polynomial in mu) once per call, as the fast
- * path computes them once per trace; then the per-row formula with the same node rules.
- * p0..p4 = albedo, sigma, eta, alpha, tau; coef: the 36 fitted coefficients of the coat's
- * multiple-scattering boost for the distribution (coated.py ms_fit). */
+ * K and a K, the rules' facet nodes, the polynomials of its multiple scattering) once per
+ * call, as the fast path computes them once per trace; then the per-row formula with the same
+ * node rules. p0..p4 = albedo, sigma, eta, alpha, tau; coef: the fitted coefficients of the
+ * coat's multiple scattering for the distribution (see coat_setup). */
 #define COATED(dist, BECK, LAMBERT)                                                      \
     void rd_coated_##dist(ARGS, P5(float), const double *restrict coef) {                \
         coat_f32 s;                                                                      \
@@ -450,21 +453,24 @@ static inline real RD_F(coat_ndf)(real cos_h, real alpha, int beck) {
 typedef struct {
     real albedo, sigma, eta, alpha, tau, k, ak;
     int beck, lambert; /* the distribution (Beckmann or GGX), the base (Lambert or Oren-Nayar) */
-    real boost[4]; /* the boost's polynomial in u = 1 - mu: c(u) = sum boost[k] u^k */
+    real ratio[4]; /* the reflectance's ratio c = dE/E_ss as a polynomial in u = 1 - mu */
+    real width[COAT_LOBES]; /* the multiple-scattering lobes' roughness factors */
+    real lobe[COAT_LOBES][COAT_TERMS]; /* their weights' polynomials in (x, a) at this call */
     real cos_h[COAT_IF], sin_h[COAT_IF], cos_phi[COAT_IF], w_if[COAT_IF];
     real m2[COAT_BA], sin_cos[COAT_BA], w_ba[COAT_BA];
 } RD_F(coat);
 
-/* b(mu) = sqrt(1 + max(c, 0)), the coat's multiple-scattering boost: coated.py ms_boost */
-static inline real RD_F(coat_boost)(const RD_F(coat) *s, real mu) {
+/* c(mu) = max(dE/E_ss, 0), the coat's reflectance by more than one facet event relative to
+ * its single scattering: coated.py ms_ratio */
+static inline real RD_F(coat_ratio)(const RD_F(coat) *s, real mu) {
     real u = C(1) - RD_F(clamp)(mu, C(0), C(1));
-    real c = s->boost[0] + u * (s->boost[1] + u * (s->boost[2] + u * s->boost[3]));
-    return sqrt(C(1) + fmax(c, C(0)));
+    real c = s->ratio[0] + u * (s->ratio[1] + u * (s->ratio[2] + u * s->ratio[3]));
+    return fmax(c, C(0));
 }
 
 /* the interface's reflectance E(mu) from a direction of cosine mu, relative index eta, with
  * the height-correlated masking G2/G1 = (1 + L(mu)) / (1 + L(mu) + L(mu_r)); with `boosted`,
- * the lobe times b(mu) b(mu_r): coated.py interface_albedo */
+ * times 1 + c(mu): coated.py interface_albedo */
 static inline real RD_F(coat_reflectance)(const RD_F(coat) *s, real mu, real eta, int boosted) {
     real sin = sqrt(fmax(C(1) - mu * mu, C(0))), mu_s = fmax(mu, C(1e-7)), total = C(0);
     real lam = RD_F(smith_lambda)(mu, s->alpha, s->beck);
@@ -475,13 +481,11 @@ static inline real RD_F(coat_reflectance)(const RD_F(coat) *s, real mu, real eta
         real mu_r = C(2) * dot * cos_h - mu;
         real val = RD_F(fresnel)(c, eta) * (C(1) + lam)
                    / (C(1) + lam + RD_F(smith_lambda)(mu_r, s->alpha, s->beck));
-        if (boosted)
-            val *= RD_F(coat_boost)(s, mu_r);
         val = val * dot / (mu_s * cos_h);
         total += (mu_r > C(0) && dot > C(0)) ? val * s->w_if[j] : C(0);
     }
     real g = C(1) / (C(1) + lam);
-    return total * (boosted ? g * RD_F(coat_boost)(s, mu) : g);
+    return total * (boosted ? g * (C(1) + RD_F(coat_ratio)(s, mu)) : g);
 }
 
 /* the base's directional albedo at cosine mu: coated.py base_albedo */
@@ -496,10 +500,14 @@ static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
     return total;
 }
 
-/* the node rules, the boost's polynomial and the internal sums K and a K of one call;
- * coef: the 36 fitted coefficients of the boost (coated.py ms_fit), of x^i a^j u^k for
- * i, j = 1..3, k = 0..3 in that order (x = 1 - 1/eta clamped to [0, 2/3], a = alpha clamped
- * to [0, 1]) */
+/* the node rules, the multiple scattering's polynomials and the internal sums K and a K of
+ * one call; coef: the 36 fitted coefficients of the ratio c (coated.py ms_fit), of
+ * x^i a^j u^k for i, j = 1..3, k = 0..3 in that order (x = 1 - 1/eta clamped to [0, 2/3],
+ * a = alpha clamped to [0, 1]); then the COAT_LOBES widths s (coated.py LOBE_WIDTHS); then
+ * the number K of alpha nodes, the K nodes, and the lobes' COAT_LOBES x COAT_TERMS x 3 x K
+ * coefficients (coated.py lobe_fit), of x^i h_k(a) for i = 1..3 and the K hats h_k of the
+ * piecewise-linear interpolation in alpha (coated.py _alpha_hats), for each lobe and each
+ * angular weight (coat_terms) */
 static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
                              real tau, int beck, int lambert, const double *coef) {
     s->albedo = albedo, s->sigma = sigma, s->eta = eta, s->alpha = alpha, s->tau = tau;
@@ -516,7 +524,30 @@ static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, r
                 p += coef[(3 * (i - 1) + (j - 1)) * 4 + k] * xi * aj;
             }
         }
-        s->boost[k] = (real)p;
+        s->ratio[k] = (real)p;
+    }
+    const double *widths = coef + 36;
+    int n_nodes = (int)coef[36 + COAT_LOBES];
+    const double *nodes = coef + 37 + COAT_LOBES, *lc = nodes + n_nodes;
+    double hats[COAT_MAX_NODES];
+    for (int k = 0; k < n_nodes; ++k) { /* clip(up) + clip(down) - 1, the last node: clip(up) */
+        double left = k ? nodes[k - 1] : 0.0;
+        double h = fmin(fmax((a - left) / (nodes[k] - left), 0.0), 1.0);
+        if (k + 1 < n_nodes)
+            h += fmin(fmax((nodes[k + 1] - a) / (nodes[k + 1] - nodes[k]), 0.0), 1.0) - 1.0;
+        hats[k] = h;
+    }
+    for (int l = 0; l < COAT_LOBES; ++l) {
+        s->width[l] = (real)widths[l];
+        for (int t = 0; t < COAT_TERMS; ++t) {
+            double p = 0.0, xi = 1.0;
+            for (int i = 1; i <= 3; ++i) {
+                xi *= x;
+                for (int k = 0; k < n_nodes; ++k)
+                    p += lc[((l * COAT_TERMS + t) * 3 + (i - 1)) * n_nodes + k] * xi * hats[k];
+            }
+            s->lobe[l][t] = (real)p;
+        }
     }
     for (int iu = 0; iu < 6; ++iu)
         for (int h = 0; h < 2; ++h)
@@ -568,6 +599,28 @@ static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, r
     s->k = k, s->ak = ak;
 }
 
+/* the coat's single scattering F D G2 / (4 mi mo) of roughness alpha, G2 = 1/(1 + L(mi) +
+ * L(mo)): coated.py coat_reflection */
+static inline real RD_F(coat_single)(const RD_F(coat) *s, real mi, real mo, real cio,
+                                     real alpha) {
+    real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
+    real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
+    real g = C(1) / (C(1) + RD_F(smith_lambda)(mi, alpha, s->beck)
+                     + RD_F(smith_lambda)(mo, alpha, s->beck));
+    return RD_F(fresnel)(C(0.5) * len_h, s->eta) * RD_F(coat_ndf)(cos_h, alpha, s->beck) * g
+           / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)));
+}
+
+/* the lobes' angular weights, symmetric polynomials in v = 1 - mu, mu clamped to
+ * [cos 75 deg, 1]: coated.py _lobe_terms */
+static inline void RD_F(coat_terms)(real mi, real mo, real *t) {
+    const real mu_min = C(0.25881904510252074);
+    real vi = C(1) - RD_F(clamp)(mi, mu_min, C(1)), vo = C(1) - RD_F(clamp)(mo, mu_min, C(1));
+    real s1 = vi + vo, p = vi * vo, s2 = vi * vi + vo * vo;
+    t[0] = C(1), t[1] = s1, t[2] = s2, t[3] = p, t[4] = vi * vi * vi + vo * vo * vo;
+    t[5] = p * s1, t[6] = vi * vi * vi * vi + vo * vo * vo * vo, t[7] = p * s2, t[8] = p * p;
+}
+
 static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio) {
     real eta = s->eta, inv_eta2 = C(1) / (eta * eta);
     /* cos of the refracted direction as sqrt(mu^2 + eta^2 - 1)/eta: exact at eta = 1 */
@@ -584,14 +637,17 @@ static inline real RD_F(coated)(const RD_F(coat) *s, real mi, real mo, real cio)
     real multi = a_i * a_o * (den != C(0) ? s->k / den : C(0)) / PI;
     real att = exp(-s->tau / fmax(ri, C(1e-12))) * exp(-s->tau / fmax(ro, C(1e-12)));
     real spec = C(0);
-    if (s->alpha > C(0)) { /* F D G2 / (4 mi mo), G2 = 1/(1 + L(mi) + L(mo)), times b(mi) b(mo) */
-        real len_h = sqrt(fmax(C(2) * (C(1) + cio), C(0)));
-        real cos_h = len_h != C(0) ? (mi + mo) / len_h : C(0);
-        real g = C(1) / (C(1) + RD_F(smith_lambda)(mi, s->alpha, s->beck)
-                         + RD_F(smith_lambda)(mo, s->alpha, s->beck));
-        spec = RD_F(fresnel)(C(0.5) * len_h, eta) * RD_F(coat_ndf)(cos_h, s->alpha, s->beck) * g
-               / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)))
-               * RD_F(coat_boost)(s, mi) * RD_F(coat_boost)(s, mo);
+    if (s->alpha > C(0)) { /* f_ss + f_ms, floored at 0: coated.py coat_lobe */
+        real terms[COAT_TERMS];
+        RD_F(coat_terms)(mi, mo, terms);
+        spec = RD_F(coat_single)(s, mi, mo, cio, s->alpha);
+        for (int l = 0; l < COAT_LOBES; ++l) {
+            real w = C(0);
+            for (int t = 0; t < COAT_TERMS; ++t)
+                w += s->lobe[l][t] * terms[t];
+            spec += w * RD_F(coat_single)(s, mi, mo, cio, s->alpha * s->width[l]);
+        }
+        spec = fmax(spec, C(0));
     }
     return spec + trans * inv_eta2 * att * (single + multi);
 }
