@@ -139,14 +139,8 @@ def _f(model, ti, to, dp):
 def _horizon_cases():
     for entry in CLOSED_FORM:
         for corner in HORIZON_CORNERS:
-            marks = ()
-            if entry.id == "coated":
-                marks = pytest.mark.xfail(
-                    strict=True,
-                    reason="coated gives about 0.2 on the horizon where its limit is 0",
-                )
             if (entry.id, corner) not in NO_LIMIT:
-                yield pytest.param(entry, corner, id=f"{entry.id}: {corner}", marks=marks)
+                yield pytest.param(entry, corner, id=f"{entry.id}: {corner}")
 
 
 @pytest.mark.parametrize(("entry", "corner"), list(_horizon_cases()))

@@ -213,7 +213,9 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     normals are reached from D cos θh dωh, 6 nodes in its fraction u (``_IF_TAN2``) and
     2 × 4 in azimuth, weight G1(μ) (ω·m) / (μ cos θh), the 48 nodes on one trailing axis
     that ``xp.sum`` adds up. α = 0 gives F(μ, η) and 1 − F(μ, η) exactly (the smooth
-    interface)."""
+    interface). μ is floored at 1e-7, as in Λ: θ = 90° gives the value just above the
+    horizon, its limit (the weight's ω·m / μ is 1 there for a smooth interface, not 0)."""
+    mu = maximum(xp, mu, 1e-7)
     lam_i = _smith_lambda(xp, mu, alpha, distribution)
     g_o = 1.0 / (1.0 + lam_i)
     if boosted:
@@ -222,7 +224,6 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
     lam_i = _node_axis(xp, lam_i)
     dtype = getattr(mu, "dtype", None)
     sin = safe_sqrt(xp, 1.0 - mu * mu)
-    mu_s = maximum(xp, mu, 1e-7)
     tan2 = alpha * alpha * asarray(xp, _IF_TAN2[distribution], dtype)
     cos_h = 1.0 / xp.sqrt(1.0 + tan2)
     sin_h = safe_sqrt(xp, 1.0 - cos_h * cos_h)
@@ -241,7 +242,7 @@ def interface_albedo(xp: Any, mu: Array, eta: Array, alpha: Array, distribution:
         # coat_reflection
         val = f * (1.0 + lam_i) / (1.0 + lam_i + _smith_lambda(xp, mu_r, alpha, distribution))
         ok = (mu_r > 0) & (dot > 0)
-    val = val * dot / (mu_s * cos_h)
+    val = val * dot / (mu * cos_h)
     term = xp.where(ok, val, xp.zeros_like(val)) * asarray(xp, _IF_W, dtype)
     return xp.sum(term, axis=-1) * g_o
 
@@ -431,6 +432,29 @@ def lobe_fit(distribution: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
     return nodes, tuple(float(c) for c in coef)
 
 
+def _lobe_basis(xp: Any, eta: Array, alpha: Array, nodes: tuple[float, ...],
+                dtype: Any) -> Any:
+    """x^i times the hat of α's node h (:func:`_monomials`' x, :func:`_alpha_hats`' hats), for
+    i = 1..3 and each node, on one trailing axis of 3 × len(nodes) in :func:`lobe_fit`'s order
+    (i major): the polynomials p_st of :func:`ms_lobe` are each one ``xp.sum`` of it times
+    their coefficients (30 products on an axis, where 30 separate terms made JAX's forward
+    derivative of ``Coated`` too large for XLA to compile)."""
+    n = len(nodes)
+    left = (0.0, *nodes[:-1]) * 3
+    node = tuple(nodes) * 3
+    right = (*nodes[1:], 2.0) * 3  # the last node: (2 − a)/(2 − 1) ≥ 1, no falling side
+    x = _node_axis(xp, clip(xp, 1.0 - 1.0 / eta, 0.0, 2.0 / 3.0))
+    a = _node_axis(xp, clip(xp, alpha, 0.0, 1.0))
+    c = {name: asarray(xp, v, dtype) for name, v in (
+        ("left", left), ("node", node), ("right", right),
+        ("m1", (1.0,) * n + (0.0,) * 2 * n), ("m2", (0.0,) * n + (1.0,) * n + (0.0,) * n),
+        ("m3", (0.0,) * 2 * n + (1.0,) * n))}
+    up = clip(xp, (a - c["left"]) / (c["node"] - c["left"]), 0.0, 1.0)
+    hat = up + clip(xp, (c["right"] - a) / (c["right"] - c["node"]), 0.0, 1.0) - 1.0
+    x2 = x * x
+    return (x * c["m1"] + x2 * c["m2"] + x2 * x * c["m3"]) * hat
+
+
 def ms_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha: Array,
             distribution: str) -> Array:
     """f_ms: the rough coat's reflection by two or more facet events (the multiple-scattering
@@ -442,19 +466,16 @@ def ms_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha:
     fitted to the walk (:func:`lobe_fit`; arithmetic only). Reciprocal; 0 at η = 1 and
     α = 0."""
     nodes, coef = lobe_fit(distribution)
-    xs, _ = _monomials(xp, eta, alpha)
-    hats = _alpha_hats(xp, alpha, nodes)
+    basis = _lobe_basis(xp, eta, alpha, nodes, getattr(mu_i, "dtype", None))
+    width = 3 * len(nodes)
     terms = _lobe_terms(xp, mu_i, mu_o, _LOBE_MU_MIN)
     total = 0.0 * terms[0]
     k = 0
     for s in LOBE_WIDTHS:
         weight = 0.0 * terms[0]
         for t in terms:
-            p = 0.0 * hats[0]
-            for i in (1, 2, 3):
-                for h in hats:
-                    p = p + coef[k] * (xs[i] * h)
-                    k += 1
+            p = xp.sum(basis * asarray(xp, coef[k : k + width], basis.dtype), axis=-1)
+            k += width
             weight = weight + p * t
         total = total + weight * coat_reflection(xp, mu_i, mu_o, cos_io, eta, alpha * s,
                                                  distribution)

@@ -472,7 +472,8 @@ static inline real RD_F(coat_ratio)(const RD_F(coat) *s, real mu) {
  * the height-correlated masking G2/G1 = (1 + L(mu)) / (1 + L(mu) + L(mu_r)); with `boosted`,
  * times 1 + c(mu): coated.py interface_albedo */
 static inline real RD_F(coat_reflectance)(const RD_F(coat) *s, real mu, real eta, int boosted) {
-    real sin = sqrt(fmax(C(1) - mu * mu, C(0))), mu_s = fmax(mu, C(1e-7)), total = C(0);
+    mu = fmax(mu, C(1e-7)); /* the horizon's limit, as coated.py */
+    real sin = sqrt(fmax(C(1) - mu * mu, C(0))), total = C(0);
     real lam = RD_F(smith_lambda)(mu, s->alpha, s->beck);
     for (int j = 0; j < COAT_IF; ++j) {
         real cos_h = s->cos_h[j];
@@ -481,7 +482,7 @@ static inline real RD_F(coat_reflectance)(const RD_F(coat) *s, real mu, real eta
         real mu_r = C(2) * dot * cos_h - mu;
         real val = RD_F(fresnel)(c, eta) * (C(1) + lam)
                    / (C(1) + lam + RD_F(smith_lambda)(mu_r, s->alpha, s->beck));
-        val = val * dot / (mu_s * cos_h);
+        val = val * dot / (mu * cos_h);
         total += (mu_r > C(0) && dot > C(0)) ? val * s->w_if[j] : C(0);
     }
     real g = C(1) / (C(1) + lam);
