@@ -131,8 +131,8 @@ def params_of(model: Model, model_id: str) -> dict[str, Any]:
         value = getattr(model, p.name, _MISSING)
         if value is _MISSING:  # built by from_params (Coated, Mix): not kept as it was given
             raise ParameterError(
-                f"{model_id}: its {p.name} cannot be read back from the model; this export "
-                "cannot hold it"
+                f"{model_id} is built of other models (its parameter {p.name} belongs to one "
+                "of them); this export writes one model's own parameters and cannot hold it"
             )
         if value is None:
             continue
