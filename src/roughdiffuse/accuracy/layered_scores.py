@@ -331,6 +331,34 @@ def _furnace_rows(curves: dict[str, dict[str, np.ndarray]]) -> list[str]:
     return lines
 
 
+_CLOSING = [
+    "The walk with the exact interface gives 1; the single-scattering walk and Mitsuba's",
+    "`roughplastic` lose the light a second facet event would return; `Coated`'s",
+    "transmittance is the interface's own energy 1 − E(μ) and its internal reflectance",
+    "1 − (1 − Ē)/η² (exact for a lossless interface), so it departs from 1 only by what its",
+    "fitted multiple-scattering lobe integrates to beyond E_ss c(μ).",
+    "",
+    "Mitsuba 3: `plastic` for the smooth coat and `roughplastic` (`nonlinear=true`, the",
+    "coat's distribution) for the rough one, their `eval` divided by the cosine. `Mix` is",
+    "(1 − w) × base + w × Torrance–Sparrow (Beckmann, α of the coat, η = 1.5); under a",
+    "smooth coat its specular lobe is a delta, so it is (1 − w) × base, the tuned weight",
+    "standing in for the Fresnel transmittances and the internal reflections.",
+    "",
+    "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md",
+    "40000 /tmp/layered_cache` (the last argument, a folder for the walks' results, is",
+    "optional).",
+    "",
+    "Note on Mitsuba's `plastic`: with `nonlinear=false` (its default) its diffuse part is",
+    "ρ (1 − F_i)(1 − F_o) / (π η² (1 − F_dr)), which keeps the texture's colour but is not the",
+    "sum of the internal reflections for ρ < 1 (74 % too bright at ρ = 0.5, η = 1.5); with",
+    "`nonlinear=true` it is ρ (1 − F_i)(1 − F_o) / (π η² (1 − ρ F_dr)), the exact sum, which",
+    "the walk matches.",
+    "",
+]
+"""The page's text after the furnace table: what each curve shows, how Mitsuba and `Mix` are
+evaluated, how to regenerate the page."""
+
+
 def layered_lines(samples: int = 40_000, figure: Path | None = None,
                   cache: Path | None = None) -> list[str]:
     """The Markdown of the layered section (and the furnace figure, written to ``figure``
@@ -400,28 +428,7 @@ def layered_lines(samples: int = 40_000, figure: Path | None = None,
         "",
         *_furnace_rows(curves),
         "",
-        "The walk with the exact interface gives 1; the single-scattering walk and Mitsuba's",
-        "`roughplastic` lose the light a second facet event would return; `Coated`'s",
-        "transmittance is the interface's own energy 1 − E(μ) and its internal reflectance",
-        "1 − (1 − Ē)/η² (exact for a lossless interface), so it departs from 1 only by what its",
-        "fitted multiple-scattering lobe integrates to beyond E_ss c(μ).",
-        "",
-        "Mitsuba 3: `plastic` for the smooth coat and `roughplastic` (`nonlinear=true`, the",
-        "coat's distribution) for the rough one, their `eval` divided by the cosine. `Mix` is",
-        "(1 − w) × base + w × Torrance–Sparrow (Beckmann, α of the coat, η = 1.5); under a",
-        "smooth coat its specular lobe is a delta, so it is (1 − w) × base, the tuned weight",
-        "standing in for the Fresnel transmittances and the internal reflections.",
-        "",
-        "Regenerate: `python -m roughdiffuse.accuracy.layered_scores docs/accuracy/layered.md",
-        "40000 /tmp/layered_cache` (the last argument, a folder for the walks' results, is",
-        "optional).",
-        "",
-        "Note on Mitsuba's `plastic`: with `nonlinear=false` (its default) its diffuse part is",
-        "ρ (1 − F_i)(1 − F_o) / (π η² (1 − F_dr)), which keeps the texture's colour but is not the",
-        "sum of the internal reflections for ρ < 1 (74 % too bright at ρ = 0.5, η = 1.5); with",
-        "`nonlinear=true` it is ρ (1 − F_i)(1 − F_o) / (π η² (1 − ρ F_dr)), the exact sum, which",
-        "the walk matches.",
-        "",
+        *_CLOSING,
     ]
     return lines
 

@@ -111,6 +111,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="residual scale where a robust loss sets in: a fraction of the value "
         "(default 0.03, i.e. 3%%)",
     )
+    _add_output_arguments(p)
+    _add_input_arguments(p)
+    p.set_defaults(func=run)
+
+
+def _add_output_arguments(p: argparse.ArgumentParser) -> None:
+    """The report and the exports of a fit: --report, --force, --export, --export-prefix and
+    Blender's Python."""
     p.add_argument("--report", metavar="OUT.html", help="write an HTML report with plots")
     p.add_argument(
         "--force", action="store_true", help="replace an existing --report file or --export files"
@@ -128,8 +136,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="--export's files: PREFIX_TARGET.py/.blend/.mtlx/.xml/.glsl/.gltf (default: material)",
     )
     add_blender_python(p)
-    _add_input_arguments(p)
-    p.set_defaults(func=run)
 
 
 def _models(args: argparse.Namespace) -> tuple[Any, list[str] | None]:

@@ -285,6 +285,16 @@ def convert(
     best = min(fits, key=lambda res: res.cost)
     params = unpack(best.x)
     params = {p.name: params[p.name] for p in numeric}
+    grid = (mi, mo, cio, weight, mu, wmu)
+    return _conversion(source, target, entry, fixed, params, grid, f_src, a_src)
+
+
+def _conversion(source: Model, target: str, entry: Any, fixed: dict[str, Any],
+                params: dict[str, Any], grid: tuple[np.ndarray, ...], f_src: np.ndarray,
+                a_src: np.ndarray) -> Conversion:
+    """The :class:`Conversion` of ``source`` to the ``target`` of these fitted ``params``:
+    the model built and its differences from the source on the sampling ``grid``."""
+    mi, mo, cio, weight, mu, wmu = grid
     model = entry.create(**fixed, **params)
     with use_fastpath(False):
         f_t = np.asarray(model.brdf_cosines(mi, mo, cio), dtype=np.float64)

@@ -126,6 +126,20 @@ def _png_of(image: np.ndarray, kind: str) -> np.ndarray:
     return np.clip(v / (top if top > 0 else 1.0), 0.0, 1.0)
 
 
+def _roughness_entry(rough: RoughResult) -> dict[str, Any]:
+    """``params["roughness"]``: its name, and its value and standard error (one for the
+    object) or their medians (per pixel)."""
+    value = rough.roughness
+    entry: dict[str, Any] = {"name": rough.roughness_name, "per_pixel": bool(np.ndim(value))}
+    if np.ndim(value):
+        entry["median"] = float(np.nanmedian(value))
+        entry["median_standard_error"] = float(np.nanmedian(rough.roughness_se))
+    else:
+        entry["value"] = float(value)
+        entry["standard_error"] = float(rough.roughness_se)
+    return entry
+
+
 def write_outputs(
     folder: str | os.PathLike[str],
     data: StereoInput,
@@ -176,15 +190,11 @@ def write_outputs(
     shown = report_pngs(data, maps, lmaps, depth, model_id,
                         [name for name, value, _ in fitted_values(rough) if np.ndim(value)])
     shown.update(_methods_pngs(m, methods, truth_normals))
-    rough_val = rough.roughness
     params: dict[str, Any] = {
         "model": model_id,
         "images": data.count,
         "pixels": int(m.sum()),
-        "roughness": {
-            "name": rough.roughness_name,
-            "per_pixel": bool(np.ndim(rough_val)),
-        },
+        "roughness": _roughness_entry(rough),
         "rough": {
             "relative_rms_residual": _stats(rough.residual),
             "normal_standard_error_deg": _stats(np.degrees(rough.normal_se)),
@@ -192,17 +202,6 @@ def write_outputs(
         },
         "lambertian": {"relative_rms_residual": _stats(lambert.residual)},
     }
-    if np.ndim(rough_val):
-        params["roughness"].update(
-            {
-                "median": float(np.nanmedian(rough_val)),
-                "median_standard_error": float(np.nanmedian(rough.roughness_se)),
-            }
-        )
-    else:
-        params["roughness"].update(
-            {"value": float(rough_val), "standard_error": float(rough.roughness_se)}
-        )
     if hasattr(rough, "coat"):  # a coated fit: its coat's α and η
         params["coat"] = coat_params(rough)
     if truth_normals is not None:
