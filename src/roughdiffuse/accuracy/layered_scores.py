@@ -144,20 +144,38 @@ def _walk(case: Case, samples: int, seed: int, interface: str,
     (a file named by the case, its base's parameters, the paths, the seed, the interface)."""
     key = repr((case.label, case.base, case.roughness, case.distribution, samples, seed,
                 interface, ETA, tuple(_ANGLES), tuple(_PHIS)))
-    path = None
-    if cache is not None:
-        path = cache / f"layered_{hashlib.sha1(key.encode()).hexdigest()[:16]}.npy"
-        if path.exists():
-            f, se = np.load(path)
-            return f, se
-    ti, tr, dp = _grid()
-    f, se = layered.brdf(ti, tr, dp, case.base, eta=ETA, roughness=case.roughness,
-                         distribution=case.distribution, samples=samples, seed=seed,
-                         interface=interface, return_stderr=True)
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.save(path, np.stack([f, se]))
-    return f, se
+
+    def run() -> tuple[np.ndarray, np.ndarray]:
+        ti, tr, dp = _grid()
+        return layered.brdf(ti, tr, dp, case.base, eta=ETA, roughness=case.roughness,
+                            distribution=case.distribution, samples=samples, seed=seed,
+                            interface=interface, return_stderr=True)
+
+    return _cached(cache, "layered", key, run)
+
+
+def _cached(cache: Path | None, prefix: str, key: str,
+            run: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``run()``'s (value, standard error), kept in the folder ``cache`` (if given) under a
+    name made from ``prefix`` and a hash of ``key``, and read from there when it is; each
+    file written whole or not at all (an interrupted run leaves no half file to be read)."""
+    if cache is None:
+        return run()
+    from ..io.atomic import atomic_write
+
+    path = cache / f"{prefix}_{hashlib.sha1(key.encode()).hexdigest()[:16]}.npy"
+    if path.exists():
+        value, se = np.load(path)
+        return value, se
+    value, se = run()
+    cache.mkdir(parents=True, exist_ok=True)
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:
+            np.save(fh, np.stack([value, se]))
+
+    atomic_write(path, write)
+    return value, se
 
 
 def score_case(case: Case, samples: int = 40_000, seed: int = 0,
@@ -220,19 +238,9 @@ def _walk_albedo(theta: np.ndarray, distribution: str, samples: int, seed: int, 
     """The walk's directional albedo of a white Lambertian base under the furnace's coat,
     with its standard error, read from ``cache`` if it holds it."""
     key = repr((tuple(theta), distribution, samples, seed, interface, ETA, ROUGH))
-    path = None
-    if cache is not None:
-        path = cache / f"furnace_{hashlib.sha1(key.encode()).hexdigest()[:16]}.npy"
-        if path.exists():
-            a, se = np.load(path)
-            return a, se
-    a, se = layered.directional_albedo(theta, Lambert(1.0), eta=ETA, roughness=ROUGH,
-                                       distribution=distribution, samples=samples, seed=seed,
-                                       interface=interface, return_stderr=True)
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.save(path, np.stack([a, se]))
-    return a, se
+    return _cached(cache, "furnace", key, lambda: layered.directional_albedo(
+        theta, Lambert(1.0), eta=ETA, roughness=ROUGH, distribution=distribution,
+        samples=samples, seed=seed, interface=interface, return_stderr=True))
 
 
 def furnace_curves(samples: int = 200_000, mix_weights: dict[str, float] | None = None,

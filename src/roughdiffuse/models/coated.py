@@ -304,23 +304,6 @@ def _monomials(xp: Any, eta: Array, alpha: Array) -> tuple[list[Any], list[Any]]
     return [1.0, x, x * x, x * x * x], [1.0, a, a * a, a * a * a]
 
 
-def _alpha_hats(xp: Any, alpha: Array, nodes: tuple[float, ...]) -> list[Any]:
-    """The piecewise-linear interpolation weights of α (clamped to [0, 1]) between the nodes
-    (increasing, the last 1): the hat of node k rises from the node before it (0 for the
-    first: the weights vanish with α) and falls to the one after, written with ``clip``
-    alone, clip(up) + clip(down) − 1."""
-    a = clip(xp, alpha, 0.0, 1.0)
-    hats = []
-    for k, node in enumerate(nodes):
-        left = nodes[k - 1] if k else 0.0
-        up = clip(xp, (a - left) / (node - left), 0.0, 1.0)
-        if k + 1 < len(nodes):
-            right = nodes[k + 1]
-            up = up + clip(xp, (right - a) / (right - node), 0.0, 1.0) - 1.0
-        hats.append(up)
-    return hats
-
-
 @functools.lru_cache(maxsize=2)
 def ms_fit(distribution: str) -> tuple[float, ...]:
     """The coefficients of :func:`ms_ratio`: least squares (weight √μ E_ss, the reflectance
@@ -387,16 +370,15 @@ def _lobe_terms(xp: Any, mu_i: Array, mu_o: Array, mu_min: float = 0.0) -> list[
 def _lobe_columns(mu_i: np.ndarray, mu_o: np.ndarray, cos_io: np.ndarray, eta: np.ndarray,
                   alpha: np.ndarray, distribution: str, nodes: tuple[float, ...]) -> np.ndarray:
     """The design matrix of :func:`lobe_fit` (..., coefficients), NumPy: each width's lobe
-    times each angular weight times x^i (i = 1..3) times each α node's hat, in
-    :func:`ms_lobe`'s order."""
-    xs, _ = _monomials(np, eta, alpha)
-    hats = _alpha_hats(np, alpha, nodes)
+    times each angular weight times :func:`_lobe_basis` (x^i, i = 1..3, times each α node's
+    hat), in :func:`ms_lobe`'s order."""
+    basis = _lobe_basis(np, eta, alpha, nodes, np.float64)
     cols = []
     for s in LOBE_WIDTHS:
         lobe = coat_reflection(np, mu_i, mu_o, cos_io, eta, alpha * s, distribution)
         for t in _lobe_terms(np, mu_i, mu_o):
-            cols += [lobe * t * xs[i] * h for i in (1, 2, 3) for h in hats]
-    return np.stack(cols, axis=-1)
+            cols.append((lobe * t)[..., None] * basis)
+    return np.concatenate(cols, axis=-1)
 
 
 LOBE_FLOOR = 0.05
@@ -434,8 +416,10 @@ def lobe_fit(distribution: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
 
 def _lobe_basis(xp: Any, eta: Array, alpha: Array, nodes: tuple[float, ...],
                 dtype: Any) -> Any:
-    """x^i times the hat of α's node h (:func:`_monomials`' x, :func:`_alpha_hats`' hats), for
-    i = 1..3 and each node, on one trailing axis of 3 × len(nodes) in :func:`lobe_fit`'s order
+    """x^i times the hat of α's node h (x = 1 − 1/η as :func:`_monomials` clamps it; the hat
+    of node h rises from the node before it, 0 for the first, so the weights vanish with α,
+    and falls to the one after: piecewise-linear interpolation in α), for i = 1..3 and each
+    node, on one trailing axis of 3 × len(nodes) in :func:`lobe_fit`'s order
     (i major): the polynomials p_st of :func:`ms_lobe` are each one ``xp.sum`` of it times
     their coefficients (30 products on an axis, where 30 separate terms made JAX's forward
     derivative of ``Coated`` too large for XLA to compile)."""
@@ -462,7 +446,7 @@ def ms_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha:
     Σ_s f_ss(s α) Σ_t p_st(x, α) w_t(μi, μo): single-scattering lobes
     (:func:`coat_reflection`) of the widths :data:`LOBE_WIDTHS` times the symmetric angular
     weights w_t (:func:`_lobe_terms`), p_st cubic in x = 1 − 1/η (no constant term) and
-    piecewise linear in α between the table's nodes (:func:`_alpha_hats`; 0 at α = 0),
+    piecewise linear in α between the table's nodes (:func:`_lobe_basis`; 0 at α = 0),
     fitted to the walk (:func:`lobe_fit`; arithmetic only). Reciprocal; 0 at η = 1 and
     α = 0."""
     nodes, coef = lobe_fit(distribution)

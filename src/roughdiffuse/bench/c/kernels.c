@@ -507,7 +507,7 @@ static inline real RD_F(coat_base_albedo)(const RD_F(coat) *s, real mu) {
  * a = alpha clamped to [0, 1]); then the COAT_LOBES widths s (coated.py LOBE_WIDTHS); then
  * the number K of alpha nodes, the K nodes, and the lobes' COAT_LOBES x COAT_TERMS x 3 x K
  * coefficients (coated.py lobe_fit), of x^i h_k(a) for i = 1..3 and the K hats h_k of the
- * piecewise-linear interpolation in alpha (coated.py _alpha_hats), for each lobe and each
+ * piecewise-linear interpolation in alpha (coated.py _lobe_basis), for each lobe and each
  * angular weight (coat_terms) */
 static void RD_F(coat_setup)(RD_F(coat) *s, real albedo, real sigma, real eta, real alpha,
                              real tau, int beck, int lambert, const double *coef) {
