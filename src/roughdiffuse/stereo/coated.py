@@ -16,9 +16,9 @@ Highlights are part of the model, not rejected. Shadows are found from the model
 current normals: an observation is left out where the light is behind the pixel's normal
 (attached, n·l ≤ 0; the model is 0 there and its derivative too) or where the surface,
 integrated from the current normals (:func:`.depth.integrate`), stands between the pixel and
-the light (cast; :func:`cast_shadows` marches from each pixel towards each light over the
-depth map); observations darker than the rough fit's threshold stay out too (shadows of
-parts outside the mask, which the integrated surface does not hold). The fit starts from
+the light (cast; :func:`cast_shadows`, one sweep of the depth map per light); observations
+darker than the rough fit's threshold stay out too (shadows of parts outside the mask, which
+the integrated surface does not hold). The fit starts from
 Lambertian photometric stereo (the table solver) or the rough fit (the direct one), and the
 shadows are found again after each fit, ``shadow_rounds`` times.
 
@@ -209,28 +209,31 @@ def cast_shadows(
     the object) stands above the ray from the pixel towards light k.
 
     The ray starts at the top of the pixel's footprint, half its slope above its centre
-    (``slopes`` (P,), |∇z| of each object pixel; none: a flat pixel), and is marched one
-    pixel at a time across the image (x right, y up; row 0 at the top), its height rising by
-    l_z / |l_xy| per pixel, until it leaves the image or rises above the highest point of
-    the surface; an occluder is a sample higher than the ray by
-    more than ``tolerance``. The surface is sampled by bilinear interpolation between the
-    four nearest pixels (below a convex surface, never above it), or the nearest pixel where
-    one of the four lies outside the object. Pixels outside the object do not occlude.
-    Compiled (Numba), parallel over the lights and pixels; each ray stops at its first
-    occluder.
+    (``slopes`` (P,), |∇z| of each object pixel; none: a flat pixel), and crosses the image
+    (x right, y up; row 0 at the top) one column at a time, or one row where the light's
+    direction in the image runs more along y, its height rising by l_z / |l_x| (or
+    / |l_y|) per step; an occluder is a sample higher than the ray by more than
+    ``tolerance``. The surface is sampled where the ray crosses each column (row): linearly
+    between the two nearest pixels (below a convex surface, never above it), or the nearest
+    pixel where one of them lies outside the object. Pixels outside the object do not
+    occlude.
+
+    Rays towards one light are parallel, so the highest the surface stands above the ray
+    from each pixel follows from the next column's (row's) in one sweep of the image per
+    light, from the far side (the horizon of the height field; the next column's values
+    are taken linearly between its two pixels nearest the ray): O(H W) per light instead of
+    O(H W max(H, W)) for marching each ray. Compiled (Numba), parallel over the lights.
     """
-    from .coated_kernels import march_shadows
+    from .coated_kernels import sweep_shadows
 
     z = np.asarray(depth, dtype=np.float64)
     m = np.asarray(mask, dtype=bool)
     rows, cols = np.nonzero(m)
     z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
-    height = np.where(np.isfinite(z), z, -np.inf)
+    height = np.ascontiguousarray(np.where(np.isfinite(z), z, -np.inf))
     shadow = np.zeros((len(directions), rows.size), dtype=np.bool_)
-    march_shadows(height, rows.astype(np.float64), cols.astype(np.float64),
-                  np.ascontiguousarray(z0, dtype=np.float64),
-                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance),
-                  float(np.nanmax(z)), shadow)
+    sweep_shadows(height, rows, cols, np.ascontiguousarray(z0, dtype=np.float64),
+                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance), shadow)
     return shadow
 
 

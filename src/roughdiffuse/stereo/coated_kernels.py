@@ -16,7 +16,7 @@ import numpy as np
 
 from ..engine.cache import private_cache_dir
 
-__all__ = ["solve", "table_value"]
+__all__ = ["solve", "sweep_shadows", "table_value"]
 
 
 def _jit(**flags: Any) -> Any:
@@ -267,46 +267,58 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
 
 
 @_jit(nogil=True, error_model="numpy")
-def _surface(height, rf, cf):  # noqa: ANN001, ANN202
-    """The height map at fractional (row, column): bilinear between the four nearest pixels,
-    the nearest pixel's value where one of them is −∞ (outside the object)."""
-    h, w = height.shape
-    r0 = min(max(int(math.floor(rf)), 0), h - 1)
-    c0 = min(max(int(math.floor(cf)), 0), w - 1)
-    r1, c1 = min(r0 + 1, h - 1), min(c0 + 1, w - 1)
-    fr = min(max(rf - r0, 0.0), 1.0)
-    fc = min(max(cf - c0, 0.0), 1.0)
-    a, b, c, d = height[r0, c0], height[r0, c1], height[r1, c0], height[r1, c1]
-    if np.isfinite(a) and np.isfinite(b) and np.isfinite(c) and np.isfinite(d):
-        return (a * (1.0 - fc) + b * fc) * (1.0 - fr) + (c * (1.0 - fc) + d * fc) * fr
-    rn = min(max(int(np.rint(rf)), 0), h - 1)
-    cn = min(max(int(np.rint(cf)), 0), w - 1)
-    return height[rn, cn]
+def _horizon(height, step, cross, rise, out):  # noqa: ANN001, ANN202
+    """``out[a, b]``: the highest the surface ``height`` (−∞ outside the object) stands
+    above a ray from (a, b) stepping ``step`` (±1) along the second axis and ``cross``
+    along the first per step, rising ``rise`` per step (−∞: nothing ahead). One sweep,
+    from the far side: out = G(ahead) − rise, G = max(height, out), G between the two
+    nearest entries of the column ahead taken linearly (the nearest one where one of them
+    is −∞; −∞ beyond the array)."""
+    na, nb = height.shape
+    g = np.empty(na)
+    first = nb - 1 if step > 0 else 0
+    for a in range(na):
+        out[a, first] = -np.inf
+    for i in range(1, nb):
+        b = first - i * step
+        ahead = b + step
+        for a in range(na):
+            g[a] = max(height[a, ahead], out[a, ahead])
+        for a in range(na):
+            got = -np.inf
+            frac = a + cross
+            if frac > -0.5 and frac < na - 0.5:
+                a0 = min(max(int(math.floor(frac)), 0), na - 1)
+                a1 = min(a0 + 1, na - 1)
+                f = min(max(frac - a0, 0.0), 1.0)
+                lo, hi = g[a0], g[a1]
+                if np.isfinite(lo) and np.isfinite(hi):
+                    got = lo * (1.0 - f) + hi * f
+                else:
+                    got = hi if f > 0.5 else lo
+            out[a, b] = got - rise
 
 
 @_jit(parallel=True, nogil=True, error_model="numpy")
-def march_shadows(height, rows, cols, z0, directions, tolerance, top, out):  # noqa: ANN001, ANN201
-    """``out[k, p]``: the ray from pixel p (row, column, start height z0) towards light k,
-    marched one pixel at a time, meets the surface ``height`` (−∞ outside the object) more
-    than ``tolerance`` above it before leaving the image or rising above ``top − tolerance``
-    (see :func:`roughdiffuse.stereo.coated.cast_shadows`)."""
+def sweep_shadows(height, rows, cols, z0, directions, tolerance, out):  # noqa: ANN001, ANN201
+    """``out[k, p]``: the surface ``height`` (−∞ outside the object) stands more than
+    ``tolerance`` above the ray from pixel p (row, column, start height z0) towards light k
+    (see :func:`roughdiffuse.stereo.coated.cast_shadows`). One sweep of the image per
+    light (:func:`_horizon`), across columns or rows whichever the light's direction in the
+    image runs along more; parallel over the lights."""
     h, w = height.shape
-    kk, pp = directions.shape[0], rows.shape[0]
-    longest = int(math.hypot(h, w))
-    for i in numba.prange(kk * pp):
-        k, p = i // pp, i % pp
+    flipped = np.ascontiguousarray(height.T)
+    for k in numba.prange(directions.shape[0]):
         lx, ly, lz = directions[k, 0], directions[k, 1], directions[k, 2]
-        across = math.hypot(lx, ly)
-        if across < 1e-9 or not np.isfinite(z0[p]):
+        if math.hypot(lx, ly) < 1e-9:
             continue  # a light on the view axis: a height field casts no shadow
-        dx, dy, rise = lx / across, ly / across, lz / across
-        for s in range(1, longest + 1):
-            ray = z0[p] + s * rise
-            if not ray < top - tolerance:
-                break
-            rf, cf = rows[p] - s * dy, cols[p] + s * dx
-            if not (rf > -0.5 and rf < h - 0.5 and cf > -0.5 and cf < w - 0.5):
-                break
-            if _surface(height, rf, cf) > ray + tolerance:
-                out[k, p] = True
-                break
+        if abs(lx) >= abs(ly):  # one column per step; rows grow downwards (−y)
+            top = np.empty((h, w))
+            _horizon(height, 1 if lx > 0 else -1, -ly / abs(lx), lz / abs(lx), top)
+            for p in range(rows.shape[0]):
+                out[k, p] = top[rows[p], cols[p]] > z0[p] + tolerance
+        else:  # one row per step, on the transposed map
+            top = np.empty((w, h))
+            _horizon(flipped, -1 if ly > 0 else 1, lx / abs(ly), lz / abs(ly), top)
+            for p in range(rows.shape[0]):
+                out[k, p] = top[cols[p], rows[p]] > z0[p] + tolerance

@@ -6,8 +6,12 @@ q = ∂z/∂y = −n_y/n_z; image row i grows downwards (−y) and column j alon
 
 * ``"poisson"``: least squares over the object's pixels only, z[i, j+1] − z[i, j] =
   (p[i, j] + p[i, j+1])/2 and z[i+1, j] − z[i, j] = −(q[i, j] + q[i+1, j])/2 for every pair of
-  neighbours inside the mask, solved with SciPy's sparse LSQR (the discrete Poisson equation
-  of the gradient field, Agrawal, Raskar, Chellappa, ECCV 2006, Sec. 2).
+  neighbours inside the mask: its normal equations (the discrete Poisson equation of the
+  gradient field, Agrawal, Raskar, Chellappa, ECCV 2006, Sec. 2) solved directly by SciPy's
+  sparse LU, one pixel of each connected piece of the mask held at 0 and each piece then
+  shifted to mean 0. The factorisation depends on the mask only: the last one is kept and
+  reused for a new gradient field on the same mask (the coated fit integrates its normals
+  once per shadow round).
 * ``"frankot-chellappa"``: the integrable surface nearest the gradient field over the whole
   rectangle, by FFT (Frankot and Chellappa, IEEE PAMI 10(4), 1988, Eq. 21); gradients
   outside the mask are set to 0.
@@ -83,41 +87,63 @@ def integrate(normals: Any, mask: Any, method: str = "poisson") -> np.ndarray:
     return z - np.nanmean(z)
 
 
-def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    from scipy.sparse import csr_matrix, vstack
-    from scipy.sparse.linalg import lsqr
+_FACTOR: dict[str, Any] = {}
+"""The last Poisson factorisation: ``mask`` (bool array), ``solve`` and the pieces."""
 
+
+def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
     h, w = mask.shape
     index = -np.ones((h, w), dtype=np.int64)
     index[mask] = np.arange(int(mask.sum()))
-    rows = []
-    rhs = []
-    # horizontal pairs (i, j) - (i, j+1)
-    both = mask[:, :-1] & mask[:, 1:]
-    a, b = index[:, :-1][both], index[:, 1:][both]
-    rows.append((a, b))
-    rhs.append(0.5 * (p[:, :-1][both] + p[:, 1:][both]))
-    # vertical pairs (i, j) - (i+1, j): moving down is −y
-    both = mask[:-1, :] & mask[1:, :]
-    a2, b2 = index[:-1, :][both], index[1:, :][both]
-    rows.append((a2, b2))
-    rhs.append(-0.5 * (q[:-1, :][both] + q[1:, :][both]))
+    # the differences: horizontal pairs (i, j) - (i, j+1), vertical (i, j) - (i+1, j)
+    hor = mask[:, :-1] & mask[:, 1:]
+    ver = mask[:-1, :] & mask[1:, :]
+    lo = np.concatenate([index[:, :-1][hor], index[:-1, :][ver]])
+    hi = np.concatenate([index[:, 1:][hor], index[1:, :][ver]])
+    # moving down is −y
+    rhs = np.concatenate([0.5 * (p[:, :-1][hor] + p[:, 1:][hor]),
+                          -0.5 * (q[:-1, :][ver] + q[1:, :][ver])])
     n = int(mask.sum())
-    blocks = []
-    for lo, hi in rows:
-        m = len(lo)
-        data = np.concatenate([-np.ones(m), np.ones(m)])
-        r = np.concatenate([np.arange(m), np.arange(m)])
-        c = np.concatenate([lo, hi])
-        blocks.append(csr_matrix((data, (r, c)), shape=(m, n)))
-    # pin the mean (the system is singular up to a constant per connected piece)
-    blocks.append(csr_matrix((np.full(n, 1e-6), (np.zeros(n, int), np.arange(n))), shape=(1, n)))
-    a_mat = vstack(blocks).tocsr()
-    b_vec = np.concatenate([*rhs, [0.0]])
-    sol = lsqr(a_mat, b_vec, atol=1e-12, btol=1e-12, iter_lim=20 * (h + w) + 2000)[0]
+    factor = _FACTOR if _FACTOR.get("mask") is not None and np.array_equal(
+        _FACTOR["mask"], mask) else _factor(mask, lo, hi, n)
+    # Aᵀ b of the difference rows z[hi] − z[lo] = rhs
+    b_vec = np.bincount(hi, rhs, minlength=n) - np.bincount(lo, rhs, minlength=n)
+    b_vec[factor["pinned"]] = 0.0
+    sol = factor["solve"](b_vec)
+    labels, count = factor["labels"], factor["count"]
+    sol -= (np.bincount(labels, sol, minlength=count) / np.bincount(labels, minlength=count))[
+        labels]
     z = np.zeros((h, w))
     z[mask] = sol
     return z
+
+
+def _factor(mask: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> dict[str, Any]:
+    """Factorise AᵀA of the differences ``z[hi] − z[lo]`` over the ``n`` pixels of
+    ``mask``, the first pixel of each 4-connected piece held at 0 (its row and column
+    replaced by the identity's), and keep it in :data:`_FACTOR`."""
+    from scipy.ndimage import label
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import splu
+
+    pieces, count = label(mask)
+    labels = pieces[mask] - 1
+    pinned = np.unique(labels, return_index=True)[1]
+    free = np.ones(n, dtype=bool)
+    free[pinned] = False
+    keep = free[lo] & free[hi]
+    # the Laplacian: degree on the diagonal, −1 for each pair (a pinned pixel's row and
+    # column are the identity's)
+    degree = np.bincount(lo, minlength=n) + np.bincount(hi, minlength=n)
+    diag = np.where(free, degree, 1).astype(np.float64)
+    r = np.concatenate([np.arange(n), lo[keep], hi[keep]])
+    c = np.concatenate([np.arange(n), hi[keep], lo[keep]])
+    v = np.concatenate([diag, -np.ones(2 * int(keep.sum()))])
+    lap = coo_matrix((v, (r, c)), shape=(n, n)).tocsc()
+    solve = splu(lap, permc_spec="MMD_AT_PLUS_A").solve
+    _FACTOR.clear()
+    _FACTOR.update(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
+    return _FACTOR
 
 
 def _frankot_chellappa(p: np.ndarray, q: np.ndarray) -> np.ndarray:
