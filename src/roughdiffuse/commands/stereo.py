@@ -327,17 +327,16 @@ def _check_coated_lights(data) -> None:  # noqa: ANN001
 
 def _fit(args: argparse.Namespace, data, lam, model):  # noqa: ANN001, ANN202
     """The rough fit of ``model`` from the Lambertian start; for ``--model coated`` the
-    rough fit of its base, then the coated fit from its normals."""
+    coated fit from the Lambertian start (its table solver fits σ and α on a subsample; the
+    rough fit of every pixel runs only for a matte object, or for the direct solver of
+    ``--per-pixel``)."""
     from .. import stereo
-    from ..models import OrenNayar
 
     show = progress_enabled()
     if args.model != COATED:
         return stereo.rough(data, model, per_pixel=args.per_pixel, start=lam,
                             shadow=args.shadow, progress=show)
-    start = stereo.rough(data, OrenNayar(variant="full"), start=lam, shadow=args.shadow,
-                         progress=show)
-    return stereo.coated(data, eta=args.eta, per_pixel=args.per_pixel, start=start,
+    return stereo.coated(data, eta=args.eta, per_pixel=args.per_pixel, start=lam,
                          shadow=args.shadow, progress=show)
 
 

@@ -489,8 +489,9 @@ def _table_fit(
     """The table solver of :func:`coated`: the object's values from the direct fit of a
     subsample of well-lit pixels, then every pixel on the model's table; the shadows found
     again from the fitted normals after each round, and the subsample's fit redone with
-    them (the table kept when they moved by less than :data:`RETABLE` of their standard
-    errors; the rounds stop when fewer than :data:`SETTLED` of the observations changed). A
+    them where at least :data:`SETTLED` of its own observations changed (the table kept
+    when the values moved by less than :data:`RETABLE` of their standard errors; the rounds
+    stop when fewer than :data:`SETTLED` of all the observations changed). A
     matte object (the coat does not lower the subsample's residual) gets the rough fit of
     every pixel. With the table kept, a round solves again only the pixels whose
     observations changed."""
@@ -511,16 +512,19 @@ def _table_fit(
     normals, albedo = first.normals, None
     done = 0
     fit, sub_fit, table, tabled, redo = None, None, None, None, None
+    sub_weights = weights[:, pick]
     for round_ in range(opts.rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
         if sub_fit is None:
             sub_fit, _ = _direct_fit(sub, family, sub_start,
                                      dataclasses.replace(opts, rounds=0, progress=False), False,
                                      weights=weights[:, pick])
-        else:
+        elif np.mean(weights[:, pick] != sub_weights) >= SETTLED:
+            # the subsample's own shadows changed: its values may move
             sub_fit = fit_pixels(sub, family, start=sub_fit, weights=weights[:, pick],
                                  initial=sub_fit.values, subset_start=False,
                                  iterations=iterations, precision=precision)
+        sub_weights = weights[:, pick]
         if round_ == 0 and not _coat_helps(sub_fit, sub_start):
             full = first if isinstance(first, RoughResult) else rough(
                 data, base_model, shadow=shadow, precision=precision, progress=opts.progress,

@@ -248,6 +248,10 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
                 if size < tol:
                     break
             else:
+                # a step below the tolerance that does not lower the cost: at the minimum
+                # (more damping only shortens it)
+                if size < tol:
+                    break
                 lam *= 10.0
                 if lam > 1e9:
                     break

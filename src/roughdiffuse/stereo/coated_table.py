@@ -186,11 +186,8 @@ def _check_error(table: CoatedTable, build: Any, directions: np.ndarray, peak: n
         lit = (np.sum(n * l[k], axis=1) > 0) & (n[:, 2] >= CHECK_VIEW)
         n, k = n[lit], k[lit]
         got = evaluate(table, k, n, np.full(k.shape, rho))
-        mu_i, mu_o = np.sum(n * l[k], axis=1), n[:, 2]
-        one = np.zeros((l.shape[0], k.size))
-        ref_i, ref_o = one.copy(), one.copy()
-        ref_i[k, np.arange(k.size)], ref_o[k, np.arange(k.size)] = mu_i, mu_o
-        ref = table_values(build, directions, ref_i, ref_o, float(rho))[k, np.arange(k.size)]
+        # the model at each drawn (light, normal) only: one light per entry
+        ref = table_values(build, l[k], np.sum(n * l[k], axis=1), n[:, 2], float(rho))
         worst = max(worst, float(np.max(np.abs(got - ref) / peak[k])))
     return worst
 

@@ -3,8 +3,9 @@
 Each entry of :data:`METHODS` is a callable ``(data, *, progress=False) -> result`` whose
 result has ``normals`` (P, 3) and ``weights`` (K, P) (1 = observation used, 0 = left out or
 rejected as a shadow or an outlier), for the P object pixels of ``data``. ``coated`` is
-:func:`.coated.coated` (η 1.5, one σ and one α for the object) from the ``rough`` method's
-result; its result also holds σ and α with their standard errors.
+:func:`.coated.coated` (η 1.5, one σ and one α for the object) from its own Lambertian start
+(the rough fit of every pixel only for a matte object); its result also holds σ and α with
+their standard errors.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ def _rough(data: StereoInput, *, progress: bool = False) -> Any:
 def _coated(data: StereoInput, *, progress: bool = False) -> Any:
     from .coated import coated
 
-    return coated(data, start=_rough(data, progress=progress), progress=progress)
+    return coated(data, progress=progress)
 
 
 def _robust(method: str) -> Callable[..., Any]:

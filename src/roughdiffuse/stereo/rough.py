@@ -60,6 +60,14 @@ CHUNK = 1 << 13
 """Pixels per compiled call. Small enough that a chunk's K × CHUNK arrays stay in the CPU's
 cache across the many fused loops of an LM step (measured: bench/RESULTS.md, "Thresholds")."""
 
+SMALL_CHUNK = 1 << 8
+"""Fewer pixels than :data:`CHUNK` but at least twice this many are cut into one chunk per
+core (e.g. the coated table solver's subsample of 512), so that each core has one."""
+
+_WARM: set[Any] = set()
+"""(compiled function, chunk size, dtype) that have run once: compiled already, so their
+chunks can all start at once."""
+
 SUBSET = 1 << 13
 """Pixels of the random subset that gives the global roughness its starting value."""
 
@@ -871,7 +879,10 @@ class _Chunks:
         from .._array import double_precision
 
         self.p, self.g_count = p, g_count
-        size = CHUNK if p > CHUNK else max(16, 1 << int(math.ceil(math.log2(max(p, 1)))))
+        self.workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+        # fewer pixels than a chunk: one chunk per worker, so that every core has one
+        share = p if p < 2 * SMALL_CHUNK else -(-p // self.workers)
+        size = CHUNK if p > CHUNK else max(16, 1 << int(math.ceil(math.log2(max(share, 1)))))
         self.size = size
         self.slices = [slice(s, min(s + size, p)) for s in range(0, p, size)]
         self.l = jnp.asarray(l, dt)
@@ -881,7 +892,6 @@ class _Chunks:
         double = jnp.dtype(dt) == jnp.float64
         # JAX's precision setting is per thread: the worker threads enter it again
         self.context = (lambda: double_precision(jnp)) if double else contextlib.nullcontext
-        self.workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
 
     def local(
         self, fn: Any, state: dict[str, np.ndarray], g: Any, count: int
@@ -913,16 +923,22 @@ class _Chunks:
                 for i, v in enumerate((cost, sch, rhs)):
                     out[i][sl] = np.asarray(v)[:n]
 
-        self.map(run)
+        self.map(run, (fn, self.size, dt))
         return out[0], out[1], out[2]
 
-    def map(self, run: Any) -> None:
-        """``run(k)`` for every chunk k: the first in this thread (it compiles), the others
-        on :attr:`workers` threads, one chunk each at a time. XLA's CPU code runs a chunk's
-        loops mostly on one core, so the threads are what can use the others; JAX releases
-        the GIL while a compiled function runs."""
-        run(0)
-        rest = range(1, len(self.slices))
+    def map(self, run: Any, key: Any) -> None:
+        """``run(k)`` for every chunk k on :attr:`workers` threads, one chunk each at a
+        time; the first chunk alone first, in this thread, when ``key`` (the compiled
+        function and its shapes) has not run yet (it compiles). XLA's CPU code runs a
+        chunk's loops mostly on one core, so the threads are what can use the others; JAX
+        releases the GIL while a compiled function runs."""
+        first = key not in _WARM
+        if first:
+            run(0)
+            if len(_WARM) > 64:
+                _WARM.clear()
+            _WARM.add(key)
+        rest = range(1 if first else 0, len(self.slices))
         if self.workers < 2 or len(rest) < 2:
             for k in rest:
                 run(k)
@@ -953,7 +969,7 @@ class _Chunks:
                 )
                 parts[k] = [np.asarray(o)[:n] for o in out]
 
-        self.map(run)
+        self.map(run, (fn, self.size, state["theta"].dtype))
         return tuple(np.concatenate([p[i] for p in parts]) for i in range(4))
 
 
