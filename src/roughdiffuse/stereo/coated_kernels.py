@@ -281,6 +281,10 @@ def _horizon(height, step, cross, rise, out):  # noqa: ANN001, ANN202
     na, nb = height.shape
     g = np.empty(na)
     first = nb - 1 if step > 0 else 0
+    # the ray from entry a meets the column ahead at a + cross: between entries a + shift
+    # and a + shift + 1, at the same fraction for every a
+    shift = int(math.floor(cross))
+    frac = cross - shift
     for a in range(na):
         out[a, first] = -np.inf
     for i in range(1, nb):
@@ -290,11 +294,13 @@ def _horizon(height, step, cross, rise, out):  # noqa: ANN001, ANN202
             g[a] = max(height[a, ahead], out[a, ahead])
         for a in range(na):
             got = -np.inf
-            frac = a + cross
-            if frac > -0.5 and frac < na - 0.5:
-                a0 = min(max(int(math.floor(frac)), 0), na - 1)
-                a1 = min(a0 + 1, na - 1)
-                f = min(max(frac - a0, 0.0), 1.0)
+            at = a + cross
+            if at > -0.5 and at < na - 0.5:
+                a0, a1, f = a + shift, a + shift + 1, frac
+                if a0 < 0:  # within half an entry of the first: that entry
+                    a0, f = 0, 0.0
+                if a1 > na - 1:
+                    a1, f = na - 1, 0.0
                 lo, hi = g[a0], g[a1]
                 if np.isfinite(lo) and np.isfinite(hi):
                     got = lo * (1.0 - f) + hi * f

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._validate import ParameterError
 
-__all__ = ["gradients", "integrate", "write_ply"]
+__all__ = ["clear_cache", "gradients", "integrate", "write_ply"]
 
 
 def gradients(
@@ -89,6 +89,11 @@ def integrate(normals: Any, mask: Any, method: str = "poisson") -> np.ndarray:
 
 _FACTOR: dict[str, Any] = {}
 """The last Poisson factorisation: ``mask`` (bool array), ``solve`` and the pieces."""
+
+
+def clear_cache() -> None:
+    """Forget the kept Poisson factorisation (its memory; a timing that must include it)."""
+    _FACTOR.clear()
 
 
 def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:

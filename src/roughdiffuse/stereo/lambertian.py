@@ -90,9 +90,9 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
     vals = data.images[:, m, :] / data.intensities[:, None, :]  # (K, P, C)
     grey = vals.mean(axis=-1)  # (K, P)
     l = data.directions  # (K, 3)
-    # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I
-    a = np.einsum("kp,ki,kj->pij", w, l, l)
-    rhs = np.einsum("kp,ki,kp->pi", w, l, grey)
+    # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I (matrix products over k)
+    a = (w.T @ (l[:, :, None] * l[:, None, :]).reshape(-1, 9)).reshape(-1, 3, 3)
+    rhs = (w * grey).T @ l
     enough = w.sum(axis=0) >= 3
     det = np.linalg.det(a)
     ok = enough & (np.abs(det) > 1e-12)
