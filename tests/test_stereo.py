@@ -106,6 +106,24 @@ def test_depth_of_a_sphere_from_its_normals():
     assert np.all(np.isnan(d[~mask]))
 
 
+def test_poisson_depth_of_two_separate_planes_and_its_kept_factorisation():
+    """Two pieces of the mask, each a plane of its own slope: each is recovered exactly up to
+    its own constant (each piece has mean 0), with the factorisation made for the first
+    normal map or kept for the second on the same mask."""
+    mask = np.zeros((6, 11), bool)
+    mask[:, :4] = True
+    mask[1:5, 6:] = True
+    cols = np.arange(11)[None, :] * np.ones((6, 1))
+    for slope_a, slope_b in ((0.5, -0.25), (-1.0, 2.0)):
+        p = np.where(cols < 5, slope_a, slope_b)
+        n = np.stack([-p, np.zeros_like(p), np.ones_like(p)], axis=-1)
+        n /= np.linalg.norm(n, axis=-1, keepdims=True)
+        d = stereo.integrate(n, mask)
+        for piece, slope in ((mask & (cols < 5), slope_a), (mask & (cols > 5), slope_b)):
+            truth = slope * cols[piece]
+            assert np.allclose(d[piece], truth - truth.mean(), atol=1e-9)
+
+
 def test_ply_mesh_header_and_counts(tmp_path):
     depth = np.full((3, 4), np.nan)
     depth[:2, :3] = 1.0  # 6 vertices, a 2 × 3 block: 2 quads, 4 triangles

@@ -84,6 +84,72 @@ def test_cast_shadow_of_a_step_has_its_closed_form():
     assert np.array_equal(back[0], (cols >= 22) & (5.5 > (cols - 21) * 1.0))
 
 
+def _marched(z, directions, tolerance):
+    """Cast shadows by following each ray on its own (the definition of
+    :func:`cast_shadows`, without its sweep): across the image one column (or row, where the
+    light runs more along y) at a time, the surface linearly between the two pixels the ray
+    passes (the nearer one where one is outside), shadowed when it stands more than
+    ``tolerance`` above the ray."""
+    h, w = z.shape
+    height = np.where(np.isfinite(z), z, -np.inf)
+    rows, cols = np.nonzero(np.isfinite(z))
+    out = np.zeros((len(directions), rows.size), bool)
+    for k, (lx, ly, lz) in enumerate(directions):
+        along_x = abs(lx) >= abs(ly)
+        run = abs(lx) if along_x else abs(ly)
+        for p, (r, c) in enumerate(zip(rows, cols, strict=True)):
+            for j in range(1, max(h, w)):
+                if along_x:
+                    b, a = c + j * np.sign(lx), r - j * ly / run  # rows grow along −y
+                    inside = 0 <= b < w and -0.5 < a < h - 0.5
+                else:
+                    b, a = r - j * np.sign(ly), c + j * lx / run
+                    inside = 0 <= b < h and -0.5 < a < w - 0.5
+                if not inside:
+                    break
+                line = height[:, int(b)] if along_x else height[int(b), :]
+                a0 = min(max(math.floor(a), 0), line.size - 1)
+                a1 = min(a0 + 1, line.size - 1)
+                f = min(max(a - a0, 0.0), 1.0) if a1 > a0 else 0.0
+                lo, hi = line[a0], line[a1]
+                s = lo + f * (hi - lo) if np.isfinite(lo) and np.isfinite(hi) else (
+                    hi if f > 0.5 else lo)
+                if s > z[r, c] + j * lz / run + tolerance:
+                    out[k, p] = True
+                    break
+    return out
+
+
+def test_cast_shadows_sweep_matches_each_ray_followed_on_its_own():
+    """Along the axes and the diagonals every ray crosses the next column at a pixel, and
+    the sweep is each ray's march exactly; in other directions it takes the next column's
+    horizon linearly between two rays, and agrees on all but a few per cent of the
+    observations on these bumps one or two pixels wide (measured: 1.6 %), the worst case of
+    that interpolation."""
+    rng = np.random.default_rng(5)
+    h, w = 20, 26
+    y, x = np.mgrid[0:h, 0:w].astype(float)
+    z = np.zeros((h, w))
+    for _ in range(8):  # steep bumps
+        cx, cy, r, top = rng.uniform(0, w), rng.uniform(0, h), rng.uniform(1, 2), rng.uniform(3, 8)
+        z += top * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * r * r))
+    z[(x - 12) ** 2 + (y - 9) ** 2 > 90] = np.nan  # outside the object
+    mask = np.isfinite(z)
+    exact = np.array([[1, 0, 0.5], [-1, 0, 0.3], [0, 1, 0.7], [0, -1, 0.4], [1, 1, 0.6],
+                      [-1, 1, 0.6], [1, -1, 0.9], [-1, -1, 1]], float)
+    exact /= np.linalg.norm(exact, axis=1, keepdims=True)
+    got = cast_shadows(z, mask, exact, tolerance=0.3)
+    assert np.array_equal(got, _marched(z, exact, 0.3))
+    assert got.mean() > 0.05  # the bumps do shadow each other
+    angles = rng.uniform(0, 2 * np.pi, 12)
+    elevation = rng.uniform(0.2, 0.8, 12)
+    other = np.stack([np.cos(angles) * np.cos(elevation), np.sin(angles) * np.cos(elevation),
+                      np.sin(elevation)], axis=1)
+    got = cast_shadows(z, mask, other, tolerance=0.3)
+    assert got.mean() > 0.05
+    assert np.mean(got != _marched(z, other, 0.3)) < 0.03
+
+
 def test_a_convex_sphere_casts_no_shadow_and_attached_shadows_follow_n_dot_l():
     data, normals = stereo.render_stereo(
         rd.Lambert(0.5), Sphere(), stereo.default_lights(6, 60.0), 32
