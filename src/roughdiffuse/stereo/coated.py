@@ -51,7 +51,7 @@ import numpy as np
 from .._validate import ParameterError
 from ..models.base import Model
 from ..models.coated import Coated
-from .depth import integrate
+from .depth import clear_cache, integrate
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
@@ -387,15 +387,18 @@ def coated(
         raise ParameterError(f"shadow_rounds must be an integer ≥ 0 (got {shadow_rounds!r})")
     coat = {"eta": float(eta), "base": base, "solver": solver}
     opts = _Options(shadow, shadow_rounds, depth_method, iterations, precision, progress)
-    if solver == "table" and not per_pixel:
-        return _table_fit(data, family, start, opts, subsample, coat)
-    if not isinstance(start, RoughResult):
-        start = rough(
-            data, family.model.base, shadow=shadow, precision=precision, progress=progress,
-            start=start,
-        )
-    fit, done = _direct_fit(data, family, start, opts, per_pixel)
-    return _result(fit, start, family, per_pixel, {**coat, "shadow_rounds": done})
+    try:
+        if solver == "table" and not per_pixel:
+            return _table_fit(data, family, start, opts, subsample, coat)
+        if not isinstance(start, RoughResult):
+            start = rough(
+                data, family.model.base, shadow=shadow, precision=precision, progress=progress,
+                start=start,
+            )
+        fit, done = _direct_fit(data, family, start, opts, per_pixel)
+        return _result(fit, start, family, per_pixel, {**coat, "shadow_rounds": done})
+    finally:
+        clear_cache()  # the depth's factorisation, kept for the shadow rounds
 
 
 def _initial(family: CoatedFamily, start: RoughResult) -> tuple[np.ndarray, Any]:
