@@ -119,8 +119,9 @@ def _basis(n0, n1, n2):  # noqa: ANN001, ANN202
 @_jit(nogil=True, error_model="numpy")
 def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202
     """Cost Σ r² of pixel p at normal n (3,) and albedos ρ (C,), with JᵀJ in ``amat`` and
-    Jᵀr in ``grad`` (tangent offsets first, then the albedos)."""
-    kk, c_count = obs.shape[0], obs.shape[2]
+    Jᵀr in ``grad`` (tangent offsets first, then the albedos); ``obs`` (P, K, C) and ``w``
+    (P, K) pixel by pixel (each pixel's values side by side in memory)."""
+    kk, c_count = obs.shape[1], obs.shape[2]
     m = 2 + c_count
     nu, nt = values.shape[1], values.shape[2]
     for i in range(m):
@@ -130,13 +131,13 @@ def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN0
     t10, t11, t12, t20, t21, t22 = _basis(n[0], n[1], n[2])
     cost = 0.0
     for k in range(kk):
-        if w[k, p] == 0.0:
+        if w[p, k] == 0.0:
             continue
         iu, wu, it, wt, gu0, gu1, gu2, gt0, gt1, gt2 = _cell(frames, a2, nu, nt, k, n[0], n[1],
                                                              n[2])
         for c in range(c_count):
             if iu < 0:
-                r = -obs[k, p, c]
+                r = -obs[p, k, c]
                 cost += r * r
                 continue
             f, fu, ft, fr = _interp(values, k, iu, wu, it, wt, rho[c])
@@ -147,7 +148,7 @@ def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN0
             ja = ek * (g0 * t10 + g1 * t11 + g2 * t12)
             jb = ek * (g0 * t20 + g1 * t21 + g2 * t22)
             jr = ek * fr
-            r = ek * f - obs[k, p, c]
+            r = ek * f - obs[p, k, c]
             cost += r * r
             amat[0, 0] += ja * ja
             amat[0, 1] += ja * jb
@@ -198,7 +199,7 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
           a_inv_out, steps_out):
     """Levenberg–Marquardt per pixel (see :func:`.coated_table.solve_pixels`), in place in
     ``normals`` and ``albedo``."""
-    p_count, c_count = obs.shape[1], obs.shape[2]
+    p_count, c_count = obs.shape[0], obs.shape[2]
     m = 2 + c_count
     for p in numba.prange(p_count):
         if not ok[p]:

@@ -241,14 +241,16 @@ def solve_pixels(table: CoatedTable, intensities: np.ndarray, obs: np.ndarray,
     n = np.ascontiguousarray(np.nan_to_num(normals), dtype=np.float64).copy()
     rho = np.ascontiguousarray(np.clip(np.nan_to_num(albedo, nan=0.5), 0.0, 1.0),
                                dtype=np.float64).copy()
-    w = np.ascontiguousarray(weights, dtype=np.float64)
-    ok = np.all(np.isfinite(normals), axis=1) & (w.sum(axis=0) >= 3) & (n[:, 2] > 0)
+    # pixel by pixel: a pixel's observations side by side in memory
+    w = np.ascontiguousarray(np.asarray(weights).T, dtype=np.float64)
+    ok = np.all(np.isfinite(normals), axis=1) & (w.sum(axis=1) >= 3) & (n[:, 2] > 0)
     cost = np.zeros(p)
     a_inv = np.zeros((p, 2 + c))
     steps = np.zeros(p, dtype=np.int64)
     solve(table.values, table.frames, table.alpha_axis**2,
           np.ascontiguousarray(intensities, dtype=np.float64),
-          np.ascontiguousarray(obs, dtype=np.float64), w, ok, n, rho, int(iterations),
+          np.ascontiguousarray(np.asarray(obs).transpose(1, 0, 2), dtype=np.float64), w, ok,
+          n, rho, int(iterations),
           float(tolerance), cost, a_inv, steps)
     n[~ok] = np.nan
     rho[~ok] = np.nan
