@@ -15,9 +15,9 @@ event's next event is the single-scattering lobe itself, drawn with the same ran
 and subtracted path by path.
 
 Then the coefficients of ``Coated``'s multiple-scattering lobe
-(:func:`roughdiffuse.models.coated.ms_lobe`), stored in the file as ``coat``: :func:`fit`,
-least squares of these values with the lobe's own albedo held to the coat's
-multiple-scattering reflectance (``coat_interface.npz``'s, through
+(:func:`roughdiffuse.models.coated.ms_lobe`), stored in the file as ``coef``: :func:`fit`,
+least squares of these values with the lobe's own albedo held to what the coat reflects
+beyond its single-scattering lobe (``coat_interface.npz``'s reflectance, through
 :func:`~roughdiffuse.models.coated.ms_ratio`). ``--refit`` refits the file's own table
 without running the walk (about a minute). Seeded: the same file for the same arguments.
 Written whole or not at all; each (distribution, η, α) is cached in ``--cache`` while the

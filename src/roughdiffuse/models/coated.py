@@ -365,11 +365,11 @@ def lobe_fit(distribution: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """The α nodes and the coefficients of :func:`ms_lobe`, as stored in
     ``data/coat_lobe.npz`` (``alphas``; ``coef``, one row per distribution) by
     ``scripts/coat_lobe_tables.py``: weighted least squares of the walk's f_ms at the table's
-    geometries (η in [1.2, 3], α in [0.05, 1], 270 geometries), constrained by the lobe's
-    own albedo, which is fitted to the coat's multiple-scattering reflectance E_ss c(μ)
-    (:func:`interface_albedo`, boosted) from θ = 0 to 89° and α from 0.01 to 1, so that the
-    white furnace is 1 where the table's azimuths cannot resolve the narrow lobes (small α,
-    grazing). Nothing is fitted here."""
+    geometries (η in [1.2, 3], α in [0.05, 1], 270 geometries) together with the lobe's
+    own albedo against what the coat reflects beyond its single-scattering lobe, E(μ)
+    (:func:`interface_albedo`, boosted) minus that lobe's albedo, from θ = 0 to 89° and for
+    α from 0.01 to 1: the white furnace stays 1 where the table's azimuths cannot resolve
+    the narrow lobes (small α, grazing). Nothing is fitted here."""
     with np.load(_LOBE_TABLE) as t:
         nodes = tuple(float(a) for a in t["alphas"])
         coef = np.asarray(t["coef"], np.float64)[COAT_DISTRIBUTIONS.index(distribution)]
