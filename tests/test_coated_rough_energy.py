@@ -45,21 +45,25 @@ def test_rough_coat_conserves_energy_to_grazing(distribution: str, alpha: float)
         np.testing.assert_allclose(a, 1.0, atol=0.01, err_msg=f"eta = {eta}")
 
 
-def test_multiple_scattering_lobe_is_read_not_fitted(monkeypatch) -> None:
-    """The lobe's coefficients are data (``coef`` in coat_lobe.npz, one row per
-    distribution, as many as the lobe's basis has: widths × angular weights × x powers ×
-    α nodes); the model computes no least squares on first use."""
+def test_multiple_scattering_is_read_not_fitted(monkeypatch) -> None:
+    """The multiple scattering's coefficients are data (``coef`` in coat_lobe.npz and
+    coat_interface.npz, one row per distribution, as many as each basis has: for the lobe,
+    widths × angular weights × x powers × α nodes; for the ratio c, 3 × 3 × 4 monomials);
+    the model computes no least squares on first use."""
     from roughdiffuse.models import coated
 
     def refuse(*args, **kwargs):
-        raise AssertionError("lobe_fit ran a least-squares fit")
+        raise AssertionError("a least-squares fit ran")
 
-    coated.lobe_fit.cache_clear()
+    for cached in (coated.lobe_fit, coated.ms_fit):
+        cached.cache_clear()
     monkeypatch.setattr(np.linalg, "lstsq", refuse)
     for d in coated.COAT_DISTRIBUTIONS:
         nodes, coef = coated.lobe_fit(d)
         assert len(coef) == len(coated.LOBE_WIDTHS) * 9 * 3 * len(nodes)
-    coated.lobe_fit.cache_clear()
+        assert len(coated.ms_fit(d)) == 36
+    for cached in (coated.lobe_fit, coated.ms_fit):
+        cached.cache_clear()
 
 
 @pytest.mark.parametrize("distribution", ["ggx", "beckmann"])

@@ -308,21 +308,15 @@ def _monomials(xp: Any, eta: Array, alpha: Array) -> tuple[list[Any], list[Any]]
 
 @functools.lru_cache(maxsize=2)
 def ms_fit(distribution: str) -> tuple[float, ...]:
-    """The coefficients of :func:`ms_ratio`: least squares (weight √μ E_ss, the reflectance
+    """The coefficients of :func:`ms_ratio` (of the monomials :data:`_FIT_POWERS`), as
+    stored in ``data/coat_interface.npz`` (``coef``, one row per distribution) by
+    ``scripts/coat_interface_tables.py``: least squares (weight √μ E_ss, the reflectance
     each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
     reflectance from above (the multiple-scattering microsurface) minus the
-    single-scattering E_ss (:func:`interface_albedo`), over the table
-    ``data/coat_interface.npz`` (η in [1.05, 3], α in [0.025, 1], 12 μ; made by
-    ``scripts/coat_interface_tables.py``)."""
+    single-scattering E_ss (:func:`interface_albedo`), over that file's table (η in
+    [1.05, 3], α in [0.025, 1], 12 μ). Nothing is fitted here."""
     with np.load(_TABLE) as t:
-        r = np.asarray(t["reflectance"], np.float64)[COAT_DISTRIBUTIONS.index(distribution), 0]
-        e, a, m = np.meshgrid(t["etas"], t["alphas"], t["mu"], indexing="ij")
-    e, a, m = e.ravel(), a.ravel(), m.ravel()
-    ess = interface_albedo(np, m, e, a, distribution)
-    y = (r.ravel() - ess) / ess
-    x, u, w = 1.0 - 1.0 / e, 1.0 - m, np.sqrt(m) * ess
-    cols = np.stack([x**i * a**j * u**k for i, j, k in _FIT_POWERS], axis=-1)
-    coef = np.linalg.lstsq(cols * w[:, None], y * w, rcond=None)[0]
+        coef = np.asarray(t["coef"], np.float64)[COAT_DISTRIBUTIONS.index(distribution)]
     return tuple(float(c) for c in coef)
 
 
