@@ -850,8 +850,8 @@ def half_vector_rule(mu_o: np.ndarray, alpha: float, distribution: str,
     in φh over [0, π], doubled (ωo in the xz-plane). Returns μi (clamped to [0, 1]) and
     cos(ωi, ωo) of shape (..., n, n) and the weights, μi and the Jacobian 4 (ωo·h) sin θh
     included (0 where ωi is below the horizon): the sum of g times them is the integral.
-    Beckmann's α is taken at least :data:`.microfacet.ALPHA_FLOOR` (1.4e-4), the narrowest
-    D that :func:`_ndf` evaluates."""
+    Beckmann's α is taken at least :data:`~roughdiffuse.models.microfacet.ALPHA_FLOOR`
+    (1.4e-4), the narrowest D that :func:`_ndf` evaluates."""
     mu_o = np.clip(np.asarray(mu_o, np.float64), 0.0, 1.0)[..., None, None]
     sin_o = np.sqrt(1.0 - mu_o * mu_o)
     if distribution == "beckmann":
