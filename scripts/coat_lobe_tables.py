@@ -170,8 +170,9 @@ def fit(distribution: str, table: dict[str, np.ndarray]) -> np.ndarray:
     """The coefficients of ``ms_lobe`` for ``distribution`` from ``table`` (this script's
     arrays): weighted least squares of the walk's f_ms, each residual relative to
     f_ss + f_ms + :data:`LOBE_FLOOR` and weighted by 1/√(s.e.² + (0.003 × that)²) (the walk's
-    noise with a floor of 0.3 % of it), together with the lobe's albedo against the coat's
-    multiple-scattering reflectance at the conditions of :data:`FIT_ETAS`,
+    noise with a floor of 0.3 % of it), together with the lobe's albedo against what the
+    coat reflects beyond its single-scattering lobe (:func:`_albedo_rows`) at the
+    conditions of :data:`FIT_ETAS`,
     :data:`FIT_THETAS`, :data:`FIT_SMALL_ALPHAS` (weight :data:`ALBEDO_WEIGHT`). The
     table's six azimuths cannot resolve the lobes of a small α at grazing; the albedo
     conditions keep its integral, and so the white furnace, right there."""
