@@ -24,8 +24,9 @@ them; the truth is recorded in ``sphere.json`` and in each file's header):
 ``coat_interface.npz``, ``coat_lobe.npz``
     A model's tables, not sample data, so not listed by :func:`names`: the rough coat's
     reflectance from above and below by the layered walk's exact interface, and its
-    reflection by two or more facet events resolved in direction, which
-    :class:`~roughdiffuse.models.coated.Coated` fits its multiple scattering to; made by
+    reflection by two or more facet events resolved in direction, to which
+    :class:`~roughdiffuse.models.coated.Coated`'s multiple scattering is fitted (the
+    latter holds the fitted lobe's coefficients too); made by
     ``scripts/coat_interface_tables.py`` and ``scripts/coat_lobe_tables.py``.
 
 Real measured BRDFs (the MERL database, "A data-driven reflectance model", Matusik, Pfister,

@@ -6,15 +6,34 @@ compiled Smith random walk (:mod:`roughdiffuse.simulate.smith_walk_numba`), live
 ``~/.cache/roughdiffuse/fastpath``, created with mode 0700). The folder is used only if it
 is private, and so are the folders above it (none writable by another user, unless sticky
 like ``/tmp``).
+
+Numba's disk cache is not safe when two processes compile different signatures of one
+function at the same time: each numbers its new entry from the index it read, both write
+``<name>.1.nbc``, and the index left may point at the other signature's machine code, which
+crashes the next process that loads it (Numba issue 4807, ``numba/core/caching.py``,
+``IndexDataCacheFile.save``). :func:`compile_lock` serialises compilations across processes
+with a lock file in the cache folder; :class:`Compiled` calls a kernel, compiling a new
+signature under that lock first.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
+import threading
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
-__all__ = ["cache_dir", "private_cache_dir"]
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: no lock between processes
+    fcntl = None  # type: ignore[assignment]
+
+__all__ = ["Compiled", "cache_dir", "compile_lock", "private_cache_dir"]
+
+_THREAD_LOCK = threading.RLock()
 
 
 def cache_dir() -> Path:
@@ -71,3 +90,40 @@ def _safe_parents(path: Path) -> bool:
         if st.st_mode & 0o022 and not st.st_mode & stat.S_ISVTX:
             return False
     return True
+
+
+@contextlib.contextmanager
+def compile_lock() -> Iterator[None]:
+    """Hold the lock of Numba compilations: one thread of this process and no other process
+    using the same cache folder compiles (and writes Numba's cache) meanwhile."""
+    with _THREAD_LOCK:
+        directory = private_cache_dir()
+        if directory is None or fcntl is None:  # no shared cache, nothing to race for
+            yield
+            return
+        with open(directory / "compile.lock", "a+b") as handle:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+            try:
+                yield
+            finally:
+                fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+
+
+class Compiled:
+    """A Numba dispatcher called from Python whose new signatures are compiled (or loaded
+    from the cache) under :func:`compile_lock`, then run without it.
+
+    The argument types are the dispatcher's own (``typeof_pyval``), so a call finds the
+    signature compiled here exactly.
+    """
+
+    def __init__(self, kernel: Any) -> None:
+        self.kernel = kernel
+
+    def __call__(self, *args: Any) -> Any:
+        kernel = self.kernel
+        signature = tuple(kernel.typeof_pyval(a) for a in args)
+        if signature not in kernel.overloads:
+            with compile_lock():
+                kernel.compile(signature)
+        return kernel(*args)

@@ -51,7 +51,7 @@ import numpy as np
 
 from .._validate import ParameterError
 from ..io.atomic import write_text
-from .cache import cache_dir, private_cache_dir
+from .cache import Compiled, cache_dir, private_cache_dir
 from .protocol import CompilableModel as Model
 from .protocol import is_model
 from .trace import Graph, SymVec, TraceError, scalar_source
@@ -389,6 +389,7 @@ def _run(
         raise ParameterError(f"threads must be >= 1 (got {threads})")
     dtype, rows, shape = call.dtype, call.rows, call.shape
     kernel, params, channels = _kernel_for(model, dtype, call.pattern, call.e0, call.entry)
+    kernel = Compiled(kernel)  # a new signature is compiled under the cache's lock
     out_shape = (*shape, channels) if channels else shape
     if out is None:
         out = np.empty(out_shape, dtype=dtype)

@@ -40,8 +40,9 @@ OpenPBR's coat, Autodesk Standard Surface and Mitsuba 3's ``plastic``/``roughpla
   f_ms = Σ_s f_ss(s α) p_s(η, α, μi, μo) (:func:`ms_lobe`): single-scattering lobes of
   roughness 0.7 α, α and 2 α (Beckmann's second reflections gather closer to the mirror
   direction than its first, GGX's spread wider) with symmetric polynomial weights fitted to
-  the walk's interface alone (``data/coat_lobe.npz``, :func:`lobe_fit`); its albedo is
-  E_ss c(μ) to the fit's accuracy, so the white furnace stays 1 (within 1 %). How far
+  the walk's interface alone (``data/coat_lobe.npz``, :func:`lobe_fit`), its albedo held
+  in the fit to E(μ) minus the single-scattering lobe's, so the white furnace stays 1
+  (within 1 % for η in [1.1, 2.5], α in [0.01, 1], θ to 89°). How far
   this is from the truth is measured against the layered walk with the exact interface
   (:mod:`roughdiffuse.simulate.layered`) on the accuracy page.
 * τ: the optical depth of the layer (thickness × absorption coefficient), Beer–Lambert along
@@ -71,6 +72,7 @@ import numpy as np
 from .._array import Array, asarray, clip, maximum, safe_div, safe_sqrt
 from .._validate import ParameterError
 from ..quadrature import gauss_legendre
+from . import microfacet
 from .base import Model
 from .declaration import Param, declared_params, param
 from .eon import EON
@@ -306,21 +308,15 @@ def _monomials(xp: Any, eta: Array, alpha: Array) -> tuple[list[Any], list[Any]]
 
 @functools.lru_cache(maxsize=2)
 def ms_fit(distribution: str) -> tuple[float, ...]:
-    """The coefficients of :func:`ms_ratio`: least squares (weight √μ E_ss, the reflectance
+    """The coefficients of :func:`ms_ratio` (of the monomials :data:`_FIT_POWERS`), as
+    stored in ``data/coat_interface.npz`` (``coef``, one row per distribution) by
+    ``scripts/coat_interface_tables.py``: least squares (weight √μ E_ss, the reflectance
     each relative error multiplies, seen at cosine μ) of c = ΔE/E_ss, ΔE the walk's
     reflectance from above (the multiple-scattering microsurface) minus the
-    single-scattering E_ss (:func:`interface_albedo`), over the table
-    ``data/coat_interface.npz`` (η in [1.05, 3], α in [0.025, 1], 12 μ; made by
-    ``scripts/coat_interface_tables.py``)."""
+    single-scattering E_ss (:func:`interface_albedo`), over that file's table (η in
+    [1.05, 3], α in [0.025, 1], 12 μ). Nothing is fitted here."""
     with np.load(_TABLE) as t:
-        r = np.asarray(t["reflectance"], np.float64)[COAT_DISTRIBUTIONS.index(distribution), 0]
-        e, a, m = np.meshgrid(t["etas"], t["alphas"], t["mu"], indexing="ij")
-    e, a, m = e.ravel(), a.ravel(), m.ravel()
-    ess = interface_albedo(np, m, e, a, distribution)
-    y = (r.ravel() - ess) / ess
-    x, u, w = 1.0 - 1.0 / e, 1.0 - m, np.sqrt(m) * ess
-    cols = np.stack([x**i * a**j * u**k for i, j, k in _FIT_POWERS], axis=-1)
-    coef = np.linalg.lstsq(cols * w[:, None], y * w, rcond=None)[0]
+        coef = np.asarray(t["coef"], np.float64)[COAT_DISTRIBUTIONS.index(distribution)]
     return tuple(float(c) for c in coef)
 
 
@@ -345,72 +341,32 @@ these s (:func:`ms_lobe`): Beckmann's second reflections gather closer to the mi
 direction than its first (s < 1), GGX's spread wider (s > 1)."""
 
 
-_LOBE_MU_MIN = math.cos(math.radians(75.0))
-"""The most grazing cosine at which the weights of :func:`ms_lobe` are evaluated (cos 75°;
-the fit takes the table's every cosine, to 85°): beyond it the table's six azimuths do not
-resolve the narrow lobes' sides, and the fitted weights overshoot the interface's own
-reflectance (the white furnace 8 % above 1 at 85° for Beckmann α = 0.1, η = 1.5; with the
-weights held at 75°, 0.9 %)."""
-
-
-def _lobe_terms(xp: Any, mu_i: Array, mu_o: Array, mu_min: float = 0.0) -> list[Any]:
+def _lobe_terms(xp: Any, mu_i: Array, mu_o: Array) -> list[Any]:
     """The symmetric polynomials of degree up to 4 in v = 1 − μ (0 along the normal, 1 at
     grazing), 1, vi + vo, vi² + vo², vi vo, vi³ + vo³, vi vo (vi + vo), vi⁴ + vo⁴,
     vi vo (vi² + vo²), vi² vo²: the angular weights of each lobe of :func:`ms_lobe`
-    (symmetric, so that it stays reciprocal). μ is clamped to [``mu_min``, 1] (the fit
-    takes every cosine, :func:`ms_lobe` holds the weights beyond :data:`_LOBE_MU_MIN`)."""
-    vi = 1.0 - clip(xp, mu_i, mu_min, 1.0)
-    vo = 1.0 - clip(xp, mu_o, mu_min, 1.0)
+    (symmetric, so that it stays reciprocal); μ clamped to [0, 1]."""
+    vi = 1.0 - clip(xp, mu_i, 0.0, 1.0)
+    vo = 1.0 - clip(xp, mu_o, 0.0, 1.0)
     s1, p = vi + vo, vi * vo
     s2 = vi * vi + vo * vo
     return [1.0 + 0.0 * p, s1, s2, p, vi * vi * vi + vo * vo * vo, p * s1,
             vi * vi * vi * vi + vo * vo * vo * vo, p * s2, p * p]
 
 
-def _lobe_columns(mu_i: np.ndarray, mu_o: np.ndarray, cos_io: np.ndarray, eta: np.ndarray,
-                  alpha: np.ndarray, distribution: str, nodes: tuple[float, ...]) -> np.ndarray:
-    """The design matrix of :func:`lobe_fit` (..., coefficients), NumPy: each width's lobe
-    times each angular weight times :func:`_lobe_basis` (x^i, i = 1..3, times each α node's
-    hat), in :func:`ms_lobe`'s order."""
-    basis = _lobe_basis(np, eta, alpha, nodes, np.float64)
-    cols = []
-    for s in LOBE_WIDTHS:
-        lobe = coat_reflection(np, mu_i, mu_o, cos_io, eta, alpha * s, distribution)
-        for t in _lobe_terms(np, mu_i, mu_o):
-            cols.append((lobe * t)[..., None] * basis)
-    return np.concatenate(cols, axis=-1)
-
-
-LOBE_FLOOR = 0.05
-"""The diffuse reflectance (1/sr) added to the coat's reflection in the weights of
-:func:`lobe_fit`: each residual counts relative to the coat's reflection plus a base's
-light (a Lambertian base of albedo 0.8 under η = 1.5 gives about 0.17 /sr)."""
-
-
 @functools.lru_cache(maxsize=2)
 def lobe_fit(distribution: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    """The α nodes and the coefficients of :func:`ms_lobe`: weighted least squares of the
-    walk's f_ms over ``data/coat_lobe.npz`` (η in [1.2, 3], α in [0.05, 1], 270 geometries;
-    made by ``scripts/coat_lobe_tables.py``), each residual relative to f_ss + f_ms +
-    :data:`LOBE_FLOOR` and weighted by 1/√(s.e.² + (0.003 × that)²), the walk's noise with a
-    floor of 0.3 % of it. The nodes are the table's α."""
+    """The α nodes and the coefficients of :func:`ms_lobe`, as stored in
+    ``data/coat_lobe.npz`` (``alphas``; ``coef``, one row per distribution) by
+    ``scripts/coat_lobe_tables.py``: weighted least squares of the walk's f_ms at the table's
+    geometries (η in [1.2, 3], α in [0.05, 1], 270 geometries) together with the lobe's
+    own albedo against what the coat reflects beyond its single-scattering lobe, E(μ)
+    (:func:`interface_albedo`, boosted) minus that lobe's albedo, from θ = 0 to 89° and for
+    α from 0.01 to 1: the white furnace stays 1 where the table's azimuths cannot resolve
+    the narrow lobes (small α, grazing). Nothing is fitted here."""
     with np.load(_LOBE_TABLE) as t:
-        d = COAT_DISTRIBUTIONS.index(distribution)
-        f_ms = np.asarray(t["f_ms"], np.float64)[d]
-        se = np.asarray(t["stderr"], np.float64)[d]
-        ti, tr, dp = t["theta_i"], t["theta_r"], t["delta_phi"]
-        etas, alphas = t["etas"], t["alphas"]
-    nodes = tuple(float(a) for a in alphas)
-    e, a = (g[..., None] for g in np.meshgrid(etas, alphas, indexing="ij"))
-    mi, mo = np.cos(ti), np.cos(tr)
-    cio = mi * mo + np.sin(ti) * np.sin(tr) * np.cos(dp)
-    f_ss = coat_reflection(np, mi, mo, cio, e, a, distribution)
-    w = 1.0 / np.sqrt(se**2 + (0.003 * (f_ss + f_ms + LOBE_FLOOR)) ** 2)
-    cols = _lobe_columns(mi + 0 * e, mo + 0 * e, cio + 0 * e, e + 0 * mi, a + 0 * mi,
-                         distribution, nodes)
-    n = cols.shape[-1]
-    coef = np.linalg.lstsq((cols * w[..., None]).reshape(-1, n), (f_ms * w).ravel(),
-                           rcond=None)[0]
+        nodes = tuple(float(a) for a in t["alphas"])
+        coef = np.asarray(t["coef"], np.float64)[COAT_DISTRIBUTIONS.index(distribution)]
     return nodes, tuple(float(c) for c in coef)
 
 
@@ -452,7 +408,7 @@ def ms_lobe(xp: Any, mu_i: Array, mu_o: Array, cos_io: Array, eta: Array, alpha:
     nodes, coef = lobe_fit(distribution)
     basis = _lobe_basis(xp, eta, alpha, nodes, getattr(mu_i, "dtype", None))
     width = 3 * len(nodes)
-    terms = _lobe_terms(xp, mu_i, mu_o, _LOBE_MU_MIN)
+    terms = _lobe_terms(xp, mu_i, mu_o)
     total = 0.0 * terms[0]
     k = 0
     for s in LOBE_WIDTHS:
@@ -886,17 +842,21 @@ def _model_by_id(model_id: str, params: dict[str, Any]) -> Model:
     return registry.create(model_id, **params)
 
 
-def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
-    """∫ f_coat cos θi dωi over the half vector (Gauss–Legendre in θh to atan(10 s α)
-    (Beckmann) or atan(100 s α) (GGX), s the widest of :data:`LOBE_WIDTHS`, and in φh over
-    [0, π], doubled), NumPy; f_coat with its multiple scattering (:func:`coat_lobe`)."""
-    from ..frames import unit_components
-
-    _, _, z = unit_components(np, np.asarray(wo, dtype=np.float64), "wo")
-    mu_o = np.clip(z, 0.0, 1.0)[..., None, None]
+def half_vector_rule(mu_o: np.ndarray, alpha: float, distribution: str,
+                     n: int = 96) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A rule for ∫ g(ωi) μi dωi of a lobe g around the mirror direction of ωo (cosine
+    ``mu_o``, any shape ...), NumPy, over the half vector: Gauss–Legendre in θh to
+    atan(10 s α) (Beckmann) or atan(100 s α) (GGX), s the widest of :data:`LOBE_WIDTHS`, and
+    in φh over [0, π], doubled (ωo in the xz-plane). Returns μi (clamped to [0, 1]) and
+    cos(ωi, ωo) of shape (..., n, n) and the weights, μi and the Jacobian 4 (ωo·h) sin θh
+    included (0 where ωi is below the horizon): the sum of g times them is the integral.
+    Beckmann's α is taken at least :data:`~roughdiffuse.models.microfacet.ALPHA_FLOOR`
+    (1.4e-4), the narrowest D that :func:`_ndf` evaluates."""
+    mu_o = np.clip(np.asarray(mu_o, np.float64), 0.0, 1.0)[..., None, None]
     sin_o = np.sqrt(1.0 - mu_o * mu_o)
-    alpha = float(model.roughness)
-    reach = (10.0 if model.distribution == "beckmann" else 100.0) * max(LOBE_WIDTHS)
+    if distribution == "beckmann":
+        alpha = max(alpha, microfacet.ALPHA_FLOOR)
+    reach = (10.0 if distribution == "beckmann" else 100.0) * max(LOBE_WIDTHS)
     theta_max = math.atan(reach * alpha)
     t, w = gauss_legendre(n)
     th = theta_max * t[:, None]
@@ -904,10 +864,20 @@ def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
     cos_oh = sin_o * np.sin(th) * np.cos(ph) + mu_o * np.cos(th)
     mu_i = 2.0 * cos_oh * np.cos(th) - mu_o
     cos_io = 2.0 * cos_oh * cos_oh - 1.0
-    eta = float(model.eta)
-    f = coat_lobe(np, np.clip(mu_i, 0, 1), mu_o + 0 * mu_i, cos_io, eta, alpha,
-                  model.distribution)
     jac = 4.0 * np.maximum(cos_oh, 0.0) * np.sin(th)
     weights = (theta_max * w)[:, None] * (2.0 * math.pi * w)[None, :]
-    val = np.sum(f * np.maximum(mu_i, 0.0) * jac * weights * (mu_i > 0), axis=(-2, -1))
-    return np.where(z >= 0, val, 0.0)
+    weights = np.maximum(mu_i, 0.0) * jac * weights * (mu_i > 0)
+    return np.clip(mu_i, 0.0, 1.0), cos_io, weights
+
+
+def _coat_albedo(model: Coated, wo: Array, n: int = 96) -> Array:
+    """∫ f_coat cos θi dωi by :func:`half_vector_rule`, NumPy; f_coat with its multiple
+    scattering (:func:`coat_lobe`)."""
+    from ..frames import unit_components
+
+    _, _, z = unit_components(np, np.asarray(wo, dtype=np.float64), "wo")
+    alpha = float(model.roughness)
+    mu_i, cos_io, weights = half_vector_rule(z, alpha, model.distribution, n)
+    mu_o = np.clip(z, 0.0, 1.0)[..., None, None] + 0.0 * mu_i
+    f = coat_lobe(np, mu_i, mu_o, cos_io, float(model.eta), alpha, model.distribution)
+    return np.where(z >= 0, np.sum(f * weights, axis=(-2, -1)), 0.0)

@@ -38,6 +38,7 @@ import numba
 import numpy as np
 from numba import prange
 
+from ..engine.cache import Compiled, private_cache_dir
 from ..engine.numba_random import path_key, uniform
 from ..engine.scalar import PRELUDE, scalar_sources
 from .layered_formulas import MS_MAX_EVENTS
@@ -524,19 +525,17 @@ def _kernel(source: str) -> Any:
         return kernel
 
 
-def _compiled(fn: Any, folder: str) -> Any:
+def _compiled(fn: Any, folder: str) -> Compiled:
     """``fn`` compiled (parallel) and cached on disk in the fast path's private cache folder
-    ``folder`` (in memory without one)."""
-    from ..engine.cache import private_cache_dir
-
+    ``folder`` (in memory without one); a new signature is compiled under the cache's lock."""
     flags = dict(parallel=True, nogil=True, error_model="numpy", fastmath=_FASTMATH)
     directory = private_cache_dir()
     if directory is None:
-        return numba.njit(**flags)(fn)
+        return Compiled(numba.njit(**flags)(fn))
     old = numba.config.CACHE_DIR
     numba.config.CACHE_DIR = str(directory / folder)
     try:  # Numba reads the folder when the dispatcher is made
-        return numba.njit(cache=True, **flags)(fn)
+        return Compiled(numba.njit(cache=True, **flags)(fn))
     finally:
         numba.config.CACHE_DIR = old
 

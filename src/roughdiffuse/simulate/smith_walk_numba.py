@@ -34,6 +34,7 @@ import numba
 import numpy as np
 from numba import prange
 
+from ..engine.cache import Compiled, private_cache_dir
 from ..engine.numba_math import erfinv
 from ..engine.numba_random import circle_point, normal_pair, path_key, uniform
 from .smith_formulas import build
@@ -243,8 +244,6 @@ def walk_blocks() -> Any:
     global _KERNEL
     with _LOCK:
         if _KERNEL is None:
-            from ..engine.cache import private_cache_dir
-
             flags = dict(parallel=True, nogil=True, error_model="numpy")
             jit = numba.njit(cache=True, **flags)
             directory = private_cache_dir()
@@ -264,6 +263,6 @@ def run_blocks(*args: Any) -> None:
     """Call the kernel (arguments of :func:`_walk_blocks`), one call at a time in the process:
     a call already uses every thread it is given, and not every Numba threading layer accepts
     parallel kernels launched from two Python threads at once."""
-    kernel = walk_blocks()
+    kernel = Compiled(walk_blocks())  # a new signature is compiled under the cache's lock
     with _CALL_LOCK:
         kernel(*args)

@@ -14,24 +14,28 @@ from typing import Any
 import numba
 import numpy as np
 
-from ..engine.cache import private_cache_dir
+from ..engine.cache import Compiled, private_cache_dir
 
 __all__ = ["solve", "sweep_shadows", "table_value"]
 
 
-def _jit(**flags: Any) -> Any:
-    """``numba.njit`` with ``flags``, cached in the private cache folder when there is one."""
+def _jit(entry: bool = False, **flags: Any) -> Any:
+    """``numba.njit`` with ``flags``, cached in the private cache folder when there is one;
+    an ``entry`` (a kernel called from Python) compiles a new signature under the cache's
+    lock (:class:`~roughdiffuse.engine.cache.Compiled`)."""
     directory = private_cache_dir()
 
     def wrap(fn: Any) -> Any:
         if directory is None:
-            return numba.njit(**flags)(fn)
-        old = numba.config.CACHE_DIR
-        numba.config.CACHE_DIR = str(directory / "stereo_coated_table")
-        try:  # Numba reads the folder when the dispatcher is made
-            return numba.njit(cache=True, **flags)(fn)
-        finally:
-            numba.config.CACHE_DIR = old
+            kernel = numba.njit(**flags)(fn)
+        else:
+            old = numba.config.CACHE_DIR
+            numba.config.CACHE_DIR = str(directory / "stereo_coated_table")
+            try:  # Numba reads the folder when the dispatcher is made
+                kernel = numba.njit(cache=True, **flags)(fn)
+            finally:
+                numba.config.CACHE_DIR = old
+        return Compiled(kernel) if entry else kernel
 
     return wrap
 
@@ -96,7 +100,7 @@ def _interp(values, k, iu, wu, it, wt, rho):  # noqa: ANN001, ANN202
     return f, fu, ft, fr
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(entry=True, nogil=True, error_model="numpy")
 def table_value(values, frames, a2, k, n0, n1, n2, rho):  # noqa: ANN001, ANN201
     """The table's F of light k at the unit normal n and albedo ρ."""
     iu, wu, it, wt, _, _, _, _, _, _ = _cell(frames, a2, values.shape[1], values.shape[2], k,
@@ -194,7 +198,7 @@ def _cholesky_solve(a, b, lam, x, low):  # noqa: ANN001, ANN202
     return True
 
 
-@_jit(parallel=True, nogil=True, error_model="numpy")
+@_jit(entry=True, parallel=True, nogil=True, error_model="numpy")
 def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, cost_out,  # noqa: ANN001, ANN201, PLR0913
           a_inv_out, steps_out):
     """Levenberg–Marquardt per pixel (see :func:`.coated_table.solve_pixels`), in place in
@@ -310,7 +314,7 @@ def _horizon(height, step, cross, rise, out):  # noqa: ANN001, ANN202
             out[a, b] = got - rise
 
 
-@_jit(parallel=True, nogil=True, error_model="numpy")
+@_jit(entry=True, parallel=True, nogil=True, error_model="numpy")
 def sweep_shadows(height, rows, cols, z0, directions, tolerance, out):  # noqa: ANN001, ANN201
     """``out[k, p]``: the surface ``height`` (−∞ outside the object) stands more than
     ``tolerance`` above the ray from pixel p (row, column, start height z0) towards light k

@@ -612,11 +612,10 @@ static inline real RD_F(coat_single)(const RD_F(coat) *s, real mi, real mo, real
            / (C(4) * fmax(mi, C(1e-7)) * fmax(mo, C(1e-7)));
 }
 
-/* the lobes' angular weights, symmetric polynomials in v = 1 - mu, mu clamped to
- * [cos 75 deg, 1]: coated.py _lobe_terms */
+/* the lobes' angular weights, symmetric polynomials in v = 1 - mu, mu clamped to [0, 1]:
+ * coated.py _lobe_terms */
 static inline void RD_F(coat_terms)(real mi, real mo, real *t) {
-    const real mu_min = C(0.25881904510252074);
-    real vi = C(1) - RD_F(clamp)(mi, mu_min, C(1)), vo = C(1) - RD_F(clamp)(mo, mu_min, C(1));
+    real vi = C(1) - RD_F(clamp)(mi, C(0), C(1)), vo = C(1) - RD_F(clamp)(mo, C(0), C(1));
     real s1 = vi + vo, p = vi * vo, s2 = vi * vi + vo * vo;
     t[0] = C(1), t[1] = s1, t[2] = s2, t[3] = p, t[4] = vi * vi * vi + vo * vo * vo;
     t[5] = p * s1, t[6] = vi * vi * vi * vi + vo * vo * vo * vo, t[7] = p * s2, t[8] = p * p;
