@@ -5,7 +5,22 @@
 # the GLSL MaterialX generates from exported .mtlx files); npm (three.js for the test of the
 # exported GLSL, `npm ci` in tests/js). Installed with apt-get when missing and
 # running as root; otherwise named, with the command to run, and the script fails.
+#
+# The kernel's limit on memory mappings per process (vm.max_map_count, 65530 by default) is
+# raised to 262144 when root: Numba and XLA map three regions (code, constants, data) per compiled module, and a
+# test worker that compiles the kernels of every model reaches the default in a full run (the
+# next mapping then fails, and XLA or LLVM abort). Otherwise the script says how.
 set -euo pipefail
+maps_wanted=262144
+maps_now=$(cat /proc/sys/vm/max_map_count 2>/dev/null || echo "$maps_wanted")
+if [ "$maps_now" -lt "$maps_wanted" ]; then
+  if [ "$(id -u)" -eq 0 ] && (echo "$maps_wanted" > /proc/sys/vm/max_map_count) 2>/dev/null; then
+    echo "vm.max_map_count raised from $maps_now to $maps_wanted (memory mappings per process)"
+  else
+    echo "note: vm.max_map_count is $maps_now; the full test suite (make test SLOW=1) needs" \
+      "$maps_wanted: sudo sysctl -w vm.max_map_count=$maps_wanted" >&2
+  fi
+fi
 need=()
 command -v chromium >/dev/null 2>&1 || need+=(chromium)
 ls /usr/lib/*/libLLVM.so.19* /usr/lib/*/libLLVM-19.so >/dev/null 2>&1 || need+=(libllvm19)

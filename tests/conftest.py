@@ -104,6 +104,11 @@ def pytest_report_header(config: pytest.Config) -> list[str]:
         except PackageNotFoundError:
             packages.append(f"{name} absent")
     libc = " ".join(platform.libc_ver())
+    try:  # a worker that reaches it crashes (scripts/system-deps.sh)
+        with open("/proc/sys/vm/max_map_count", encoding="ascii") as limit:
+            libc += f", vm.max_map_count {limit.read().strip()}"
+    except OSError:
+        pass
     return [f"roughdiffuse machine: {cpu}, {os.cpu_count()} cores, {libc}", ", ".join(packages)]
 
 
