@@ -8,9 +8,9 @@
 #
 # The kernel's limit on memory mappings per process (vm.max_map_count, 65530 by default) is
 # raised to 262144 when root: Numba and XLA map three regions (code, constants, data) per
-# compiled module, and a test worker that compiles the kernels of every model reaches the
-# default in a full run (the next mapping then fails, and XLA or LLVM abort). Otherwise the
-# script says how.
+# compiled module, and a test worker that compiles the kernels of every model comes within
+# 10 % of the default in a full run (a mapping that fails then aborts XLA or LLVM). Otherwise
+# the script says how.
 set -euo pipefail
 maps_wanted=262144
 maps_now=$(cat /proc/sys/vm/max_map_count 2>/dev/null || echo "$maps_wanted")
