@@ -10,10 +10,10 @@ like ``/tmp``).
 Numba's disk cache is not safe when two processes compile different signatures of one
 function at the same time: each numbers its new entry from the index it read, both write
 ``<name>.1.nbc``, and the index left may point at the other signature's machine code, which
-the next process to load it runs on the wrong argument types (Numba issue 4807, ``numba/core/caching.py``,
-``IndexDataCacheFile.save``). :func:`compile_lock` serialises compilations across processes
-with a lock file in the cache folder; :class:`Compiled` calls a kernel, compiling a new
-signature under that lock first.
+the next process to load it runs on the wrong argument types (Numba issue 4807,
+``numba/core/caching.py``, ``IndexDataCacheFile.save``). :func:`compile_lock` serialises
+compilations across processes with a lock file in the cache folder; :class:`Compiled` calls
+a kernel, compiling a new signature under that lock first.
 """
 
 from __future__ import annotations
