@@ -515,19 +515,20 @@ def _table_fit(
     normals, albedo = first.normals, None
     done = 0
     fit, sub_fit, table, tabled, redo = None, None, None, None, None
-    sub_weights = weights[:, pick]
+    sub_weights = None
     for round_ in range(opts.rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
+        now = weights[:, pick]
         if sub_fit is None:
             sub_fit, _ = _direct_fit(sub, family, sub_start,
                                      dataclasses.replace(opts, rounds=0, progress=False), False,
-                                     weights=weights[:, pick])
-        elif np.mean(weights[:, pick] != sub_weights) >= SETTLED:
+                                     weights=now)
+        elif np.mean(now != sub_weights) >= SETTLED:
             # the subsample's own shadows changed: its values may move
-            sub_fit = fit_pixels(sub, family, start=sub_fit, weights=weights[:, pick],
+            sub_fit = fit_pixels(sub, family, start=sub_fit, weights=now,
                                  initial=sub_fit.values, subset_start=False,
                                  iterations=iterations, precision=precision)
-        sub_weights = weights[:, pick]
+        sub_weights = now
         if round_ == 0 and not _coat_helps(sub_fit, sub_start):
             full = first if isinstance(first, RoughResult) else rough(
                 data, base_model, shadow=shadow, precision=precision, progress=opts.progress,

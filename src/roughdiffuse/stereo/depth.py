@@ -87,13 +87,15 @@ def integrate(normals: Any, mask: Any, method: str = "poisson") -> np.ndarray:
     return z - np.nanmean(z)
 
 
-_FACTOR: dict[str, Any] = {}
-"""The last Poisson factorisation: ``mask`` (bool array), ``solve`` and the pieces."""
+_FACTOR: dict[str, dict[str, Any]] = {}
+"""``"last"``: the last Poisson factorisation, ``mask`` (bool array), ``solve`` and the
+pieces; replaced or removed whole (one dictionary operation), so that a thread never sees
+one half made."""
 
 
 def clear_cache() -> None:
     """Forget the kept Poisson factorisation (its memory; a timing that must include it)."""
-    _FACTOR.clear()
+    _FACTOR.pop("last", None)
 
 
 def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
@@ -109,8 +111,9 @@ def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
     rhs = np.concatenate([0.5 * (p[:, :-1][hor] + p[:, 1:][hor]),
                           -0.5 * (q[:-1, :][ver] + q[1:, :][ver])])
     n = int(mask.sum())
-    factor = _FACTOR if _FACTOR.get("mask") is not None and np.array_equal(
-        _FACTOR["mask"], mask) else _factor(mask, lo, hi, n)
+    factor = _FACTOR.get("last")
+    if factor is None or not np.array_equal(factor["mask"], mask):
+        factor = _factor(mask, lo, hi, n)
     # Aᵀ b of the difference rows z[hi] − z[lo] = rhs
     b_vec = np.bincount(hi, rhs, minlength=n) - np.bincount(lo, rhs, minlength=n)
     b_vec[factor["pinned"]] = 0.0
@@ -146,9 +149,9 @@ def _factor(mask: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> dict[st
     v = np.concatenate([diag, -np.ones(2 * int(keep.sum()))])
     lap = coo_matrix((v, (r, c)), shape=(n, n)).tocsc()
     solve = splu(lap, permc_spec="MMD_AT_PLUS_A").solve
-    _FACTOR.clear()
-    _FACTOR.update(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
-    return _FACTOR
+    factor = dict(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
+    _FACTOR["last"] = factor
+    return factor
 
 
 def _frankot_chellappa(p: np.ndarray, q: np.ndarray) -> np.ndarray:
