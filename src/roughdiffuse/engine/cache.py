@@ -1,4 +1,4 @@
-"""The private cache folder of compiled code (a leaf module: the standard library only).
+"""The private cache folder of compiled code (a leaf module: the standard library and NumPy).
 
 The fast path's generated kernels and Numba's cache files (:mod:`.fastpath`), and the
 compiled Smith random walk (:mod:`roughdiffuse.simulate.smith_walk_numba`), live in
@@ -22,9 +22,12 @@ import contextlib
 import os
 import stat
 import threading
+import weakref
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 try:
     import fcntl
@@ -113,8 +116,10 @@ class Compiled:
     """A Numba dispatcher called from Python whose new signatures are compiled (or loaded
     from the cache) under :func:`compile_lock`, then run without it.
 
-    The argument types are the dispatcher's own (``typeof_pyval``), so a call finds the
-    signature compiled here exactly.
+    The argument types are the dispatcher's own (``typeof_pyval``, about 15 µs an array), so
+    a call finds the signature compiled here exactly; they are worked out only for a layout
+    of the arguments (type; dtype, dimensions, contiguity and writeability of an array) not
+    seen before with this kernel, a few attribute reads a call otherwise.
     """
 
     def __init__(self, kernel: Any) -> None:
@@ -122,8 +127,30 @@ class Compiled:
 
     def __call__(self, *args: Any) -> Any:
         kernel = self.kernel
-        signature = tuple(kernel.typeof_pyval(a) for a in args)
-        if signature not in kernel.overloads:
-            with compile_lock():
-                kernel.compile(signature)
+        layout = tuple(_layout(a) for a in args)
+        try:
+            seen = _SEEN[kernel]
+        except KeyError:
+            seen = _SEEN.setdefault(kernel, set())
+        if layout not in seen:
+            signature = tuple(kernel.typeof_pyval(a) for a in args)
+            if signature not in kernel.overloads:
+                with compile_lock():
+                    kernel.compile(signature)
+            seen.add(layout)
         return kernel(*args)
+
+
+_SEEN: weakref.WeakKeyDictionary[Any, set[tuple[Any, ...]]] = weakref.WeakKeyDictionary()
+"""Per kernel, the argument layouts whose signature :class:`Compiled` has compiled."""
+
+
+def _layout(a: Any) -> Any:
+    """What of an argument decides its Numba type: for an array its dtype, dimensions,
+    contiguity and writeability (and alignment); otherwise its type (a tuple: its items')."""
+    if isinstance(a, np.ndarray):
+        f = a.flags
+        return (a.dtype.str, a.ndim, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned)
+    if isinstance(a, tuple):
+        return tuple(_layout(x) for x in a)
+    return type(a)
