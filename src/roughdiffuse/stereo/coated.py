@@ -511,7 +511,7 @@ def _table_fit(
     sub_start = _restricted(first, pick)
     if not isinstance(first, RoughResult):
         sub_start = rough(sub, base_model, shadow=shadow, precision=precision, start=sub_start)
-    obs = data.images[:, data.mask, :]
+    obs = data.observations
     normals, albedo = first.normals, None
     done = 0
     fit, sub_fit, table, tabled, redo = None, None, None, None, None

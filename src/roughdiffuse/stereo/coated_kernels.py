@@ -18,6 +18,8 @@ from ..engine.cache import Compiled, private_cache_dir
 
 __all__ = ["solve", "sweep_shadows", "table_value"]
 
+FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
+
 
 def _jit(entry: bool = False, **flags: Any) -> Any:
     """``numba.njit`` with ``flags``, cached in the private cache folder when there is one;
@@ -40,7 +42,7 @@ def _jit(entry: bool = False, **flags: Any) -> Any:
     return wrap
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _cell(frames, a2, nu, nt, k, n0, n1, n2):  # noqa: ANN001, ANN202
     """The table cell of normal n for light k: indices and weights in (u, t), and the
     gradients du/dn, dt/dn (3 each; 0 outside the lit side, z ≤ 0)."""
@@ -73,7 +75,7 @@ def _cell(frames, a2, nu, nt, k, n0, n1, n2):  # noqa: ANN001, ANN202
     return iu, wu, it, wt, dudz * h0, dudz * h1, dudz * h2, gt0, gt1, gt2
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _poly(values, k, iu, it, rho):  # noqa: ANN001, ANN202
     """The polynomial in ρ at node (iu, it) of light k and its derivative (Horner)."""
     d = values.shape[3] - 1
@@ -85,7 +87,7 @@ def _poly(values, k, iu, it, rho):  # noqa: ANN001, ANN202
     return p, dp
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _interp(values, k, iu, wu, it, wt, rho):  # noqa: ANN001, ANN202
     """Bilinear value F, its slopes along u and t (per unit of u and t), and dF/dρ."""
     nu, nt = values.shape[1], values.shape[2]
@@ -120,7 +122,7 @@ def _basis(n0, n1, n2):  # noqa: ANN001, ANN202
     return (1.0 + sgn * n0 * n0 * a, sgn * b, -sgn * n0, b, sgn + n1 * n1 * a, -n1)
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202
     """Cost Σ r² of pixel p at normal n (3,) and albedos ρ (C,), with JᵀJ in ``amat`` and
     Jᵀr in ``grad`` (tangent offsets first, then the albedos); ``obs`` (P, K, C) and ``w``
@@ -169,7 +171,7 @@ def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN0
     return cost
 
 
-@_jit(nogil=True, error_model="numpy")
+@_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _cholesky_solve(a, b, lam, x, low):  # noqa: ANN001, ANN202
     """Solve (A + λ diag(A)) x = b for a small symmetric A (in place in ``x``; ``low``
     scratch); False when the damped matrix is not positive definite."""
@@ -198,7 +200,7 @@ def _cholesky_solve(a, b, lam, x, low):  # noqa: ANN001, ANN202
     return True
 
 
-@_jit(entry=True, parallel=True, nogil=True, error_model="numpy")
+@_jit(entry=True, parallel=True, nogil=True, error_model="numpy", fastmath=FAST)
 def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, cost_out,  # noqa: ANN001, ANN201, PLR0913
           a_inv_out, steps_out):
     """Levenberg–Marquardt per pixel (see :func:`.coated_table.solve_pixels`), in place in

@@ -21,6 +21,7 @@ import io
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -96,6 +97,22 @@ class StereoInput:
     def channels(self) -> int:
         """Colour channels C of the images."""
         return int(self.images.shape[3])
+
+    @cached_property
+    def observations(self) -> np.ndarray:
+        """The object pixels' values, (K, P, C) in mask order, read-only: gathered once (the
+        input is frozen), as every solver reads them several times."""
+        obs = self.images[:, self.mask, :]
+        obs.setflags(write=False)
+        return obs
+
+    @cached_property
+    def grey(self) -> np.ndarray:
+        """The object pixels' values over each light's irradiance, averaged over the
+        channels: (K, P), read-only, computed once."""
+        grey = (self.observations / self.intensities[:, None, :]).mean(axis=-1)
+        grey.setflags(write=False)
+        return grey
 
     @classmethod
     def from_arrays(

@@ -28,10 +28,9 @@ def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
     """
     if not 0.0 <= shadow < 1.0:
         raise ParameterError(f"shadow must be in [0, 1) (got {shadow:g})")
-    m = data.mask
-    grey = (data.images[:, m, :] / data.intensities[:, None, :]).mean(axis=-1)  # (K, P)
+    grey = data.grey  # (K, P)
     top = grey.max(axis=0, keepdims=True)
-    keep = data.valid[:, m] & (grey > shadow * top) & (grey > 0)
+    keep = data.valid[:, data.mask] & (grey > shadow * top) & (grey > 0)
     return keep.astype(np.float64)
 
 
@@ -86,9 +85,7 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
     (True, 0.5)
     """
     w = observation_weights(data, shadow)  # (K, P)
-    m = data.mask
-    vals = data.images[:, m, :] / data.intensities[:, None, :]  # (K, P, C)
-    grey = vals.mean(axis=-1)  # (K, P)
+    grey = data.grey  # (K, P)
     l = data.directions  # (K, 3)
     # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I (matrix products over k)
     a = (w.T @ (l[:, :, None] * l[:, None, :]).reshape(-1, 9)).reshape(-1, 3, 3)
@@ -123,9 +120,8 @@ def albedo_and_residual(
         0/1 weights of the observations kept.
     """
     w = weights
-    m = data.mask
-    vals = data.images[:, m, :] / data.intensities[:, None, :]  # (K, P, C)
-    grey = vals.mean(axis=-1)  # (K, P)
+    vals = data.observations / data.intensities[:, None, :]  # (K, P, C)
+    grey = data.grey  # (K, P)
     l = data.directions  # (K, 3)
     ok = np.all(np.isfinite(normals), axis=-1)
     shading = np.maximum(np.einsum("pi,ki->kp", np.nan_to_num(normals), l), 0.0) / np.pi  # (K, P)

@@ -108,7 +108,7 @@ def robust(
     if tol is not None and not (math.isfinite(tol) and tol > 0):
         raise ParameterError(f"tol must be a finite number > 0 (got {tol:g})")
     m = data.mask
-    grey = (data.images[:, m, :] / data.intensities[:, None, :]).mean(axis=-1)  # (K, P)
+    grey = data.grey  # (K, P)
     used = data.valid[:, m] if shadow is None else observation_weights(data, shadow) > 0
     l = data.directions
     if method == "rpca":

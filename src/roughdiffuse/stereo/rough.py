@@ -627,7 +627,7 @@ class _Setup:
         per_pixel: bool,
         g_count: int,
     ) -> _Setup:
-        obs = data.images[:, data.mask, :]  # (K, P, C)
+        obs = data.observations  # (K, P, C)
         p_count, c = obs.shape[1], data.channels
         if w.shape != obs.shape[:2]:
             raise ParameterError(f"weights must have shape {obs.shape[:2]} (got {w.shape})")
