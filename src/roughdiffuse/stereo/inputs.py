@@ -107,6 +107,14 @@ class StereoInput:
         return obs
 
     @cached_property
+    def observed(self) -> np.ndarray:
+        """Which of :attr:`observations` hold a value (:attr:`valid` of the object pixels):
+        (K, P), read-only, gathered once."""
+        valid = self.valid[:, self.mask]
+        valid.setflags(write=False)
+        return valid
+
+    @cached_property
     def grey(self) -> np.ndarray:
         """The object pixels' values over each light's irradiance, averaged over the
         channels: (K, P), read-only, computed once."""

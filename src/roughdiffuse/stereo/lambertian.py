@@ -30,7 +30,7 @@ def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
         raise ParameterError(f"shadow must be in [0, 1) (got {shadow:g})")
     grey = data.grey  # (K, P)
     top = grey.max(axis=0, keepdims=True)
-    keep = data.valid[:, data.mask] & (grey > shadow * top) & (grey > 0)
+    keep = data.observed & (grey > shadow * top) & (grey > 0)
     return keep.astype(np.float64)
 
 
@@ -121,19 +121,19 @@ def albedo_and_residual(
     """
     w = weights
     vals = data.observations / data.intensities[:, None, :]  # (K, P, C)
-    grey = data.grey  # (K, P)
     l = data.directions  # (K, 3)
     ok = np.all(np.isfinite(normals), axis=-1)
-    shading = np.maximum(np.einsum("pi,ki->kp", np.nan_to_num(normals), l), 0.0) / np.pi  # (K, P)
-    num = np.einsum("kp,kp,kpc->pc", w, shading, vals)
-    den = np.einsum("kp,kp->p", w, shading**2)
+    shading = np.maximum(l @ np.nan_to_num(normals).T, 0.0) / np.pi  # (K, P)
+    ws = w * shading
+    num = np.einsum("kp,kpc->pc", ws, vals)
+    den = np.einsum("kp,kp->p", ws, shading)
     albedo = np.where(
         ok[:, None] & (den[:, None] > 0), num / np.where(den > 0, den, 1.0)[:, None], np.nan
     )
-    pred = shading[..., None] * albedo[None]
-    resid = np.sqrt(
-        np.einsum("kp,kpc->p", w, (np.nan_to_num(pred) - vals) ** 2)
-        / np.maximum(w.sum(axis=0) * vals.shape[2], 1)
-    )
-    scale = np.maximum(np.einsum("kp,kp->p", w, grey) / np.maximum(w.sum(axis=0), 1), 1e-30)
+    miss = shading[..., None] * np.nan_to_num(albedo)[None]
+    miss -= vals
+    miss *= miss
+    kept = w.sum(axis=0)
+    resid = np.sqrt(np.einsum("kp,kpc->p", w, miss) / np.maximum(kept * vals.shape[2], 1))
+    scale = np.maximum(np.einsum("kp,kp->p", w, data.grey) / np.maximum(kept, 1), 1e-30)
     return LambertianResult(normals, albedo, np.where(ok, resid / scale, np.nan), w)

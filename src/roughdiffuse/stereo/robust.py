@@ -107,9 +107,8 @@ def robust(
         raise ParameterError(f"iterations must be an integer >= 1 (got {iterations})")
     if tol is not None and not (math.isfinite(tol) and tol > 0):
         raise ParameterError(f"tol must be a finite number > 0 (got {tol:g})")
-    m = data.mask
     grey = data.grey  # (K, P)
-    used = data.valid[:, m] if shadow is None else observation_weights(data, shadow) > 0
+    used = data.observed if shadow is None else observation_weights(data, shadow) > 0
     l = data.directions
     if method == "rpca":
         b, err = _rpca(grey, used, l, int(iterations), 1e-6 if tol is None else tol, progress)

@@ -830,7 +830,9 @@ def _fit_globals(
         if best is not None and not cost <= best[2]:  # the step made the fit worse
             state.update({k: v.copy() for k, v in best[0].items()})
             tr = tr * 0.25
-            if np.all(tr < 1e-7 * width):
+            # by less than the rounding of the sum (converged: shrinking the region only
+            # repeats the same values), or the region has shrunk to nothing
+            if cost - best[2] <= tol * best[2] or np.all(tr < 1e-7 * width):
                 g = best[1]
                 break
         else:
