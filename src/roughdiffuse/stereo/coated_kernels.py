@@ -251,6 +251,10 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
             for c in range(c_count):
                 trial_rho[c] = min(max(rho[c] - step[2 + c], 0.0), 1.0)
                 size = max(size, abs(trial_rho[c] - rho[c]))
+            if size < tol:
+                # converged: the step from the current system is below the tolerance
+                # (taking it, or damping it further, would change nothing that matters)
+                break
             trial = _system(flat, nu, nt, nd, frames, a2, e, obs, w, p, trial_n, trial_rho,
                             trial_a, trial_g)
             if trial < cost:
@@ -260,13 +264,7 @@ def solve(values, frames, a2, e, obs, w, ok, normals, albedo, iterations, tol, c
                 amat[:, :] = trial_a
                 grad[:] = trial_g
                 lam = max(lam * 0.3, 1e-9)
-                if size < tol:
-                    break
             else:
-                # a step below the tolerance that does not lower the cost: at the minimum
-                # (more damping only shortens it)
-                if size < tol:
-                    break
                 lam *= 10.0
                 if lam > 1e9:
                     break
