@@ -224,44 +224,59 @@ def cast_shadows(
     are taken linearly between its two pixels nearest the ray): O(H W) per light instead of
     O(H W max(H, W)) for marching each ray. Compiled (Numba), parallel over the lights.
     """
+    return _unshadowed(depth, mask, directions, tolerance, slopes) == 0.0
+
+
+def _unshadowed(depth: np.ndarray | None, mask: np.ndarray, directions: np.ndarray,
+                tolerance: float, slopes: np.ndarray | None, normals: np.ndarray | None = None,
+                keep: np.ndarray | None = None) -> np.ndarray:
+    """0/1 weights (K, P): 1 where ``keep`` (K, P; none: everywhere) and, with ``normals``
+    (P, 3), lit (n·l > 0; a NaN normal is not), and not in a cast shadow of ``depth``
+    (:func:`cast_shadows`; none: no surface casts one). One compiled pass, no (K, P)
+    temporaries (96 lights and a megapixel: 0.7 GB each)."""
     from .coated_kernels import sweep_shadows
 
-    z = np.asarray(depth, dtype=np.float64)
     m = np.asarray(mask, dtype=bool)
     rows, cols = np.nonzero(m)
-    z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
-    height = np.ascontiguousarray(np.where(np.isfinite(z), z, -np.inf))
-    shadow = np.zeros((len(directions), rows.size), dtype=np.bool_)
+    if depth is None:
+        height, z0 = np.full(m.shape, -np.inf), np.zeros(rows.size)
+    else:
+        z = np.asarray(depth, dtype=np.float64)
+        height = np.ascontiguousarray(np.where(np.isfinite(z), z, -np.inf))
+        z0 = z[m] + (0.0 if slopes is None else 0.5 * np.asarray(slopes, dtype=np.float64))
+    count = len(directions)
+    keep = np.ones((count, rows.size), dtype=np.bool_) if keep is None else keep
+    n = np.zeros((0, 3)) if normals is None else np.ascontiguousarray(normals, dtype=np.float64)
+    out = np.empty((count, rows.size))
     sweep_shadows(height, rows, cols, np.ascontiguousarray(z0, dtype=np.float64),
-                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance), shadow)
-    return shadow
+                  np.ascontiguousarray(directions, dtype=np.float64), float(tolerance), n,
+                  np.ascontiguousarray(keep, dtype=np.bool_), out)
+    return out
 
 
 def model_weights(
-    data: StereoInput, normals: np.ndarray, depth_method: str = "poisson", shadow: float = 0.0
+    data: StereoInput, normals: np.ndarray, depth_method: str = "poisson", shadow: float = 0.0,
+    kept: np.ndarray | None = None,
 ) -> np.ndarray:
     """0/1 weights (K, P) of the observations the coated model explains: valid (finite, not
     saturated), lit by the light (n·l > 0 for the current normals), not in a cast shadow
     of the surface integrated from them (:func:`cast_shadows`) and, with ``shadow`` > 0, not
     darker than that fraction of the pixel's brightest (:func:`.observation_weights`: the
-    shadows the integrated surface misses, e.g. of parts outside the mask)."""
+    shadows the integrated surface misses, e.g. of parts outside the mask). ``kept``
+    (K, P) bool: those of the threshold, when already at hand (``shadow`` is then not
+    used)."""
     m = data.mask
     n = np.asarray(normals, dtype=np.float64)
-    good = np.all(np.isfinite(n), axis=1)
-    lit = data.directions @ np.nan_to_num(n).T > 0  # (K, P)
     image = np.full(m.shape + (3,), np.nan)
     image[m] = n
     usable = m & np.all(np.isfinite(image), axis=-1)
-    cast = np.zeros_like(lit)
+    z, tilt = None, None
     if usable.sum() >= 2:
         z = integrate(image, usable, depth_method)
-        tilt = np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05)  # |∇z|, ≤ 20 (87°)
-        cast = cast_shadows(z, m, data.directions, slopes=np.nan_to_num(tilt))
-    keep = (observation_weights(data, shadow) > 0) if shadow > 0 else data.observed.copy()
-    keep &= lit
-    keep &= ~cast
-    keep &= good[None, :]
-    return keep.astype(np.float64)
+        tilt = np.nan_to_num(np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05))  # ≤ 20
+    if kept is None:
+        kept = (observation_weights(data, shadow) > 0) if shadow > 0 else data.observed
+    return _unshadowed(z, m, data.directions, DEPTH_TOLERANCE, tilt, normals=n, keep=kept)
 
 
 def _start_albedo(family: CoatedFamily, albedo: np.ndarray, base_value: float) -> np.ndarray:
@@ -488,8 +503,10 @@ def _table_fit(
 
     shadow, depth_method = opts.shadow, opts.depth_method
     iterations, precision = opts.iterations, opts.precision
-    first = lambertian(data, shadow=shadow) if start is None else start
-    weights = model_weights(data, first.normals, depth_method, shadow)
+    kept = observation_weights(data, shadow)  # the threshold's, once for every round
+    first = lambertian(data, weights=kept) if start is None else start
+    kept = kept > 0
+    weights = model_weights(data, first.normals, depth_method, kept=kept)
     ok = np.all(np.isfinite(first.normals), axis=1) & (weights.sum(axis=0) >= 3)
     pick = _well_lit(weights, ok, subsample)
     sub = _pixels(data, pick)
@@ -544,7 +561,7 @@ def _table_fit(
         done = round_
         if round_ == opts.rounds:
             break
-        again = model_weights(data, fit["normals"], depth_method, shadow)
+        again = model_weights(data, fit["normals"], depth_method, kept=kept)
         if np.mean(again != weights) < SETTLED:
             break
         redo = np.any(again != weights, axis=0)

@@ -323,25 +323,34 @@ def _horizon(height, step, cross, rise, out):  # noqa: ANN001, ANN202
 
 
 @_jit(entry=True, parallel=True, nogil=True, error_model="numpy")
-def sweep_shadows(height, rows, cols, z0, directions, tolerance, out):  # noqa: ANN001, ANN201
-    """``out[k, p]``: the surface ``height`` (−∞ outside the object) stands more than
-    ``tolerance`` above the ray from pixel p (row, column, start height z0) towards light k
-    (see :func:`roughdiffuse.stereo.coated.cast_shadows`). One sweep of the image per
-    light (:func:`_horizon`), across columns or rows whichever the light's direction in the
-    image runs along more; parallel over the lights."""
+def sweep_shadows(height, rows, cols, z0, directions, tolerance, normals, keep, out):  # noqa: ANN001, ANN201, PLR0913
+    """``out[k, p]``: 1 where observation (k, p) is kept, 0 where the surface ``height``
+    (−∞ outside the object) stands more than ``tolerance`` above the ray from pixel p (row,
+    column, start height z0) towards light k (see
+    :func:`roughdiffuse.stereo.coated.cast_shadows`), where ``keep[k, p]`` is False, or,
+    with ``normals`` (P, 3) of any rows, where the light is behind the pixel's normal
+    (n·l ≤ 0, NaN included). One sweep of the image per light (:func:`_horizon`), across
+    columns or rows whichever the light's direction in the image runs along more; parallel
+    over the lights; the weights written in the same pass (no (K, P) temporaries)."""
     h, w = height.shape
     flipped = np.ascontiguousarray(height.T)
+    lit_test = normals.shape[0] == rows.shape[0]
     for k in numba.prange(directions.shape[0]):
         lx, ly, lz = directions[k, 0], directions[k, 1], directions[k, 2]
-        if math.hypot(lx, ly) < 1e-9:
-            continue  # a light on the view axis: a height field casts no shadow
-        if abs(lx) >= abs(ly):  # one column per step; rows grow downwards (−y)
+        across = abs(lx) >= abs(ly)
+        axis = math.hypot(lx, ly) < 1e-9  # on the view axis: a height field casts no shadow
+        top = np.empty((1, 1))
+        if not axis and across:  # one column per step; rows grow downwards (−y)
             top = np.empty((h, w))
             _horizon(height, 1 if lx > 0 else -1, -ly / abs(lx), lz / abs(lx), top)
-            for p in range(rows.shape[0]):
-                out[k, p] = top[rows[p], cols[p]] > z0[p] + tolerance
-        else:  # one row per step, on the transposed map
+        elif not axis:  # one row per step, on the transposed map
             top = np.empty((w, h))
             _horizon(flipped, -1 if ly > 0 else 1, lx / abs(ly), lz / abs(ly), top)
-            for p in range(rows.shape[0]):
-                out[k, p] = top[cols[p], rows[p]] > z0[p] + tolerance
+        for p in range(rows.shape[0]):
+            ok = keep[k, p]
+            if ok and lit_test:
+                ok = normals[p, 0] * lx + normals[p, 1] * ly + normals[p, 2] * lz > 0.0
+            if ok and not axis:
+                above = top[rows[p], cols[p]] if across else top[cols[p], rows[p]]
+                ok = not above > z0[p] + tolerance
+            out[k, p] = 1.0 if ok else 0.0

@@ -58,7 +58,9 @@ class LambertianResult:
         self.weights = weights
 
 
-def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
+def lambertian(
+    data: StereoInput, *, shadow: float = 0.02, weights: np.ndarray | None = None
+) -> LambertianResult:
     """Lambertian photometric stereo on every object pixel.
 
     Parameters
@@ -67,6 +69,10 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
         Images, lights and mask.
     shadow : float
         Relative threshold below which an observation counts as shadowed.
+    weights : array (K, P), optional
+        0/1 weights of the observations to use, when already at hand (e.g.
+        :func:`observation_weights` of ``shadow``, computed once for several solvers);
+        ``shadow`` is then not used.
 
     Returns
     -------
@@ -84,7 +90,7 @@ def lambertian(data: StereoInput, *, shadow: float = 0.02) -> LambertianResult:
     >>> bool(np.allclose(r.normals[0], [0, 0, 1])), round(float(r.albedo[0, 0]), 6)
     (True, 0.5)
     """
-    w = observation_weights(data, shadow)  # (K, P)
+    w = observation_weights(data, shadow) if weights is None else weights  # (K, P)
     grey = data.grey  # (K, P)
     l = data.directions  # (K, 3)
     # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I (matrix products over k)
