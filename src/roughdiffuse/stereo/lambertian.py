@@ -17,6 +17,10 @@ from .inputs import StereoInput
 
 __all__ = ["LambertianResult", "albedo_and_residual", "lambertian", "observation_weights"]
 
+CHUNK = 8192
+"""Pixels per block of :func:`albedo_and_residual`: its (K, block, C) temporaries stay in
+the cache (96 lights: 6 MB) instead of taking a gigabyte at a megapixel."""
+
 
 def observation_weights(data: StereoInput, shadow: float = 0.02) -> np.ndarray:
     """0/1 weights (K, P) of the observations kept, for the P object pixels.
@@ -126,20 +130,27 @@ def albedo_and_residual(
         0/1 weights of the observations kept.
     """
     w = weights
-    vals = data.observations / data.intensities[:, None, :]  # (K, P, C)
+    obs, e = data.observations, data.intensities[:, None, :]
     l = data.directions  # (K, 3)
     ok = np.all(np.isfinite(normals), axis=-1)
-    shading = np.maximum(l @ np.nan_to_num(normals).T, 0.0) / np.pi  # (K, P)
-    ws = w * shading
-    num = np.einsum("kp,kpc->pc", ws, vals)
-    den = np.einsum("kp,kp->p", ws, shading)
-    albedo = np.where(
-        ok[:, None] & (den[:, None] > 0), num / np.where(den > 0, den, 1.0)[:, None], np.nan
-    )
-    miss = shading[..., None] * np.nan_to_num(albedo)[None]
-    miss -= vals
-    miss *= miss
-    kept = w.sum(axis=0)
-    resid = np.sqrt(np.einsum("kp,kpc->p", w, miss) / np.maximum(kept * vals.shape[2], 1))
-    scale = np.maximum(np.einsum("kp,kp->p", w, data.grey) / np.maximum(kept, 1), 1e-30)
+    p_count, c = obs.shape[1], obs.shape[2]
+    albedo = np.full((p_count, c), np.nan)
+    resid, scale = np.zeros(p_count), np.ones(p_count)
+    for lo in range(0, p_count, CHUNK):  # a block of pixels at a time: temporaries in cache
+        part = slice(lo, lo + CHUNK)
+        vals = obs[:, part] / e  # (K, B, C)
+        wp = w[:, part]
+        shading = np.maximum(l @ np.nan_to_num(normals[part]).T, 0.0) / np.pi  # (K, B)
+        ws = wp * shading
+        num = np.einsum("kp,kpc->pc", ws, vals)
+        den = np.einsum("kp,kp->p", ws, shading)
+        albedo[part] = np.where(ok[part, None] & (den[:, None] > 0),
+                                num / np.where(den > 0, den, 1.0)[:, None], np.nan)
+        miss = shading[..., None] * np.nan_to_num(albedo[part])[None]
+        miss -= vals
+        miss *= miss
+        kept = wp.sum(axis=0)
+        resid[part] = np.sqrt(np.einsum("kp,kpc->p", wp, miss) / np.maximum(kept * c, 1))
+        scale[part] = np.maximum(
+            np.einsum("kp,kp->p", wp, data.grey[:, part]) / np.maximum(kept, 1), 1e-30)
     return LambertianResult(normals, albedo, np.where(ok, resid / scale, np.nan), w)
