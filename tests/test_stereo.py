@@ -124,6 +124,33 @@ def test_poisson_depth_of_two_separate_planes_and_its_kept_factorisation():
             assert np.allclose(d[piece], truth - truth.mean(), atol=1e-9)
 
 
+def test_poisson_depth_from_a_factorisation_made_in_the_background():
+    """prefactor() starts the factorisation of a mask in a thread; integrate() on that mask
+    uses it, and on another mask factorises afresh: two planes recovered exactly either way
+    (closed form: z = slope · x up to each piece's constant)."""
+    from roughdiffuse.stereo.depth import clear_cache, prefactor
+
+    mask = np.zeros((6, 11), bool)
+    mask[:, :4] = True
+    mask[1:5, 6:] = True
+    cols = np.arange(11)[None, :] * np.ones((6, 1))
+    p = np.where(cols < 5, 0.5, -0.25)
+    n = np.stack([-p, np.zeros_like(p), np.ones_like(p)], axis=-1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    other = mask.copy()
+    other[0, 0] = False
+    try:
+        for used, pre in ((mask, mask), (other, mask)):
+            prefactor(pre)
+            d = stereo.integrate(n, used)
+            for piece, slope in ((used & (cols < 5), 0.5), (used & (cols > 5), -0.25)):
+                truth = slope * cols[piece]
+                assert np.allclose(d[piece], truth - truth.mean(), atol=1e-9)
+            assert np.all(np.isnan(d[~used]))
+    finally:
+        clear_cache()
+
+
 def test_ply_mesh_header_and_counts(tmp_path):
     depth = np.full((3, 4), np.nan)
     depth[:2, :3] = 1.0  # 6 vertices, a 2 × 3 block: 2 quads, 4 triangles

@@ -51,7 +51,7 @@ import numpy as np
 from .._validate import ParameterError
 from ..models.base import Model
 from ..models.coated import Coated
-from .depth import clear_cache, integrate
+from .depth import clear_cache, integrate, prefactor
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
@@ -503,6 +503,8 @@ def _table_fit(
 
     shadow, depth_method = opts.shadow, opts.depth_method
     iterations, precision = opts.iterations, opts.precision
+    if depth_method == "poisson":
+        prefactor(data.mask)  # the depth's factorisation, beside the Lambertian start
     kept = observation_weights(data, shadow)  # the threshold's, once for every round
     first = lambertian(data, weights=kept) if start is None else start
     kept = kept > 0

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._validate import ParameterError
 
-__all__ = ["clear_cache", "gradients", "integrate", "write_ply"]
+__all__ = ["clear_cache", "gradients", "integrate", "prefactor", "write_ply"]
 
 
 def gradients(
@@ -89,8 +89,8 @@ def integrate(normals: Any, mask: Any, method: str = "poisson") -> np.ndarray:
 
 _FACTOR: dict[str, dict[str, Any]] = {}
 """``"last"``: the last Poisson factorisation, ``mask`` (bool array), ``solve`` and the
-pieces; replaced or removed whole (one dictionary operation), so that a thread never sees
-one half made."""
+pieces, or ``mask`` and ``pending`` (a future of them, :func:`prefactor`); replaced or
+removed whole (one dictionary operation), so that a thread never sees one half made."""
 
 
 def clear_cache() -> None:
@@ -98,22 +98,34 @@ def clear_cache() -> None:
     _FACTOR.pop("last", None)
 
 
-def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
+def _pairs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    """The neighbour pairs of ``mask``: horizontal (i, j)–(i, j+1) and vertical
+    (i, j)–(i+1, j) pairs inside it (their boolean maps), their pixel indices in mask order
+    (``lo``, ``hi``), and the pixel count."""
     h, w = mask.shape
     index = -np.ones((h, w), dtype=np.int64)
-    index[mask] = np.arange(int(mask.sum()))
-    # the differences: horizontal pairs (i, j) - (i, j+1), vertical (i, j) - (i+1, j)
+    n = int(mask.sum())
+    index[mask] = np.arange(n)
     hor = mask[:, :-1] & mask[:, 1:]
     ver = mask[:-1, :] & mask[1:, :]
     lo = np.concatenate([index[:, :-1][hor], index[:-1, :][ver]])
     hi = np.concatenate([index[:, 1:][hor], index[1:, :][ver]])
-    # moving down is −y
+    return hor, ver, lo, hi, n
+
+
+def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    h, w = mask.shape
+    hor, ver, lo, hi, n = _pairs(mask)
+    # the differences z[hi] − z[lo]; moving down is −y
     rhs = np.concatenate([0.5 * (p[:, :-1][hor] + p[:, 1:][hor]),
                           -0.5 * (q[:-1, :][ver] + q[1:, :][ver])])
-    n = int(mask.sum())
     factor = _FACTOR.get("last")
     if factor is None or not np.array_equal(factor["mask"], mask):
-        factor = _factor(mask, lo, hi, n)
+        factor = _factor(mask)
+        _FACTOR["last"] = factor
+    elif "pending" in factor:  # made by prefactor() in the background: wait for it
+        factor = factor["pending"].result()
+        _FACTOR["last"] = factor
     # Aᵀ b of the difference rows z[hi] − z[lo] = rhs
     b_vec = np.bincount(hi, rhs, minlength=n) - np.bincount(lo, rhs, minlength=n)
     b_vec[factor["pinned"]] = 0.0
@@ -126,14 +138,31 @@ def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return z
 
 
-def _factor(mask: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> dict[str, Any]:
-    """Factorise AᵀA of the differences ``z[hi] − z[lo]`` over the ``n`` pixels of
+def prefactor(mask: Any) -> None:
+    """Start factorising the Poisson system of ``mask`` in a background thread, for the next
+    :func:`integrate` on that mask (``"poisson"``, every normal finite) to use.
+
+    The factorisation depends on the mask alone and takes seconds at a megapixel (SuperLU,
+    one core; it releases the GIL): a caller that knows the mask before the normals, as the
+    coated fit does, lets it run beside its own work. A mask that turns out different is
+    factorised afresh."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    m = np.array(mask, dtype=bool)
+    pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="roughdiffuse-poisson")
+    _FACTOR["last"] = {"mask": m, "pending": pool.submit(_factor, m)}
+    pool.shutdown(wait=False)
+
+
+def _factor(mask: np.ndarray) -> dict[str, Any]:
+    """The factorisation of AᵀA of the differences ``z[hi] − z[lo]`` over the pixels of
     ``mask``, the first pixel of each 4-connected piece held at 0 (its row and column
-    replaced by the identity's), and keep it in :data:`_FACTOR`."""
+    replaced by the identity's), with the pieces."""
     from scipy.ndimage import label
     from scipy.sparse import coo_matrix
     from scipy.sparse.linalg import splu
 
+    _, _, lo, hi, n = _pairs(mask)
     pieces, count = label(mask)
     labels = pieces[mask] - 1
     pinned = np.unique(labels, return_index=True)[1]
@@ -153,9 +182,7 @@ def _factor(mask: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int) -> dict[st
     # against 9.9 s for the general mode on a 667,069-pixel disc)
     solve = splu(lap, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                  options={"SymmetricMode": True}).solve
-    factor = dict(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
-    _FACTOR["last"] = factor
-    return factor
+    return dict(mask=mask.copy(), solve=solve, labels=labels, count=count, pinned=pinned)
 
 
 def _frankot_chellappa(p: np.ndarray, q: np.ndarray) -> np.ndarray:
