@@ -87,9 +87,11 @@ RETABLE = 0.25
 """A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
 by less than this fraction of their standard errors (below what the images determine)."""
 
-RETRY = 3.0
+RETRY = (3.0, 0.1)
 """The table solver fits a pixel again from a second start when its relative residual is
-above this multiple of the object's median (:func:`_retry`)."""
+above RETRY[0] times the object's RETRY[1] quantile (:func:`_retry`): the noise's level,
+from the pixels the model fits (the median rises with the pixels stuck, which may be most
+of them on an object facing the camera under a narrow coat)."""
 
 DEPTH_TOLERANCE = 1.0
 """Height (pixel units) by which the integrated surface must stand above a ray towards the
@@ -571,9 +573,9 @@ def _relative_residual(cost: np.ndarray, weights: np.ndarray, obs: np.ndarray) -
 def _retry(data: StereoInput, table: Any, light: np.ndarray, obs: np.ndarray,
            weights: np.ndarray, fit: dict[str, np.ndarray], iterations: int
            ) -> dict[str, np.ndarray]:
-    """``fit`` with the pixels whose relative residual is above :data:`RETRY` times the
-    median fitted again from the Lambertian normal of the darker half of their kept
-    observations, and the lower cost of the two kept.
+    """``fit`` with the pixels whose relative residual is high (:data:`RETRY`) fitted again
+    from the Lambertian normal of the darker half of their kept observations, and the lower
+    cost of the two kept.
 
     A narrow coat's highlight (α ≈ 0.1) pulls the Lambertian start of the pixels that see it
     by tens of degrees, beyond the reach of the table's Levenberg–Marquardt, which then
@@ -587,7 +589,8 @@ def _retry(data: StereoInput, table: Any, light: np.ndarray, obs: np.ndarray,
     ok = fit["ok"] & np.isfinite(rel)
     if not ok.any():
         return fit
-    again = np.flatnonzero(ok & (rel > RETRY * np.median(rel[ok])))
+    factor, quantile = RETRY
+    again = np.flatnonzero(ok & (rel > factor * np.quantile(rel[ok], quantile)))
     if again.size == 0:
         return fit
     grey = (obs[:, again] / light[:, None, :]).mean(axis=-1)  # (K, R)
