@@ -25,8 +25,9 @@ shadows are found again after each fit, ``shadow_rounds`` times.
 Two solvers. ``"table"`` (the default): σ and α (and, with ``light_scale``, one factor on
 every light's intensity) by the direct fit of a subsample of well-lit pixels, then every
 pixel's normal and albedo by a compiled Levenberg–Marquardt on the model tabulated per
-light from its own evaluation (:mod:`.coated_table`); each shadow round refits the
-subsample and the pixels. ``"direct"``: every pixel on the model itself by
+light from its own evaluation (:mod:`.coated_table`), a pixel left with a high residual
+solved again from the Lambertian normal of the darker half of its observations
+(:func:`_retry`); each shadow round refits the subsample and the pixels. ``"direct"``: every pixel on the model itself by
 :func:`.rough.fit_pixels` (σ and α by the Schur complement, or per pixel).
 
 A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
