@@ -27,8 +27,9 @@ every light's intensity) by the direct fit of a subsample of well-lit pixels, th
 pixel's normal and albedo by a compiled Levenberg–Marquardt on the model tabulated per
 light from its own evaluation (:mod:`.coated_table`), a pixel left with a high residual
 solved again from the Lambertian normal of the darker half of its observations
-(:func:`_retry`); each shadow round refits the subsample and the pixels. ``"direct"``: every pixel on the model itself by
-:func:`.rough.fit_pixels` (σ and α by the Schur complement, or per pixel).
+(:func:`_retry`); each shadow round refits the subsample and the pixels. ``"direct"``:
+every pixel on the model itself by :func:`.rough.fit_pixels` (σ and α by the Schur
+complement, or per pixel).
 
 A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
 When the coated fit's mean squared relative residual is not below the rough fit's, the
