@@ -82,6 +82,53 @@ def test_png_with_stated_exposure(tmp_path) -> None:  # noqa: ANN001
     np.testing.assert_allclose(back2[mask], img[mask] / 2, atol=2e-4)
 
 
+def test_png_of_a_12_bit_camera_saturates_at_its_own_full_scale(tmp_path) -> None:  # noqa: ANN001
+    """12-bit codes shifted up into a 16-bit PNG saturate at 4095 · 16 = 65520."""
+    from PIL import Image
+
+    rng = np.random.default_rng(1)
+    code = rng.integers(0, 4095, (16, 16))
+    code[3, 4] = code[9, 1] = 4095
+    path = tmp_path / "cam12.png"
+    Image.fromarray((code << 4).astype(np.uint16)).save(path)
+    img, mask = read_image(path, exposure=0.0, encoding="linear")
+    np.testing.assert_array_equal(mask, code < 4095)
+    np.testing.assert_allclose(img, (code << 4) / 65535)
+    # samples that fill the low bits: 65520 is an ordinary value, 65535 the full scale
+    full = rng.integers(0, 65535, (16, 16)) | 1
+    full[0, 0], full[1, 1] = 65520, 65535
+    path = tmp_path / "cam16.png"
+    Image.fromarray(full.astype(np.uint16)).save(path)
+    _, mask = read_image(path, exposure=0.0, encoding="linear")
+    np.testing.assert_array_equal(mask, full < 65535)
+
+
+def test_diligent_folder_marks_its_clipped_values_invalid(tmp_path) -> None:  # noqa: ANN001
+    """write_diligent clips the brightest values at the 12-bit full scale; read_diligent
+    marks exactly those (the codes 4095 · 16 read back by Pillow) invalid."""
+    from PIL import Image
+
+    from roughdiffuse import stereo
+    from roughdiffuse.stereo.diligent import write_diligent
+    from roughdiffuse.stereo.inputs import StereoInput
+
+    rng = np.random.default_rng(2)
+    images = rng.uniform(0.05, 0.3, (6, 20, 20, 1))
+    # highlights: 0.3 % of the values, above the full scale (the 99.5th percentile / 0.9)
+    images[[0, 1, 3, 3, 5, 2, 4], [2, 7, 7, 8, 19, 0, 11], [5, 5, 1, 1, 3, 19, 12]] = 2.0
+    dirs = np.array([[0.3, 0.1, 1.0], [-0.3, 0.2, 1.0], [0.0, -0.4, 1.0], [0.5, 0.5, 1.0],
+                     [-0.5, -0.2, 1.0], [0.1, 0.6, 1.0]])
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    data = StereoInput.from_arrays(images, dirs, np.ones((6, 1)), mask=np.ones((20, 20), bool))
+    normals = np.broadcast_to([0.0, 0.0, 1.0], (20, 20, 3))
+    folder = write_diligent(tmp_path / "flatPNG", data, normals, seed=3)
+    back = stereo.read_diligent(folder)
+    codes = np.stack([np.asarray(Image.open(folder / f"{k + 1:03d}.png")) for k in range(6)])
+    clipped = codes == 4095 << 4
+    assert clipped.sum() > 0
+    np.testing.assert_array_equal(~back.valid, clipped)
+
+
 def test_png_without_exposure_is_an_error(tmp_path) -> None:  # noqa: ANN001
     from PIL import Image
 

@@ -11,7 +11,8 @@ PNG holds display values; the linear radiance is recovered as
 L = decode(v / (2^bits − 1)) / 2^exposure, with decode the sRGB curve (IEC 61966-2-1) or the
 identity. Files written by :func:`roughdiffuse.io.images.write_png` state their
 encoding and scale in text chunks, which are used when present. Saturated pixels (v at its
-maximum) and partly covered pixels (alpha below its maximum) are masked out.
+maximum, :func:`_full_code`: 65520 for a 12-bit camera's codes shifted up in a 16-bit file)
+and partly covered pixels (alpha below its maximum) are masked out.
 """
 
 from __future__ import annotations
@@ -30,6 +31,24 @@ from .measurements import Measurements
 __all__ = ["image_measurements", "read_image", "read_normals", "shape_normals"]
 
 
+def _full_code(samples: np.ndarray, bits: int) -> int:
+    """The code of a saturated sample of a PNG of ``bits`` bits whose samples are ``samples``
+    (integers): 2^bits − 1, or with its low s bits cleared when every sample's low s bits
+    are 0 (s ≤ bits / 2, the most such).
+
+    A camera of fewer bits than the file (12 in a 16-bit PNG) stores its codes shifted up,
+    the left-shift of the PNG specification's sample depth scaling (ISO/IEC 15948 §12.5):
+    its full scale is then 4095 · 16 = 65520, not 65535. A file whose samples fill the low
+    bits (left-bit replication, or a camera of the file's own depth) keeps 2^bits − 1.
+    """
+    top = (1 << bits) - 1
+    lows = np.bitwise_or.reduce(np.asarray(samples, dtype=np.uint32).ravel() & 0xFF)
+    shift = 0
+    while shift < bits // 2 and not lows & (1 << shift) and lows:
+        shift += 1
+    return top & ~((1 << shift) - 1)
+
+
 def _png_linear(
     path: str, exposure: float | None, encoding: str | None
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -38,8 +57,9 @@ def _png_linear(
     top = (1 << bits) - 1
     c = pix.shape[2]
     alpha = pix[..., -1] if c in (2, 4) else None
-    color = pix[..., : 1 if c <= 2 else 3].astype(np.float64)
-    mask = np.all(color < top, axis=-1)  # saturated pixels carry no value
+    color = pix[..., : 1 if c <= 2 else 3]
+    mask = np.all(color < _full_code(color, bits), axis=-1)  # saturated pixels carry no value
+    color = color.astype(np.float64)
     if alpha is not None:
         mask &= alpha == top
     v = color / top

@@ -25,9 +25,11 @@ shadows are found again after each fit, ``shadow_rounds`` times.
 Two solvers. ``"table"`` (the default): σ and α (and, with ``light_scale``, one factor on
 every light's intensity) by the direct fit of a subsample of well-lit pixels, then every
 pixel's normal and albedo by a compiled Levenberg–Marquardt on the model tabulated per
-light from its own evaluation (:mod:`.coated_table`); each shadow round refits the
-subsample and the pixels. ``"direct"``: every pixel on the model itself by
-:func:`.rough.fit_pixels` (σ and α by the Schur complement, or per pixel).
+light from its own evaluation (:mod:`.coated_table`), a pixel left with a high residual
+solved again from the Lambertian normal of the darker half of its observations
+(:func:`_retry`); each shadow round refits the subsample and the pixels. ``"direct"``:
+every pixel on the model itself by :func:`.rough.fit_pixels` (σ and α by the Schur
+complement, or per pixel).
 
 A coat of η > 1 cannot vanish: on a matte object the fit runs to the bounds of σ and α.
 When the coated fit's mean squared relative residual is not below the rough fit's, the
@@ -53,7 +55,7 @@ from ..models.base import Model
 from ..models.coated import Coated
 from .depth import clear_cache, integrate, prefactor
 from .inputs import StereoInput
-from .lambertian import LambertianResult, lambertian, observation_weights
+from .lambertian import LambertianResult, lambertian, lambertian_normals, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
 
 __all__ = ["CoatedFamily", "CoatedResult", "cast_shadows", "coated", "parameter_count"]
@@ -86,6 +88,12 @@ changed from shadowed to kept or back."""
 RETABLE = 0.25
 """A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
 by less than this fraction of their standard errors (below what the images determine)."""
+
+RETRY = (3.0, 0.1)
+"""The table solver fits a pixel again from a second start when its relative residual is
+above RETRY[0] times the object's RETRY[1] quantile (:func:`_retry`): the noise's level,
+from the pixels the model fits (the median rises with the pixels stuck, which may be most
+of them on an object facing the camera under a narrow coat)."""
 
 DEPTH_TOLERANCE = 1.0
 """Height (pixel units) by which the integrated surface must stand above a ray towards the
@@ -560,6 +568,7 @@ def _table_fit(
             for key, value in part.items():
                 fit[key] = fit[key].copy()
                 fit[key][redo] = value
+        fit = _retry(data, table, light, obs, weights, fit, iterations)
         done = round_
         if round_ == opts.rounds:
             break
@@ -573,6 +582,55 @@ def _table_fit(
     assert fit is not None and sub_fit is not None
     return _table_result(fit, sub_fit, family, weights, obs, table.error,
                          {**coat, "shadow_rounds": done})
+
+
+def _relative_residual(cost: np.ndarray, weights: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """RMS residual of each pixel over its kept observations, relative to their mean."""
+    kept = weights.sum(axis=0) * obs.shape[2]
+    mean = np.einsum("kp,kpc->p", weights, obs) / np.maximum(kept, 1)
+    return np.sqrt(cost / np.maximum(kept, 1)) / np.maximum(mean, 1e-30)
+
+
+def _retry(data: StereoInput, table: Any, light: np.ndarray, obs: np.ndarray,
+           weights: np.ndarray, fit: dict[str, np.ndarray], iterations: int
+           ) -> dict[str, np.ndarray]:
+    """``fit`` with the pixels whose relative residual is high (:data:`RETRY`) fitted again
+    from the Lambertian normal of the darker half of their kept observations, and the lower
+    cost of the two kept.
+
+    A narrow coat's highlight (α ≈ 0.1) pulls the Lambertian start of the pixels that see it
+    by tens of degrees, beyond the reach of the table's Levenberg–Marquardt, which then
+    stops at a local minimum with a residual tens of times the noise's (more so when the
+    highlight's peak is saturated and left out). The highlight falls within a minority of
+    the lights, so the darker half of a pixel's observations is the base's diffuse light,
+    whose Lambertian normal lies within a few degrees of the truth."""
+    from .coated_table import solve_pixels
+
+    rel = _relative_residual(fit["cost"], weights, obs)
+    ok = fit["ok"] & np.isfinite(rel)
+    if not ok.any():
+        return fit
+    factor, quantile = RETRY
+    again = np.flatnonzero(ok & (rel > factor * np.quantile(rel[ok], quantile)))
+    if again.size == 0:
+        return fit
+    grey = (obs[:, again] / light[:, None, :]).mean(axis=-1)  # (K, R)
+    w = weights[:, again]
+    kept = np.where(w > 0, grey, np.nan)
+    darker = w * (grey <= np.nanmedian(kept, axis=0)[None, :])
+    rows, cols = np.nonzero(data.mask)
+    mask = np.zeros_like(data.mask)
+    mask[rows[again], cols[again]] = True
+    start = lambertian_normals(dataclasses.replace(data, mask=mask), darker)
+    good = np.all(np.isfinite(start), axis=1)
+    again, start = again[good], start[good]
+    second = solve_pixels(table, light, obs[:, again], weights[:, again], start,
+                          fit["albedo"][again], iterations=iterations)
+    better = second["ok"] & (second["cost"] < fit["cost"][again])
+    out = {key: value.copy() for key, value in fit.items()}
+    for key, value in second.items():
+        out[key][again[better]] = value[better]
+    return out
 
 
 def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
@@ -612,8 +670,7 @@ def _table_result(fit: dict[str, np.ndarray], sub_fit: PixelFit, family: CoatedF
     kept = weights.sum(axis=0) * c
     s2 = fit["cost"] / np.maximum(kept - (2 + c), 1)
     var = fit["a_inv_diag"] * s2[:, None]
-    mean = np.einsum("kp,kpc->p", weights, obs) / np.maximum(kept, 1)
-    rel = np.sqrt(fit["cost"] / np.maximum(kept, 1)) / np.maximum(mean, 1e-30)
+    rel = _relative_residual(fit["cost"], weights, obs)
     values, se = sub_fit.values, sub_fit.values_se
     scaled = family.light_scale
     return CoatedResult(

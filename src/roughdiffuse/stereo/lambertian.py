@@ -15,7 +15,13 @@ import numpy as np
 from .._validate import ParameterError
 from .inputs import StereoInput
 
-__all__ = ["LambertianResult", "albedo_and_residual", "lambertian", "observation_weights"]
+__all__ = [
+    "LambertianResult",
+    "albedo_and_residual",
+    "lambertian",
+    "lambertian_normals",
+    "observation_weights",
+]
 
 CHUNK = 8192
 """Pixels per block of :func:`albedo_and_residual`: its (K, block, C) temporaries stay in
@@ -95,6 +101,14 @@ def lambertian(
     (True, 0.5)
     """
     w = observation_weights(data, shadow) if weights is None else weights  # (K, P)
+    return albedo_and_residual(data, lambertian_normals(data, w), w)
+
+
+def lambertian_normals(data: StereoInput, weights: np.ndarray) -> np.ndarray:
+    """The Lambertian normals (P, 3) of the observations of weight 1 (``weights`` (K, P)):
+    b = (ρ/π) n by the least squares of I_k / E_k = l_k · b (Woodham 1980), n = b / |b|;
+    NaN where fewer than three observations are kept or they do not determine b."""
+    w = weights
     grey = data.grey  # (K, P)
     l = data.directions  # (K, 3)
     # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I (matrix products over k)
@@ -107,8 +121,7 @@ def lambertian(
     b[ok] = np.linalg.solve(a[ok], rhs[ok][..., None])[..., 0]
     length = np.linalg.norm(b, axis=-1)
     ok &= length > 0
-    normals = np.where(ok[:, None], b / np.where(ok, length, 1.0)[:, None], np.nan)
-    return albedo_and_residual(data, normals, w)
+    return np.where(ok[:, None], b / np.where(ok, length, 1.0)[:, None], np.nan)
 
 
 def albedo_and_residual(
