@@ -19,6 +19,9 @@ from ..engine.cache import Compiled, private_cache_dir
 __all__ = ["solve", "sweep_shadows", "table_value"]
 
 FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
+"""LLVM fast-math flags of the table solver's kernels: reassociation, reciprocals, fused
+multiply-adds and approximate functions (a tenth less time); not ``nnan`` and ``ninf``, so
+that tests of NaN and infinity stay exact (the shadow sweep, which relies on −∞, has none)."""
 
 
 def _jit(entry: bool = False, **flags: Any) -> Any:
@@ -128,7 +131,8 @@ def _basis(n0, n1, n2):  # noqa: ANN001, ANN202
 @_jit(nogil=True, error_model="numpy", fastmath=FAST)
 def _system(flat, nu, nt, nd, frames, a2, e, obs, w, p, n, rho, amat, grad):  # noqa: ANN001, ANN202, PLR0913
     """Cost Σ r² of pixel p at normal n (3,) and albedos ρ (C,), with JᵀJ in ``amat`` and
-    Jᵀr in ``grad`` (tangent offsets first, then the albedos); ``obs`` (P, K, C) and ``w``
+    Jᵀr in ``grad`` (tangent offsets first, then the albedos); ``flat`` the table's
+    coefficients flattened (sizes ``nu``, ``nt``, ``nd`` = D + 1), ``obs`` (P, K, C) and ``w``
     (P, K) pixel by pixel (each pixel's values side by side in memory)."""
     kk, c_count = obs.shape[1], obs.shape[2]
     m = 2 + c_count
