@@ -511,19 +511,9 @@ def _table_fit(
 
     shadow, depth_method = opts.shadow, opts.depth_method
     iterations, precision = opts.iterations, opts.precision
-    if depth_method == "poisson":
-        prefactor(data.mask)  # the depth's factorisation, beside the Lambertian start
-    kept = observation_weights(data, shadow)  # the threshold's, once for every round
-    first = lambertian(data, weights=kept) if start is None else start
-    kept = kept > 0
-    weights = model_weights(data, first.normals, depth_method, kept=kept)
-    ok = np.all(np.isfinite(first.normals), axis=1) & (weights.sum(axis=0) >= 3)
-    pick = _well_lit(weights, ok, subsample)
-    sub = _pixels(data, pick)
     base_model = family.model.base
-    sub_start = _restricted(first, pick)
-    if not isinstance(first, RoughResult):
-        sub_start = rough(sub, base_model, shadow=shadow, precision=precision, start=sub_start)
+    first, kept, weights, pick, sub, sub_start = _table_start(data, base_model, start, opts,
+                                                              subsample)
     obs = data.observations
     normals, albedo = first.normals, None
     done = 0
@@ -631,6 +621,30 @@ def _retry(data: StereoInput, table: Any, light: np.ndarray, obs: np.ndarray,
     for key, value in second.items():
         out[key][again[better]] = value[better]
     return out
+
+
+def _table_start(data: StereoInput, base_model: Model,
+                 start: RoughResult | LambertianResult | None, opts: _Options,
+                 subsample: int) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray,
+                                          StereoInput, RoughResult]:
+    """The table solver's start: the start's normals and albedo (Lambertian photometric
+    stereo by default), the threshold's weights (K, P) bool, the model's weights from the
+    start's normals, the subsample of well-lit pixels (indices, and as an input), and the
+    rough fit of the subsample (the start restricted to it when it is a rough fit)."""
+    if opts.depth_method == "poisson":
+        prefactor(data.mask)  # the depth's factorisation, beside the Lambertian start
+    kept = observation_weights(data, opts.shadow)  # the threshold's, once for every round
+    first = lambertian(data, weights=kept) if start is None else start
+    kept = kept > 0
+    weights = model_weights(data, first.normals, opts.depth_method, kept=kept)
+    ok = np.all(np.isfinite(first.normals), axis=1) & (weights.sum(axis=0) >= 3)
+    pick = _well_lit(weights, ok, subsample)
+    sub = _pixels(data, pick)
+    sub_start = _restricted(first, pick)
+    if not isinstance(first, RoughResult):
+        sub_start = rough(sub, base_model, shadow=opts.shadow, precision=opts.precision,
+                          start=sub_start)
+    return first, kept, weights, pick, sub, sub_start
 
 
 def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
