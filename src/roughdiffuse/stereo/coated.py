@@ -501,9 +501,10 @@ def _table_fit(
     """The table solver of :func:`coated`: the object's values from the direct fit of a
     subsample of well-lit pixels, then every pixel on the model's table; the shadows found
     again from the fitted normals after each round, and the subsample's fit redone with
-    them where at least :data:`SETTLED` of its own observations changed (the table kept
-    when the values moved by less than :data:`RETABLE` of their standard errors; the rounds
-    stop when fewer than :data:`SETTLED` of all the observations changed). A
+    them where at least :data:`SETTLED` of its own observations changed, and after the first
+    round always, from the table fit's normals (the table kept when the values moved by less
+    than :data:`RETABLE` of their standard errors; the rounds stop when fewer than
+    :data:`SETTLED` of all the observations changed and the table was kept). A
     matte object (the coat does not lower the subsample's residual) gets the rough fit of
     every pixel. With the table kept, a round solves again only the pixels whose
     observations changed."""
@@ -563,12 +564,17 @@ def _table_fit(
         if round_ == opts.rounds:
             break
         again = model_weights(data, fit["normals"], depth_method, kept=kept)
-        if np.mean(again != weights) < SETTLED:
+        sub_fit = dataclasses.replace(
+            sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick])
+        moved = False
+        if round_ == 0:
+            sub_weights = again[:, pick]
+            sub_fit = _polish(sub, family, sub_fit, sub_weights, opts)
+            moved = not _close(sub_fit.values, tabled, sub_fit.values_se)
+        if np.mean(again != weights) < SETTLED and not moved:
             break
         redo = np.any(again != weights, axis=0)
         weights, normals, albedo = again, fit["normals"], fit["albedo"]
-        sub_fit = dataclasses.replace(
-            sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick])
     assert fit is not None and sub_fit is not None
     return _table_result(fit, sub_fit, family, weights, obs, table.error,
                          {**coat, "shadow_rounds": done})
@@ -645,6 +651,16 @@ def _table_start(data: StereoInput, base_model: Model,
         sub_start = rough(sub, base_model, shadow=opts.shadow, precision=opts.precision,
                           start=sub_start)
     return first, kept, weights, pick, sub, sub_start
+
+
+def _polish(sub: StereoInput, family: CoatedFamily, sub_fit: PixelFit, weights: np.ndarray,
+            opts: _Options) -> PixelFit:
+    """The subsample's values once more, from ``sub_fit``'s normals (the table fit's): the
+    joint fit from the start's normals can stop short along σ (the α = 0.1 blob render at
+    128²: 0.365 ± 0.007; from the table fit's normals, or from the true ones, 0.396 ±
+    0.005)."""
+    return fit_pixels(sub, family, start=sub_fit, weights=weights, initial=sub_fit.values,
+                      subset_start=False, iterations=opts.iterations, precision=opts.precision)
 
 
 def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
