@@ -9,6 +9,7 @@ import pytest
 
 import roughdiffuse as rd
 from roughdiffuse import stereo
+from roughdiffuse._validate import ParameterError
 from roughdiffuse.render import Sphere
 
 
@@ -149,6 +150,22 @@ def test_poisson_depth_from_a_factorisation_made_in_the_background():
             assert np.all(np.isnan(d[~used]))
     finally:
         clear_cache()
+
+
+def test_lambertian_with_given_weights_uses_them_and_refuses_another_shape():
+    """Given weights replace the threshold's: leaving out every observation of one light
+    changes nothing for exact Lambertian data (closed form: any three lights determine b),
+    and weights of another shape are refused with the expected one."""
+    data = stereo.synthetic_sphere(rd.Lambert(0.5), size=12, lights=6, noise=0.0)
+    full = stereo.lambertian(data, shadow=0.0)
+    w = np.asarray(full.weights).copy()
+    w[0] = 0.0
+    part = stereo.lambertian(data, weights=w)
+    good = w.sum(axis=0) >= 3
+    assert np.allclose(part.normals[good], full.normals[good], atol=1e-9)
+    assert np.array_equal(part.weights, w)
+    with pytest.raises(ParameterError, match=r"weights must have shape \(6, \d+\)"):
+        stereo.lambertian(data, weights=w[:, :-1])
 
 
 def test_ply_mesh_header_and_counts(tmp_path):

@@ -161,6 +161,22 @@ def test_a_convex_sphere_casts_no_shadow_and_attached_shadows_follow_n_dot_l():
     assert not lit.all()  # 60° lights: part of every image is in the attached shadow
 
 
+def test_model_weights_take_given_kept_observations_and_refuse_another_shape():
+    """``kept`` (the threshold's weights, when at hand) is applied as given: an observation
+    left out there stays out; one of another shape is refused, not read out of bounds."""
+    data, normals = stereo.render_stereo(
+        rd.Lambert(0.5), Sphere(), stereo.default_lights(6, 60.0), 16
+    )
+    n = normals[data.mask]
+    kept = np.ones(data.observed.shape, dtype=bool)
+    kept[2, :] = False
+    w = model_weights(data, n, kept=kept)
+    lit = (n @ data.directions.T).T > 0
+    assert np.array_equal(w > 0, lit & kept)
+    with pytest.raises(ParameterError, match=r"kept must have shape \(6, \d+\)"):
+        model_weights(data, n, kept=kept[:, :-1])
+
+
 def test_coated_fit_refuses_too_few_lights_and_unknown_bases():
     data = stereo.synthetic_sphere(rd.Lambert(0.5), size=8, lights=4, noise=0.0)
     assert parameter_count(1) == parameter_count(3) == 5

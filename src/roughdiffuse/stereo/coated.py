@@ -284,6 +284,9 @@ def model_weights(
         tilt = np.nan_to_num(np.hypot(n[:, 0], n[:, 1]) / np.maximum(n[:, 2], 0.05))  # ≤ 20
     if kept is None:
         kept = (observation_weights(data, shadow) > 0) if shadow > 0 else data.observed
+    elif np.shape(kept) != data.observed.shape:  # the kernel reads it unchecked
+        raise ParameterError(f"kept must have shape {data.observed.shape} (lights, object "
+                             f"pixels; got {np.shape(kept)})")
     return _unshadowed(z, m, data.directions, DEPTH_TOLERANCE, tilt, normals=n, keep=kept)
 
 
@@ -610,14 +613,11 @@ def _retry(data: StereoInput, table: Any, light: np.ndarray, obs: np.ndarray,
     again = np.flatnonzero(ok & (rel > factor * np.quantile(rel[ok], quantile)))
     if again.size == 0:
         return fit
-    grey = (obs[:, again] / light[:, None, :]).mean(axis=-1)  # (K, R)
+    grey = data.grey[:, again]  # (K, R)
     w = weights[:, again]
     kept = np.where(w > 0, grey, np.nan)
     darker = w * (grey <= np.nanmedian(kept, axis=0)[None, :])
-    rows, cols = np.nonzero(data.mask)
-    mask = np.zeros_like(data.mask)
-    mask[rows[again], cols[again]] = True
-    start = lambertian_normals(dataclasses.replace(data, mask=mask), darker)
+    start = lambertian_normals(grey, data.directions, darker)
     good = np.all(np.isfinite(start), axis=1)
     again, start = again[good], start[good]
     second = solve_pixels(table, light, obs[:, again], weights[:, again], start,

@@ -100,17 +100,24 @@ def lambertian(
     >>> bool(np.allclose(r.normals[0], [0, 0, 1])), round(float(r.albedo[0, 0]), 6)
     (True, 0.5)
     """
-    w = observation_weights(data, shadow) if weights is None else weights  # (K, P)
-    return albedo_and_residual(data, lambertian_normals(data, w), w)
+    if weights is None:
+        w = observation_weights(data, shadow)  # (K, P)
+    else:
+        w = np.asarray(weights, dtype=np.float64)
+        if w.shape != data.grey.shape:
+            raise ParameterError(f"weights must have shape {data.grey.shape} (lights, object "
+                                 f"pixels; got {w.shape})")
+    return albedo_and_residual(data, lambertian_normals(data.grey, data.directions, w), w)
 
 
-def lambertian_normals(data: StereoInput, weights: np.ndarray) -> np.ndarray:
-    """The Lambertian normals (P, 3) of the observations of weight 1 (``weights`` (K, P)):
-    b = (ρ/π) n by the least squares of I_k / E_k = l_k · b (Woodham 1980), n = b / |b|;
-    NaN where fewer than three observations are kept or they do not determine b."""
-    w = weights
-    grey = data.grey  # (K, P)
-    l = data.directions  # (K, 3)
+def lambertian_normals(grey: np.ndarray, directions: np.ndarray, weights: np.ndarray
+                       ) -> np.ndarray:
+    """The Lambertian normals (P, 3) of the values ``grey`` (K, P; I_k / E_k, e.g.
+    :attr:`StereoInput.grey`, or any common multiple of it) under the lights ``directions``
+    (K, 3), over the observations of weight 1 (``weights`` (K, P)): b = (ρ/π) n by the least
+    squares of I_k / E_k = l_k · b (Woodham 1980), n = b / |b|; NaN where fewer than three
+    observations are kept or they do not determine b."""
+    w, l = weights, directions
     # weighted normal equations per pixel: (Σ w l lᵀ) b = Σ w l I (matrix products over k)
     a = (w.T @ (l[:, :, None] * l[:, None, :]).reshape(-1, 9)).reshape(-1, 3, 3)
     rhs = (w * grey).T @ l
