@@ -24,7 +24,9 @@ per pixel or light, and the roughness's Jacobian column comes out of the same fo
 the others.
 
 Standard errors are the Gauss–Newton ones, s² (JᵀJ)⁻¹ with s² the residual variance, per
-pixel; for the global roughness from the Schur complement, with s² over all pixels.
+pixel; for the global roughness the pixels' sandwich S⁻¹ B S⁻¹ (S the Schur complement, B
+the spread of the pixels' profiled scores: :func:`_sandwich_diagonal`), which holds when the
+model misfits a pixel as a whole and its errors are correlated across the lights.
 """
 
 from __future__ import annotations
