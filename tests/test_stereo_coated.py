@@ -338,7 +338,7 @@ def test_normal_spread_of_a_cylinder():
     """One row across a cylinder of radius 3 pixels, its normal tilted by θ_c = asin((c − 3)
     / 3) at column c (and a NaN normal at the end, which counts as no neighbour): each
     pixel's spread is the larger difference of θ to its neighbours' (closed form)."""
-    from roughdiffuse.stereo.coated import normal_spread
+    from roughdiffuse.stereo.footprint import normal_spread
 
     cols = np.arange(7)
     theta = np.arcsin((cols - 3) / 3.0)

@@ -58,6 +58,7 @@ from .._validate import ParameterError
 from ..models.base import Model
 from ..models.coated import Coated
 from .depth import clear_cache, integrate, prefactor
+from .footprint import normal_spread, smoothest
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, lambertian_normals, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
@@ -67,7 +68,6 @@ __all__ = [
     "CoatedResult",
     "cast_shadows",
     "coated",
-    "normal_spread",
     "parameter_count",
 ]
 
@@ -501,40 +501,15 @@ def _well_lit(weights: np.ndarray, ok: np.ndarray, count: int,
     """Up to ``count`` pixels (sorted indices) drawn at random among those with at least
     the median number of kept observations: their highlights and shading are seen. With
     ``spread`` (P,), the angle between each pixel's normal and its neighbours'
-    (:func:`normal_spread`), among the :data:`SMOOTH` fraction of them (at least ``count``)
-    whose spread is least."""
+    (:func:`.footprint.normal_spread`), among the :data:`SMOOTH` fraction of them (at least
+    ``count``) whose spread is least."""
     kept = weights.sum(axis=0)
     pool = np.flatnonzero(ok & (kept >= max(np.median(kept[ok]) if ok.any() else 0, 3)))
     if pool.size <= count:
         return pool
     if spread is not None:
-        keep = max(count, math.ceil(SMOOTH * pool.size))
-        pool = np.sort(pool[np.argsort(spread[pool], kind="stable")[:keep]])
+        pool = smoothest(spread, pool, SMOOTH, count)
     return np.sort(np.random.default_rng(0).choice(pool, count, replace=False))
-
-
-def normal_spread(mask: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """The largest angle (radians) between each object pixel's normal and those of its four
-    neighbours in the mask (P,): how far the surface turns across one pixel. 0 for a pixel
-    without a neighbour; NaN normals count as no neighbour.
-
-    Parameters
-    ----------
-    mask : array (H, W) bool
-        The object's pixels.
-    normals : array (P, 3)
-        Unit normals of the object pixels, in mask order.
-    """
-    image = np.full(mask.shape + (3,), np.nan)
-    image[mask] = normals
-    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), constant_values=np.nan)
-    h, w = mask.shape
-    out = np.zeros(mask.shape)
-    for dr, dc in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-        other = padded[1 + dr : 1 + dr + h, 1 + dc : 1 + dc + w]
-        cos = np.clip(np.sum(image * other, axis=-1), -1.0, 1.0)
-        out = np.fmax(out, np.nan_to_num(np.arccos(cos), nan=0.0))
-    return out[mask]
 
 
 def _pixels(data: StereoInput, pick: np.ndarray) -> StereoInput:
