@@ -45,8 +45,11 @@ def normal_spread(mask: np.ndarray, normals: np.ndarray) -> np.ndarray:
 def smoothest(spread: np.ndarray, pool: np.ndarray, fraction: float, at_least: int = 0
               ) -> np.ndarray:
     """The pixels of ``pool`` (indices) whose ``spread`` is least: ``fraction`` of them, and
-    at least ``at_least`` (all of them when the pool is smaller); sorted indices."""
+    at least ``at_least`` (all of them when the pool is smaller), with every pixel tied with
+    the last one (pixels without neighbours, all of spread 0, are all kept); sorted."""
     keep = max(at_least, math.ceil(fraction * pool.size))
     if keep >= pool.size:
         return np.sort(pool)
-    return np.sort(pool[np.argsort(spread[pool], kind="stable")[:keep]])
+    values = spread[pool]
+    bound = np.partition(values, keep - 1)[keep - 1]
+    return np.sort(pool[values <= bound])

@@ -45,6 +45,7 @@ import numpy as np
 from .._validate import ParameterError
 from ..models.base import Model
 from ..progress import finish
+from .footprint import normal_spread, smoothest
 from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, observation_weights
 
@@ -468,6 +469,7 @@ def rough(
     """
     name, box, s0 = _check_arguments(model, roughness, precision, iterations, initial_roughness)
     start = lambertian(data, shadow=shadow) if start is None else start
+    trusted = None if per_pixel else _smoother(data.mask, np.asarray(start.normals))
     fit = fit_pixels(
         data,
         Family(model, (name,), (box,)),
@@ -479,6 +481,7 @@ def rough(
         iterations=iterations,
         precision=precision,
         progress=progress,
+        trusted=trusted,
     )
     return RoughResult(
         normals=fit.normals,
@@ -492,6 +495,16 @@ def rough(
         weights=fit.weights,
         iterations=fit.iterations,
     )
+
+
+def _smoother(mask: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """The pixels (P,) bool whose terms give the object's roughness: the :data:`TRUSTED`
+    fraction of those with finite normals whose normals turn least across the pixel
+    (:func:`.footprint.normal_spread` of the start's normals)."""
+    ok = np.flatnonzero(np.all(np.isfinite(normals), axis=1))
+    out = np.zeros(normals.shape[0], dtype=bool)
+    out[smoothest(normal_spread(mask, normals), ok, TRUSTED)] = True
+    return out
 
 
 def _check_arguments(
@@ -563,6 +576,7 @@ def fit_pixels(
     precision: str = "single",
     progress: bool = False,
     label: str = "rough photometric stereo",
+    trusted: np.ndarray | None = None,
 ) -> PixelFit:
     """The batched per-pixel fit of :func:`rough` for any :class:`Family`.
 
@@ -585,9 +599,18 @@ def fit_pixels(
         As :func:`rough`.
     label : str
         The progress bar's text.
+    trusted : array (P,) bool, optional
+        The pixels whose terms give the object's values and their standard errors (the
+        others are fitted for their normal and albedo at those values); default all.
     """
     check_fit_options(precision, iterations)
     setup = _Setup.of(data, start, weights, initial, per_pixel, len(family.names))
+    if trusted is not None:
+        if np.shape(trusted) != setup.ok.shape:
+            raise ParameterError(f"trusted must have shape {setup.ok.shape} (object pixels; "
+                                 f"got {np.shape(trusted)})")
+        if (setup.ok & trusted).any():
+            setup.trusted = setup.ok & np.asarray(trusted, dtype=bool)
     g0 = np.asarray(initial, dtype=np.float64)
     g0 = g0 if g0.ndim == 1 else np.median(g0, axis=0)
     g, done, (sch, score, costs, a_diag) = _solve(
@@ -609,7 +632,8 @@ class _Setup:
     """The fit's data and starting point, pixels in mask order: observations ``obs``
     (K, P, C), weights ``wk`` (K, P; 0 for pixels left out), the pixels fitted ``ok``, the
     per-pixel parameters ``theta`` (P, nu: two tangent offsets, C albedos, the G values when
-    per pixel) and normals ``n0`` (P, 3)."""
+    per pixel) and normals ``n0`` (P, 3); ``trusted`` (P,) bool, the pixels whose terms give
+    the global values (None: every pixel fitted)."""
 
     obs: np.ndarray
     wk: np.ndarray
@@ -618,6 +642,7 @@ class _Setup:
     n0: np.ndarray
     channels: int
     nu: int
+    trusted: np.ndarray | None = None
 
     @classmethod
     def of(
@@ -686,10 +711,11 @@ def _solve(
             chunks.local(steps["local"], state, g, 4 + 2 * (iterations - 1))
             bar.update(iterations)
         else:
-            if subset_start and int(ok.sum()) > 4 * SUBSET:
+            use = ok if setup.trusted is None else setup.trusted
+            if subset_start and int(use.sum()) > 4 * SUBSET:
                 # start from a fit to a random subset of the pixels (the same loop, a few
                 # percent of the work), so the whole object needs one or two global steps
-                pick = np.sort(np.random.default_rng(0).choice(np.flatnonzero(ok), SUBSET, False))
+                pick = np.sort(np.random.default_rng(0).choice(np.flatnonzero(use), SUBSET, False))
                 sub = _Chunks(
                     SUBSET,
                     dt,
@@ -701,7 +727,8 @@ def _solve(
                 )
                 sub_state = {k: v[pick].copy() for k, v in state.items()}
                 g, _ = _fit_globals(sub, steps["local"], sub_state, g, family, tol, iterations)
-            g, done = _fit_globals(chunks, steps["local"], state, g, family, tol, iterations, bar)
+            g, done = _fit_globals(chunks, steps["local"], state, g, family, tol, iterations, bar,
+                                   setup.trusted)
             if done < iterations:
                 finish(bar, f"converged after {done} of {iterations} iterations")
         bar.close()
@@ -734,7 +761,8 @@ def _result(
         values = np.where(ok[:, None], theta[:, 2 + c :], np.nan)
         values_se = np.where(ok[:, None], np.sqrt(np.maximum(var_local[:, 2 + c :], 0.0)), np.nan)
     else:
-        sch, score = (np.asarray(t, dtype=np.float64)[ok] for t in reduced)
+        use = ok if setup.trusted is None else setup.trusted
+        sch, score = (np.asarray(t, dtype=np.float64)[use] for t in reduced)
         count = g.shape[0]
         values = g.copy()
         values_se = np.sqrt(_sandwich_diagonal(sch.sum(axis=0).reshape(count, count), score))
@@ -807,6 +835,14 @@ def _newton_step(
     return np.zeros_like(rhs)
 
 
+TRUSTED = 0.75
+"""The fraction of an object's pixels, those whose normals turn least across the pixel,
+from which the rough fit draws the object's roughness (:mod:`.footprint`): near the limb a
+pixel's footprint spans normals several degrees apart and the mean of the full Oren–Nayar
+model over them is not the model at their mean. The matte sphere render of
+``scripts/stereo_renders.py`` at 128² (σ 0.4): 0.3988 ± 0.0002 from every pixel, 0.3998 ±
+0.0002 from these."""
+
 LAM_CAP = 1e-3
 """The damping λ of every pixel's Levenberg–Marquardt is brought down to at most this (its
 start) whenever the global values move (:func:`_fit_globals`). A converged pixel's steps
@@ -826,6 +862,7 @@ def _fit_globals(
     tol: float,
     iterations: int,
     bar: Any = None,
+    use: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
     """Alternate per-pixel LM steps and Schur-complement Gauss–Newton steps of the global
     values (in a box trust region), updating ``state`` in place; returns them and the
@@ -835,7 +872,8 @@ def _fit_globals(
     also returns the reduced system of the values, whose step gives the next ones. They are
     kept if the cost after the next iteration's LM steps is not larger, else the state goes
     back and the trust region shrinks. Converged when every value or the cost changes by less
-    than ``tol`` (relative).
+    than ``tol`` (relative). ``use`` (P,) bool: the pixels whose costs and terms count
+    (default all).
     """
     lo, hi = family.lower, family.upper
     width = hi - lo
@@ -848,6 +886,8 @@ def _fit_globals(
         done = it + 1
         state["lam"] = np.minimum(state["lam"], LAM_CAP)
         costs, sch_p, rhs_p = chunks.local(fn, state, g, count)
+        if use is not None:
+            costs, sch_p, rhs_p = costs[use], sch_p[use], rhs_p[use]
         count = 2
         cost = float(np.sum(costs, dtype=np.float64))
         if bar is not None:
