@@ -334,25 +334,6 @@ def test_cli_coated_on_a_diligent_folder(tmp_path):
     assert np.nanmean(stereo.angular_error(fitted, normals[data.mask])) < 0.5
 
 
-def test_normal_spread_of_a_cylinder():
-    """One row across a cylinder of radius 3 pixels, its normal tilted by θ_c = asin((c − 3)
-    / 3) at column c (and a NaN normal at the end, which counts as no neighbour): each
-    pixel's spread is the larger difference of θ to its neighbours' (closed form)."""
-    from roughdiffuse.stereo.footprint import normal_spread
-
-    cols = np.arange(7)
-    theta = np.arcsin((cols - 3) / 3.0)
-    normals = np.stack([np.sin(theta), np.zeros(7), np.cos(theta)], axis=1)
-    normals[6] = np.nan
-    mask = np.zeros((3, 9), dtype=bool)
-    mask[1, 1:8] = True
-    got = normal_spread(mask, normals)
-    step = np.abs(np.diff(theta[:6]))
-    want = np.maximum(np.r_[0.0, step], np.r_[step, 0.0])
-    np.testing.assert_allclose(got[:6], want, atol=1e-7)
-    assert got[6] == 0.0
-
-
 def test_subsample_drawn_among_the_smoothest():
     """With a spread, every pixel drawn is among the SMOOTH fraction (at least the count) of
     the well-lit pixels with the least spread; without, any well-lit pixel may be drawn."""
