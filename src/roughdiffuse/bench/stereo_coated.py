@@ -198,6 +198,12 @@ def _table(rows: list[dict[str, Any]], robust: bool) -> list[str]:
     return lines
 
 
+def _within(value: tuple[float, float], truth: float) -> bool:
+    """Whether a fitted value lies within two of its standard errors of the truth: a finite
+    standard error (an infinite one, σ not determined, counts as missed)."""
+    return math.isfinite(value[1]) and abs(value[0] - truth) <= 2 * value[1]
+
+
 def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[str]:
     by = {r["name"]: r for r in rows}
     out = []
@@ -234,7 +240,7 @@ def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[s
         all(no_worse) if no_worse else None,
     )
     within = [
-        abs(r["sigma"][0] - TRUE_SIGMA[m]) <= 2 * r["sigma"][1]
+        _within(r["sigma"], TRUE_SIGMA[m])
         for r in rows
         if (m := r["name"].split("-")[-1]) in TRUE_SIGMA
     ]
@@ -243,7 +249,7 @@ def _targets(rows: list[dict[str, Any]], robust: bool, per_mpx: float) -> list[s
         all(within) if within else None,
     )
     inner = [
-        abs(r["sigma_inner"][0] - TRUE_SIGMA[m]) <= 2 * r["sigma_inner"][1]
+        _within(r["sigma_inner"], TRUE_SIGMA[m])
         for r in rows
         if (m := r["name"].split("-")[-1]) in TRUE_SIGMA
     ]
