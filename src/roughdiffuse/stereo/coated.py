@@ -602,12 +602,8 @@ def _table_fit(
             sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick])
         moved = False
         if round_ == 0:  # the subsample again, among the smoother pixels (SMOOTH)
-            ok = fit["ok"] & np.all(np.isfinite(fit["normals"]), axis=1)
-            pick = _well_lit(again, ok, subsample, normal_spread(data.mask, fit["normals"]))
-            sub, sub_weights = _pixels(data, pick), again[:, pick]
-            sub_fit = _polish(sub, family, dataclasses.replace(
-                sub_fit, normals=fit["normals"][pick], albedo=fit["albedo"][pick]),
-                sub_weights, opts)
+            pick, sub, sub_fit = _polish(data, family, sub_fit, fit, again, subsample, opts)
+            sub_weights = again[:, pick]
             moved = not _close(sub_fit.values, tabled, sub_fit.values_se)
         if np.mean(again != weights) < SETTLED and not moved:
             break
@@ -688,14 +684,23 @@ def _table_start(data: StereoInput, base_model: Model,
     return first, kept, weights, pick, sub, sub_start
 
 
-def _polish(sub: StereoInput, family: CoatedFamily, sub_fit: PixelFit, weights: np.ndarray,
-            opts: _Options) -> PixelFit:
-    """The subsample's values once more, from ``sub_fit``'s normals (the table fit's): the
-    joint fit from the start's normals can stop short along σ (the α = 0.1 blob render at
-    128²: 0.365 ± 0.007; from the table fit's normals, or from the true ones, 0.396 ±
-    0.005)."""
-    return fit_pixels(sub, family, start=sub_fit, weights=weights, initial=sub_fit.values,
-                      subset_start=False, iterations=opts.iterations, precision=opts.precision)
+def _polish(data: StereoInput, family: CoatedFamily, sub_fit: PixelFit,
+            fit: dict[str, np.ndarray], weights: np.ndarray, count: int, opts: _Options
+            ) -> tuple[np.ndarray, StereoInput, PixelFit]:
+    """The subsample drawn again among the smoother well-lit pixels (:data:`SMOOTH`, from
+    the table fit ``fit``'s normals and the weights (K, P) they give), and the object's
+    values fitted on it from the table fit's normals and albedo, starting from
+    ``sub_fit``'s values: the joint fit from the start's normals can stop short along σ (the
+    α = 0.1 blob render at 128²: 0.365 ± 0.007; from the table fit's normals, or from the
+    true ones, 0.396 ± 0.005). Returns the new subsample (indices, input) and its fit."""
+    normals = fit["normals"]
+    ok = fit["ok"] & np.all(np.isfinite(normals), axis=1)
+    pick = _well_lit(weights, ok, count, normal_spread(data.mask, normals))
+    sub = _pixels(data, pick)
+    start = dataclasses.replace(sub_fit, normals=normals[pick], albedo=fit["albedo"][pick])
+    return pick, sub, fit_pixels(sub, family, start=start, weights=weights[:, pick],
+                                 initial=sub_fit.values, subset_start=False,
+                                 iterations=opts.iterations, precision=opts.precision)
 
 
 def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
