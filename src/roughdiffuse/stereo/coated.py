@@ -63,13 +63,7 @@ from .inputs import StereoInput
 from .lambertian import LambertianResult, lambertian, lambertian_normals, observation_weights
 from .rough import Family, PixelFit, RoughResult, fit_box, fit_pixels, rough
 
-__all__ = [
-    "CoatedFamily",
-    "CoatedResult",
-    "cast_shadows",
-    "coated",
-    "parameter_count",
-]
+__all__ = ["CoatedFamily", "CoatedResult", "cast_shadows", "coated", "parameter_count"]
 
 BASES: dict[str, str] = {
     "oren-nayar": "sigma",

@@ -98,7 +98,7 @@ def clear_cache() -> None:
     _FACTOR.pop("last", None)
 
 
-def _pairs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+def neighbour_pairs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
     """The neighbour pairs of ``mask``: horizontal (i, j)–(i, j+1) and vertical
     (i, j)–(i+1, j) pairs inside it (their boolean maps), their pixel indices in mask order
     (``lo``, ``hi``), and the pixel count."""
@@ -115,7 +115,7 @@ def _pairs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nda
 
 def _poisson(p: np.ndarray, q: np.ndarray, mask: np.ndarray) -> np.ndarray:
     h, w = mask.shape
-    hor, ver, lo, hi, n = _pairs(mask)
+    hor, ver, lo, hi, n = neighbour_pairs(mask)
     # the differences z[hi] − z[lo]; moving down is −y
     rhs = np.concatenate([0.5 * (p[:, :-1][hor] + p[:, 1:][hor]),
                           -0.5 * (q[:-1, :][ver] + q[1:, :][ver])])
@@ -162,7 +162,7 @@ def _factor(mask: np.ndarray) -> dict[str, Any]:
     from scipy.sparse import coo_matrix
     from scipy.sparse.linalg import splu
 
-    _, _, lo, hi, n = _pairs(mask)
+    _, _, lo, hi, n = neighbour_pairs(mask)
     pieces, count = label(mask)
     labels = pieces[mask] - 1
     pinned = np.unique(labels, return_index=True)[1]

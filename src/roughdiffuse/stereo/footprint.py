@@ -15,6 +15,8 @@ import math
 
 import numpy as np
 
+from .depth import neighbour_pairs
+
 __all__ = ["normal_spread", "smoothest"]
 
 
@@ -30,16 +32,14 @@ def normal_spread(mask: np.ndarray, normals: np.ndarray) -> np.ndarray:
     normals : array (P, 3)
         Unit normals of the object pixels, in mask order.
     """
-    image = np.full(mask.shape + (3,), np.nan)
-    image[mask] = normals
-    padded = np.pad(image, ((1, 1), (1, 1), (0, 0)), constant_values=np.nan)
-    h, w = mask.shape
-    out = np.zeros(mask.shape)
-    for dr, dc in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-        other = padded[1 + dr : 1 + dr + h, 1 + dc : 1 + dc + w]
-        cos = np.clip(np.sum(image * other, axis=-1), -1.0, 1.0)
-        out = np.fmax(out, np.nan_to_num(np.arccos(cos), nan=0.0))
-    return out[mask]
+    _, _, lo, hi, count = neighbour_pairs(mask)
+    n = np.asarray(normals, dtype=np.float64)
+    cos = np.clip(np.sum(n[lo] * n[hi], axis=1), -1.0, 1.0)
+    angle = np.nan_to_num(np.arccos(cos), nan=0.0)
+    out = np.zeros(count)
+    np.maximum.at(out, lo, angle)
+    np.maximum.at(out, hi, angle)
+    return out
 
 
 def smoothest(spread: np.ndarray, pool: np.ndarray, fraction: float, at_least: int = 0

@@ -601,7 +601,8 @@ def fit_pixels(
         The progress bar's text.
     trusted : array (P,) bool, optional
         The pixels whose terms give the object's values and their standard errors (the
-        others are fitted for their normal and albedo at those values); default all.
+        others are fitted for their normal and albedo at those values); default all, and
+        all when none of them is fitted.
     """
     check_fit_options(precision, iterations)
     setup = _Setup.of(data, start, weights, initial, per_pixel, len(family.names))
@@ -682,7 +683,7 @@ def _solve(
     iterations: int,
     precision: str,
     bar: Any,
-) -> tuple[np.ndarray, int, tuple[Any, Any, Any]]:
+) -> tuple[np.ndarray, int, tuple[Any, Any, Any, Any]]:
     """Run the fit in the chosen precision; ``setup.theta`` and ``setup.n0`` become the
     fitted values. Returns the global values, the iterations and the pieces of the error
     estimates per pixel (Schur terms, profiled scores, costs, diagonal of A⁻¹)."""
@@ -840,7 +841,7 @@ TRUSTED = 0.75
 from which the rough fit draws the object's roughness (:mod:`.footprint`): near the limb a
 pixel's footprint spans normals several degrees apart and the mean of the full Oren–Nayar
 model over them is not the model at their mean. The matte sphere render of
-``scripts/stereo_renders.py`` at 128² (σ 0.4): 0.3988 ± 0.0002 from every pixel, 0.3998 ±
+``scripts/stereo_renders.py`` at 128² (σ 0.4): 0.3988 ± 0.0002 from every pixel, 0.3997 ±
 0.0002 from these."""
 
 LAM_CAP = 1e-3
