@@ -75,3 +75,10 @@ def open_page(browser: object, url: str, width: int = 1280, height: int = 720) -
     page.goto(url)
     page.wait_for_selector("body[data-ready='1']", state="attached", timeout=60_000)
     return log
+
+
+def frames(p: object) -> None:
+    """Wait until the page has drawn what the last input asked for: the explorer redraws in
+    the next animation frame (``refresh`` in main.js), so two frames cover a redraw that was
+    pending when this was called."""
+    p.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")

@@ -37,7 +37,7 @@ import numpy as np
 import pytest
 
 from example_models import points_of
-from explorer_browser import open_page
+from explorer_browser import frames, open_page
 from roughdiffuse._validate import ParameterError
 from roughdiffuse.explorer import model_from_params
 from roughdiffuse.explorer.params import explorer_entries, flat_key
@@ -229,6 +229,7 @@ def test_coated_base_menu_shows_the_chosen_base_sliders(page):
     assert shown("base") and shown("sigma") and not shown("base_roughness")
     p.select_option("#a-base", "eon")
     assert shown("base_roughness") and not shown("sigma")
+    frames(p)  # the plot is redrawn in the next animation frame: read it after that
     s = p.evaluate("() => window.rdExplorer.state.a")
     ti = math.radians(p.evaluate("() => window.rdExplorer.state.light.theta"))
     assert s["base"] == "eon"
@@ -274,7 +275,7 @@ def test_alias_in_the_menu_plot_and_url(page):
         "() => (window.rdExplorer.tables().plane?.rows ?? []).some(r => r[0].includes('pbrt-v3'))"
         " && window.rdExplorer.state.light.theta === 40"
     )
-    p.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    frames(p)
     rows = [r for r in p.evaluate("window.rdExplorer.tables().plane.rows") if r[0].startswith("A")]
     theta_r = np.radians([r[1] for r in rows])
     got = np.array([r[2] for r in rows])
@@ -318,19 +319,18 @@ def test_two_coats_side_by_side_keep_their_own_values(browser, explorer_url):
         " g.readPixels(Math.round(c.width * x), c.height >> 1, 1, 1, g.RGBA, g.UNSIGNED_BYTE, px);"
         " return px[1]; }); }"
     )
-    settle = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
     try:
         p.select_option("#mode", "1")
         p.select_option("#a-model", "eon")
         p.select_option("#b-model", "coated")
-        p.evaluate(settle)
+        frames(p)
         eon, coat = p.evaluate(centre)
         p.select_option("#a-model", "coated")
-        p.evaluate(settle)
+        frames(p)
         assert p.evaluate(centre) == [coat, coat] and 0 < coat < eon
         p.fill("#b-eta", "2.5")
         p.dispatch_event("#b-eta", "input")
-        p.evaluate(settle)
+        frames(p)
         a, b = p.evaluate(centre)
         assert a == coat and b < coat  # a denser coat reflects more, transmits less
         assert not log.errors, log.errors

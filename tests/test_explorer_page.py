@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from explorer_browser import open_page
+from explorer_browser import frames, open_page
 from roughdiffuse import OrenNayar
 
 RADIUS_FRACTION = 0.46  # sphere.frag: radius = 0.46 min(width, height)
@@ -37,11 +37,6 @@ def shared_page(browser, explorer_url):  # noqa: F811 - fixtures
     log = open_page(browser, explorer_url)
     yield log
     log.page.close()
-
-
-def frames(p) -> None:
-    """Wait until the page has drawn what the last input asked for."""
-    p.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
 
 
 def canvas_pixels(p) -> np.ndarray:

@@ -16,16 +16,12 @@ import xml.etree.ElementTree as ET
 import pytest
 from PIL import Image
 
-from explorer_browser import open_page
+from explorer_browser import frames, open_page
 
 SIZES = [(1280, 720), (1920, 1080)]
 CSV = "theta_i_deg,theta_r_deg,delta_phi_deg,brdf\n" + "".join(
     f"40,{t},{d},0.2\n" for t in range(0, 90, 5) for d in (0, 180)
 )
-
-
-def frames(p) -> None:
-    p.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
 
 
 def drop_csv(p, text: str = CSV) -> None:

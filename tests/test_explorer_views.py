@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from explorer_browser import open_page
+from explorer_browser import frames, open_page
 from roughdiffuse import OrenNayar
 
 VIEWS = ("plane", "polar", "lobe", "albedo", "slice")
@@ -29,10 +29,6 @@ def page(browser, explorer_url):  # noqa: F811 - fixtures
     log = open_page(browser, explorer_url, 1280, 720)
     yield log
     log.page.close()
-
-
-def frames(p) -> None:
-    p.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
 
 
 def canvas_rgb(p, canvas_id: str) -> np.ndarray:

@@ -132,7 +132,7 @@ def test_the_package_serves_every_model_class_from_the_scan():
 
 EXPLORER_SCRIPT = """
 import json, math
-from explorer_browser import CHROMIUM, CHROMIUM_ARGS, open_page
+from explorer_browser import CHROMIUM, CHROMIUM_ARGS, frames, open_page
 from playwright.sync_api import sync_playwright
 from roughdiffuse.explorer import make_server, serve_in_thread, url_of
 
@@ -145,7 +145,7 @@ with sync_playwright() as p:
     page = log.page
     out["menu"] = page.eval_on_selector_all("#a-model option", "os => os.map(o => o.value)")
     page.select_option("#a-model", "minnaert-demo")
-    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    frames(page)
     out["sliders"] = [k for k in ("albedo-r", "k", "sigma")
                       if page.evaluate(f"() => !document.getElementById('a-{k}-row').hidden")]
     out["sphere"] = page.evaluate(
