@@ -166,3 +166,44 @@ def test_pixels_stuck_at_a_narrow_highlight_are_fitted_again_to_the_truth():
     assert np.max(stuck) > 5.0  # the case the retry is for
     fit = _retry(data, table, light, obs, weights, plain, 30)
     assert np.max(stereo.angular_error(fit["normals"], normals)) < 0.5
+
+
+def test_a_refit_stopped_at_sigma_zero_starts_again_inside_the_box():
+    """Oren–Nayar's slope in σ is 0 at σ = 0 (A and B are functions of σ²): a subsample fit
+    that reaches σ = 0 stays there from any normals. ``_polish`` fits again from RESTART of
+    σ's box and keeps the lower residual: σ within 3 standard errors of the truth (0.4)
+    and 0.01 of it. Observations from ``Coated`` on its NumPy reference path, 1 % noise;
+    the pixels' normals the true ones."""
+    from roughdiffuse.stereo.coated import _family, _Options, _polish
+    from roughdiffuse.stereo.diligent import diligent_lights
+    from roughdiffuse.stereo.inputs import StereoInput
+    from roughdiffuse.stereo.rough import fit_pixels
+
+    lights = diligent_lights()[::2]
+    rng = np.random.default_rng(5)
+    count = 120
+    tilt = np.radians(rng.uniform(10.0, 55.0, count))
+    phi = rng.uniform(0.0, 2 * math.pi, count)
+    normals = np.stack([np.sin(tilt) * np.cos(phi), np.sin(tilt) * np.sin(phi), np.cos(tilt)], 1)
+    mu_i = normals @ lights.T  # (P, K)
+    with rd.use_fastpath(False):
+        lit = np.maximum(mu_i.T, 1e-3)
+        f = _builder(0.1)(ALBEDO).brdf_cosines(lit, np.broadcast_to(normals[:, 2], lit.shape),
+                                               np.broadcast_to(lights[:, 2:3], lit.shape))
+    images = np.where(mu_i.T > 0, np.asarray(f) * lit, 0.0)
+    images *= 1.0 + 0.01 * rng.normal(size=images.shape)
+    data = StereoInput.from_arrays(images[:, None, :, None], lights)
+    weights = (mu_i.T > 0).astype(np.float64)
+    family = _family("oren-nayar-full", 1.5, "ggx")
+    start = stereo.lambertian(data, shadow=0.0)
+    stuck = fit_pixels(data, family, start=start, weights=weights, initial=np.array([0.0, 0.1]),
+                       subset_start=False, precision="double")
+    assert stuck.values[0] <= 1e-9  # the case the restart is for: σ = 0 stays
+    table_fit = {"normals": normals, "albedo": np.full((count, 1), ALBEDO),
+                 "ok": np.ones(count, bool)}
+    opts = _Options(shadow=0.0, rounds=0, depth_method="poisson", iterations=30,
+                    precision="double", progress=False)
+    _, _, polished = _polish(data, family, stuck, table_fit, weights, count, opts)
+    sigma, se = polished.values[0], polished.values_se[0]
+    assert abs(sigma - SIGMA) <= min(3 * se, 0.01), (sigma, se)
+    assert abs(polished.values[1] - 0.1) <= 0.005

@@ -100,6 +100,12 @@ the α = 0.1 vase of ``scripts/stereo_renders.py`` at 128² (its belly's ridge a
 spread 5–12° a pixel), σ from the true normals and 512 well-lit pixels of each draw: 0.39–
 0.42 over all of them, 0.396–0.402 over the smoothest quarter (truth 0.4)."""
 
+RESTART = 0.25
+"""Where in its box the base's roughness starts a second time when the subsample's refit
+(:func:`_polish`) stopped at its lower bound: the α = 0.1 blob render of
+``scripts/stereo_renders.py`` at 128², the pixels within 60° of the view, reached σ = 0 from
+the Lambertian start's normals and stayed there (0 ± ∞; from 0.39, 0.405 ± 0.014)."""
+
 RETABLE = 1.0
 """A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
 by less than this fraction of their standard errors (below what the images determine: the
@@ -692,9 +698,23 @@ def _polish(data: StereoInput, family: CoatedFamily, sub_fit: PixelFit,
     pick = _well_lit(weights, ok, count, normal_spread(data.mask, normals))
     sub = _pixels(data, pick)
     start = dataclasses.replace(sub_fit, normals=normals[pick], albedo=fit["albedo"][pick])
-    return pick, sub, fit_pixels(sub, family, start=start, weights=weights[:, pick],
-                                 initial=sub_fit.values, subset_start=False,
-                                 iterations=opts.iterations, precision=opts.precision)
+
+    def refit(initial: np.ndarray) -> PixelFit:
+        return fit_pixels(sub, family, start=start, weights=weights[:, pick], initial=initial,
+                          subset_start=False, iterations=opts.iterations,
+                          precision=opts.precision)
+
+    polished = refit(np.asarray(sub_fit.values, dtype=np.float64))
+    lo, hi = family.bounds[0]
+    if polished.values[0] <= lo + 1e-6 * (hi - lo):
+        # at σ = 0 the model's slope in σ is 0 (Oren–Nayar's A and B are functions of σ²):
+        # a fit that reaches it stays; from RESTART of the box too, the lower residual kept
+        initial = np.array(polished.values, dtype=np.float64)
+        initial[0] = lo + RESTART * (hi - lo)
+        other = refit(initial)
+        if np.nanmean(other.residual**2) < np.nanmean(polished.residual**2):
+            polished = other
+    return pick, sub, polished
 
 
 def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
