@@ -106,13 +106,6 @@ RESTART = 0.25
 ``scripts/stereo_renders.py`` at 128², the pixels within 60° of the view, reached σ = 0 from
 the Lambertian start's normals and stayed there (0 ± ∞; from 0.39, 0.405 ± 0.014)."""
 
-RETABLE = 1.0
-"""A shadow round keeps the table when the subsample's refit moved σ, α and the light scale
-by less than this fraction of their standard errors (below what the images determine: the
-normals would move by less than their own). Making it again costs a solve of every pixel
-(6 s of 37 on the 1024² α = 0.3 sphere render, where the refit moved σ by 0.8 of its
-standard error, 0.4031 → 0.4001)."""
-
 RETRY = (3.0, 0.1)
 """The table solver fits a pixel again from a second start when its relative residual is
 above RETRY[0] times the object's RETRY[1] quantile (:func:`_retry`): the noise's level,
@@ -536,15 +529,15 @@ def _table_fit(
     again from the fitted normals after each round, and the subsample's fit redone with
     them where at least :data:`SETTLED` of its own observations changed, and after the first
     round always, drawn again among the smoother pixels (:data:`SMOOTH`) from the table
-    fit's normals (the table kept when the values moved by less
-    than :data:`RETABLE` of their standard errors; the rounds stop when fewer than
+    fit's normals (the table kept while it stands for the values fitted again, :func:`_kept`;
+    the rounds stop when fewer than
     :data:`SETTLED` of all the observations changed and the table was kept). A
     matte object (the coat does not lower the subsample's residual) gets the rough fit of
     every pixel. With the table kept, a round solves again only the pixels whose
     observations changed."""
     from .coated_table import coated_table, solve_pixels
 
-    shadow, depth_method = opts.shadow, opts.depth_method
+    depth_method = opts.depth_method
     iterations, precision = opts.iterations, opts.precision
     base_model = family.model.base
     first, kept, weights, pick, sub, sub_start = _table_start(data, base_model, start, opts,
@@ -552,7 +545,7 @@ def _table_fit(
     obs = data.observations
     normals, albedo = first.normals, None
     done = 0
-    fit, sub_fit, table, tabled, redo = None, None, None, None, None
+    fit, sub_fit, table, tabled, checked, redo = None, None, None, None, None, None
     sub_weights = None
     for round_ in range(opts.rounds + 1):
         # the object's values: the direct fit of the subsample (from the last round's)
@@ -568,17 +561,15 @@ def _table_fit(
                                  iterations=iterations, precision=precision)
         sub_weights = now
         if round_ == 0 and not _coat_helps(sub_fit, sub_start):
-            full = first if isinstance(first, RoughResult) else rough(
-                data, base_model, shadow=shadow, precision=precision, progress=opts.progress,
-                start=first)
-            fields = {f.name: getattr(full, f.name) for f in dataclasses.fields(RoughResult)}
-            return CoatedResult(**fields, alpha=math.nan, alpha_se=math.nan, coat=False,
-                                shadow_rounds=0, **coat)
+            return _matte(data, base_model, first, opts, coat)
         values = sub_fit.values
-        if table is None or not _close(values, tabled, sub_fit.values_se):
+        if table is not None and checked is not values:
+            table = _kept(table, family, tabled, values, data.directions)
+        if table is None:
             table = coated_table(lambda rho, v=values: family.build(rho, v), float(values[1]),
                                  data.directions)
             tabled, redo = values, None
+        checked = values
         if albedo is None:
             albedo = _start_albedo(family, np.asarray(first.albedo), float(values[0]))
             albedo = albedo / family.scale(values)
@@ -604,7 +595,8 @@ def _table_fit(
         if round_ == 0:  # the subsample again, among the smoother pixels (SMOOTH)
             pick, sub, sub_fit = _polish(data, family, sub_fit, fit, again, subsample, opts)
             sub_weights = again[:, pick]
-            moved = not _close(sub_fit.values, tabled, sub_fit.values_se)
+            table = _kept(table, family, tabled, sub_fit.values, data.directions)
+            checked, moved = sub_fit.values, table is None
         if np.mean(again != weights) < SETTLED and not moved:
             break
         redo = np.any(again != weights, axis=0)
@@ -612,6 +604,18 @@ def _table_fit(
     assert fit is not None and sub_fit is not None
     return _table_result(fit, sub_fit, family, weights, obs, table.error,
                          {**coat, "shadow_rounds": done})
+
+
+def _matte(data: StereoInput, base_model: Model, first: RoughResult | LambertianResult,
+           opts: _Options, coat: dict[str, Any]) -> CoatedResult:
+    """The result of a matte object (the coat did not lower the subsample's residual): the
+    rough fit of every pixel (``first`` when it is one), α NaN."""
+    full = first if isinstance(first, RoughResult) else rough(
+        data, base_model, shadow=opts.shadow, precision=opts.precision,
+        progress=opts.progress, start=first)
+    fields = {f.name: getattr(full, f.name) for f in dataclasses.fields(RoughResult)}
+    return CoatedResult(**fields, alpha=math.nan, alpha_se=math.nan, coat=False,
+                        shadow_rounds=0, **coat)
 
 
 def _relative_residual(cost: np.ndarray, weights: np.ndarray, obs: np.ndarray) -> np.ndarray:
@@ -717,11 +721,22 @@ def _polish(data: StereoInput, family: CoatedFamily, sub_fit: PixelFit,
     return pick, sub, polished
 
 
-def _close(values: np.ndarray, tabled: Any, se: np.ndarray) -> bool:
-    """Whether the object's values moved by less than :data:`RETABLE` of their standard
-    errors since the table was made of ``tabled`` (then it is kept)."""
-    step = np.abs(np.asarray(values) - np.asarray(tabled))
-    return bool(np.all(step <= RETABLE * np.nan_to_num(se, nan=0.0, posinf=0.0)))
+def _kept(table: Any, family: CoatedFamily, tabled: np.ndarray, values: np.ndarray,
+          directions: np.ndarray) -> Any:
+    """``table`` (made of the object's values ``tabled``) when it stands for the model of
+    ``values`` (the subsample fitted again) within :data:`.coated_table.ERROR_BOUND`,
+    measured as its own error is (:func:`.coated_table.table_error`), plus the light
+    scale's relative change (every value scales with it); the error it carries is then
+    this one. Else None: a new table, at the cost of a solve of every pixel (6 s of 37 on
+    the 1024² α = 0.3 sphere render of ``scripts/stereo_renders.py``). At 128² the α = 0.3
+    objects' refits move σ and α by up to 0.007 and 0.005: the table's error from 2.7e-3
+    to at most 3.7e-3 (on the 1024² sphere, normals 0.006° apart, at most 0.07°, from
+    those of a new table); the α = 0.1 objects' by up to 0.26 and 0.04: 1.9e-2 to 0.29."""
+    from .coated_table import ERROR_BOUND, table_error
+
+    error = table_error(table, lambda rho: family.build(rho, values), directions)
+    error += abs(float(family.scale(values)) / float(family.scale(tabled)) - 1.0)
+    return dataclasses.replace(table, error=error) if error <= ERROR_BOUND else None
 
 
 def _coat_helps(fit: PixelFit, start: RoughResult) -> bool:

@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CoatedTable", "coated_table", "solve_pixels", "table_values"]
+__all__ = ["CoatedTable", "coated_table", "solve_pixels", "table_error", "table_values"]
 
 U_NODES = 129
 """Nodes of the table's z axis, u(z) (see the module's docstring)."""
@@ -156,14 +156,9 @@ def coated_table(build: Any, alpha: float, directions: np.ndarray, *, u_nodes: i
     """Tabulate the coated model ``build(ρ)`` (σ, α, η fixed; α is its coat roughness) for
     each light of ``directions`` (K, 3), and measure the table's error on ``check`` random
     (light, normal, albedo) triples against the model itself."""
-    frames, cos_d, sin_d = _frames(directions)
+    frames, _, _ = _frames(directions)
     a2 = max(float(alpha), ALPHA_AXIS_FLOOR) ** 2
-    z = _z_of_u(np.linspace(0.0, 1.0, u_nodes), a2)
-    s = np.sqrt(np.maximum(1.0 - z * z, 0.0))
-    t = np.linspace(-1.0, 1.0, t_nodes)
-    zz, xx = z[:, None], s[:, None] * t[None, :]
-    mu_i = zz * cos_d[:, None, None] + xx * sin_d[:, None, None]
-    mu_o = zz * cos_d[:, None, None] - xx * sin_d[:, None, None]
+    mu_i, mu_o = _node_cosines(directions, a2, u_nodes, t_nodes)
     nodes = _rho_nodes(degree)
     vals = np.stack([table_values(build, directions, mu_i, mu_o, r) for r in nodes], axis=-1)
     vander = nodes[:, None] ** np.arange(degree + 1)[None, :]
@@ -171,10 +166,37 @@ def coated_table(build: Any, alpha: float, directions: np.ndarray, *, u_nodes: i
     table = CoatedTable(coef.reshape(vals.shape), frames, math.sqrt(a2), math.nan)
     if check <= 0:
         return table
-    # each light's brightest value over the normals the check draws (n·v ≥ CHECK_VIEW)
-    peak = np.max(np.where((mu_o >= CHECK_VIEW)[..., None], vals, 0.0), axis=(1, 2, 3))
+    # each light's brightest value over the normals the check draws (n·v ≥ CHECK_VIEW): at
+    # ρ = 1, the last of the nodes (the model rises with the base's albedo)
+    peak = np.max(np.where(mu_o >= CHECK_VIEW, vals[..., -1], 0.0), axis=(1, 2))
     return CoatedTable(table.values, frames, table.alpha_axis,
                        _check_error(table, build, directions, peak, check, seed))
+
+
+def _node_cosines(directions: np.ndarray, a2: float, u_nodes: int = U_NODES,
+                  t_nodes: int = T_NODES) -> tuple[np.ndarray, np.ndarray]:
+    """μi and μo (K, U, T) at the table's nodes of each light, for the z axis of α² ``a2``."""
+    _, cos_d, sin_d = _frames(directions)
+    z = _z_of_u(np.linspace(0.0, 1.0, u_nodes), a2)
+    s = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    t = np.linspace(-1.0, 1.0, t_nodes)
+    zz, xx = z[:, None], s[:, None] * t[None, :]
+    mu_i = zz * cos_d[:, None, None] + xx * sin_d[:, None, None]
+    mu_o = zz * cos_d[:, None, None] - xx * sin_d[:, None, None]
+    return mu_i, mu_o
+
+
+def table_error(table: CoatedTable, build: Any, directions: np.ndarray, *, check: int = 4000,
+                seed: int = 0) -> float:
+    """The error of ``table`` against another model ``build(ρ)`` (e.g. the object's values
+    fitted again), measured as :func:`coated_table` measures its own: the largest
+    difference on ``check`` random (light, normal, albedo) triples, relative to each light's
+    brightest value of ``build(1)`` at the table's nodes (within 80° of the view)."""
+    mu_i, mu_o = _node_cosines(directions, table.alpha_axis**2, table.values.shape[1],
+                               table.values.shape[2])
+    vals = table_values(build, directions, mu_i, mu_o, 1.0)
+    peak = np.max(np.where(mu_o >= CHECK_VIEW, vals, 0.0), axis=(1, 2))
+    return _check_error(table, build, directions, peak, check, seed)
 
 
 def _check_error(table: CoatedTable, build: Any, directions: np.ndarray, peak: np.ndarray,
