@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from roughdiffuse._validate import ParameterError
-from roughdiffuse.stereo.footprint import normal_spread, smoothest
+from roughdiffuse.stereo.footprint import VIEW_FLOOR, normal_spread, smoothest, view_spread
 
 
 def test_normal_spread_of_a_cylinder():
@@ -24,6 +24,20 @@ def test_normal_spread_of_a_cylinder():
     np.testing.assert_allclose(got[:6], want, atol=1e-7)
     assert got[6] == 0.0
 
+
+def test_view_spread_divides_by_the_cosine_of_the_view():
+    """The same cylinder's row: each pixel's spread over cos θ_c, the n·v of its normal
+    (closed form), and over VIEW_FLOOR for a normal at 90° from the view."""
+    cols = np.arange(7)
+    theta = np.arcsin((cols - 3) / 3.0)  # ±90° at the ends
+    normals = np.stack([np.sin(theta), np.zeros(7), np.cos(theta)], axis=1)
+    mask = np.zeros((3, 9), dtype=bool)
+    mask[1, 1:8] = True
+    step = np.abs(np.diff(theta))
+    spread = np.maximum(np.r_[0.0, step], np.r_[step, 0.0])
+    want = spread / np.maximum(np.cos(theta), VIEW_FLOOR)
+    np.testing.assert_allclose(view_spread(mask, normals), want, rtol=1e-6)
+    assert want[0] == pytest.approx(spread[0] / VIEW_FLOOR)
 
 
 def test_smoothest_keeps_a_fraction_and_the_ties():
