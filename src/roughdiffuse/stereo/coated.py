@@ -101,10 +101,15 @@ spread 5–12° a pixel), σ from the true normals and 512 well-lit pixels of ea
 0.42 over all of them, 0.396–0.402 over the smoothest quarter (truth 0.4)."""
 
 RESTART = 0.25
-"""Where in its box the base's roughness starts a second time when the subsample's refit
-(:func:`_polish`) stopped at its lower bound: the α = 0.1 blob render of
-``scripts/stereo_renders.py`` at 128², the pixels within 60° of the view, reached σ = 0 from
-the Lambertian start's normals and stayed there (0 ± ∞; from 0.39, 0.405 ± 0.014)."""
+"""The least starting base roughness of a fit, as a fraction of its box (σ: 0.39), and where
+it starts a second time when the subsample's refit (:func:`_polish`) stopped at its lower
+bound: at σ = 0 the model's slope in σ is 0 (Oren–Nayar's A and B are functions of σ²), so
+a fit that reaches it, or starts near it, stays. The rough fit that starts the coated one
+gives σ = 0 on most coated objects (the highlights); from there (σ 0.03 before), on the
+renders of ``scripts/stereo_renders.py`` at 128², the fits with a light scale of the α = 0.1
+sphere and blob stopped at α 0.20 and σ 0.03–0.06 (normals 0.9–1.0° off; now α 0.100 and
+0.102, σ 0.42 ± 0.01 and 0.42 ± 0.02, 0.30° and 0.50°), and the refit of the α = 0.1 blob's
+pixels within 60° of the view at σ = 0 ± ∞ (from 0.39: 0.405 ± 0.014)."""
 
 RETRY = (3.0, 0.1)
 """The table solver fits a pixel again from a second start when its relative residual is
@@ -431,10 +436,11 @@ def coated(
 
 
 def _initial(family: CoatedFamily, start: RoughResult) -> tuple[np.ndarray, Any]:
-    """The starting σ, α (and light scale 1) of a fit from the rough fit ``start``, and the
-    start with its albedo converted to the coated model's (:func:`_start_albedo`)."""
+    """The starting σ, α (and light scale 1) of a fit from the rough fit ``start`` (its σ,
+    at least :data:`RESTART` of the box), and the start with its albedo converted to the
+    coated model's (:func:`_start_albedo`)."""
     lo, hi = family.bounds[0]
-    base0 = float(np.clip(np.nanmedian(start.roughness), lo + 0.02 * (hi - lo), 0.8 * hi))
+    base0 = float(np.clip(np.nanmedian(start.roughness), lo + RESTART * (hi - lo), 0.8 * hi))
     current = dataclasses.replace(start, albedo=_start_albedo(family, start.albedo, base0))
     initial = [base0, ALPHA_START] + ([1.0] if family.light_scale else [])
     return np.array(initial), current
